@@ -1,0 +1,155 @@
+# RSE build. Targets (README.md has the story):
+#   make deps        install the Debian packages the project needs (idempotent; root or sudo)
+#   make / all       build rse-fsw for this machine, or for CROSS_COMPILE=aarch64-linux-gnu-
+#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user;
+#                    ends with one line "N passed, N failed" (total over all suites)
+#   make host-test   host suites only (quick edit-test loop)
+#   make cross-test  aarch64 suites only, under qemu-aarch64
+#   make demo        the lockstep mission demo
+#   make bench       benchmarks; they print their figures (see docs/performance.md)
+#   make clean
+# Every target that builds depends on deps, so a fresh clone needs no manual step.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := all
+.DELETE_ON_ERROR:
+
+CROSS_COMPILE ?=
+CROSS_AARCH64 := aarch64-linux-gnu-
+CXX := $(CROSS_COMPILE)g++
+AR := $(CROSS_COMPILE)ar
+ARCH := $(if $(CROSS_COMPILE),$(patsubst %-linux-gnu-,%,$(CROSS_COMPILE)),$(shell uname -m))
+BUILD := build/$(ARCH)
+
+# How test binaries run: natively, or under qemu-user with the target's libraries.
+RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COMPILE)),)
+
+# ---------------------------------------------------------------------------
+# Debian packages: exactly what the build, tests and cross-tests need.
+DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev \
+                g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64
+SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
+
+.PHONY: deps
+deps:
+	@native=$$(dpkg --print-architecture); missing=""; \
+	for p in $(DEB_PACKAGES); do \
+	  case "$$p" in *:*) want="installed $${p#*:}";; *) want="installed ($$native|all)";; esac; \
+	  dpkg-query -W -f='$${db:Status-Status} $${Architecture}\n' "$$p" 2>/dev/null | grep -qxE "$$want" \
+	    || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "deps: installing$$missing"; \
+	  if [ "$$(id -u)" != 0 ] && [ -z "$(SUDO)" ]; then \
+	    echo "deps: missing packages and not root (no sudo): run 'make deps' as root" >&2; exit 1; \
+	  fi; \
+	  if ! dpkg --print-foreign-architectures | grep -qx arm64; then $(SUDO) dpkg --add-architecture arm64; fi; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+# ---------------------------------------------------------------------------
+# Flags. Flight code (fsw/, hal/): no exceptions, no RTTI, strict warnings.
+# EIGEN_RUNTIME_NO_MALLOC everywhere so the allocation tests can forbid Eigen
+# heap use at run time (it costs nothing unless asked).
+CPPFLAGS := -I. -isystem /usr/include/eigen3 -DEIGEN_RUNTIME_NO_MALLOC -MMD -MP
+CXXSTD := -std=c++17
+OPT := -O2 -g
+WARNINGS := -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wold-style-cast \
+            -Wnon-virtual-dtor -Wcast-align -Wdouble-promotion -Wformat=2 -Wundef -Werror
+FLIGHT_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS) -fno-exceptions -fno-rtti
+# Test and host-tool code: CppUTest's macros expand to casts that -Wold-style-cast
+# and -Wconversion reject, so those two are off there.
+TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror
+LDLIBS_TEST := -lCppUTest -lpthread
+
+# ---------------------------------------------------------------------------
+# Flight library and executable.
+FLIGHT_SRCS := $(filter-out fsw/app/main.cpp,$(sort $(wildcard fsw/*/*.cpp hal/*/*.cpp)))
+FLIGHT_OBJS := $(FLIGHT_SRCS:%.cpp=$(BUILD)/obj/%.o)
+FLIGHT_LIB := $(BUILD)/lib/librse_flight.a
+FSW_BIN := $(BUILD)/bin/rse-fsw
+
+$(BUILD)/obj/fsw/%.o: fsw/%.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(FLIGHT_CXXFLAGS) -c $< -o $@
+
+$(BUILD)/obj/hal/%.o: hal/%.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(FLIGHT_CXXFLAGS) -c $< -o $@
+
+$(BUILD)/obj/unit_test/%.o: unit_test/%.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
+
+$(FLIGHT_LIB): $(FLIGHT_OBJS)
+	@mkdir -p $(@D)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) -o $@ $^
+
+.PHONY: all
+all: $(FSW_BIN)
+
+# ---------------------------------------------------------------------------
+# Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
+# linked with the shared support code (allocation guard, CppUTest main).
+SUITES := core app
+SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
+
+define suite_rule
+$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(FLIGHT_LIB)
+	@mkdir -p $$(@D)
+	$(CXX) -o $$@ $$^ $(LDLIBS_TEST)
+endef
+$(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
+TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
+
+RESULTS := build/test-results.txt
+
+.PHONY: test-binaries run-suites host-test cross-test test
+test-binaries: $(TEST_BINS)
+
+# Runs this arch's suites, appending one line per suite to $(RESULTS).
+run-suites:
+	@$(MAKE) --no-print-directory test-binaries || echo "$(ARCH)/build 0 1" >> $(RESULTS)
+	@unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" $(TEST_BINS)
+
+host-test: deps
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=
+	@unit_test/summarize.sh $(RESULTS)
+
+cross-test: deps
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=$(CROSS_AARCH64)
+	@unit_test/summarize.sh $(RESULTS)
+
+test: deps
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=
+	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=$(CROSS_AARCH64)
+	@unit_test/summarize.sh $(RESULTS)
+
+# ---------------------------------------------------------------------------
+# Demo and benchmarks (host).
+DEMO_SECONDS ?= 10
+.PHONY: demo bench
+demo: $(FSW_BIN)
+	$(FSW_BIN) --lockstep --duration $(DEMO_SECONDS)
+
+BENCH_BIN := $(BUILD)/bin/bench_executive
+$(BENCH_BIN): $(BUILD)/obj/unit_test/bench/bench_executive.o $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) -o $@ $^
+
+bench: $(BENCH_BIN)
+	$(BENCH_BIN)
+
+.PHONY: clean
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

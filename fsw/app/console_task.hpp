@@ -1,0 +1,40 @@
+// Writes housekeeping summaries and events to a console stream: the walking
+// skeleton's stand-in for telemetry output (which the ground link replaces).
+// With no stream it still drains both, so nothing piles up unread.
+#pragma once
+
+#include <cstdio>
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+
+namespace rse::app {
+
+class ConsoleTask final : public core::Task {
+public:
+    ConsoleTask(core::SoftwareBus& bus, core::EventLog& events) : bus_(bus), events_(events) {}
+
+    // Creates and subscribes the task's pipe; stream may be nullptr (quiet).
+    core::Status init(std::FILE* stream);
+    void run(const core::FrameContext& frame) override;
+    // Writes out every queued event and housekeeping message (bounded by the
+    // event ring and pipe depths).
+    void drain();
+
+    std::uint32_t housekeepingSeen() const { return housekeepingSeen_; }
+    std::uint32_t eventsWritten() const { return eventsWritten_; }
+
+private:
+    static constexpr std::uint16_t kPipeDepth = 4;
+
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    std::FILE* stream_ = nullptr;
+    core::PipeId pipe_ = 0;
+    std::uint32_t housekeepingSeen_ = 0;
+    std::uint32_t eventsWritten_ = 0;
+    core::Message inbox_{};  // kept out of the task's stack
+};
+
+}  // namespace rse::app

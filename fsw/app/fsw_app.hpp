@@ -1,0 +1,52 @@
+// rse-fsw assembled: the event log, software bus, executive and every task, with
+// the one rate-group table that says which task runs when (fsw_app.cpp).
+//
+// All of it lives inside one FswApp object, which main() makes static: every
+// byte the flight software uses is reserved before the first frame.
+#pragma once
+
+#include <csignal>
+#include <cstdio>
+
+#include "fsw/app/console_task.hpp"
+#include "fsw/cmdtlm/housekeeping_task.hpp"
+#include "fsw/core/clock.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+
+namespace rse::app {
+
+// 100 Hz minor frames, 1 s major frame.
+constexpr core::TimeNs kMinorFramePeriod = 10 * core::kNsPerMs;
+constexpr std::uint16_t kMinorFramesPerMajor = 100;
+
+class FswApp {
+public:
+    explicit FswApp(core::Clock& clock);
+
+    // console: where the console task writes (nullptr: quiet).
+    core::Status init(std::FILE* console);
+    std::uint64_t run(const volatile std::sig_atomic_t* stop, std::uint64_t maxFrames) {
+        return executive_.run(stop, maxFrames);
+    }
+    // Events the stop and drains the console so the last events are written.
+    void shutdown(const char* reason);
+    // What ran: per-task timing, frame, bus and event counters.
+    void printSummary(std::FILE* out) const;
+
+    core::Executive& executive() { return executive_; }
+    core::SoftwareBus& bus() { return bus_; }
+    core::EventLog& events() { return events_; }
+    const cmdtlm::HousekeepingTask& housekeeping() const { return housekeeping_; }
+    const ConsoleTask& console() const { return console_; }
+
+private:
+    core::EventLog events_;
+    core::SoftwareBus bus_;
+    core::Executive executive_;
+    cmdtlm::HousekeepingTask housekeeping_;
+    ConsoleTask console_;
+};
+
+}  // namespace rse::app

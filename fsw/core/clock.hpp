@@ -1,0 +1,59 @@
+// The executive's timeline.
+//
+// Two implementations: MonotonicClock (CLOCK_MONOTONIC, absolute-deadline sleeps,
+// used on the rover and over vcan) and VirtualClock (lockstep simulation: sleeping
+// jumps straight to the deadline, so a mission runs as fast as the CPU allows and
+// the same inputs always give the same timeline).
+#pragma once
+
+#include <cstdint>
+
+namespace rse::core {
+
+// Nanoseconds on a monotonic timeline; zero is the clock's own epoch.
+using TimeNs = std::int64_t;
+
+constexpr TimeNs kNsPerUs = 1000;
+constexpr TimeNs kNsPerMs = 1000 * kNsPerUs;
+constexpr TimeNs kNsPerSec = 1000 * kNsPerMs;
+
+class Clock {
+public:
+    virtual TimeNs now() const = 0;
+    // Returns at or after the absolute time deadline (at once if it has passed).
+    virtual void sleepUntil(TimeNs deadline) = 0;
+
+protected:
+    ~Clock() = default;  // not owned through this interface
+};
+
+class VirtualClock final : public Clock {
+public:
+    explicit VirtualClock(TimeNs start = 0) : now_(start) {}
+
+    TimeNs now() const override { return now_; }
+    void sleepUntil(TimeNs deadline) override {
+        if (deadline > now_) {
+            now_ = deadline;
+        }
+    }
+    // Simulated work: a test task "takes" dt of the timeline.
+    void advance(TimeNs dt) {
+        if (dt > 0) {
+            now_ += dt;
+        }
+    }
+
+private:
+    TimeNs now_;
+};
+
+class MonotonicClock final : public Clock {
+public:
+    TimeNs now() const override;
+    // clock_nanosleep(TIMER_ABSTIME): deadlines are absolute, so lateness in one
+    // frame does not shift the next; interrupted sleeps resume to the same deadline.
+    void sleepUntil(TimeNs deadline) override;
+};
+
+}  // namespace rse::core

@@ -1,0 +1,116 @@
+// The cyclic executive: a major frame of minor frames, tasks in rate groups.
+//
+// One table lists every task with its rate divisor (runs every N-th minor frame),
+// its offset (which of those N frames) and its time budget. Tasks run in table
+// order within a frame. Every run is timed on the executive's clock (last, max,
+// mean); a run over budget is counted and evented, as is a frame that runs past
+// the start of the next one (a "cycle slip"). Frames whose whole slot has passed
+// during an overrun are skipped, not run late back-to-back, so the frame index
+// always matches the timeline (cFS SCH's skipped-slot rule); they are counted.
+#pragma once
+
+#include <csignal>
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/core/clock.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/static_vector.hpp"
+#include "fsw/core/status.hpp"
+
+namespace rse::core {
+
+constexpr std::size_t kMaxTasks = 16;  // rows in the rate-group table
+
+struct FrameContext {
+    std::uint64_t frame = 0;      // minor frames since start, skipped ones included
+    std::uint32_t slot = 0;       // frame % minor frames per major frame
+    TimeNs scheduledStart = 0;    // when the frame was due
+    TimeNs actualStart = 0;       // when it started (>= scheduledStart)
+};
+
+class Task {
+public:
+    virtual void run(const FrameContext& frame) = 0;
+
+protected:
+    ~Task() = default;  // tasks are owned by the application, not the executive
+};
+
+struct RateGroupEntry {
+    const char* name;
+    Task* task;
+    std::uint16_t rateDivisor;  // runs when slot % rateDivisor == offset
+    std::uint16_t offset;       // 0 .. rateDivisor-1, spreads tasks of one rate
+    std::uint32_t budgetUs;     // longest acceptable run
+};
+
+struct ExecutiveConfig {
+    TimeNs minorFramePeriod = 10 * kNsPerMs;  // 100 Hz
+    std::uint16_t minorFramesPerMajor = 100;  // 1 s major frame
+};
+
+struct TaskStats {
+    std::uint32_t runs = 0;
+    std::uint32_t overBudget = 0;
+    TimeNs last = 0;
+    TimeNs max = 0;
+    TimeNs total = 0;
+    TimeNs mean() const { return runs == 0 ? 0 : total / runs; }
+};
+
+struct ExecutiveStats {
+    std::uint64_t framesRun = 0;
+    std::uint32_t frameOverruns = 0;   // frames that ended after the next was due
+    std::uint32_t framesSkipped = 0;   // frames never run because their slot passed
+    TimeNs lastLateness = 0;           // actual - scheduled start of the last frame
+    TimeNs maxLateness = 0;
+    TimeNs lastBusy = 0;               // time spent running tasks in the last frame
+    TimeNs maxBusy = 0;
+    TimeNs totalBusy = 0;
+};
+
+class Executive {
+public:
+    Executive(Clock& clock, EventLog& events) : clock_(clock), events_(events) {}
+
+    // Validates and copies the table; nothing runs until it succeeds.
+    Status init(const ExecutiveConfig& config, const RateGroupEntry* table, std::size_t count);
+
+    // Sets the timeline origin: frame 0 is due now. Called by run() if needed.
+    void start();
+    // Runs one minor frame: waits for its start, runs its tasks, accounts overruns.
+    void runFrame();
+    // Runs until *stop becomes non-zero (checked once per frame) or maxFrames
+    // frames have run (0: no limit). Returns the number of frames run.
+    std::uint64_t run(const volatile std::sig_atomic_t* stop, std::uint64_t maxFrames);
+
+    const ExecutiveStats& stats() const { return stats_; }
+    std::size_t taskCount() const { return tasks_.size(); }
+    const RateGroupEntry* entry(std::size_t index) const;
+    const TaskStats* taskStats(std::size_t index) const;
+    const ExecutiveConfig& config() const { return config_; }
+    std::uint64_t nextFrame() const { return frame_; }
+    void resetCounters();
+
+private:
+    struct Slot {
+        RateGroupEntry entry{};
+        TaskStats stats;
+    };
+
+    Status reject(const char* reason, std::size_t row);
+    void runTask(Slot& slot, const FrameContext& context);
+
+    Clock& clock_;
+    EventLog& events_;
+    ExecutiveConfig config_;
+    StaticVector<Slot, kMaxTasks> tasks_;
+    ExecutiveStats stats_;
+    bool initialized_ = false;
+    bool started_ = false;
+    TimeNs origin_ = 0;
+    std::uint64_t frame_ = 0;
+};
+
+}  // namespace rse::core

@@ -1,0 +1,34 @@
+#include <cerrno>
+#include <ctime>
+
+#include "fsw/core/clock.hpp"
+
+namespace rse::core {
+
+namespace {
+
+timespec toTimespec(TimeNs t) {
+    timespec ts{};
+    ts.tv_sec = static_cast<time_t>(t / kNsPerSec);
+    ts.tv_nsec = static_cast<long>(t % kNsPerSec);
+    return ts;
+}
+
+}  // namespace
+
+TimeNs MonotonicClock::now() const {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return static_cast<TimeNs>(ts.tv_sec) * kNsPerSec + static_cast<TimeNs>(ts.tv_nsec);
+}
+
+void MonotonicClock::sleepUntil(TimeNs deadline) {
+    const timespec target = toTimespec(deadline);
+    // EINTR (a signal such as SIGINT) resumes the same absolute sleep; the
+    // executive checks its stop flag once per frame, so shutdown is at most one
+    // frame late and frames never start early.
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &target, nullptr) == EINTR) {
+    }
+}
+
+}  // namespace rse::core

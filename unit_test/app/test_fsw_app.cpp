@@ -1,0 +1,65 @@
+#include <cstdio>
+#include <cstring>
+
+#include "fsw/app/fsw_app.hpp"
+#include "fsw/msg/housekeeping_msg.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+
+TEST_GROUP(FswApp) {
+    core::VirtualClock clock;
+    app::FswApp fsw{clock};  // the group object is heap-allocated by CppUTest
+};
+
+TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
+    CHECK(core::Status::kOk == fsw.init(nullptr));
+    core::PipeId probe;
+    CHECK(core::Status::kOk == fsw.bus().createPipe("probe", 8, &probe));
+    CHECK(core::Status::kOk == fsw.bus().subscribe(probe, msg::ids::kHousekeeping));
+
+    fsw.run(nullptr, 350);  // 3.5 s: HK at 0, 1, 2 and 3 s
+
+    core::Message m;
+    msg::HousekeepingMsg hk{};
+    unsigned seen = 0;
+    while (core::isOk(fsw.bus().receive(probe, &m))) {
+        CHECK(core::Status::kOk == m.decode(&hk));
+        CHECK_EQUAL(static_cast<core::TimeNs>(seen) * core::kNsPerSec, hk.timeNs);
+        LONGS_EQUAL(seen * 100, hk.framesRun);  // counters as of the frame it ran in
+        ++seen;
+    }
+    LONGS_EQUAL(4, seen);
+    LONGS_EQUAL(2, hk.taskCount);
+    STRCMP_EQUAL("housekeeping", hk.tasks[0].name);
+    STRCMP_EQUAL("console", hk.tasks[1].name);
+    LONGS_EQUAL(3, hk.tasks[0].runs);      // runs before the 4th collection
+    LONGS_EQUAL(30, hk.tasks[1].runs);     // 10 Hz console, offset 1
+    LONGS_EQUAL(0, hk.frameOverruns);
+    CHECK(hk.eventsTotal >= 2);            // app and executive start-up events
+}
+
+TEST(FswApp, QuietConsoleStillDrainsEventsSoNoneAreLost) {
+    CHECK(core::Status::kOk == fsw.init(nullptr));
+    for (int i = 0; i < 3 * static_cast<int>(core::kEventRingDepth); ++i) {
+        fsw.events().report(999, core::Severity::kDebug, "burst %d", i);
+        fsw.run(nullptr, 10);  // the console runs once per 10 frames
+    }
+    LONGS_EQUAL(0, fsw.events().lost());
+    CHECK(fsw.console().eventsWritten() >= 3 * core::kEventRingDepth);
+}
+
+TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
+    char text[4096] = {};
+    std::FILE* stream = fmemopen(text, sizeof text - 1, "w");
+    CHECK(stream != nullptr);
+    CHECK(core::Status::kOk == fsw.init(stream));
+    fsw.run(nullptr, 101);
+    fsw.shutdown("test over");
+    std::fclose(stream);
+    CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
+    CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 2 tasks") != nullptr);
+    CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
+}

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Runs test suite binaries and appends one line per suite to a results file:
+#   <label>/<suite> <passed> <failed>
+# A suite passes tests per its runner's own summary: CppUTest's "OK (N tests, N ran,
+# ...)" / "Errors (F failures, N tests, N ran, ...)", or a plain "N passed, N failed"
+# line. A suite that crashes, times out, exits non-zero or prints no summary counts
+# one extra failure, so nothing fails silently.
+#
+# usage: run_suites.sh RESULTS LABEL "RUNNER" BINARY...
+set -u
+results=$1 label=$2 runner=$3
+shift 3
+SUITE_TIMEOUT=${SUITE_TIMEOUT:-900}
+log_dir=$(dirname "$results")/logs
+mkdir -p "$log_dir"
+
+for bin in "$@"; do
+  suite=$(basename "$bin")
+  log="$log_dir/$label-$suite.log"
+  if [ ! -x "$bin" ]; then
+    echo "[$label] $suite: binary missing (build failed)"
+    echo "$label/$suite 0 1" >> "$results"
+    continue
+  fi
+  echo "=== [$label] $suite"
+  # shellcheck disable=SC2086  # RUNNER is a command prefix, split on purpose
+  timeout "$SUITE_TIMEOUT" $runner "$bin" 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  read -r passed failed < <(awk '
+    /^OK \(/     { for (i = 1; i <= NF; i++) if ($(i+1) ~ /^ran/) ran = $i + 0; fails = 0; found = 1 }
+    /^Errors \(/ { gsub(/[(,]/, " "); for (i = 1; i <= NF; i++) { if ($(i+1) ~ /^ran/) ran = $i + 0; if ($(i+1) ~ /^failure/) fails = $i + 0 } found = 1 }
+    /^([A-Za-z0-9_-]+: )?[0-9]+ passed, [0-9]+ failed/ { sub(/^[A-Za-z0-9_-]+: /, ""); ran = $1 + $3; fails = $3 + 0; found = 1 }
+    END { if (!found) { print 0, 0 } else { print ran - fails, fails } }' "$log")
+  if [ "$rc" -ne 0 ] && [ "$failed" -eq 0 ]; then
+    echo "[$label] $suite: exited with status $rc without reporting a failed test (crash or timeout)"
+    failed=1
+  elif ! grep -qE '^(OK \(|Errors \(|([A-Za-z0-9_-]+: )?[0-9]+ passed, [0-9]+ failed)' "$log"; then
+    echo "[$label] $suite: printed no test summary"
+    failed=$((failed + 1))
+  fi
+  echo "$label/$suite $passed $failed" >> "$results"
+done
