@@ -62,6 +62,8 @@ FLIGHT_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS) -fno-exceptions -fno-rtti
 # and -Wconversion reject, so those two are off there.
 TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror
 LDLIBS_TEST := -lCppUTest -lpthread
+# Bind every symbol at load time: no lazy-binding stall in the first frames.
+LDFLAGS := -Wl,-z,now
 
 # ---------------------------------------------------------------------------
 # Flight library and executable.
@@ -88,7 +90,7 @@ $(FLIGHT_LIB): $(FLIGHT_OBJS)
 
 $(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(FLIGHT_LIB)
 	@mkdir -p $(@D)
-	$(CXX) -o $@ $^
+	$(CXX) $(LDFLAGS) -o $@ $^
 
 .PHONY: all
 all: $(FSW_BIN)
@@ -102,20 +104,23 @@ SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*
 define suite_rule
 $(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(FLIGHT_LIB)
 	@mkdir -p $$(@D)
-	$(CXX) -o $$@ $$^ $(LDLIBS_TEST)
+	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST)
 endef
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
 TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
+# Script suites drive the built executables (RSE_BIN_DIR, under RSE_RUNNER).
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh
 
 RESULTS := build/test-results.txt
 
 .PHONY: test-binaries run-suites host-test cross-test test
-test-binaries: $(TEST_BINS)
+test-binaries: $(TEST_BINS) $(FSW_BIN)
 
 # Runs this arch's suites, appending one line per suite to $(RESULTS).
 run-suites:
 	@$(MAKE) --no-print-directory test-binaries || echo "$(ARCH)/build 0 1" >> $(RESULTS)
-	@unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" $(TEST_BINS)
+	@RSE_BIN_DIR=$(BUILD)/bin unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" \
+	  $(TEST_BINS) $(SCRIPT_SUITES)
 
 host-test: deps
 	@mkdir -p build && rm -f $(RESULTS)
@@ -143,7 +148,7 @@ demo: $(FSW_BIN)
 BENCH_BIN := $(BUILD)/bin/bench_executive
 $(BENCH_BIN): $(BUILD)/obj/unit_test/bench/bench_executive.o $(FLIGHT_LIB)
 	@mkdir -p $(@D)
-	$(CXX) -o $@ $^
+	$(CXX) $(LDFLAGS) -o $@ $^
 
 bench: $(BENCH_BIN)
 	$(BENCH_BIN)

@@ -6,7 +6,10 @@
 # line. A suite that crashes, times out, exits non-zero or prints no summary counts
 # one extra failure, so nothing fails silently.
 #
-# usage: run_suites.sh RESULTS LABEL "RUNNER" BINARY...
+# A suite ending in .sh is a script that runs built executables itself; it gets
+# the runner prefix as RSE_RUNNER (and RSE_BIN_DIR from the caller).
+#
+# usage: run_suites.sh RESULTS LABEL "RUNNER" SUITE...
 set -u
 results=$1 label=$2 runner=$3
 shift 3
@@ -15,7 +18,7 @@ log_dir=$(dirname "$results")/logs
 mkdir -p "$log_dir"
 
 for bin in "$@"; do
-  suite=$(basename "$bin")
+  suite=$(basename "$bin" .sh)
   log="$log_dir/$label-$suite.log"
   if [ ! -x "$bin" ]; then
     echo "[$label] $suite: binary missing (build failed)"
@@ -23,8 +26,12 @@ for bin in "$@"; do
     continue
   fi
   echo "=== [$label] $suite"
-  # shellcheck disable=SC2086  # RUNNER is a command prefix, split on purpose
-  timeout "$SUITE_TIMEOUT" $runner "$bin" 2>&1 | tee "$log"
+  if [[ "$bin" == *.sh ]]; then
+    RSE_RUNNER=$runner timeout "$SUITE_TIMEOUT" bash "$bin" 2>&1 | tee "$log"
+  else
+    # shellcheck disable=SC2086  # RUNNER is a command prefix, split on purpose
+    timeout "$SUITE_TIMEOUT" $runner "$bin" 2>&1 | tee "$log"
+  fi
   rc=${PIPESTATUS[0]}
   read -r passed failed < <(awk '
     /^OK \(/     { for (i = 1; i <= NF; i++) if ($(i+1) ~ /^ran/) ran = $i + 0; fails = 0; found = 1 }

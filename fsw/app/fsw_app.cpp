@@ -51,16 +51,20 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned long long>(s.framesRun), static_cast<unsigned>(s.frameOverruns),
                  static_cast<unsigned>(s.framesSkipped), static_cast<long long>(s.maxBusy / core::kNsPerUs),
                  static_cast<long long>(s.maxLateness / core::kNsPerUs));
-    std::fprintf(out, "  %-14s %8s %8s %9s %9s %9s\n", "task", "runs", "over", "last_us", "mean_us",
-                 "max_us");
+    std::fprintf(out, "  %-14s %8s %8s %9s %9s %9s %9s %9s\n", "task", "runs", "over", "last_us", "mean_us",
+                 "max_us", "cpu_mean", "cpu_max");
     for (std::size_t i = 0; i < executive_.taskCount(); ++i) {
         const core::RateGroupEntry* e = executive_.entry(i);
         const core::TaskStats* t = executive_.taskStats(i);
-        std::fprintf(out, "  %-14s %8u %8u %9lld %9lld %9lld\n", e->name, static_cast<unsigned>(t->runs),
-                     static_cast<unsigned>(t->overBudget), static_cast<long long>(t->last / core::kNsPerUs),
+        std::fprintf(out, "  %-14s %8u %8u %9lld %9lld %9lld %9.1f %9.1f\n", e->name,
+                     static_cast<unsigned>(t->runs), static_cast<unsigned>(t->overBudget),
+                     static_cast<long long>(t->last / core::kNsPerUs),
                      static_cast<long long>(t->mean() / core::kNsPerUs),
-                     static_cast<long long>(t->max / core::kNsPerUs));
+                     static_cast<long long>(t->max / core::kNsPerUs),
+                     static_cast<double>(t->hostMean()) / static_cast<double>(core::kNsPerUs),
+                     static_cast<double>(t->hostMax) / static_cast<double>(core::kNsPerUs));
     }
+    std::fprintf(out, "  (last/mean/max on the executive clock; cpu_* is host CPU time in us)\n");
     const core::BusStats& b = bus_.stats();
     std::fprintf(out, "  bus: %u published, %u delivered, %u dropped, %u too large, %u unsubscribed\n",
                  static_cast<unsigned>(b.published), static_cast<unsigned>(b.delivered),

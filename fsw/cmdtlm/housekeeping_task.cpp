@@ -53,6 +53,8 @@ void HousekeepingTask::collect(msg::HousekeepingMsg* msg, core::TimeNs now) cons
         t.lastUs = toUs(stats->last);
         t.maxUs = toUs(stats->max);
         t.meanUs = toUs(stats->mean());
+        t.hostMeanUs = toUs(stats->hostMean());
+        t.hostMaxUs = toUs(stats->hostMax);
     }
 }
 

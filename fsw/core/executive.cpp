@@ -51,22 +51,28 @@ Status Executive::init(const ExecutiveConfig& config, const RateGroupEntry* tabl
 }
 
 void Executive::start() {
-    origin_ = clock_.now();
-    frame_ = 0;
-    started_ = true;
     events_.report(events::kExecStarted, Severity::kInfo,
                    "exec: started, %zu tasks, minor frame %lld us, %u frames per major",
                    tasks_.size(), static_cast<long long>(config_.minorFramePeriod / kNsPerUs),
                    static_cast<unsigned>(config_.minorFramesPerMajor));
+    origin_ = clock_.now();  // after the event, so its cost is not frame 0's lateness
+    frame_ = 0;
+    started_ = true;
 }
 
 void Executive::runTask(Slot& slot, const FrameContext& context) {
     const TimeNs begin = clock_.now();
+    const TimeNs hostBegin = hostTimer_.now();
     slot.entry.task->run(context);
+    const TimeNs hostTook = hostTimer_.now() - hostBegin;
     const TimeNs took = clock_.now() - begin;
 
     TaskStats& s = slot.stats;
     ++s.runs;
+    s.hostTotal += hostTook;
+    if (hostTook > s.hostMax) {
+        s.hostMax = hostTook;
+    }
     s.last = took;
     s.total += took;
     if (took > s.max) {

@@ -4,7 +4,10 @@
 // its offset (which of those N frames) and its time budget. Tasks run in table
 // order within a frame. Every run is timed on the executive's clock (last, max,
 // mean); a run over budget is counted and evented, as is a frame that runs past
-// the start of the next one (a "cycle slip"). Frames whose whole slot has passed
+// the start of the next one (a "cycle slip"). Budgets are judged on the
+// executive's clock, so lockstep runs are deterministic; each run's host CPU time
+// (CLOCK_MONOTONIC) is recorded beside it as a statistic, which is what tells
+// the cost of a task when the timeline is virtual. Frames whose whole slot has passed
 // during an overrun are skipped, not run late back-to-back, so the frame index
 // always matches the timeline (cFS SCH's skipped-slot rule); they are counted.
 #pragma once
@@ -53,10 +56,13 @@ struct ExecutiveConfig {
 struct TaskStats {
     std::uint32_t runs = 0;
     std::uint32_t overBudget = 0;
-    TimeNs last = 0;
+    TimeNs last = 0;       // on the executive's clock (simulated time in lockstep)
     TimeNs max = 0;
     TimeNs total = 0;
+    TimeNs hostMax = 0;    // host CPU time, whatever the clock
+    TimeNs hostTotal = 0;
     TimeNs mean() const { return runs == 0 ? 0 : total / runs; }
+    TimeNs hostMean() const { return runs == 0 ? 0 : hostTotal / runs; }
 };
 
 struct ExecutiveStats {
@@ -103,6 +109,7 @@ private:
     void runTask(Slot& slot, const FrameContext& context);
 
     Clock& clock_;
+    MonotonicClock hostTimer_;
     EventLog& events_;
     ExecutiveConfig config_;
     StaticVector<Slot, kMaxTasks> tasks_;

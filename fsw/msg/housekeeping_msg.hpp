@@ -17,6 +17,8 @@ struct TaskTimingTlm {
     std::uint32_t lastUs;
     std::uint32_t maxUs;
     std::uint32_t meanUs;
+    std::uint32_t hostMeanUs;   // host CPU time (differs from the above in lockstep)
+    std::uint32_t hostMaxUs;
 };
 
 struct HousekeepingMsg {

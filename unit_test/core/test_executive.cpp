@@ -241,3 +241,24 @@ TEST(Executive, StopFlagIsCheckedOncePerFrame) {
     stop = 0;
     LONGS_EQUAL(5, exec.run(&stop, 5));
 }
+
+TEST(Executive, HostCpuTimeIsRecordedWhileTheVirtualTimelineStandsStill) {
+    class Busy final : public Task {
+    public:
+        void run(const FrameContext&) override {
+            for (int i = 0; i < 2000; ++i) {
+                sink = sink + static_cast<double>(i) * 0.5;
+            }
+        }
+        volatile double sink = 0.0;
+    } busy;
+    const RateGroupEntry table[] = {{"busy", &busy, 1, 0, 1000}};
+    CHECK(Status::kOk == exec.init(k100Hz, table, 1));
+    for (int i = 0; i < 100; ++i) {
+        exec.runFrame();
+    }
+    CHECK_EQUAL(0, exec.taskStats(0)->total);  // no simulated work
+    CHECK(exec.taskStats(0)->hostTotal > 0);   // but real CPU was spent
+    CHECK(exec.taskStats(0)->hostMax >= exec.taskStats(0)->hostMean());
+    LONGS_EQUAL(0, exec.taskStats(0)->overBudget);  // budgets judge the timeline
+}
