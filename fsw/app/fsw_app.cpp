@@ -34,8 +34,9 @@ core::Status FswApp::init(std::FILE* console) {
                        "app: rate-group table rejected (%s)", core::toString(status));
         return status;
     }
-    events_.report(events::kAppStarted, core::Severity::kInfo, "app: rse-fsw initialised, %zu tasks",
-                   executive_.taskCount());
+    events_.report(events::kAppStarted, core::Severity::kInfo,
+                   "app: rse-fsw initialised, %zu tasks, %zu bytes reserved", executive_.taskCount(),
+                   sizeof(FswApp));
     return core::Status::kOk;
 }
 

@@ -60,6 +60,6 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 2 tasks") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 2 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
