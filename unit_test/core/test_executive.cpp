@@ -4,6 +4,7 @@
 #include "fsw/core/core_events.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/static_vector.hpp"
+#include "unit_test/support/event_probe.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -40,15 +41,6 @@ private:
     VirtualClock& clock_;
 };
 
-unsigned countEvents(EventLog& log, EventId id) {
-    unsigned n = 0;
-    Event e;
-    while (isOk(log.pop(&e))) {
-        n += (e.id == id) ? 1U : 0U;
-    }
-    return n;
-}
-
 const ExecutiveConfig k100Hz{10 * kNsPerMs, 100};
 
 }  // namespace
@@ -62,6 +54,15 @@ TEST_GROUP(Executive) {
     RecordingTask tenHzA{1, log, clock};
     RecordingTask tenHzB{2, log, clock};
     RecordingTask oneHz{3, log, clock};
+
+    // Runs `frames` frames of a table holding only `fast`, every frame.
+    void runFastOnly(std::uint32_t budgetUs, int frames) {
+        const RateGroupEntry table[] = {{"fast", &fast, 1, 0, budgetUs}};
+        CHECK(Status::kOk == exec.init(k100Hz, table, 1));
+        for (int i = 0; i < frames; ++i) {
+            exec.runFrame();
+        }
+    }
 };
 
 TEST(Executive, RunsEachTaskAtItsRateAndOffsetInDeclaredOrder) {
@@ -107,11 +108,7 @@ TEST(Executive, RunsEachTaskAtItsRateAndOffsetInDeclaredOrder) {
 TEST(Executive, FrameOverrunIsCountedEventedAndSkipsPassedFrames) {
     fast.spikeFrame = 3;
     fast.spike = 25 * kNsPerMs;  // frame 3 starts at 30 ms and ends at 55 ms
-    const RateGroupEntry table[] = {{"fast", &fast, 1, 0, 5000}};
-    CHECK(Status::kOk == exec.init(k100Hz, table, 1));
-    for (int i = 0; i < 6; ++i) {
-        exec.runFrame();
-    }
+    runFastOnly(5000, 6);
     LONGS_EQUAL(1, exec.stats().frameOverruns);
     // Frame 4's slot [40, 50) ms passed entirely: skipped. Frame 5 ran late at 55 ms.
     LONGS_EQUAL(1, exec.stats().framesSkipped);
@@ -128,9 +125,9 @@ TEST(Executive, FrameOverrunIsCountedEventedAndSkipsPassedFrames) {
     Event e;
     unsigned overrun = 0, skipped = 0, overBudget = 0;
     while (isOk(events.pop(&e))) {
-        overrun += e.id == events::kExecFrameOverrun;
-        skipped += e.id == events::kExecFramesSkipped;
-        overBudget += e.id == events::kExecTaskOverBudget;
+        overrun += e.id == events::kExecFrameOverrun ? 1U : 0U;
+        skipped += e.id == events::kExecFramesSkipped ? 1U : 0U;
+        overBudget += e.id == events::kExecTaskOverBudget ? 1U : 0U;
     }
     LONGS_EQUAL(1, overrun);
     LONGS_EQUAL(1, skipped);
@@ -140,11 +137,7 @@ TEST(Executive, FrameOverrunIsCountedEventedAndSkipsPassedFrames) {
 TEST(Executive, OverrunWithinOneFrameSkipsNothing) {
     fast.spikeFrame = 2;
     fast.spike = 12 * kNsPerMs;
-    const RateGroupEntry table[] = {{"fast", &fast, 1, 0, 20000}};
-    CHECK(Status::kOk == exec.init(k100Hz, table, 1));
-    for (int i = 0; i < 5; ++i) {
-        exec.runFrame();
-    }
+    runFastOnly(20000, 5);
     LONGS_EQUAL(1, exec.stats().frameOverruns);
     LONGS_EQUAL(0, exec.stats().framesSkipped);
     LONGS_EQUAL(0, exec.taskStats(0)->overBudget);  // within its generous budget
@@ -154,18 +147,14 @@ TEST(Executive, OverrunWithinOneFrameSkipsNothing) {
 
 TEST(Executive, TaskOverBudgetWithoutFrameOverrunIsCounted) {
     fast.work = 3 * kNsPerMs;
-    const RateGroupEntry table[] = {{"fast", &fast, 1, 0, 2000}};
-    CHECK(Status::kOk == exec.init(k100Hz, table, 1));
-    for (int i = 0; i < 8; ++i) {
-        exec.runFrame();
-    }
+    runFastOnly(2000, 8);
     LONGS_EQUAL(8, exec.taskStats(0)->overBudget);
     LONGS_EQUAL(0, exec.stats().frameOverruns);
     CHECK_EQUAL(3 * kNsPerMs, exec.taskStats(0)->last);
     CHECK_EQUAL(3 * kNsPerMs, exec.taskStats(0)->max);
     CHECK_EQUAL(3 * kNsPerMs, exec.taskStats(0)->mean());
     // Evented on occurrences 1, 2, 4 and 8 only; the counter has all eight.
-    LONGS_EQUAL(4, countEvents(events, events::kExecTaskOverBudget));
+    LONGS_EQUAL(4, rse::test::drainEventsWithId(events, events::kExecTaskOverBudget));
 }
 
 TEST(Executive, VirtualClockRunsAreDeterministic) {
@@ -215,7 +204,7 @@ TEST(Executive, InvalidTablesAreRejectedWithAnEventAndNothingRuns) {
         e = RateGroupEntry{"t", &fast, 1, 0, 100};
     }
     CHECK(Status::kNoCapacity == exec.init(k100Hz, tooMany, kMaxTasks + 1));
-    LONGS_EQUAL(6, countEvents(events, events::kExecConfigRejected));
+    LONGS_EQUAL(6, rse::test::drainEventsWithId(events, events::kExecConfigRejected));
 
     exec.runFrame();
     LONGS_EQUAL(0, log.size());

@@ -2,6 +2,7 @@
 
 #include "fsw/core/core_events.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "unit_test/support/event_probe.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -18,18 +19,6 @@ struct PongMsg {
     static constexpr MsgId kMsgId = 0x0102;
     std::uint32_t value;
 };
-
-// Counts events with this id waiting in the log (drains it).
-unsigned drainCount(EventLog& log, EventId id) {
-    unsigned n = 0;
-    Event e;
-    while (isOk(log.pop(&e))) {
-        if (e.id == id) {
-            ++n;
-        }
-    }
-    return n;
-}
 
 }  // namespace
 
@@ -93,7 +82,7 @@ TEST(SoftwareBus, FullQueueDropsForThatSubscriberOnlyCountedAndEvented) {
     LONGS_EQUAL(5, bus->pipeStats(fast)->delivered);
     LONGS_EQUAL(3, bus->stats().dropped);
     // Evented on the 1st and 2nd drop (powers of two), not the 3rd.
-    LONGS_EQUAL(2, drainCount(events, events::kBusQueueOverflow));
+    LONGS_EQUAL(2, rse::test::drainEventsWithId(events, events::kBusQueueOverflow));
 
     // The slow pipe kept the oldest two; the fast one got all five in order.
     Message m;
@@ -117,7 +106,7 @@ TEST(SoftwareBus, OversizedMessageRejectedCountedEventedNotDelivered) {
     CHECK(Status::kOk == bus->publish(0x0200, big, kBusMaxPayload));  // the limit itself is fine
     LONGS_EQUAL(1, bus->stats().rejectedTooLarge);
     LONGS_EQUAL(1, bus->stats().published);
-    LONGS_EQUAL(1, drainCount(events, events::kBusMessageTooLarge));
+    LONGS_EQUAL(1, rse::test::drainEventsWithId(events, events::kBusMessageTooLarge));
     Message m;
     CHECK(Status::kOk == bus->receive(p, &m));
     LONGS_EQUAL(kBusMaxPayload, m.header.length);
@@ -157,7 +146,7 @@ TEST(SoftwareBus, ConfigurationBeyondCapacityIsRejected) {
     }
     CHECK(Status::kNoCapacity == bus->subscribe(p, 0x0fff));
     LONGS_EQUAL(5, bus->stats().configRejected);
-    LONGS_EQUAL(5, drainCount(events, events::kBusConfigRejected));
+    LONGS_EQUAL(5, rse::test::drainEventsWithId(events, events::kBusConfigRejected));
     Message m;
     CHECK(Status::kNotFound == bus->receive(static_cast<PipeId>(p + 1), &m));
 }
