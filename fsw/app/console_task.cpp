@@ -35,6 +35,7 @@ void ConsoleTask::drain() {
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {
         msg::HousekeepingMsg hk;
         if (!core::isOk(inbox_.decode(&hk))) {
+            ++malformed_;  // not our layout: counted (and visible in the summary), never printed
             continue;
         }
         ++housekeepingSeen_;

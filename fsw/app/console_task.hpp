@@ -24,6 +24,7 @@ public:
 
     std::uint32_t housekeepingSeen() const { return housekeepingSeen_; }
     std::uint32_t eventsWritten() const { return eventsWritten_; }
+    std::uint32_t malformed() const { return malformed_; }
 
 private:
     static constexpr std::uint16_t kPipeDepth = 4;
@@ -34,6 +35,7 @@ private:
     core::PipeId pipe_ = 0;
     std::uint32_t housekeepingSeen_ = 0;
     std::uint32_t eventsWritten_ = 0;
+    std::uint32_t malformed_ = 0;
     core::Message inbox_{};  // kept out of the task's stack
 };
 

@@ -71,6 +71,10 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned>(b.published), static_cast<unsigned>(b.delivered),
                  static_cast<unsigned>(b.dropped), static_cast<unsigned>(b.rejectedTooLarge),
                  static_cast<unsigned>(b.noSubscribers));
+    if (console_.malformed() > 0) {
+        std::fprintf(out, "  console: %u malformed housekeeping messages ignored\n",
+                     static_cast<unsigned>(console_.malformed()));
+    }
     std::fprintf(out, "  events: %u total (%u warning, %u error, %u critical), %u lost\n",
                  static_cast<unsigned>(events_.total()),
                  static_cast<unsigned>(events_.count(core::Severity::kWarning)),

@@ -9,6 +9,7 @@ namespace rse::core::events {
 constexpr EventId kBusQueueOverflow = 101;    // a subscriber's queue was full; message dropped for it
 constexpr EventId kBusMessageTooLarge = 102;  // publish of a payload above kBusMaxPayload rejected
 constexpr EventId kBusConfigRejected = 103;   // createPipe/subscribe beyond a capacity or bad argument
+constexpr EventId kBusPublishInvalid = 104;   // publish with a null payload and non-zero length
 
 // Executive
 constexpr EventId kExecConfigRejected = 110;  // rate-group table invalid; executive not started

@@ -100,6 +100,12 @@ Status SoftwareBus::publish(MsgId id, const void* payload, std::size_t length) {
         return Status::kTooLarge;
     }
     if (payload == nullptr && length != 0) {
+        ++stats_.rejectedInvalid;
+        if (isReportableOccurrence(stats_.rejectedInvalid)) {
+            events_.report(events::kBusPublishInvalid, Severity::kError,
+                           "bus: msg 0x%04X published with no payload but length %zu, rejected",
+                           static_cast<unsigned>(id), length);
+        }
         return Status::kInvalidArgument;
     }
     ++stats_.published;
@@ -122,7 +128,10 @@ Status SoftwareBus::publish(MsgId id, const void* payload, std::size_t length) {
 }
 
 Status SoftwareBus::receive(PipeId pipeId, Message* out) {
-    if (pipeId >= pipeCount_ || out == nullptr) {
+    if (out == nullptr) {
+        return Status::kInvalidArgument;
+    }
+    if (pipeId >= pipeCount_) {
         return Status::kNotFound;
     }
     Pipe& pipe = pipes_[pipeId];

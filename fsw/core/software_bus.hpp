@@ -68,6 +68,7 @@ struct BusStats {
     std::uint32_t delivered = 0;        // copies enqueued over all pipes
     std::uint32_t dropped = 0;          // copies lost to full pipes
     std::uint32_t rejectedTooLarge = 0;
+    std::uint32_t rejectedInvalid = 0;  // null payload with a non-zero length
     std::uint32_t noSubscribers = 0;    // accepted, but nobody listens to the id
     std::uint32_t configRejected = 0;   // createPipe / subscribe refused
 };
@@ -91,7 +92,8 @@ public:
         return publish(T::kMsgId, &message, sizeof(T));
     }
 
-    // Oldest queued message of the pipe; kEmpty when none, kNotFound for a bad pipe.
+    // Oldest queued message of the pipe; kEmpty when none, kNotFound for a bad
+    // pipe, kInvalidArgument for a null out.
     Status receive(PipeId pipe, Message* out);
 
     const BusStats& stats() const { return stats_; }

@@ -63,3 +63,16 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 2 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
+
+TEST(FswApp, MalformedHousekeepingIsCountedNotPrinted) {
+    char text[4096] = {};
+    std::FILE* stream = fmemopen(text, sizeof text - 1, "w");
+    CHECK(core::Status::kOk == fsw.init(stream));
+    const std::uint8_t truncated[8] = {};
+    CHECK(core::Status::kOk == fsw.bus().publish(msg::ids::kHousekeeping, truncated, sizeof truncated));
+    fsw.run(nullptr, 20);
+    std::fclose(stream);
+    LONGS_EQUAL(1, fsw.console().malformed());
+    LONGS_EQUAL(1, fsw.console().housekeepingSeen());  // the real one from frame 0
+    POINTERS_EQUAL(nullptr, std::strstr(text, "HK  #0"));
+}

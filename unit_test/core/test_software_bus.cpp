@@ -158,3 +158,18 @@ TEST(SoftwareBus, PipeCountIsBounded) {
     }
     CHECK(Status::kNoCapacity == bus->createPipe("one-too-many", 1, &p));
 }
+
+TEST(SoftwareBus, NullPayloadAndNullOutputAreRejectedNotCrashed) {
+    PipeId p;
+    CHECK(Status::kOk == bus->createPipe("p", 2, &p));
+    CHECK(Status::kOk == bus->subscribe(p, 0x0500));
+    CHECK(Status::kInvalidArgument == bus->publish(0x0500, nullptr, 4));
+    CHECK(Status::kOk == bus->publish(0x0500, nullptr, 0));  // an empty message is legal
+    LONGS_EQUAL(1, bus->stats().rejectedInvalid);
+    LONGS_EQUAL(1, bus->stats().published);
+    LONGS_EQUAL(1, rse::test::drainEventsWithId(events, events::kBusPublishInvalid));
+    CHECK(Status::kInvalidArgument == bus->receive(p, nullptr));
+    Message m;
+    CHECK(Status::kOk == bus->receive(p, &m));
+    LONGS_EQUAL(0, m.header.length);
+}
