@@ -98,7 +98,9 @@ all: $(FSW_BIN)
 # ---------------------------------------------------------------------------
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
 # linked with the shared support code (allocation guard, CppUTest main).
-SUITES := core app
+# A suite is any folder of unit_test/ holding .cpp files, except these helpers.
+SUITES := $(sort $(filter-out support integration bench fuzz,\
+            $(patsubst unit_test/%/,%,$(dir $(wildcard unit_test/*/*.cpp)))))
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
 define suite_rule

@@ -14,6 +14,10 @@ const char* toString(Status status) {
         case Status::kWrongType: return "wrong-type";
         case Status::kNotInitialized: return "not-initialized";
         case Status::kAlreadyExists: return "already-exists";
+        case Status::kUnavailable: return "unavailable";
+        case Status::kBusy: return "busy";
+        case Status::kTimeout: return "timeout";
+        case Status::kProtocolError: return "protocol-error";
     }
     return "unknown-status";
 }

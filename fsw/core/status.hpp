@@ -20,6 +20,10 @@ enum class [[nodiscard]] Status : std::uint8_t {
     kWrongType,        // a message decoded as a type it does not hold
     kNotInitialized,   // call before a successful init()
     kAlreadyExists,    // duplicate registration (e.g. same subscription twice)
+    kUnavailable,      // the device or link cannot be used now (down, bus-off, not opened)
+    kBusy,             // a transfer is already in progress
+    kTimeout,          // a protocol peer did not answer in time
+    kProtocolError,    // a peer's frame broke the protocol (sequence, toggle, size, abort)
 };
 
 // Short, stable name for logs and events.
