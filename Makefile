@@ -61,6 +61,7 @@ FLIGHT_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS) -fno-exceptions -fno-rtti
 # Test and host-tool code: CppUTest's macros expand to casts that -Wold-style-cast
 # and -Wconversion reject, so those two are off there.
 TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror
+SIM_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS)
 LDLIBS_TEST := -lCppUTest -lpthread
 # Bind every symbol at load time: no lazy-binding stall in the first frames.
 LDFLAGS := -Wl,-z,now
@@ -80,11 +81,25 @@ $(BUILD)/obj/hal/%.o: hal/%.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(FLIGHT_CXXFLAGS) -c $< -o $@
 
+# rse-sim (host side: full language allowed, but it runs in-process with the
+# flight code in lockstep tests, so it too allocates only while setting up).
+$(BUILD)/obj/sim_stub/%.o: sim_stub/%.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(SIM_CXXFLAGS) -c $< -o $@
+
 $(BUILD)/obj/unit_test/%.o: unit_test/%.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
 
 $(FLIGHT_LIB): $(FLIGHT_OBJS)
+	@mkdir -p $(@D)
+	rm -f $@ && $(AR) rcs $@ $^
+
+SIM_SRCS := $(filter-out sim_stub/main.cpp,$(sort $(wildcard sim_stub/*.cpp sim_stub/*/*.cpp)))
+SIM_OBJS := $(SIM_SRCS:%.cpp=$(BUILD)/obj/%.o)
+SIM_LIB := $(BUILD)/lib/librse_sim.a
+
+$(SIM_LIB): $(SIM_OBJS)
 	@mkdir -p $(@D)
 	rm -f $@ && $(AR) rcs $@ $^
 
@@ -104,7 +119,7 @@ SUITES := $(sort $(filter-out support integration bench fuzz,\
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
 define suite_rule
-$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(FLIGHT_LIB)
+$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $$(@D)
 	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST)
 endef
