@@ -1,0 +1,112 @@
+// One CiA 402 wheel drive, as the master sees it (docs/icd.md §1.4).
+//
+// Life cycle:  waiting for boot-up -> configuring (SDO steps of the ICD, each
+// verified, retried up to kConfigRetries) -> starting (NMT start, wait for the
+// operational heartbeat) -> enabling (controlword walk to operation enabled) ->
+// operational (target velocity sent every cycle).
+// Faults: an EMCY with a non-zero code or a fault statusword -> faulted; up to
+// kFaultResets fault resets (rising edge of controlword bit 7), each given
+// kFaultResetWait; still faulted -> failed (out of service, commanded to zero).
+// Heartbeat lost -> lost; heard again (or rebooted) -> configured again from the start.
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/core/event_log.hpp"
+#include "hal/can/can_bus.hpp"
+#include "hal/canopen/canopen_master.hpp"
+#include "hal/canopen/cia402.hpp"
+#include "hal/canopen/sdo_client.hpp"
+
+namespace rse::hal {
+
+enum class DriveState : std::uint8_t {
+    kWaitingBootUp,
+    kConfiguring,
+    kStarting,
+    kEnabling,
+    kOperational,
+    kFaulted,
+    kFailed,
+    kLost,
+};
+const char* toString(DriveState state);
+
+constexpr std::uint32_t kConfigRetries = 3;
+constexpr std::uint32_t kFaultResets = 3;
+constexpr core::TimeNs kFaultResetWait = 100 * core::kNsPerMs;
+constexpr core::TimeNs kStartTimeout = 500 * core::kNsPerMs;
+constexpr core::TimeNs kEnableTimeout = 1000 * core::kNsPerMs;
+constexpr core::TimeNs kDriveHeartbeatTimeout = 250 * core::kNsPerMs;  // 2.5 x 100 ms
+
+struct DriveFeedback {
+    std::uint16_t statusword = 0;
+    cia402::PowerState power = cia402::PowerState::kNotReadyToSwitchOn;
+    std::int32_t velocityMradS = 0;  // wheel angular velocity actual
+    std::int16_t currentMa = 0;      // motor current actual
+    core::TimeNs time = 0;           // when the TPDO arrived
+    std::uint32_t count = 0;         // TPDOs received
+};
+
+struct DriveStats {
+    std::uint32_t badPdo = 0;          // TPDO with a DLC other than 8
+    std::uint32_t emcyCount = 0;
+    std::uint32_t configAttempts = 0;
+    std::uint32_t configFailures = 0;  // configuration given up
+    std::uint32_t faults = 0;
+    std::uint32_t faultResets = 0;
+    std::uint32_t losses = 0;
+};
+
+class WheelDrive final : public canopen::CanOpenNode {
+public:
+    WheelDrive(CanBus& bus, core::EventLog& events, const canopen::HeartbeatConsumer& heartbeats,
+               std::uint8_t nodeId, const char* name);
+
+    std::uint8_t nodeId() const override { return nodeId_; }
+    void onFrame(const CanFrame& frame, core::TimeNs now) override;
+    void step(core::TimeNs now) override;
+    void sendCyclic(core::TimeNs now) override;
+
+    // Applied only while operational; zero otherwise.
+    void setTargetVelocity(std::int32_t mradPerSec) { target_ = mradPerSec; }
+
+    DriveState state() const { return state_; }
+    const DriveFeedback& feedback() const { return feedback_; }
+    std::uint16_t lastEmcyCode() const { return lastEmcyCode_; }
+    std::uint8_t errorRegister() const { return errorRegister_; }
+    const DriveStats& stats() const { return stats_; }
+    const canopen::SdoClient& sdo() const { return sdo_; }
+    const char* name() const { return name_; }
+    std::uint16_t lastControlword() const { return controlword_; }
+
+private:
+    void enter(DriveState next, core::TimeNs now);
+    void stepConfiguring(core::TimeNs now);
+    void stepFaulted(core::TimeNs now);
+    void fault(const char* why, std::uint16_t code, core::TimeNs now);
+    bool checkHeartbeat(core::TimeNs now);
+
+    CanBus& bus_;
+    core::EventLog& events_;
+    const canopen::HeartbeatConsumer& heartbeats_;
+    std::uint8_t nodeId_;
+    const char* name_;
+    canopen::SdoClient sdo_;
+    DriveState state_ = DriveState::kWaitingBootUp;
+    core::TimeNs enteredAt_ = 0;
+    std::uint32_t seenBootUps_ = 0;
+    std::uint32_t configStep_ = 0;
+    std::uint32_t stepAttempts_ = 0;
+    bool stepRequested_ = false;
+    std::uint32_t resetsTried_ = 0;
+    bool resetEdge_ = false;  // send 0x0080 after a cycle of 0x0000
+    std::int32_t target_ = 0;
+    std::uint16_t controlword_ = 0;
+    std::uint16_t lastEmcyCode_ = 0;
+    std::uint8_t errorRegister_ = 0;
+    DriveFeedback feedback_;
+    DriveStats stats_;
+};
+
+}  // namespace rse::hal
