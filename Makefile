@@ -26,7 +26,7 @@ RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COM
 
 # ---------------------------------------------------------------------------
 # Debian packages: exactly what the build, tests and cross-tests need.
-DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev \
+DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
                 g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
