@@ -4,10 +4,11 @@
 
 namespace rse::app {
 
-FswApp::FswApp(core::Clock& clock)
+FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
     : events_(clock),
       bus_(clock, events_),
       executive_(clock, events_),
+      canIo_(can, bus_, events_),
       housekeeping_(executive_, bus_, events_),
       console_(bus_, events_) {}
 
@@ -18,12 +19,19 @@ core::Status FswApp::init(std::FILE* console) {
                        "app: console task init failed (%s)", core::toString(status));
         return status;
     }
+    status = canIo_.init();
+    if (!core::isOk(status)) {
+        events_.report(events::kAppInitFailed, core::Severity::kCritical,
+                       "app: CAN I/O task init failed (%s)", core::toString(status));
+        return status;
+    }
 
     // The rate-group table. Divisors count 100 Hz minor frames (10 = 10 Hz,
     // 100 = 1 Hz); offsets spread tasks of one rate over different frames; budgets
     // are the longest acceptable run. Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
+        {"can_io", &canIo_, 1, 0, 1000},
         {"housekeeping", &housekeeping_, 100, 0, 500},
         {"console", &console_, 10, 1, 2000},
     };

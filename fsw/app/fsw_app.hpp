@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "fsw/app/can_io_task.hpp"
 #include "fsw/app/console_task.hpp"
 #include "fsw/cmdtlm/housekeeping_task.hpp"
 #include "fsw/core/clock.hpp"
@@ -23,7 +24,8 @@ constexpr std::uint16_t kMinorFramesPerMajor = 100;
 
 class FswApp {
 public:
-    explicit FswApp(core::Clock& clock);
+    // can: the rover's CAN bus (SocketCAN, or an in-memory bus in lockstep).
+    FswApp(core::Clock& clock, hal::CanBus& can);
 
     // console: where the console task writes (nullptr: quiet).
     core::Status init(std::FILE* console);
@@ -40,11 +42,14 @@ public:
     core::EventLog& events() { return events_; }
     const cmdtlm::HousekeepingTask& housekeeping() const { return housekeeping_; }
     const ConsoleTask& console() const { return console_; }
+    const CanIoTask& canIo() const { return canIo_; }
+    CanIoTask& canIo() { return canIo_; }
 
 private:
     core::EventLog events_;
     core::SoftwareBus bus_;
     core::Executive executive_;
+    CanIoTask canIo_;
     cmdtlm::HousekeepingTask housekeeping_;
     ConsoleTask console_;
 };

@@ -1,7 +1,9 @@
 // rse-fsw: the flight executable.
 //
-//   rse-fsw [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
+//   rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
 //
+// --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
+// without it the flight software runs on an in-memory bus with nothing attached.
 // Real-time mode (default) runs on CLOCK_MONOTONIC until SIGINT/SIGTERM or the
 // duration; lockstep mode runs the same tasks on a virtual clock as fast as the
 // CPU allows (a duration is then required). Exit status: 0 after a clean stop,
@@ -14,6 +16,8 @@
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/realtime_process.hpp"
+#include "hal/can/memory_can_bus.hpp"
+#include "hal/can/socketcan_bus.hpp"
 
 namespace {
 
@@ -27,11 +31,13 @@ struct Options {
     bool quiet = false;
     bool realtimePosture = true;
     double durationSec = 0.0;  // 0: until a signal
+    const char* canInterface = nullptr;
 };
 
 void usage(std::FILE* out) {
     std::fprintf(out,
-                 "usage: rse-fsw [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
+                 "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
+                 "  --can IFACE         SocketCAN interface of the rover bus (default: none attached)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
                  "  --duration SECONDS  stop after this much executive time (default: until SIGINT/SIGTERM)\n"
                  "  --quiet             no console housekeeping or event lines\n"
@@ -48,6 +54,12 @@ bool parseOptions(int argc, char** argv, Options* options) {
             options->quiet = true;
         } else if (std::strcmp(arg, "--no-rt") == 0) {
             options->realtimePosture = false;
+        } else if (std::strcmp(arg, "--can") == 0) {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "rse-fsw: --can needs an interface name\n");
+                return false;
+            }
+            options->canInterface = argv[++i];
         } else if (std::strcmp(arg, "--duration") == 0) {
             if (i + 1 >= argc) {
                 std::fprintf(stderr, "rse-fsw: --duration needs a number of seconds\n");
@@ -69,6 +81,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
             return false;
         }
     }
+    if (options->lockstep && options->canInterface != nullptr) {
+        std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock and cannot use a real CAN interface\n");
+        return false;
+    }
     if (options->lockstep && options->durationSec <= 0.0) {
         std::fprintf(stderr, "rse-fsw: --lockstep needs --duration (it would never yield)\n");
         return false;
@@ -87,6 +103,8 @@ void installStopHandlers() {
 // Everything the flight software uses is reserved here, before the first frame.
 rse::core::MonotonicClock g_monotonicClock;
 rse::core::VirtualClock g_virtualClock;
+rse::hal::SocketCanBus g_socketCan;
+rse::hal::MemoryCanBus g_detachedBus(g_virtualClock);  // nothing else attached
 char g_stdoutBuffer[16384];
 
 }  // namespace
@@ -102,7 +120,16 @@ int main(int argc, char** argv) {
     }
     rse::core::Clock& clock = options.lockstep ? static_cast<rse::core::Clock&>(g_virtualClock)
                                                : static_cast<rse::core::Clock&>(g_monotonicClock);
-    static rse::app::FswApp app(clock);
+    rse::hal::CanBus* can = g_detachedBus.attach("rse-fsw");
+    if (options.canInterface != nullptr) {
+        if (!rse::core::isOk(g_socketCan.open(options.canInterface))) {
+            std::fprintf(stderr, "rse-fsw: cannot open CAN interface '%s': %s\n", options.canInterface,
+                         std::strerror(g_socketCan.lastErrno()));
+            return 1;
+        }
+        can = &g_socketCan;
+    }
+    static rse::app::FswApp app(clock, *can);
     if (!rse::core::isOk(app.init(options.quiet ? nullptr : stdout))) {
         std::fprintf(stderr, "rse-fsw: initialisation failed:\n");
         rse::core::Event event;
@@ -121,8 +148,9 @@ int main(int argc, char** argv) {
             ? static_cast<std::uint64_t>(options.durationSec * static_cast<double>(rse::core::kNsPerSec) /
                                          static_cast<double>(rse::app::kMinorFramePeriod) + 0.5)
             : 0;
-    std::printf("rse-fsw: %s mode, %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time",
-                maxFrames > 0 ? "fixed duration" : "until SIGINT/SIGTERM");
+    std::printf("rse-fsw: %s mode, %s, CAN %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time",
+                maxFrames > 0 ? "fixed duration" : "until SIGINT/SIGTERM",
+                options.canInterface != nullptr ? options.canInterface : "none attached");
     app.run(&g_stopRequested, maxFrames);
 
     app.shutdown(g_stopRequested != 0 ? "stop signal received" : "duration reached");

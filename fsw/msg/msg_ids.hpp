@@ -12,4 +12,12 @@ namespace rse::msg::ids {
 
 constexpr core::MsgId kHousekeeping = 0x0801;  // HousekeepingMsg, 1 Hz, cmdtlm -> telemetry
 
+// hal I/O <-> layers (drive_msgs.hpp, sensor_msgs.hpp)
+constexpr core::MsgId kDriveStatus = 0x0110;   // DriveStatusMsg, 100 Hz, can_io -> estimator, reflexive, telemetry
+constexpr core::MsgId kWheelCommand = 0x0111;  // WheelCommandMsg, on change, reflexive -> can_io
+constexpr core::MsgId kImu = 0x0120;           // ImuMsg, per sample (100 Hz), can_io -> estimator
+constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), can_io -> estimator, health
+constexpr core::MsgId kPositionFix = 0x0122;   // PositionFixMsg, per fix (1 Hz), can_io -> estimator
+constexpr core::MsgId kHazards = 0x0123;       // HazardMsg, 10 Hz, can_io -> habitual
+
 }  // namespace rse::msg::ids

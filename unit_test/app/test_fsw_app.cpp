@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "fsw/app/fsw_app.hpp"
+#include "hal/can/memory_can_bus.hpp"
 #include "fsw/msg/housekeeping_msg.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -10,7 +11,8 @@ using namespace rse;
 
 TEST_GROUP(FswApp) {
     core::VirtualClock clock;
-    app::FswApp fsw{clock};  // the group object is heap-allocated by CppUTest
+    hal::MemoryCanBus can{clock};  // nothing else attached
+    app::FswApp fsw{clock, *can.attach("fsw")};  // the group object is heap-allocated by CppUTest
 };
 
 TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
@@ -31,11 +33,13 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(2, hk.taskCount);
-    STRCMP_EQUAL("housekeeping", hk.tasks[0].name);
-    STRCMP_EQUAL("console", hk.tasks[1].name);
-    LONGS_EQUAL(3, hk.tasks[0].runs);      // runs before the 4th collection
-    LONGS_EQUAL(30, hk.tasks[1].runs);     // 10 Hz console, offset 1
+    LONGS_EQUAL(3, hk.taskCount);
+    STRCMP_EQUAL("can_io", hk.tasks[0].name);
+    STRCMP_EQUAL("housekeeping", hk.tasks[1].name);
+    STRCMP_EQUAL("console", hk.tasks[2].name);
+    LONGS_EQUAL(301, hk.tasks[0].runs);    // every frame, this one included
+    LONGS_EQUAL(3, hk.tasks[1].runs);      // runs before the 4th collection
+    LONGS_EQUAL(30, hk.tasks[2].runs);     // 10 Hz console, offset 1
     LONGS_EQUAL(0, hk.frameOverruns);
     CHECK(hk.eventsTotal >= 2);            // app and executive start-up events
 }
@@ -60,7 +64,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 2 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 3 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fsw/app/fsw_app.hpp"
+#include "hal/can/memory_can_bus.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -34,7 +35,8 @@ TEST_GROUP(ZeroAllocation){};
 
 TEST(ZeroAllocation, RealExecutiveWithAllTasksAllocatesNothingAfterInit) {
     static core::VirtualClock clock;
-    static app::FswApp fsw(clock);
+    static hal::MemoryCanBus can(clock);
+    static app::FswApp fsw(clock, *can.attach("fsw"));
     CHECK(core::Status::kOk == fsw.init(quietConsole()));
 
     rse::test::AllocationWatch watch;

@@ -27,6 +27,12 @@ check "lockstep without duration says why" grep -q -- "--lockstep needs --durati
 fsw --duration -3 >"$work/out" 2>"$work/err"; rc=$?
 check "negative duration is rejected" test "$rc" -eq 2
 
+fsw --can rse_nocan9 --duration 1 >"$work/out" 2>"$work/err"; rc=$?
+check "unopenable CAN interface exits 1" test "$rc" -eq 1
+check "unopenable CAN interface is named with the reason" grep -q "cannot open CAN interface 'rse_nocan9'" "$work/err"
+fsw --lockstep --can vcan0 --duration 1 >"$work/out" 2>"$work/err"; rc=$?
+check "lockstep with a real CAN interface exits 2" test "$rc" -eq 2
+
 echo "lockstep: 5 s of executive time"
 fsw --lockstep --duration 5 >"$work/lockstep" 2>&1; rc=$?
 check "lockstep run exits 0" test "$rc" -eq 0

@@ -1,0 +1,145 @@
+#include "fsw/app/can_io_task.hpp"
+
+#include "hal/devices/rse_device_ids.hpp"
+
+namespace rse::app {
+
+// DriveHealth in telemetry mirrors hal::DriveState value for value.
+static_assert(static_cast<int>(msg::DriveHealth::kWaitingBootUp) == static_cast<int>(hal::DriveState::kWaitingBootUp) &&
+                  static_cast<int>(msg::DriveHealth::kOperational) == static_cast<int>(hal::DriveState::kOperational) &&
+                  static_cast<int>(msg::DriveHealth::kFaulted) == static_cast<int>(hal::DriveState::kFaulted) &&
+                  static_cast<int>(msg::DriveHealth::kFailed) == static_cast<int>(hal::DriveState::kFailed) &&
+                  static_cast<int>(msg::DriveHealth::kLost) == static_cast<int>(hal::DriveState::kLost),
+              "msg::DriveHealth must mirror hal::DriveState");
+
+namespace {
+const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
+constexpr double kMrad = 1e-3;
+}  // namespace
+
+CanIoTask::CanIoTask(hal::CanBus& can, core::SoftwareBus& bus, core::EventLog& events)
+    : can_(can),
+      bus_(bus),
+      events_(events),
+      master_(can, events),
+      link_(can, events, "rover"),
+      drives_{{can, events, master_.heartbeats(), kDriveNodeIds[0], kWheelNames[0]},
+              {can, events, master_.heartbeats(), kDriveNodeIds[1], kWheelNames[1]},
+              {can, events, master_.heartbeats(), kDriveNodeIds[2], kWheelNames[2]},
+              {can, events, master_.heartbeats(), kDriveNodeIds[3], kWheelNames[3]},
+              {can, events, master_.heartbeats(), kDriveNodeIds[4], kWheelNames[4]},
+              {can, events, master_.heartbeats(), kDriveNodeIds[5], kWheelNames[5]}},
+      imu_(events),
+      power_(events),
+      hazard_(events),
+      fix_(events),
+      interlock_(events) {}
+
+core::Status CanIoTask::init() {
+    for (hal::WheelDrive& d : drives_) {
+        const core::Status s = master_.addNode(&d, hal::kDriveHeartbeatTimeout);
+        if (!core::isOk(s)) {
+            return s;
+        }
+    }
+    namespace ids = hal::device_ids;
+    const struct {
+        std::uint32_t cob;
+        hal::canopen::CanFrameSink* sink;
+    } sinks[] = {{ids::kImuRates, &imu_}, {ids::kPower, &power_}, {ids::kHazard, &hazard_},
+                 {ids::kFixX, &fix_},     {ids::kFixY, &fix_}};
+    for (const auto& s : sinks) {
+        const core::Status st = master_.addSink(s.cob, s.sink);
+        if (!core::isOk(st)) {
+            return st;
+        }
+    }
+    for (std::uint8_t node : {ids::kImuNode, ids::kPowerNode, ids::kHazardNode, ids::kFixNode}) {
+        const core::Status st = master_.monitor(node, kDeviceHeartbeatTimeout);
+        if (!core::isOk(st)) {
+            return st;
+        }
+    }
+    core::Status st = bus_.createPipe("can_io", 4, &pipe_);
+    if (!core::isOk(st)) {
+        return st;
+    }
+    return bus_.subscribe(pipe_, msg::ids::kWheelCommand);
+}
+
+void CanIoTask::takeCommands() {
+    while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
+        msg::WheelCommandMsg cmd;
+        if (core::isOk(inbox_.decode(&cmd))) {
+            for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+                commanded_[w] = cmd.velocityRadS[w];
+            }
+        }
+    }
+}
+
+void CanIoTask::run(const core::FrameContext& frame) {
+    const core::TimeNs now = frame.actualStart;
+    takeCommands();
+    double safe[msg::kWheelCount];
+    interlock_.apply(status_, commanded_, safe);
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const double mrad = safe[w] / kMrad;
+        const double clamped = mrad > 2.0e9 ? 2.0e9 : (mrad < -2.0e9 ? -2.0e9 : mrad);
+        drives_[w].setTargetVelocity(static_cast<std::int32_t>(clamped));
+    }
+    master_.cycle(now);
+    link_.check();
+    hazard_.expire(now);
+    publishStatus(now);
+    publishSensors(frame);
+}
+
+void CanIoTask::publishStatus(core::TimeNs now) {
+    status_.timeNs = now;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const hal::WheelDrive& d = drives_[w];
+        msg::WheelStatus& s = status_.wheels[w];
+        s.velocityRadS = static_cast<double>(d.feedback().velocityMradS) * kMrad;
+        s.currentA = static_cast<double>(d.feedback().currentMa) * 1e-3;
+        s.feedbackTimeNs = d.feedback().time;
+        s.feedbackCount = d.feedback().count;
+        s.statusword = d.feedback().statusword;
+        s.lastEmcyCode = d.lastEmcyCode();
+        s.health = static_cast<msg::DriveHealth>(d.state());
+    }
+    status_.interlockTripped = interlock_.tripped() ? 1 : 0;
+    (void)bus_.publish(status_);
+}
+
+void CanIoTask::publishSensors(const core::FrameContext& frame) {
+    const core::TimeNs now = frame.actualStart;
+    if (imu_.latest().count != imuSeen_) {
+        imuSeen_ = imu_.latest().count;
+        const msg::ImuMsg m{imu_.latest().time, imu_.latest().yawRateRadS,
+                            static_cast<std::uint8_t>(imu_.latest().valid ? 1 : 0), {}};
+        (void)bus_.publish(m);
+    }
+    if (power_.latest().count != powerSeen_) {
+        powerSeen_ = power_.latest().count;
+        const hal::PowerSample& p = power_.latest();
+        (void)bus_.publish(msg::PowerMsg{p.time, p.busVoltageV, p.busCurrentA, p.stateOfCharge, p.solarCurrentA});
+    }
+    if (fix_.latest().count != fixSeen_) {
+        fixSeen_ = fix_.latest().count;
+        const hal::PositionFix& f = fix_.latest();
+        (void)bus_.publish(msg::PositionFixMsg{f.time, f.xM, f.yM, f.headingRad, f.sigmaM});
+    }
+    if (frame.frame % 10 == 0) {
+        msg::HazardMsg h{};
+        h.timeNs = now;
+        for (const hal::HazardSighting& s : hazard_.sightings()) {
+            if (h.count < msg::kMaxHazardsInMsg) {
+                h.sightings[h.count++] = msg::HazardSightingTlm{s.rangeM, s.bearingRad, s.halfWidthM, s.obstacleId, {}};
+            }
+        }
+        (void)bus_.publish(h);
+    }
+}
+
+}  // namespace rse::app

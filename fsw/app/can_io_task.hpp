@@ -1,0 +1,66 @@
+// The hal I/O task (every minor frame): runs the CANopen master cycle on the
+// rover's CAN bus and bridges the devices to the software bus.
+//   in:  WheelCommandMsg (latest wins)
+//   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per new
+//        sample; HazardMsg at 10 Hz.
+// The reflexive drive interlock is applied here, in the same frame the drive
+// status arrives, until the reflexive task exists to own it.
+#pragma once
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/sensor_msgs.hpp"
+#include "fsw/reflexive/drive_interlock.hpp"
+#include "hal/can/can_bus.hpp"
+#include "hal/can/can_link_monitor.hpp"
+#include "hal/canopen/canopen_master.hpp"
+#include "hal/devices/hazard_detector.hpp"
+#include "hal/devices/imu.hpp"
+#include "hal/devices/position_fix.hpp"
+#include "hal/devices/power_monitor.hpp"
+#include "hal/devices/wheel_drive.hpp"
+
+namespace rse::app {
+
+// Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
+constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
+constexpr core::TimeNs kDeviceHeartbeatTimeout = 250 * core::kNsPerMs;
+
+class CanIoTask final : public core::Task {
+public:
+    CanIoTask(hal::CanBus& can, core::SoftwareBus& bus, core::EventLog& events);
+
+    core::Status init();
+    void run(const core::FrameContext& frame) override;
+
+    const hal::canopen::CanOpenMaster& master() const { return master_; }
+    const hal::WheelDrive& drive(std::size_t wheel) const { return drives_[wheel]; }
+    const reflexive::DriveInterlock& interlock() const { return interlock_; }
+    void resetInterlock() { interlock_.reset(); }
+
+private:
+    void takeCommands();
+    void publishStatus(core::TimeNs now);
+    void publishSensors(const core::FrameContext& frame);
+
+    hal::CanBus& can_;
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    hal::canopen::CanOpenMaster master_;
+    hal::CanLinkMonitor link_;
+    hal::WheelDrive drives_[msg::kWheelCount];
+    hal::Imu imu_;
+    hal::PowerMonitor power_;
+    hal::HazardDetector hazard_;
+    hal::PositionFixSource fix_;
+    reflexive::DriveInterlock interlock_;
+    core::PipeId pipe_ = 0;
+    double commanded_[msg::kWheelCount] = {};
+    std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
+    core::Message inbox_{};
+    msg::DriveStatusMsg status_{};
+};
+
+}  // namespace rse::app

@@ -1,0 +1,50 @@
+// Wheel drives across the hal I/O boundary: status from the drives (every minor
+// frame) and the wheel velocity command to them.
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/msg/msg_ids.hpp"
+
+namespace rse::msg {
+
+constexpr std::size_t kWheelCount = 6;  // 0 FL, 1 ML, 2 RL, 3 FR, 4 MR, 5 RR (docs/icd.md §1.1)
+
+// Mirrors hal::DriveState; numeric values are part of the telemetry format.
+enum class DriveHealth : std::uint8_t {
+    kWaitingBootUp = 0,
+    kConfiguring = 1,
+    kStarting = 2,
+    kEnabling = 3,
+    kOperational = 4,
+    kFaulted = 5,
+    kFailed = 6,
+    kLost = 7,
+};
+
+struct WheelStatus {
+    double velocityRadS;     // wheel angular velocity actual
+    double currentA;         // motor current actual
+    std::int64_t feedbackTimeNs;  // when the drive last reported
+    std::uint32_t feedbackCount;
+    std::uint16_t statusword;
+    std::uint16_t lastEmcyCode;
+    DriveHealth health;
+    std::uint8_t pad[7];
+};
+
+struct DriveStatusMsg {
+    static constexpr core::MsgId kMsgId = ids::kDriveStatus;
+    std::int64_t timeNs;
+    WheelStatus wheels[kWheelCount];
+    std::uint8_t interlockTripped;  // 1: all drives held at zero (reflexive interlock)
+    std::uint8_t pad[7];
+};
+
+struct WheelCommandMsg {
+    static constexpr core::MsgId kMsgId = ids::kWheelCommand;
+    std::int64_t timeNs;
+    double velocityRadS[kWheelCount];  // target wheel angular velocities
+};
+
+}  // namespace rse::msg

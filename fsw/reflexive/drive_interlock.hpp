@@ -1,0 +1,30 @@
+// The reflexive layer's last line of defence for the wheels: if any drive is not
+// healthy (faulted, failed, lost) while the rover is commanded to move, every
+// drive is commanded to zero at once, so a rover with one dead or runaway wheel
+// does not keep driving on the others. The trip latches until reset() (by ground
+// command or a higher layer that has replanned around the lost wheel).
+#pragma once
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+
+namespace rse::reflexive {
+
+class DriveInterlock {
+public:
+    explicit DriveInterlock(core::EventLog& events) : events_(events) {}
+
+    // Writes the velocities to send: the command, or all zeros when tripped.
+    void apply(const msg::DriveStatusMsg& status, const double (&command)[msg::kWheelCount],
+               double (&out)[msg::kWheelCount]);
+    void reset();
+    bool tripped() const { return tripped_; }
+    std::uint32_t trips() const { return trips_; }
+
+private:
+    core::EventLog& events_;
+    bool tripped_ = false;
+    std::uint32_t trips_ = 0;
+};
+
+}  // namespace rse::reflexive

@@ -1,0 +1,11 @@
+// Event ids raised by fsw/reflexive (range 600-699). Documented in docs/architecture.md.
+#pragma once
+
+#include "fsw/core/event_log.hpp"
+
+namespace rse::reflexive::events {
+
+constexpr core::EventId kInterlockTripped = 601;  // a drive is unhealthy: all wheels held at zero
+constexpr core::EventId kInterlockReset = 602;
+
+}  // namespace rse::reflexive::events
