@@ -162,13 +162,14 @@ DEMO_SECONDS ?= 10
 demo: $(FSW_BIN)
 	$(FSW_BIN) --lockstep --duration $(DEMO_SECONDS)
 
-BENCH_BIN := $(BUILD)/bin/bench_executive
-$(BENCH_BIN): $(BUILD)/obj/unit_test/bench/bench_executive.o $(FLIGHT_LIB)
+# Each program in unit_test/bench/ is one benchmark; make bench runs them all.
+BENCH_BINS := $(patsubst unit_test/bench/%.cpp,$(BUILD)/bin/%,$(wildcard unit_test/bench/*.cpp))
+$(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^
 
-bench: $(BENCH_BIN)
-	$(BENCH_BIN)
+bench: $(BENCH_BINS)
+	@set -e; for b in $(BENCH_BINS); do echo "### $$b"; $$b; echo; done
 
 .PHONY: clean
 clean:
