@@ -1,0 +1,49 @@
+// What a fault schedule acts on. FaultScheduler calls these hooks at the
+// scheduled times; RoverSim implements them (devices, bus faults, babbling) and
+// forwards the drive hooks to whoever owns the drive emulators. Tests use a
+// recording fake.
+//
+// wheel: 0..5 in ICD node order (0 front-left, 1 middle-left, 2 rear-left,
+// 3 front-right, 4 middle-right, 5 rear-right). Scenario files number the
+// wheels 1..6; the parser subtracts one.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "hal/can/memory_can_bus.hpp"
+
+namespace rse::sim {
+
+enum class SimDevice : std::uint8_t { kImu = 0, kPower, kHazard, kPositionFix };
+constexpr std::size_t kSimDeviceCount = 4;
+// The names scenario files use: "imu", "power", "hazard", "position_fix".
+const char* toString(SimDevice device);
+
+class FaultTarget {
+public:
+    // The motor draws currentFactor times the current for the same torque (k >= 1).
+    virtual void degradeMotor(std::size_t wheel, double currentFactor) = 0;
+    // The motor no longer turns (the wheel locks); the drive reports the failure.
+    virtual void failMotor(std::size_t wheel) = 0;
+    // The drive keeps working but its heartbeat is (on) or is no longer (off) sent.
+    virtual void suppressHeartbeat(std::size_t wheel, bool on) = 0;
+    // The drive goes silent entirely / powers up again (boot-up, pre-operational).
+    virtual void crashDrive(std::size_t wheel) = 0;
+    virtual void restartDrive(std::size_t wheel) = 0;
+    // Device data frames stop (on) or resume (off); heartbeats continue.
+    virtual void setDeviceDropout(SimDevice device, bool on) = 0;
+    virtual void crashDevice(SimDevice device) = 0;
+    virtual void restartDevice(SimDevice device) = 0;
+    // Adds deltaRadS to the IMU's yaw-rate bias.
+    virtual void stepImuBias(double deltaRadS) = 0;
+    // A rule for the in-memory bus (drop / corrupt / delay the next N matching frames).
+    virtual void addBusFault(const hal::CanFaultRule& rule) = 0;
+    // A node floods the bus with frames at cobId, framesPerSecond, until switched off.
+    virtual void babble(std::uint32_t cobId, double framesPerSecond, bool on) = 0;
+
+protected:
+    ~FaultTarget() = default;
+};
+
+}  // namespace rse::sim

@@ -1,0 +1,55 @@
+#include "sim_stub/scenario/scenario.hpp"
+
+namespace rse::sim {
+
+const char* toString(SimDevice device) {
+    switch (device) {
+        case SimDevice::kImu:
+            return "imu";
+        case SimDevice::kPower:
+            return "power";
+        case SimDevice::kHazard:
+            return "hazard";
+        case SimDevice::kPositionFix:
+            return "position_fix";
+    }
+    return "?";
+}
+
+const char* toString(FaultType type) {
+    switch (type) {
+        case FaultType::kMotorDegradation:
+            return "motor_degradation";
+        case FaultType::kMotorFailure:
+            return "motor_failure";
+        case FaultType::kDriveHeartbeatLoss:
+            return "drive_heartbeat_loss";
+        case FaultType::kDriveCrash:
+            return "drive_crash";
+        case FaultType::kSensorDropout:
+            return "sensor_dropout";
+        case FaultType::kDeviceCrash:
+            return "device_crash";
+        case FaultType::kImuBiasStep:
+            return "imu_bias_step";
+        case FaultType::kBusFault:
+            return "bus_fault";
+        case FaultType::kBabblingNode:
+            return "babbling_node";
+    }
+    return "?";
+}
+
+WorldConfig Scenario::worldConfig() const {
+    WorldConfig c;
+    c.rover = rover;
+    c.battery = battery;
+    c.solar = solar;
+    c.map = map;
+    c.start = start;
+    c.obstacles = obstacles;
+    c.seed = seed;
+    return c;
+}
+
+}  // namespace rse::sim

@@ -1,0 +1,77 @@
+// A simulation scenario: everything rse-sim needs to build the world, the
+// devices and the fault schedule. Produced by the scenario parser from a TOML
+// file (format: sim_stub/scenarios/README.md) or filled in directly by tests.
+// Built at start-up only (std::vector and std::string are fine here).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "fsw/core/clock.hpp"
+#include "hal/can/memory_can_bus.hpp"
+#include "sim_stub/devices/hazard_detector_emulator.hpp"
+#include "sim_stub/devices/imu_emulator.hpp"
+#include "sim_stub/devices/position_fix_emulator.hpp"
+#include "sim_stub/devices/power_monitor_emulator.hpp"
+#include "sim_stub/scenario/fault_target.hpp"
+#include "sim_stub/world/world.hpp"
+
+namespace rse::sim {
+
+constexpr core::TimeNs kNever = std::numeric_limits<core::TimeNs>::max();
+constexpr double kDefaultBabbleRateHz = 8000.0;  // about a saturated 1 Mbit/s bus of 8-byte frames
+
+enum class FaultType : std::uint8_t {
+    kMotorDegradation,  // wheel, value = current factor k
+    kMotorFailure,      // wheel
+    kDriveHeartbeatLoss,  // wheel, until
+    kDriveCrash,        // wheel, until = restart time (kNever: no restart)
+    kSensorDropout,     // device, until
+    kDeviceCrash,       // device, until = restart time (kNever: no restart)
+    kImuBiasStep,       // value = bias step, rad/s
+    kBusFault,          // busRule
+    kBabblingNode,      // cobId, value = frames per second, until
+};
+// The names scenario files use ("motor_degradation", ...).
+const char* toString(FaultType type);
+
+struct FaultSpec {
+    FaultType type = FaultType::kMotorFailure;
+    core::TimeNs at = 0;
+    core::TimeNs until = kNever;  // end of an interval fault, or a crash's restart
+    std::size_t wheel = 0;        // 0..5
+    SimDevice device = SimDevice::kImu;
+    double value = 0.0;
+    hal::CanFaultRule busRule;
+    std::uint32_t cobId = 0;
+};
+
+struct DeviceParams {
+    ImuParams imu;
+    PowerMonitorParams power;
+    HazardDetectorParams hazard;
+    PositionFixParams positionFix;
+};
+
+struct Scenario {
+    std::string source;       // file name (or the name given for inline text)
+    std::string name;
+    std::string description;
+    std::uint64_t seed = 1;
+    double durationS = 60.0;  // how long a run of this scenario lasts
+    RoverParams rover;
+    BatteryParams battery;
+    SolarParams solar;
+    MapBounds map;
+    Pose2 start;
+    std::vector<Obstacle> obstacles;
+    DeviceParams devices;
+    std::vector<FaultSpec> faults;  // in time order (by at)
+
+    WorldConfig worldConfig() const;
+};
+
+}  // namespace rse::sim

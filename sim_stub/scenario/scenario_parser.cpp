@@ -1,0 +1,679 @@
+#include "sim_stub/scenario/scenario_parser.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <utility>
+
+#include <toml++/toml.h>
+
+namespace rse::sim {
+
+namespace {
+
+constexpr double kMaxTimeS = 1e7;  // about four months: far beyond any run, far below TimeNs overflow
+
+std::string num(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+
+std::string join(const std::string& base, std::string_view key) {
+    return base.empty() ? std::string(key) : base + "." + std::string(key);
+}
+
+std::string indexed(const std::string& base, std::size_t i) { return base + "[" + std::to_string(i) + "]"; }
+
+const char* typeName(const toml::node& n) {
+    switch (n.type()) {
+        case toml::node_type::table:
+            return "a table";
+        case toml::node_type::array:
+            return "an array";
+        case toml::node_type::string:
+            return "a string";
+        case toml::node_type::integer:
+            return "an integer";
+        case toml::node_type::floating_point:
+            return "a floating-point number";
+        case toml::node_type::boolean:
+            return "a boolean";
+        case toml::node_type::date:
+        case toml::node_type::time:
+        case toml::node_type::date_time:
+            return "a date or time";
+        default:
+            return "nothing";
+    }
+}
+
+core::TimeNs toNs(double seconds) { return static_cast<core::TimeNs>(std::llround(seconds * 1e9)); }
+
+class Parser {
+public:
+    explicit Parser(std::string source) : source_(std::move(source)) {}
+
+    Scenario parse(std::string_view text);
+
+private:
+    [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+        throw ScenarioError(source_ + ": " + path + ": " + what);
+    }
+
+    void onlyKeys(const toml::table& t, const std::string& path, std::initializer_list<std::string_view> allowed,
+                  const std::string& context = {}) const {
+        for (auto&& [key, value] : t) {
+            (void)value;
+            bool ok = false;
+            for (std::string_view a : allowed) {
+                ok = ok || key.str() == a;
+            }
+            if (!ok) {
+                fail(join(path, key.str()), context.empty() ? "unknown key" : "unknown key " + context);
+            }
+        }
+    }
+
+    const toml::node* node(const toml::table& t, const std::string& path, std::string_view key,
+                           bool required) const {
+        const toml::node* n = t.get(key);
+        if (n == nullptr && required) {
+            fail(join(path, key), "missing (required)");
+        }
+        return n;
+    }
+
+    const toml::table* table(const toml::table& t, const std::string& path, std::string_view key,
+                             bool required) const {
+        const toml::node* n = node(t, path, key, required);
+        if (n == nullptr) {
+            return nullptr;
+        }
+        if (!n->is_table()) {
+            fail(join(path, key), std::string("must be a table (got ") + typeName(*n) + ")");
+        }
+        return n->as_table();
+    }
+
+    double number(const toml::node& n, const std::string& path) const {
+        double v = 0.0;
+        if (n.is_integer()) {
+            v = static_cast<double>(n.as_integer()->get());
+        } else if (n.is_floating_point()) {
+            v = n.as_floating_point()->get();
+        } else {
+            fail(path, std::string("must be a number (got ") + typeName(n) + ")");
+        }
+        if (!std::isfinite(v)) {
+            fail(path, "must be a finite number (got " + num(v) + ")");
+        }
+        return v;
+    }
+
+    double number(const toml::table& t, const std::string& path, std::string_view key, double fallback,
+                  bool required = false) const {
+        const toml::node* n = node(t, path, key, required);
+        return n == nullptr ? fallback : number(*n, join(path, key));
+    }
+
+    std::int64_t integer(const toml::node& n, const std::string& path) const {
+        if (!n.is_integer()) {
+            fail(path, std::string("must be an integer (got ") + typeName(n) + ")");
+        }
+        return n.as_integer()->get();
+    }
+
+    std::int64_t integer(const toml::table& t, const std::string& path, std::string_view key, std::int64_t fallback,
+                         bool required = false) const {
+        const toml::node* n = node(t, path, key, required);
+        return n == nullptr ? fallback : integer(*n, join(path, key));
+    }
+
+    bool boolean(const toml::table& t, const std::string& path, std::string_view key, bool fallback,
+                 bool required = false) const {
+        const toml::node* n = node(t, path, key, required);
+        if (n == nullptr) {
+            return fallback;
+        }
+        if (!n->is_boolean()) {
+            fail(join(path, key), std::string("must be true or false (got ") + typeName(*n) + ")");
+        }
+        return n->as_boolean()->get();
+    }
+
+    std::string string(const toml::table& t, const std::string& path, std::string_view key,
+                       const std::string& fallback, bool required = false) const {
+        const toml::node* n = node(t, path, key, required);
+        if (n == nullptr) {
+            return fallback;
+        }
+        if (!n->is_string()) {
+            fail(join(path, key), std::string("must be a string (got ") + typeName(*n) + ")");
+        }
+        return n->as_string()->get();
+    }
+
+    // Range checks; the message names the bound.
+    void above(const std::string& path, double v, double lo) const {
+        if (!(v > lo)) {
+            fail(path, "must be > " + num(lo) + " (got " + num(v) + ")");
+        }
+    }
+    void atLeast(const std::string& path, double v, double lo) const {
+        if (!(v >= lo)) {
+            fail(path, "must be >= " + num(lo) + " (got " + num(v) + ")");
+        }
+    }
+    void within(const std::string& path, double v, double lo, double hi) const {
+        if (!(v >= lo && v <= hi)) {
+            fail(path, "must be in [" + num(lo) + ", " + num(hi) + "] (got " + num(v) + ")");
+        }
+    }
+    void withinOpenLow(const std::string& path, double v, double lo, double hi) const {
+        if (!(v > lo && v <= hi)) {
+            fail(path, "must be in (" + num(lo) + ", " + num(hi) + "] (got " + num(v) + ")");
+        }
+    }
+
+    // Reads key as a number in (lo, hi] (positive quantities) or [lo, hi].
+    double positive(const toml::table& t, const std::string& path, std::string_view key, double fallback,
+                    double hi, bool required = false) const {
+        const double v = number(t, path, key, fallback, required);
+        withinOpenLow(join(path, key), v, 0.0, hi);
+        return v;
+    }
+    double ranged(const toml::table& t, const std::string& path, std::string_view key, double fallback, double lo,
+                  double hi, bool required = false) const {
+        const double v = number(t, path, key, fallback, required);
+        within(join(path, key), v, lo, hi);
+        return v;
+    }
+
+    void parseRover(const toml::table& t, RoverParams* rover) const;
+    void parseBattery(const toml::table& t, BatteryParams* battery) const;
+    void parseSolar(const toml::table& t, SolarParams* solar) const;
+    void parseMap(const toml::table& t, MapBounds* map) const;
+    void parseObstacles(const toml::node& n, const MapBounds& map, std::vector<Obstacle>* out) const;
+    void parseStart(const toml::table& t, const Scenario& s, Pose2* start) const;
+    void parseDevices(const toml::table& t, DeviceParams* devices) const;
+    void parseFaults(const toml::node& n, std::vector<FaultSpec>* out) const;
+    FaultSpec parseFault(const toml::table& t, const std::string& path) const;
+    std::size_t wheel(const toml::table& t, const std::string& path) const;
+    SimDevice device(const toml::table& t, const std::string& path) const;
+    std::uint32_t cobId(const toml::table& t, const std::string& path, std::string_view key, std::uint32_t fallback,
+                        bool required) const;
+    core::TimeNs intervalEnd(const toml::table& t, const std::string& path, double atS) const;
+
+    std::string source_;
+};
+
+void Parser::parseRover(const toml::table& t, RoverParams* r) const {
+    const std::string p = "rover";
+    onlyKeys(t, p,
+             {"wheel_radius_m", "track_width_m", "mass_kg", "radius_m", "skid_factor", "gravity_m_s2",
+              "rolling_coefficient", "turn_torque_nm_per_rad_s", "slide_friction", "slip_sigma", "drive_nodes"});
+    r->wheelRadiusM = positive(t, p, "wheel_radius_m", r->wheelRadiusM, 2.0);
+    r->trackWidthM = positive(t, p, "track_width_m", r->trackWidthM, 10.0);
+    r->massKg = positive(t, p, "mass_kg", r->massKg, 10000.0);
+    r->radiusM = number(t, p, "radius_m", r->radiusM);
+    above(join(p, "radius_m"), r->radiusM, 0.0);
+    within(join(p, "radius_m"), r->radiusM, 0.0, 10.0);
+    r->skidFactor = ranged(t, p, "skid_factor", r->skidFactor, 1.0, 10.0);
+    r->gravityMS2 = positive(t, p, "gravity_m_s2", r->gravityMS2, 30.0);
+    r->rollingCoefficient = ranged(t, p, "rolling_coefficient", r->rollingCoefficient, 0.0, 1.0);
+    r->turnTorquePerRadS = ranged(t, p, "turn_torque_nm_per_rad_s", r->turnTorquePerRadS, 0.0, 1000.0);
+    r->slideFriction = ranged(t, p, "slide_friction", r->slideFriction, 0.0, 2.0);
+    r->slipSigma = ranged(t, p, "slip_sigma", r->slipSigma, 0.0, 0.5);
+    if (const toml::node* n = node(t, p, "drive_nodes", false)) {
+        const std::string np = join(p, "drive_nodes");
+        const toml::array* a = n->as_array();
+        if (a == nullptr) {
+            fail(np, std::string("must be an array of ") + std::to_string(kWheelCount) + " node ids (got " +
+                         typeName(*n) + ")");
+        }
+        if (a->size() != kWheelCount) {
+            fail(np, "must list " + std::to_string(kWheelCount) + " node ids (got " + std::to_string(a->size()) +
+                         ")");
+        }
+        for (std::size_t i = 0; i < kWheelCount; ++i) {
+            const std::string ip = indexed(np, i);
+            const std::int64_t id = integer(*a->get(i), ip);
+            if (id < 1 || id > 127) {
+                fail(ip, "must be 1..127 (got " + std::to_string(id) + ")");
+            }
+            if (id >= kImuNodeId && id <= kPositionFixNodeId) {
+                fail(ip, "node " + std::to_string(id) + " belongs to an RSE device (0x20-0x23)");
+            }
+            for (std::size_t j = 0; j < i; ++j) {
+                if (r->driveNodes[j] == id) {
+                    fail(ip, "node " + std::to_string(id) + " is listed twice");
+                }
+            }
+            r->driveNodes[i] = static_cast<std::uint8_t>(id);
+        }
+    }
+}
+
+void Parser::parseBattery(const toml::table& t, BatteryParams* b) const {
+    const std::string p = "battery";
+    onlyKeys(t, p, {"capacity_ah", "initial_soc", "base_load_w", "internal_resistance_ohm"});
+    b->capacityAh = positive(t, p, "capacity_ah", b->capacityAh, 10000.0);
+    b->initialSoc = ranged(t, p, "initial_soc", b->initialSoc, 0.0, 1.0);
+    b->baseLoadW = ranged(t, p, "base_load_w", b->baseLoadW, 0.0, 10000.0);
+    b->internalResistanceOhm = ranged(t, p, "internal_resistance_ohm", b->internalResistanceOhm, 0.0, 10.0);
+}
+
+void Parser::parseSolar(const toml::table& t, SolarParams* s) const {
+    const std::string p = "solar";
+    onlyKeys(t, p, {"profile", "peak_current_a", "day_length_s", "day_phase"});
+    const std::string profile = string(t, p, "profile", "constant");
+    if (profile == "constant") {
+        s->profile = SolarProfile::kConstant;
+    } else if (profile == "day") {
+        s->profile = SolarProfile::kDay;
+    } else {
+        fail(join(p, "profile"), "unknown profile \"" + profile + "\" (expected constant or day)");
+    }
+    s->peakCurrentA = ranged(t, p, "peak_current_a", s->peakCurrentA, 0.0, 100.0);
+    s->dayLengthS = positive(t, p, "day_length_s", s->dayLengthS, kMaxTimeS);
+    s->phase = number(t, p, "day_phase", s->phase);
+    if (!(s->phase >= 0.0 && s->phase < 1.0)) {
+        fail(join(p, "day_phase"), "must be in [0, 1) (got " + num(s->phase) + ")");
+    }
+}
+
+void Parser::parseMap(const toml::table& t, MapBounds* m) const {
+    const std::string p = "map";
+    onlyKeys(t, p, {"x_min_m", "x_max_m", "y_min_m", "y_max_m"});
+    m->xMin = ranged(t, p, "x_min_m", 0.0, -1e5, 1e5, true);
+    m->xMax = ranged(t, p, "x_max_m", 0.0, -1e5, 1e5, true);
+    m->yMin = ranged(t, p, "y_min_m", 0.0, -1e5, 1e5, true);
+    m->yMax = ranged(t, p, "y_max_m", 0.0, -1e5, 1e5, true);
+    if (!(m->xMax > m->xMin)) {
+        fail(join(p, "x_max_m"), "must be greater than x_min_m (" + num(m->xMin) + ")");
+    }
+    if (!(m->yMax > m->yMin)) {
+        fail(join(p, "y_max_m"), "must be greater than y_min_m (" + num(m->yMin) + ")");
+    }
+}
+
+void Parser::parseObstacles(const toml::node& n, const MapBounds& map, std::vector<Obstacle>* out) const {
+    const std::string p = "obstacles";
+    const toml::array* a = n.as_array();
+    if (a == nullptr) {
+        fail(p, std::string("must be an array of tables ([[obstacles]]) (got ") + typeName(n) + ")");
+    }
+    out->reserve(a->size());
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const std::string op = indexed(p, i);
+        const toml::node& on = *a->get(i);
+        if (!on.is_table()) {
+            fail(op, std::string("must be a table (got ") + typeName(on) + ")");
+        }
+        const toml::table& t = *on.as_table();
+        onlyKeys(t, op, {"id", "known", "vertices"});
+        Obstacle o;
+        const std::int64_t id = integer(t, op, "id", 0, true);
+        if (id < 1 || id > 255) {
+            fail(join(op, "id"), "must be 1..255 (got " + std::to_string(id) + ")");
+        }
+        for (std::size_t j = 0; j < out->size(); ++j) {
+            if ((*out)[j].id == id) {
+                fail(join(op, "id"), std::to_string(id) + " is already used by " + indexed(p, j));
+            }
+        }
+        o.id = static_cast<std::uint8_t>(id);
+        o.known = boolean(t, op, "known", true, true);
+        const std::string vp = join(op, "vertices");
+        const toml::node* vn = node(t, op, "vertices", true);
+        const toml::array* va = vn->as_array();
+        if (va == nullptr) {
+            fail(vp, std::string("must be an array of [x, y] pairs (got ") + typeName(*vn) + ")");
+        }
+        if (va->size() < 3 || va->size() > kMaxPolygonVertices) {
+            fail(vp, "needs 3 to " + std::to_string(kMaxPolygonVertices) + " vertices (got " +
+                         std::to_string(va->size()) + ")");
+        }
+        for (std::size_t k = 0; k < va->size(); ++k) {
+            const std::string kp = indexed(vp, k);
+            const toml::array* pair = va->get(k)->as_array();
+            if (pair == nullptr || pair->size() != 2) {
+                fail(kp, "must be a pair [x, y] of numbers in metres");
+            }
+            const Vec2 v{number(*pair->get(0), kp), number(*pair->get(1), kp)};
+            if (!map.contains(v)) {
+                fail(kp, "(" + num(v.x) + ", " + num(v.y) + ") is outside the map");
+            }
+            o.shape.v[k] = v;
+        }
+        o.shape.n = va->size();
+        if (!isConvexCcw(o.shape.v.data(), o.shape.n)) {
+            fail(vp, "polygon must be convex and counter-clockwise");
+        }
+        out->push_back(o);
+    }
+}
+
+void Parser::parseStart(const toml::table& t, const Scenario& s, Pose2* start) const {
+    const std::string p = "start";
+    onlyKeys(t, p, {"x_m", "y_m", "heading_deg"});
+    start->x = number(t, p, "x_m", 0.0, true);
+    start->y = number(t, p, "y_m", 0.0, true);
+    start->theta = ranged(t, p, "heading_deg", 0.0, -360.0, 360.0) * kPi / 180.0;
+    const Vec2 c{start->x, start->y};
+    if (!s.map.containsDisc(c, s.rover.radiusM)) {
+        fail(p, "rover footprint (radius " + num(s.rover.radiusM) + " m) at (" + num(c.x) + ", " + num(c.y) +
+                    ") is not inside the map");
+    }
+    for (const Obstacle& o : s.obstacles) {
+        if (circleIntersectsPolygon(c, s.rover.radiusM, o.shape)) {
+            fail(p, "rover footprint (radius " + num(s.rover.radiusM) + " m) overlaps obstacle " +
+                        std::to_string(o.id));
+        }
+    }
+}
+
+void Parser::parseDevices(const toml::table& t, DeviceParams* d) const {
+    const std::string p = "devices";
+    onlyKeys(t, p, {"imu", "power", "hazard", "position_fix"});
+    if (const toml::table* imu = table(t, p, "imu", false)) {
+        const std::string ip = join(p, "imu");
+        onlyKeys(*imu, ip, {"noise_sigma_rad_s", "bias_rad_s"});
+        d->imu.noiseSigmaRadS = ranged(*imu, ip, "noise_sigma_rad_s", d->imu.noiseSigmaRadS, 0.0, 1.0);
+        d->imu.biasRadS = ranged(*imu, ip, "bias_rad_s", d->imu.biasRadS, -1.0, 1.0);
+    }
+    if (const toml::table* pw = table(t, p, "power", false)) {
+        const std::string pp = join(p, "power");
+        onlyKeys(*pw, pp, {"voltage_sigma_v", "current_sigma_a"});
+        d->power.voltageSigmaV = ranged(*pw, pp, "voltage_sigma_v", d->power.voltageSigmaV, 0.0, 5.0);
+        d->power.currentSigmaA = ranged(*pw, pp, "current_sigma_a", d->power.currentSigmaA, 0.0, 5.0);
+    }
+    if (const toml::table* hz = table(t, p, "hazard", false)) {
+        const std::string hp = join(p, "hazard");
+        onlyKeys(*hz, hp, {"range_m", "half_fov_deg", "range_sigma_m", "bearing_sigma_rad"});
+        d->hazard.rangeM = positive(*hz, hp, "range_m", d->hazard.rangeM, 300.0);
+        d->hazard.halfFovRad =
+            positive(*hz, hp, "half_fov_deg", d->hazard.halfFovRad * 180.0 / kPi, 90.0) * kPi / 180.0;
+        d->hazard.rangeSigmaM = ranged(*hz, hp, "range_sigma_m", d->hazard.rangeSigmaM, 0.0, 10.0);
+        d->hazard.bearingSigmaRad = ranged(*hz, hp, "bearing_sigma_rad", d->hazard.bearingSigmaRad, 0.0, 1.0);
+    }
+    if (const toml::table* fx = table(t, p, "position_fix", false)) {
+        const std::string fp = join(p, "position_fix");
+        onlyKeys(*fx, fp, {"sigma_m", "heading_sigma_rad"});
+        d->positionFix.sigmaM = ranged(*fx, fp, "sigma_m", d->positionFix.sigmaM, 0.0, 60.0);
+        d->positionFix.headingSigmaRad =
+            ranged(*fx, fp, "heading_sigma_rad", d->positionFix.headingSigmaRad, 0.0, 1.0);
+    }
+}
+
+std::size_t Parser::wheel(const toml::table& t, const std::string& path) const {
+    const std::int64_t w = integer(t, path, "wheel", 0, true);
+    if (w < 1 || w > static_cast<std::int64_t>(kWheelCount)) {
+        fail(join(path, "wheel"), "must be 1..6 (got " + std::to_string(w) + ")");
+    }
+    return static_cast<std::size_t>(w - 1);
+}
+
+SimDevice Parser::device(const toml::table& t, const std::string& path) const {
+    const std::string name = string(t, path, "device", "", true);
+    for (std::size_t i = 0; i < kSimDeviceCount; ++i) {
+        const SimDevice d = static_cast<SimDevice>(i);
+        if (name == toString(d)) {
+            return d;
+        }
+    }
+    fail(join(path, "device"), "unknown device \"" + name + "\" (expected imu, power, hazard or position_fix)");
+}
+
+std::uint32_t Parser::cobId(const toml::table& t, const std::string& path, std::string_view key,
+                            std::uint32_t fallback, bool required) const {
+    const std::int64_t id = integer(t, path, key, fallback, required);
+    if (id < 0 || id > 0x7FF) {
+        fail(join(path, key), "must be an 11-bit CAN id 0..0x7FF (got " + std::to_string(id) + ")");
+    }
+    return static_cast<std::uint32_t>(id);
+}
+
+core::TimeNs Parser::intervalEnd(const toml::table& t, const std::string& path, double atS) const {
+    const toml::node* duration = t.get("duration_s");
+    const toml::node* until = t.get("until_s");
+    if (duration == nullptr && until == nullptr) {
+        fail(path, "needs duration_s or until_s");
+    }
+    if (duration != nullptr && until != nullptr) {
+        fail(path, "give duration_s or until_s, not both");
+    }
+    if (duration != nullptr) {
+        const double d = number(*duration, join(path, "duration_s"));
+        withinOpenLow(join(path, "duration_s"), d, 0.0, kMaxTimeS);
+        return toNs(atS + d);
+    }
+    const double u = number(*until, join(path, "until_s"));
+    if (!(u > atS)) {
+        fail(join(path, "until_s"), "must be after at_s (" + num(atS) + ") (got " + num(u) + ")");
+    }
+    within(join(path, "until_s"), u, 0.0, kMaxTimeS);
+    return toNs(u);
+}
+
+FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
+    FaultSpec f;
+    const std::string type = string(t, p, "type", "", true);
+    bool known = false;
+    for (std::uint8_t i = 0; i <= static_cast<std::uint8_t>(FaultType::kBabblingNode); ++i) {
+        if (type == toString(static_cast<FaultType>(i))) {
+            f.type = static_cast<FaultType>(i);
+            known = true;
+        }
+    }
+    if (!known) {
+        fail(join(p, "type"), "unknown fault type \"" + type +
+                                  "\" (expected motor_degradation, motor_failure, drive_heartbeat_loss, "
+                                  "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault or "
+                                  "babbling_node)");
+    }
+    const double atS = ranged(t, p, "at_s", 0.0, 0.0, kMaxTimeS, true);
+    f.at = toNs(atS);
+    const std::string ctx = "for fault type " + type;
+    switch (f.type) {
+        case FaultType::kMotorDegradation:
+            onlyKeys(t, p, {"type", "at_s", "wheel", "current_factor"}, ctx);
+            f.wheel = wheel(t, p);
+            f.value = ranged(t, p, "current_factor", 0.0, 1.0, 10.0, true);
+            break;
+        case FaultType::kMotorFailure:
+            onlyKeys(t, p, {"type", "at_s", "wheel"}, ctx);
+            f.wheel = wheel(t, p);
+            break;
+        case FaultType::kDriveHeartbeatLoss:
+            onlyKeys(t, p, {"type", "at_s", "wheel", "duration_s", "until_s"}, ctx);
+            f.wheel = wheel(t, p);
+            f.until = intervalEnd(t, p, atS);
+            break;
+        case FaultType::kDriveCrash:
+        case FaultType::kDeviceCrash:
+            if (f.type == FaultType::kDriveCrash) {
+                onlyKeys(t, p, {"type", "at_s", "wheel", "restart_at_s"}, ctx);
+                f.wheel = wheel(t, p);
+            } else {
+                onlyKeys(t, p, {"type", "at_s", "device", "restart_at_s"}, ctx);
+                f.device = device(t, p);
+            }
+            if (const toml::node* r = t.get("restart_at_s")) {
+                const double rs = number(*r, join(p, "restart_at_s"));
+                if (!(rs > atS)) {
+                    fail(join(p, "restart_at_s"), "must be after at_s (" + num(atS) + ") (got " + num(rs) + ")");
+                }
+                within(join(p, "restart_at_s"), rs, 0.0, kMaxTimeS);
+                f.until = toNs(rs);
+            }
+            break;
+        case FaultType::kSensorDropout:
+            onlyKeys(t, p, {"type", "at_s", "device", "duration_s", "until_s"}, ctx);
+            f.device = device(t, p);
+            f.until = intervalEnd(t, p, atS);
+            break;
+        case FaultType::kImuBiasStep:
+            onlyKeys(t, p, {"type", "at_s", "delta_rad_s"}, ctx);
+            f.value = ranged(t, p, "delta_rad_s", 0.0, -1.0, 1.0, true);
+            break;
+        case FaultType::kBusFault: {
+            const std::string action = string(t, p, "action", "", true);
+            const std::string actx = "for bus_fault action \"" + action + "\"";
+            if (action == "drop") {
+                onlyKeys(t, p, {"type", "at_s", "action", "cob_id", "mask", "frames"}, actx);
+                f.busRule.kind = hal::CanFaultKind::kDrop;
+            } else if (action == "corrupt") {
+                onlyKeys(t, p, {"type", "at_s", "action", "cob_id", "mask", "frames", "byte", "xor"}, actx);
+                f.busRule.kind = hal::CanFaultKind::kCorrupt;
+                const std::int64_t byte = integer(t, p, "byte", 0);
+                if (byte < 0 || byte > 7) {
+                    fail(join(p, "byte"), "must be 0..7 (got " + std::to_string(byte) + ")");
+                }
+                const std::int64_t x = integer(t, p, "xor", 0xFF);
+                if (x < 1 || x > 255) {
+                    fail(join(p, "xor"), "must be 1..255 (got " + std::to_string(x) + ")");
+                }
+                f.busRule.corruptByte = static_cast<std::uint8_t>(byte);
+                f.busRule.corruptXor = static_cast<std::uint8_t>(x);
+            } else if (action == "delay") {
+                onlyKeys(t, p, {"type", "at_s", "action", "cob_id", "mask", "frames", "delay_s"}, actx);
+                f.busRule.kind = hal::CanFaultKind::kDelay;
+                f.busRule.delay = toNs(positive(t, p, "delay_s", 0.0, 10.0, true));
+            } else {
+                fail(join(p, "action"), "unknown bus fault action \"" + action + "\" (expected drop, corrupt or delay)");
+            }
+            f.busRule.id = cobId(t, p, "cob_id", 0, true);
+            f.busRule.mask = cobId(t, p, "mask", 0x7FF, false);
+            const std::int64_t frames = integer(t, p, "frames", 1);
+            if (frames < 1 || frames > 1000000) {
+                fail(join(p, "frames"), "must be 1..1000000 (got " + std::to_string(frames) + ")");
+            }
+            f.busRule.count = static_cast<std::uint32_t>(frames);
+            break;
+        }
+        case FaultType::kBabblingNode:
+            onlyKeys(t, p, {"type", "at_s", "cob_id", "rate_hz", "duration_s", "until_s"}, ctx);
+            f.cobId = cobId(t, p, "cob_id", 0, true);
+            f.value = positive(t, p, "rate_hz", kDefaultBabbleRateHz, 20000.0);
+            f.until = intervalEnd(t, p, atS);
+            break;
+    }
+    return f;
+}
+
+void Parser::parseFaults(const toml::node& n, std::vector<FaultSpec>* out) const {
+    const std::string p = "faults";
+    const toml::array* a = n.as_array();
+    if (a == nullptr) {
+        fail(p, std::string("must be an array of tables ([[faults]]) (got ") + typeName(n) + ")");
+    }
+    out->reserve(a->size());
+    double previousS = 0.0;
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const std::string fp = indexed(p, i);
+        const toml::node& fn = *a->get(i);
+        if (!fn.is_table()) {
+            fail(fp, std::string("must be a table (got ") + typeName(fn) + ")");
+        }
+        const FaultSpec f = parseFault(*fn.as_table(), fp);
+        const double atS = static_cast<double>(f.at) * 1e-9;
+        if (i > 0 && f.at < out->back().at) {
+            fail(join(fp, "at_s"), num(atS) + " is earlier than the previous fault's " + num(previousS) +
+                                       ": faults must be listed in time order");
+        }
+        previousS = atS;
+        out->push_back(f);
+    }
+}
+
+Scenario Parser::parse(std::string_view text) {
+    toml::table root;
+    try {
+        root = toml::parse(text, source_);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << source_ << ":" << e.source().begin.line << ":" << e.source().begin.column << ": " << e.description();
+        throw ScenarioError(os.str());
+    }
+    onlyKeys(root, "",
+             {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
+              "devices", "faults"});
+    Scenario s;
+    s.source = source_;
+    s.name = string(root, "", "name", source_);
+    s.description = string(root, "", "description", "");
+    const std::int64_t seed = integer(root, "", "seed", 0, true);
+    if (seed < 0) {
+        fail("seed", "must be >= 0 (got " + std::to_string(seed) + ")");
+    }
+    s.seed = static_cast<std::uint64_t>(seed);
+    s.durationS = positive(root, "", "duration_s", s.durationS, kMaxTimeS);
+    if (const toml::table* t = table(root, "", "rover", false)) {
+        parseRover(*t, &s.rover);
+    }
+    if (const toml::table* t = table(root, "", "battery", false)) {
+        parseBattery(*t, &s.battery);
+    }
+    if (const toml::table* t = table(root, "", "solar", false)) {
+        parseSolar(*t, &s.solar);
+    }
+    parseMap(*table(root, "", "map", true), &s.map);
+    if (const toml::node* n = node(root, "", "obstacles", false)) {
+        parseObstacles(*n, s.map, &s.obstacles);
+    }
+    parseStart(*table(root, "", "start", true), s, &s.start);
+    if (const toml::table* t = table(root, "", "devices", false)) {
+        parseDevices(*t, &s.devices);
+    }
+    if (const toml::node* n = node(root, "", "faults", false)) {
+        parseFaults(*n, &s.faults);
+    }
+    return s;
+}
+
+}  // namespace
+
+Scenario parseScenario(std::string_view text, const std::string& sourceName) {
+    Parser parser(sourceName);
+    return parser.parse(text);
+}
+
+Scenario loadScenarioFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw ScenarioError(path + ": cannot open the file");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScenario(text.str(), path);
+}
+
+bool tryParseScenario(std::string_view text, const std::string& sourceName, Scenario* out, std::string* error) {
+    try {
+        *out = parseScenario(text, sourceName);
+        return true;
+    } catch (const ScenarioError& e) {
+        if (error != nullptr) {
+            *error = e.what();
+        }
+        return false;
+    }
+}
+
+bool tryLoadScenarioFile(const std::string& path, Scenario* out, std::string* error) {
+    try {
+        *out = loadScenarioFile(path);
+        return true;
+    } catch (const ScenarioError& e) {
+        if (error != nullptr) {
+            *error = e.what();
+        }
+        return false;
+    }
+}
+
+}  // namespace rse::sim

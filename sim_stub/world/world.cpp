@@ -1,0 +1,123 @@
+#include "sim_stub/world/world.hpp"
+
+#include <cmath>
+
+namespace rse::sim {
+
+World::World(const WorldConfig& config)
+    : rover_(config.rover),
+      terrain_(config.map, config.obstacles),
+      battery_(config.battery, config.solar),
+      slipRng_(config.seed, RngStream::kWheelSlip),
+      subStepNs_(config.subStepNs > 0 ? config.subStepNs : kDefaultSubStepNs),
+      time_(config.startTime),
+      nextSlipDraw_(config.startTime),
+      contact_(config.obstacles.size(), 0) {
+    truth_.time = time_;
+    truth_.pose = config.start;
+    truth_.pose.theta = wrapAngle(config.start.theta);
+    truth_.stateOfCharge = battery_.stateOfCharge();
+    truth_.busVoltageV = battery_.voltageV();
+    truth_.busCurrentA = battery_.busCurrentA();
+    truth_.baseLoadCurrentA = battery_.baseCurrentA();
+    truth_.solarCurrentA = battery_.solarCurrentA();
+}
+
+void World::placeRover(const Pose2& pose) {
+    truth_.pose = pose;
+    truth_.pose.theta = wrapAngle(pose.theta);
+    for (std::uint8_t& c : contact_) {
+        c = 0;
+    }
+    edgeContact_ = false;
+    truth_.inContact = false;
+    truth_.atMapEdge = false;
+    truth_.blocked = false;
+}
+
+bool World::checkContacts(Vec2 centre) {
+    bool overlapping = false;
+    bool anyContact = false;
+    for (std::size_t i = 0; i < terrain_.obstacleCount(); ++i) {
+        const Obstacle& o = terrain_.obstacle(i);
+        const double d = distanceToPolygon(centre, o.shape);
+        if (d <= rover_.radiusM) {
+            overlapping = true;
+            if (contact_[i] == 0) {
+                ++truth_.collisions;
+                truth_.lastCollisionObstacle = o.id;
+            }
+            contact_[i] = 1;
+        } else if (d > rover_.radiusM + kContactReleaseM) {
+            contact_[i] = 0;  // clearly away: a later touch is a new collision
+        }
+        anyContact = anyContact || contact_[i] != 0;
+    }
+    truth_.inContact = anyContact;
+    const bool edge = !terrain_.bounds().containsDisc(centre, rover_.radiusM);
+    if (edge && !edgeContact_) {
+        ++truth_.mapEdgeHits;
+    }
+    edgeContact_ = edge;
+    truth_.atMapEdge = edge;
+    return overlapping || edge;
+}
+
+void World::subStep(double dtS, const BodyRates& commanded) {
+    if (rover_.slipSigma > 0.0 && time_ >= nextSlipDraw_) {
+        slipV_ = 1.0 + rover_.slipSigma * slipRng_.gaussian();
+        slipW_ = 1.0 + rover_.slipSigma * slipRng_.gaussian();
+        nextSlipDraw_ += kSlipRedrawNs;
+    }
+    const double v = commanded.speedMS * slipV_;
+    const double w = commanded.yawRateRadS * slipW_;
+    const Pose2 candidate = integrateUnicycle(truth_.pose, v, w, dtS);
+    const bool blocked = checkContacts({candidate.x, candidate.y});
+    if (blocked) {
+        truth_.pose.theta = candidate.theta;  // turning on the spot never moves the disc
+        truth_.speedMS = 0.0;
+    } else {
+        truth_.pose = candidate;
+        truth_.speedMS = v;
+        truth_.distanceM += std::fabs(v) * dtS;
+    }
+    truth_.yawRateRadS = w;
+    truth_.blocked = blocked;
+}
+
+void World::advance(core::TimeNs now, const WheelArray& wheelSpeedsRadS, const WheelArray& motorCurrentsA) {
+    if (now <= time_) {
+        return;
+    }
+    const core::TimeNs from = time_;
+    const BodyRates commanded = skidSteerRates(wheelSpeedsRadS, rover_);
+    truth_.commandedSpeedMS = commanded.speedMS;
+    truth_.commandedYawRateRadS = commanded.yawRateRadS;
+    while (time_ < now) {
+        const core::TimeNs dt = (now - time_) < subStepNs_ ? (now - time_) : subStepNs_;
+        subStep(static_cast<double>(dt) * 1e-9, commanded);
+        time_ += dt;
+    }
+    double motorSum = 0.0;
+    for (double current : motorCurrentsA) {
+        motorSum += std::fabs(current);
+    }
+    battery_.step(static_cast<double>(now - from) * 1e-9, static_cast<double>(now) * 1e-9, motorSum);
+    wheelLoadTorques(rover_, wheelSpeedsRadS, truth_.yawRateRadS, truth_.blocked, &loads_);
+
+    truth_.time = now;
+    for (std::size_t i = 0; i < kWheelCount; ++i) {
+        truth_.wheels[i].speedRadS = wheelSpeedsRadS[i];
+        truth_.wheels[i].currentA = motorCurrentsA[i];
+        truth_.wheels[i].loadTorqueNm = loads_[i];
+    }
+    truth_.stateOfCharge = battery_.stateOfCharge();
+    truth_.busVoltageV = battery_.voltageV();
+    truth_.busCurrentA = battery_.busCurrentA();
+    truth_.motorCurrentA = battery_.motorCurrentA();
+    truth_.baseLoadCurrentA = battery_.baseCurrentA();
+    truth_.solarCurrentA = battery_.solarCurrentA();
+    truth_.energyDrawnWh = battery_.energyDrawnWh();
+}
+
+}  // namespace rse::sim

@@ -1,0 +1,93 @@
+// Test helpers for the simulator suite: a fake wheel that follows its commanded
+// speed at once, and CAN capture helpers.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "fsw/core/clock.hpp"
+#include "hal/can/memory_can_bus.hpp"
+#include "sim_stub/world/kinematics.hpp"
+#include "sim_stub/world/wheel_model.hpp"
+
+namespace rse::test {
+
+// Follows the commanded speed at once. Current = k * (no-load + |load| / Kt)
+// while turning, 0 when stopped: enough to see loads in the power budget.
+class FakeWheel final : public sim::WheelModel {
+public:
+    static constexpr double kNoLoadA = 0.2;
+    static constexpr double kTorquePerAmp = 0.5;  // N*m/A at the wheel
+
+    void command(double radS) { target_ = radS; }
+    void setFactor(double k) { factor_ = k; }
+    double load() const { return load_; }
+
+    double wheelSpeedRadS() const override { return speed_; }
+    void setLoadTorqueNm(double torqueNm) override { load_ = torqueNm; }
+    void step(core::TimeNs) override {
+        speed_ = target_;
+        current_ = std::fabs(speed_) > 0.0 ? factor_ * (kNoLoadA + std::fabs(load_) / kTorquePerAmp) : 0.0;
+    }
+    double currentA() const override { return current_; }
+
+private:
+    double target_ = 0.0;
+    double speed_ = 0.0;
+    double load_ = 0.0;
+    double current_ = 0.0;
+    double factor_ = 1.0;
+};
+
+struct FakeWheels {
+    std::array<FakeWheel, sim::kWheelCount> w;
+
+    std::array<sim::WheelModel*, sim::kWheelCount> models() {
+        std::array<sim::WheelModel*, sim::kWheelCount> p{};
+        for (std::size_t i = 0; i < sim::kWheelCount; ++i) {
+            p[i] = &w[i];
+        }
+        return p;
+    }
+    // Left wheels (0-2) at left rad/s, right wheels (3-5) at right rad/s.
+    void drive(double left, double right) {
+        for (std::size_t i = 0; i < 3; ++i) {
+            w[i].command(left);
+            w[i + 3].command(right);
+        }
+    }
+};
+
+// Wheel speed arrays for World tests.
+inline sim::WheelArray sides(double left, double right) { return {left, left, left, right, right, right}; }
+
+// Every frame waiting on an endpoint (test code: allocation allowed).
+inline std::vector<hal::CanFrame> drain(hal::CanBus& bus) {
+    std::vector<hal::CanFrame> frames;
+    hal::CanFrame f;
+    while (core::isOk(bus.receive(&f))) {
+        frames.push_back(f);
+    }
+    return frames;
+}
+
+inline std::size_t countId(const std::vector<hal::CanFrame>& frames, std::uint32_t id) {
+    std::size_t n = 0;
+    for (const hal::CanFrame& f : frames) {
+        n += f.id == id ? 1U : 0U;
+    }
+    return n;
+}
+
+inline hal::CanFrame nmt(std::uint8_t command, std::uint8_t node) {
+    hal::CanFrame f;
+    f.id = 0x000;
+    f.dlc = 2;
+    f.data[0] = command;
+    f.data[1] = node;
+    return f;
+}
+
+}  // namespace rse::test

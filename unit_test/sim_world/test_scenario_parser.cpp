@@ -1,0 +1,298 @@
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "sim_stub/scenario/scenario_parser.hpp"
+#include "sim_stub/world/terrain.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using namespace rse::sim;
+
+namespace {
+
+const std::string kBase = R"(
+seed = 1
+[map]
+x_min_m = -10.0
+x_max_m = 10.0
+y_min_m = -10.0
+y_max_m = 10.0
+[start]
+x_m = 0.0
+y_m = 0.0
+)";
+
+std::string errorOf(const std::string& text) {
+    Scenario s;
+    std::string error;
+    if (tryParseScenario(text, "inline.toml", &s, &error)) {
+        return "(accepted)";
+    }
+    return error;
+}
+
+constexpr core::TimeNs kSec = core::kNsPerSec;
+
+}  // namespace
+
+TEST_GROUP(SimScenario){};
+
+TEST(SimScenario, StraightTenMetreExampleLoads) {
+    Scenario s;
+    std::string error;
+    CHECK_TRUE_TEXT(tryLoadScenarioFile("sim_stub/scenarios/straight_10m.toml", &s, &error), error.c_str());
+    STRCMP_EQUAL("straight_10m", s.name.c_str());
+    LONGS_EQUAL(1, s.seed);
+    LONGS_EQUAL(0, s.obstacles.size());
+    LONGS_EQUAL(0, s.faults.size());
+    DOUBLES_EQUAL(0.0, s.start.x, 0.0);
+    DOUBLES_EQUAL(0.0, s.start.theta, 0.0);
+    CHECK(s.map.containsDisc({10.0, 0.0}, s.rover.radiusM));  // the goal is on the map
+    DOUBLES_EQUAL(0.10, s.rover.wheelRadiusM, 0.0);          // defaults
+    LONGS_EQUAL(6, s.rover.driveNodes[5]);
+}
+
+TEST(SimScenario, DemoMissionLoadsWithAHiddenRockOnTheDirectLine) {
+    const Scenario s = loadScenarioFile("sim_stub/scenarios/demo_mission.toml");
+    STRCMP_EQUAL("demo_mission", s.name.c_str());
+    CHECK(s.obstacles.size() >= 3);
+    const Terrain terrain(s.map, s.obstacles);
+    const std::size_t onLine = terrain.firstOnSegment({0.0, 0.0}, {20.0, 0.0});
+    CHECK(onLine != kNoObstacle);
+    CHECK_FALSE(terrain.obstacle(onLine).known);
+    std::size_t hidden = 0;
+    std::size_t known = 0;
+    for (const Obstacle& o : s.obstacles) {
+        hidden += o.known ? 0U : 1U;
+        known += o.known ? 1U : 0U;
+        if (o.known) {
+            // No known rock blocks the direct line (with the footprint): only the hidden one does.
+            CHECK_FALSE(segmentIntersectsPolygon({0.0, 0.0}, {20.0, 0.0}, o.shape));
+        }
+    }
+    LONGS_EQUAL(1, hidden);
+    CHECK(known >= 2);
+    LONGS_EQUAL(2, s.faults.size());
+    CHECK(FaultType::kMotorDegradation == s.faults[0].type);
+    LONGS_EQUAL(1, s.faults[0].wheel);  // file wheel 2: middle-left
+    DOUBLES_EQUAL(1.8, s.faults[0].value, 0.0);
+    CHECK_EQUAL(30 * kSec, s.faults[0].at);
+    CHECK(FaultType::kMotorFailure == s.faults[1].type);
+    LONGS_EQUAL(4, s.faults[1].wheel);  // file wheel 5: middle-right
+    CHECK(s.faults[1].at > s.faults[0].at);
+    DOUBLES_EQUAL(0.0005, s.devices.imu.biasRadS, 0.0);
+    DOUBLES_EQUAL(kPi / 3.0, s.devices.hazard.halfFovRad, 1e-12);
+}
+
+TEST(SimScenario, TheInvalidExampleFileIsRejectedWithItsReason) {
+    Scenario s;
+    std::string error;
+    CHECK_FALSE(tryLoadScenarioFile("unit_test/sim_world/data/invalid_scenario.toml", &s, &error));
+    STRCMP_EQUAL(
+        "unit_test/sim_world/data/invalid_scenario.toml: obstacles[1].vertices: polygon must be convex and "
+        "counter-clockwise",
+        error.c_str());
+}
+
+TEST(SimScenario, AMissingFileIsReported) {
+    Scenario s;
+    std::string error;
+    CHECK_FALSE(tryLoadScenarioFile("no/such/scenario.toml", &s, &error));
+    STRCMP_EQUAL("no/such/scenario.toml: cannot open the file", error.c_str());
+}
+
+TEST(SimScenario, TheMinimalFileTakesEveryDefault) {
+    const Scenario s = parseScenario(kBase, "min.toml");
+    const RoverParams rover;
+    const DeviceParams devices;
+    STRCMP_EQUAL("min.toml", s.name.c_str());
+    DOUBLES_EQUAL(60.0, s.durationS, 0.0);
+    DOUBLES_EQUAL(rover.trackWidthM, s.rover.trackWidthM, 0.0);
+    DOUBLES_EQUAL(rover.skidFactor, s.rover.skidFactor, 0.0);
+    DOUBLES_EQUAL(devices.imu.noiseSigmaRadS, s.devices.imu.noiseSigmaRadS, 0.0);
+    DOUBLES_EQUAL(devices.hazard.rangeM, s.devices.hazard.rangeM, 0.0);
+    DOUBLES_EQUAL(devices.positionFix.sigmaM, s.devices.positionFix.sigmaM, 0.0);
+    DOUBLES_EQUAL(0.9, s.battery.initialSoc, 0.0);
+    CHECK(SolarProfile::kConstant == s.solar.profile);
+}
+
+TEST(SimScenario, EveryFaultTypeParses) {
+    const Scenario s = parseScenario(kBase + R"(
+[[faults]]
+type = "motor_degradation"
+at_s = 1
+wheel = 1
+current_factor = 2
+[[faults]]
+type = "motor_failure"
+at_s = 2.5
+wheel = 6
+[[faults]]
+type = "drive_heartbeat_loss"
+at_s = 3
+wheel = 3
+duration_s = 0.5
+[[faults]]
+type = "drive_crash"
+at_s = 4
+wheel = 4
+[[faults]]
+type = "drive_crash"
+at_s = 4
+wheel = 5
+restart_at_s = 9
+[[faults]]
+type = "sensor_dropout"
+at_s = 5
+device = "position_fix"
+until_s = 7
+[[faults]]
+type = "device_crash"
+at_s = 6
+device = "hazard"
+restart_at_s = 8
+[[faults]]
+type = "imu_bias_step"
+at_s = 7
+delta_rad_s = -0.01
+[[faults]]
+type = "bus_fault"
+at_s = 8
+action = "corrupt"
+cob_id = 0x185
+byte = 2
+xor = 0x0F
+frames = 3
+[[faults]]
+type = "bus_fault"
+at_s = 8
+action = "delay"
+cob_id = 0x700
+mask = 0x780
+delay_s = 0.25
+[[faults]]
+type = "babbling_node"
+at_s = 9
+cob_id = 0x001
+duration_s = 0.5
+)",
+                                     "faults.toml");
+    LONGS_EQUAL(11, s.faults.size());
+    const FaultSpec* f = s.faults.data();
+    CHECK(FaultType::kMotorDegradation == f[0].type);
+    LONGS_EQUAL(0, f[0].wheel);
+    DOUBLES_EQUAL(2.0, f[0].value, 0.0);
+    CHECK_EQUAL(2500 * core::kNsPerMs, f[1].at);
+    LONGS_EQUAL(5, f[1].wheel);
+    CHECK_EQUAL(3500 * core::kNsPerMs, f[2].until);
+    CHECK_EQUAL(kNever, f[3].until);  // a crash with no restart
+    CHECK_EQUAL(9 * kSec, f[4].until);
+    CHECK(SimDevice::kPositionFix == f[5].device);
+    CHECK_EQUAL(7 * kSec, f[5].until);
+    CHECK(SimDevice::kHazard == f[6].device);
+    DOUBLES_EQUAL(-0.01, f[7].value, 0.0);
+    CHECK(hal::CanFaultKind::kCorrupt == f[8].busRule.kind);
+    LONGS_EQUAL(0x185, f[8].busRule.id);
+    LONGS_EQUAL(0x7FF, f[8].busRule.mask);
+    LONGS_EQUAL(3, f[8].busRule.count);
+    LONGS_EQUAL(2, f[8].busRule.corruptByte);
+    LONGS_EQUAL(0x0F, f[8].busRule.corruptXor);
+    CHECK(hal::CanFaultKind::kDelay == f[9].busRule.kind);
+    LONGS_EQUAL(0x780, f[9].busRule.mask);
+    CHECK_EQUAL(250 * core::kNsPerMs, f[9].busRule.delay);
+    LONGS_EQUAL(1, f[9].busRule.count);
+    LONGS_EQUAL(0x001, f[10].cobId);
+    DOUBLES_EQUAL(kDefaultBabbleRateHz, f[10].value, 0.0);
+    CHECK_EQUAL(9500 * core::kNsPerMs, f[10].until);
+}
+
+TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
+    struct Case {
+        std::string text;
+        const char* message;
+    };
+    const std::string obstacle = "\n[[obstacles]]\nid = 1\nknown = false\n";
+    const std::vector<Case> cases = {
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [4.0, 0.0], [3.0, 1.0], [4.0, 2.0], [2.0, 2.0]]",
+         "inline.toml: obstacles[0].vertices: polygon must be convex and counter-clockwise"},
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [2.0, 1.0], [3.0, 1.0], [3.0, 0.0]]",
+         "inline.toml: obstacles[0].vertices: polygon must be convex and counter-clockwise"},
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [3.0, 0.0]]",
+         "inline.toml: obstacles[0].vertices: needs 3 to 16 vertices (got 2)"},
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [30.0, 0.0], [3.0, 1.0]]",
+         "inline.toml: obstacles[0].vertices[1]: (30, 0) is outside the map"},
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [3.0, 0.0], [3.0]]",
+         "inline.toml: obstacles[0].vertices[2]: must be a pair [x, y] of numbers in metres"},
+        {kBase + obstacle + "vertices = [[0.5, -0.5], [1.5, -0.5], [1.5, 0.5], [0.5, 0.5]]",
+         "inline.toml: start: rover footprint (radius 0.6 m) overlaps obstacle 1"},
+        {kBase + obstacle + "vertices = [[2.0, 0.0], [3.0, 0.0], [3.0, 1.0]]" + obstacle +
+             "vertices = [[5.0, 0.0], [6.0, 0.0], [6.0, 1.0]]",
+         "inline.toml: obstacles[1].id: 1 is already used by obstacles[0]"},
+        {kBase + "\n[rover]\nwheel_radus = 0.1\n", "inline.toml: rover.wheel_radus: unknown key"},
+        {"sead = 4\n" + kBase, "inline.toml: sead: unknown key"},
+        {kBase + "\n[devices.imu]\nsigma = 0.1\n", "inline.toml: devices.imu.sigma: unknown key"},
+        {kBase + "\n[rover]\nradius_m = -0.5\n", "inline.toml: rover.radius_m: must be > 0 (got -0.5)"},
+        {kBase + "\n[rover]\nskid_factor = 0.5\n", "inline.toml: rover.skid_factor: must be in [1, 10] (got 0.5)"},
+        {kBase + "\n[rover]\nmass_kg = \"heavy\"\n", "inline.toml: rover.mass_kg: must be a number (got a string)"},
+        {kBase + "\n[rover]\ndrive_nodes = [1, 2, 3, 4, 5]\n",
+         "inline.toml: rover.drive_nodes: must list 6 node ids (got 5)"},
+        {kBase + "\n[rover]\ndrive_nodes = [1, 2, 0x21, 4, 5, 6]\n",
+         "inline.toml: rover.drive_nodes[2]: node 33 belongs to an RSE device (0x20-0x23)"},
+        {kBase + "\n[rover]\ndrive_nodes = [1, 2, 3, 4, 5, 1]\n",
+         "inline.toml: rover.drive_nodes[5]: node 1 is listed twice"},
+        {kBase + "\n[battery]\ninitial_soc = 1.5\n",
+         "inline.toml: battery.initial_soc: must be in [0, 1] (got 1.5)"},
+        {kBase + "\n[solar]\nprofile = \"night\"\n",
+         "inline.toml: solar.profile: unknown profile \"night\" (expected constant or day)"},
+        {kBase + "\n[devices.hazard]\nhalf_fov_deg = 120\n",
+         "inline.toml: devices.hazard.half_fov_deg: must be in (0, 90] (got 120)"},
+        {"[map]\nx_min_m = -1\nx_max_m = 1\ny_min_m = -1\ny_max_m = 1\n[start]\nx_m = 0\ny_m = 0\n",
+         "inline.toml: seed: missing (required)"},
+        {"seed = \"one\"\n", "inline.toml: seed: must be an integer (got a string)"},
+        {"seed = 1\n[map]\nx_min_m = 5\nx_max_m = 1\ny_min_m = -1\ny_max_m = 1\n",
+         "inline.toml: map.x_max_m: must be greater than x_min_m (5)"},
+        {"seed = 1\n[map]\nx_min_m = -1\nx_max_m = 1\ny_min_m = -1\ny_max_m = 1\n[start]\nx_m = 0.8\ny_m = 0\n",
+         "inline.toml: start: rover footprint (radius 0.6 m) at (0.8, 0) is not inside the map"},
+        {kBase + "\n[[faults]]\ntype = \"motor_failure\"\nat_s = 10\nwheel = 1\n"
+                 "[[faults]]\ntype = \"motor_failure\"\nat_s = 5\nwheel = 2\n",
+         "inline.toml: faults[1].at_s: 5 is earlier than the previous fault's 10: faults must be listed in time "
+         "order"},
+        {kBase + "\n[[faults]]\ntype = \"motor_failure\"\nat_s = 1\nwheel = 7\n",
+         "inline.toml: faults[0].wheel: must be 1..6 (got 7)"},
+        {kBase + "\n[[faults]]\ntype = \"motor_failure\"\nat_s = 1\nwheel = 0\n",
+         "inline.toml: faults[0].wheel: must be 1..6 (got 0)"},
+        {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"lidar\"\nduration_s = 1\n",
+         "inline.toml: faults[0].device: unknown device \"lidar\" (expected imu, power, hazard or position_fix)"},
+        {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"imu\"\n",
+         "inline.toml: faults[0]: needs duration_s or until_s"},
+        {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"imu\"\nduration_s = 1\nuntil_s = 3\n",
+         "inline.toml: faults[0]: give duration_s or until_s, not both"},
+        {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 5\ndevice = \"imu\"\nuntil_s = 4\n",
+         "inline.toml: faults[0].until_s: must be after at_s (5) (got 4)"},
+        {kBase + "\n[[faults]]\ntype = \"imu_bias_step\"\nat_s = 1\ndelta_rad_s = 0.1\nwheel = 2\n",
+         "inline.toml: faults[0].wheel: unknown key for fault type imu_bias_step"},
+        {kBase + "\n[[faults]]\ntype = \"bus_fault\"\nat_s = 1\naction = \"drop\"\ncob_id = 0x181\ndelay_s = 1\n",
+         "inline.toml: faults[0].delay_s: unknown key for bus_fault action \"drop\""},
+        {kBase + "\n[[faults]]\ntype = \"bus_fault\"\nat_s = 1\naction = \"drop\"\ncob_id = 0x800\n",
+         "inline.toml: faults[0].cob_id: must be an 11-bit CAN id 0..0x7FF (got 2048)"},
+        {kBase + "\n[[faults]]\ntype = \"meteor\"\nat_s = 1\n",
+         "inline.toml: faults[0].type: unknown fault type \"meteor\" (expected motor_degradation, motor_failure, "
+         "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault or "
+         "babbling_node)"},
+        {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = -1\nwheel = 1\ncurrent_factor = 2\n",
+         "inline.toml: faults[0].at_s: must be in [0, 1e+07] (got -1)"},
+        {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = 1\nwheel = 1\n",
+         "inline.toml: faults[0].current_factor: missing (required)"},
+    };
+    for (const Case& c : cases) {
+        const std::string got = errorOf(c.text);
+        STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
+    }
+}
+
+TEST(SimScenario, TomlSyntaxErrorsGiveTheLineAndColumn) {
+    const std::string got = errorOf("seed = 1\n[map\n");
+    CHECK_TEXT(got.rfind("inline.toml:2:", 0) == 0, got.c_str());
+}
