@@ -1,4 +1,4 @@
-// Event ids raised by hal/can (range 300-349). Documented in docs/icd.md.
+// Event ids raised by hal/can: the link (300-349) and ISO-TP (350-399). Documented in docs/icd.md.
 #pragma once
 
 #include "fsw/core/event_log.hpp"

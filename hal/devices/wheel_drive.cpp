@@ -104,7 +104,11 @@ void WheelDrive::onFrame(const CanFrame& frame, core::TimeNs now) {
                        "drive %s (node %u): EMCY 0x%04X, error register 0x%02X", name_,
                        static_cast<unsigned>(nodeId_), static_cast<unsigned>(lastEmcyCode_),
                        static_cast<unsigned>(errorRegister_));
-        if (lastEmcyCode_ != 0) {
+        // 0x8xxx codes report communication trouble (e.g. 0x8210, a PDO of the
+        // wrong length) that the drive survives: a warning, not a fault. Any
+        // other non-zero code faults the drive at once, a frame before its
+        // statusword would show it.
+        if (lastEmcyCode_ != 0 && (lastEmcyCode_ & 0xF000) != 0x8000) {
             fault("EMCY", lastEmcyCode_, now);
         }
         return;
