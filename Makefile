@@ -107,8 +107,14 @@ $(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^
 
+SIM_BIN := $(BUILD)/bin/rse-sim
+$(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^
+
+# A cross build makes what runs on the rover; a host build adds the simulator.
 .PHONY: all
-all: $(FSW_BIN)
+all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(SIM_BIN))
 
 # ---------------------------------------------------------------------------
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
@@ -131,7 +137,7 @@ SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh
 RESULTS := build/test-results.txt
 
 .PHONY: test-binaries run-suites host-test cross-test test
-test-binaries: $(TEST_BINS) $(FSW_BIN)
+test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(SIM_BIN))
 
 # Runs this arch's suites, appending one line per suite to $(RESULTS).
 run-suites:

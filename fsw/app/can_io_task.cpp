@@ -17,7 +17,7 @@ const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR",
 constexpr double kMrad = 1e-3;
 }  // namespace
 
-CanIoTask::CanIoTask(hal::CanBus& can, core::SoftwareBus& bus, core::EventLog& events)
+CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events)
     : can_(can),
       bus_(bus),
       events_(events),
@@ -33,7 +33,8 @@ CanIoTask::CanIoTask(hal::CanBus& can, core::SoftwareBus& bus, core::EventLog& e
       power_(events),
       hazard_(events),
       fix_(events),
-      interlock_(events) {}
+      interlock_(events),
+      groundLink_(can, clock, events) {}
 
 core::Status CanIoTask::init() {
     for (hal::WheelDrive& d : drives_) {
@@ -47,7 +48,8 @@ core::Status CanIoTask::init() {
         std::uint32_t cob;
         hal::canopen::CanFrameSink* sink;
     } sinks[] = {{ids::kImuRates, &imu_}, {ids::kPower, &power_}, {ids::kHazard, &hazard_},
-                 {ids::kFixX, &fix_},     {ids::kFixY, &fix_}};
+                 {ids::kFixX, &fix_},     {ids::kFixY, &fix_},
+                 {kGroundUplinkCobId, &groundLink_}};
     for (const auto& s : sinks) {
         const core::Status st = master_.addSink(s.cob, s.sink);
         if (!core::isOk(st)) {
@@ -89,6 +91,7 @@ void CanIoTask::run(const core::FrameContext& frame) {
         drives_[w].setTargetVelocity(static_cast<std::int32_t>(clamped));
     }
     master_.cycle(now);
+    groundLink_.service();
     link_.check();
     hazard_.expire(now);
     publishStatus(now);

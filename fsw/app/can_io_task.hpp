@@ -3,10 +3,12 @@
 //   in:  WheelCommandMsg (latest wins)
 //   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per new
 //        sample; HazardMsg at 10 Hz.
+// It also services the ISO-TP ground link on CAN (CanGroundLink).
 // The reflexive drive interlock is applied here, in the same frame the drive
 // status arrives, until the reflexive task exists to own it.
 #pragma once
 
+#include "fsw/app/can_ground_link.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
@@ -30,7 +32,7 @@ constexpr core::TimeNs kDeviceHeartbeatTimeout = 250 * core::kNsPerMs;
 
 class CanIoTask final : public core::Task {
 public:
-    CanIoTask(hal::CanBus& can, core::SoftwareBus& bus, core::EventLog& events);
+    CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events);
 
     core::Status init();
     void run(const core::FrameContext& frame) override;
@@ -38,6 +40,7 @@ public:
     const hal::canopen::CanOpenMaster& master() const { return master_; }
     const hal::WheelDrive& drive(std::size_t wheel) const { return drives_[wheel]; }
     const reflexive::DriveInterlock& interlock() const { return interlock_; }
+    const CanGroundLink& groundLink() const { return groundLink_; }
     void resetInterlock() { interlock_.reset(); }
 
 private:
@@ -56,6 +59,7 @@ private:
     hal::HazardDetector hazard_;
     hal::PositionFixSource fix_;
     reflexive::DriveInterlock interlock_;
+    CanGroundLink groundLink_;
     core::PipeId pipe_ = 0;
     double commanded_[msg::kWheelCount] = {};
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;

@@ -8,7 +8,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
     : events_(clock),
       bus_(clock, events_),
       executive_(clock, events_),
-      canIo_(can, bus_, events_),
+      canIo_(can, clock, bus_, events_),
       housekeeping_(executive_, bus_, events_),
       console_(bus_, events_) {}
 

@@ -68,14 +68,17 @@ public:
             }
         }
     }
-    // Runs until pred() holds (checked every frame) or the limit passes; returns pred().
+    // Runs until pred() holds (checked once after every frame, so it may consume
+    // something) or the limit passes; returns whether it held.
     template <typename Pred>
     bool runUntil(Pred pred, core::TimeNs limit) {
         const core::TimeNs end = clock_.now() + limit;
-        while (!pred() && clock_.now() < end) {
+        bool held = pred();
+        while (!held && clock_.now() < end) {
             runFor(app::kMinorFramePeriod);
+            held = pred();
         }
-        return pred();
+        return held;
     }
 
     // What a higher layer would publish: the same velocity on every wheel.
