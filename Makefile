@@ -25,9 +25,11 @@ BUILD := build/$(ARCH)
 RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COMPILE)),)
 
 # ---------------------------------------------------------------------------
-# Debian packages: exactly what the build, tests and cross-tests need.
+# Debian packages: exactly what the build, tests, cross-tests and the vcan VM
+# test need (the VM test also downloads Debian's kernel package into build/).
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
-                g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64
+                g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64 \
+                qemu-system-x86 busybox-static can-utils
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
 .PHONY: deps
@@ -112,9 +114,21 @@ $(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^
 
-# A cross build makes what runs on the rover; a host build adds the simulator.
+# Ground tools (host side: full language allowed).
+$(BUILD)/obj/ground/%.o: ground/%.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(SIM_CXXFLAGS) -c $< -o $@
+
+ISOTP_BIN := $(BUILD)/bin/rse-isotp
+$(ISOTP_BIN): $(BUILD)/obj/ground/rse_isotp.o $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^
+
+# A cross build makes what runs on the rover; a host build adds the simulator
+# and the ground tools.
+HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN)
 .PHONY: all
-all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(SIM_BIN))
+all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # ---------------------------------------------------------------------------
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
@@ -132,12 +146,21 @@ endef
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
 TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # Script suites drive the built executables (RSE_BIN_DIR, under RSE_RUNNER).
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh
+# The vcan test boots an x86_64 VM with real SocketCAN: host build only.
+VCAN_TEST := unit_test/integration/vcan_test/vcan_integration_test.sh
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(VCAN_TEST))
 
 RESULTS := build/test-results.txt
 
+# rse-fsw and rse-sim as separate processes on a real vcan0 (in a qemu VM with
+# Debian's kernel where this kernel has no CAN), checked with can-utils.
+.PHONY: test-vcan
+test-vcan: deps
+	@$(MAKE) --no-print-directory CROSS_COMPILE= test-binaries
+	@RSE_BIN_DIR=build/$(shell uname -m)/bin $(VCAN_TEST)
+
 .PHONY: test-binaries run-suites host-test cross-test test
-test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(SIM_BIN))
+test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # Runs this arch's suites, appending one line per suite to $(RESULTS).
 run-suites:

@@ -1,0 +1,90 @@
+#!/bin/sh
+# Runs inside the vcan VM (busybox sh): rse-fsw and rse-sim as separate processes
+# on vcan0, checked with can-utils; then our ISO-TP against the kernel's can-isotp.
+# Prints pass:/FAIL: lines, then the session's candump -L log between markers for
+# the host to decode against the ICD.
+B=/opt/rse/bin
+D=/opt/rse/data
+pass=0
+fail=0
+check() {
+  name=$1; shift
+  if "$@"; then echo "pass: $name"; pass=$((pass + 1)); else echo "FAIL: $name"; fail=$((fail + 1)); fi
+}
+count() { grep -c "$1" "$2" 2>/dev/null || true; }
+
+# --- Session: simulator first (its drives boot), then the flight software.
+candump -L vcan0 > /tmp/session.log &
+CANDUMP=$!
+$B/rse-sim --can vcan0 --scenario $D/vcan_session.toml --duration 14 > /tmp/sim.log 2>&1 &
+SIM=$!
+sleep 0.3
+$B/rse-fsw --can vcan0 --no-rt --duration 13 > /tmp/fsw.log 2>&1 &
+FSW=$!
+
+i=0
+while [ $i -lt 100 ] && [ "$(count 'EVT 432 ' /tmp/fsw.log)" -lt 6 ]; do sleep 0.1; i=$((i + 1)); done
+check "all six drives configured by SDO and enabled over SocketCAN" [ "$(count 'EVT 432 ' /tmp/fsw.log)" -ge 6 ]
+check "ground packet round trip through rse-fsw (ISO-TP 0x6F0/0x6F1, 1000 bytes)" \
+  $B/rse-isotp --can vcan0 --tx 6F0 --rx 6F1 --timeout 5 echo-check 1000
+
+wait $FSW; fsw_rc=$?
+wait $SIM; sim_rc=$?
+sleep 0.2
+kill $CANDUMP 2>/dev/null
+wait $CANDUMP 2>/dev/null
+
+check "rse-fsw stopped cleanly (exit 0)" [ $fsw_rc -eq 0 ]
+check "rse-sim stopped cleanly (exit 0)" [ $sim_rc -eq 0 ]
+check "flight reports node 3 lost when its heartbeat stops" grep -q "EVT 402 ERROR canopen: node 3 lost" /tmp/fsw.log
+check "flight reports drive RL (node 3) lost" grep -q "EVT 436 ERROR drive RL (node 3): lost" /tmp/fsw.log
+check "flight hears node 3 again when its heartbeat returns" grep -q "EVT 403 INFO  canopen: node 3 heard again" /tmp/fsw.log
+check "flight reports EMCY 0x5000 from drive RR (node 6)" grep -q "EVT 406 ERROR drive RR (node 6): EMCY 0x5000" /tmp/fsw.log
+check "flight declares drive RR failed after its resets" grep -q "EVT 434 CRIT  drive RR (node 6): still faulted" /tmp/fsw.log
+check "interlock holds every wheel at zero" grep -q "EVT 601 CRIT  reflexive:" /tmp/fsw.log
+
+# --- What went over the wire (independent view: candump).
+L=/tmp/session.log
+check "NMT reset communication to all nodes at start (000#8200)" grep -q "vcan0 000#8200$" $L
+check "SYNC frames (080, DLC 0)" grep -q "vcan0 080#$" $L
+for n in 1 2 3 4 5 6; do
+  check "node $n: boot-up (70$n#00)" grep -q "vcan0 70$n#00$" $L
+  check "node $n: SDO requests and responses (60$n/58$n)" sh -c "grep -q 'vcan0 60$n#' $L && grep -q 'vcan0 58$n#' $L"
+  check "node $n: NMT start (000#010$n)" grep -q "vcan0 000#010$n$" $L
+  check "node $n: operational heartbeats (70$n#05)" grep -q "vcan0 70$n#05$" $L
+  check "node $n: RPDO1 0x20$n with 6 bytes" grep -qE "vcan0 20$n#[0-9A-F]{12}$" $L
+  check "node $n: TPDO1 0x18$n with 8 bytes" grep -qE "vcan0 18$n#[0-9A-F]{16}$" $L
+done
+check "EMCY 0x5000 from node 6 on the wire (086#0050...)" grep -q "vcan0 086#0050" $L
+for n in 20 21 22 23; do
+  check "device node 0x$n heartbeats (7$n#)" grep -q "vcan0 7$n#" $L
+done
+
+# --- Our ISO-TP against the kernel's can-isotp, 4000 bytes each way.
+awk 'BEGIN { for (i = 0; i < 4000; i++) printf "%02X%s", (i * 7 + 3) % 256, (i < 3999 ? " " : "\n") }' > /tmp/p.hex
+$B/rse-isotp --can vcan0 --tx 7A8 --rx 7A0 --timeout 10 recv > /tmp/r1.hex &
+R=$!
+sleep 0.3
+isotpsend -s 7A0 -d 7A8 vcan0 < /tmp/p.hex
+wait $R
+check "kernel isotpsend -> our ISO-TP: 4000 bytes identical" cmp -s /tmp/p.hex /tmp/r1.hex
+
+isotprecv -s 7B8 -d 7B0 vcan0 > /tmp/r2.raw &
+R=$!
+sleep 0.3
+$B/rse-isotp --can vcan0 --tx 7B0 --rx 7B8 --timeout 10 send < /tmp/p.hex
+sleep 0.3
+kill $R 2>/dev/null
+wait $R 2>/dev/null
+sed 's/ *$//' /tmp/r2.raw > /tmp/r2.hex
+check "our ISO-TP -> kernel isotprecv: 4000 bytes identical" cmp -s /tmp/p.hex /tmp/r2.hex
+
+if [ $fail -gt 0 ]; then
+  echo "--- rse-fsw log (tail)"; tail -n 40 /tmp/fsw.log
+  echo "--- rse-sim log (tail)"; tail -n 20 /tmp/sim.log
+fi
+echo "=== CANDUMP BEGIN"
+cat $L
+echo "=== CANDUMP END"
+echo "guest: $pass passed, $fail failed"
+[ $fail -eq 0 ]
