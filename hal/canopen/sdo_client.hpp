@@ -12,21 +12,13 @@
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "hal/can/can_bus.hpp"
+#include "hal/canopen/sdo_abort_codes.hpp"
 
 namespace rse::hal::canopen {
 
 constexpr std::size_t kSdoMaxUpload = 64;  // bytes a segmented upload may bring back
 constexpr core::TimeNs kSdoDefaultTimeout = 100 * core::kNsPerMs;
 
-namespace sdo_abort {
-constexpr std::uint32_t kToggleNotAlternated = 0x05030000;
-constexpr std::uint32_t kTimeout = 0x05040000;
-constexpr std::uint32_t kInvalidCommand = 0x05040001;
-constexpr std::uint32_t kOutOfMemory = 0x05040005;
-constexpr std::uint32_t kObjectDoesNotExist = 0x06020000;
-constexpr std::uint32_t kSubIndexDoesNotExist = 0x06090011;
-constexpr std::uint32_t kGeneralError = 0x08000000;
-}  // namespace sdo_abort
 
 enum class SdoResult : std::uint8_t { kIdle, kInProgress, kDone, kAborted, kTimeout, kProtocolError };
 const char* toString(SdoResult result);

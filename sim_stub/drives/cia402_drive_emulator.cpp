@@ -117,20 +117,6 @@ const char* toString(NodeLife life) {
     return "?";
 }
 
-const char* toString(PowerState state) {
-    switch (state) {
-        case PowerState::kNotReadyToSwitchOn: return "not-ready-to-switch-on";
-        case PowerState::kSwitchOnDisabled: return "switch-on-disabled";
-        case PowerState::kReadyToSwitchOn: return "ready-to-switch-on";
-        case PowerState::kSwitchedOn: return "switched-on";
-        case PowerState::kOperationEnabled: return "operation-enabled";
-        case PowerState::kQuickStopActive: return "quick-stop-active";
-        case PowerState::kFaultReactionActive: return "fault-reaction-active";
-        case PowerState::kFault: return "fault";
-    }
-    return "?";
-}
-
 Cia402DriveEmulator::Cia402DriveEmulator(hal::CanBus& bus, std::uint8_t nodeId, const DriveEmulatorConfig& config)
     : bus_(bus), config_(config), nodeId_(nodeId), valid_(nodeId >= 1 && nodeId <= 127),
       sdo_(bus, static_cast<SdoObjectDictionary&>(*this), nodeId, config.sdoServerTimeout),

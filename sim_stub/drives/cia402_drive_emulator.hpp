@@ -82,6 +82,7 @@
 
 #include "fsw/core/clock.hpp"
 #include "hal/can/can_bus.hpp"
+#include "hal/canopen/cia402.hpp"
 #include "sim_stub/drives/sdo_server.hpp"
 
 namespace rse::sim {
@@ -104,17 +105,9 @@ enum class NodeLife : std::uint8_t {
 };
 const char* toString(NodeLife life);
 
-enum class PowerState : std::uint8_t {
-    kNotReadyToSwitchOn,
-    kSwitchOnDisabled,
-    kReadyToSwitchOn,
-    kSwitchedOn,
-    kOperationEnabled,
-    kQuickStopActive,
-    kFaultReactionActive,
-    kFault,
-};
-const char* toString(PowerState state);
+// The CiA 402 power states: the one definition in hal/canopen (toString there too).
+using PowerState = hal::cia402::PowerState;
+using hal::cia402::toString;
 
 namespace emcy {
 constexpr std::uint16_t kNoError = 0x0000;

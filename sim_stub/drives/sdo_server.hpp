@@ -16,23 +16,12 @@
 
 #include "fsw/core/clock.hpp"
 #include "hal/can/can_bus.hpp"
+#include "hal/canopen/sdo_abort_codes.hpp"
 
 namespace rse::sim {
 
-// CiA 301 SDO abort codes the simulator's devices use.
-namespace sdo_abort {
-constexpr std::uint32_t kNone = 0;
-constexpr std::uint32_t kToggleNotAlternated = 0x05030000;
-constexpr std::uint32_t kTimeout = 0x05040000;
-constexpr std::uint32_t kInvalidCommand = 0x05040001;
-constexpr std::uint32_t kReadOfWriteOnly = 0x06010001;
-constexpr std::uint32_t kWriteToReadOnly = 0x06010002;
-constexpr std::uint32_t kObjectDoesNotExist = 0x06020000;
-constexpr std::uint32_t kLengthMismatch = 0x06070010;
-constexpr std::uint32_t kSubIndexDoesNotExist = 0x06090011;
-constexpr std::uint32_t kValueRangeExceeded = 0x06090030;
-constexpr std::uint32_t kGeneralError = 0x08000000;
-}  // namespace sdo_abort
+// CiA 301 SDO abort codes: the one table in hal/canopen.
+namespace sdo_abort = hal::canopen::sdo_abort;
 
 // Largest object value the server moves (segmented transfers buffer it whole).
 constexpr std::size_t kSdoServerMaxObject = 32;
