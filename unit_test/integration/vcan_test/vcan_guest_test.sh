@@ -3,8 +3,9 @@
 # on vcan0, checked with can-utils; then our ISO-TP against the kernel's can-isotp.
 # Prints pass:/FAIL: lines, then the session's candump -L log between markers for
 # the host to decode against the ICD.
-B=/opt/rse/bin
-D=/opt/rse/data
+# Paths inside the VM; a native run (host with vcan0) passes its own.
+B=${RSE_GUEST_BIN:-/opt/rse/bin}
+D=${RSE_GUEST_DATA:-/opt/rse/data}
 pass=0
 fail=0
 check() {
