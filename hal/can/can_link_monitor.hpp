@@ -1,7 +1,7 @@
 // Watches one CanBus once per cycle and turns its state changes and counter
 // increases into events, so every backend (SocketCAN, in-memory) is reported the
 // same way and drivers stay free of event policy. Repeated trouble is evented on
-// its 1st, 2nd, 4th ... cycle with new losses; the counters themselves are exact.
+// its 1st, 2nd, 4th ... cycle with further losses; the counters themselves are exact.
 #pragma once
 
 #include "fsw/core/event_log.hpp"

@@ -44,7 +44,7 @@
 //     type, escape FF with a length that fits 12 bits) and FFs with FF_DL < 8 are
 //     ignored: they do not disturb a reception in progress (ISO 15765-2: the network
 //     layer ignores them). A well-formed SF or FF during a reception aborts it and
-//     starts the new one. An FC with an unknown flow status aborts our transmission.
+//     starts over with the later one. An FC with an unknown flow status aborts our transmission.
 //
 // Errors: each reason has its own counter in IsoTpStats and its own event id
 // (hal/can/can_events.hpp, 350-399). Reasons a peer can provoke frame after frame
@@ -126,7 +126,7 @@ struct IsoTpStats {
     std::uint32_t wrongSequence = 0;      // CF with the wrong SN: reception aborted
     std::uint32_t unexpectedCf = 0;       // CF with no reception in progress: ignored
     std::uint32_t unexpectedFc = 0;       // FC with no transmission waiting for one: ignored
-    std::uint32_t rxAbortedByNew = 0;     // SF or FF during a reception: old one abandoned, new one taken
+    std::uint32_t rxAbortedByNew = 0;     // SF or FF during a reception: old one abandoned, the later one taken
     std::uint32_t timeoutAs = 0;          // transmission aborted
     std::uint32_t timeoutAr = 0;          // reception aborted (our FC could not be sent)
     std::uint32_t timeoutBs = 0;          // transmission aborted

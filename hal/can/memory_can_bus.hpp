@@ -72,7 +72,7 @@ class MemoryCanBus {
 public:
     explicit MemoryCanBus(const core::Clock& clock) : clock_(clock) {}
 
-    // A new endpoint, error-active; nullptr when kMemoryBusMaxEndpoints are attached.
+    // Attaches another endpoint, error-active; nullptr when kMemoryBusMaxEndpoints are attached.
     MemoryCanEndpoint* attach(const char* name);
 
     core::Status addFault(const CanFaultRule& rule);  // kFull beyond the rule limit
