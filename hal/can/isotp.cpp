@@ -123,6 +123,12 @@ Status IsoTpChannel::send(const std::uint8_t* data, std::size_t length) {
         armAs(now);  // retried by poll() until N_As
         return Status::kOk;
     }
+    firstFrameSent(now);
+    return Status::kOk;
+}
+
+// An SF completes the message; after an FF the peer's flow control is due within N_Bs.
+void IsoTpChannel::firstFrameSent(TimeNs now) {
     if (txState_ == TxState::kSendSf) {
         txOffset_ = txLength_;
         finishTx(IsoTpTxResult::kDone);
@@ -131,7 +137,6 @@ Status IsoTpChannel::send(const std::uint8_t* data, std::size_t length) {
         txState_ = TxState::kWaitFc;
         txBsDeadline_ = now + config_.nBs;
     }
-    return Status::kOk;
 }
 
 bool IsoTpChannel::transmit(const std::uint8_t* bytes, std::size_t count) {
@@ -182,14 +187,7 @@ void IsoTpChannel::pollTx(TimeNs now) {
         case TxState::kSendFf:
             if (transmitFirstFrame()) {
                 txAsArmed_ = false;
-                if (txState_ == TxState::kSendSf) {
-                    txOffset_ = txLength_;
-                    finishTx(IsoTpTxResult::kDone);
-                } else {
-                    txOffset_ = kFfData;
-                    txState_ = TxState::kWaitFc;
-                    txBsDeadline_ = now + config_.nBs;
-                }
+                firstFrameSent(now);
             } else if (now >= txAsDeadline_) {
                 failTx(IsoTpTxResult::kTimeoutAs, 0);
             }

@@ -183,6 +183,7 @@ private:
 
     bool transmit(const std::uint8_t* bytes, std::size_t count);
     bool transmitFirstFrame();
+    void firstFrameSent(core::TimeNs now);
     void armAs(core::TimeNs now);
     void pollTx(core::TimeNs now);
     void pollRx(core::TimeNs now);
