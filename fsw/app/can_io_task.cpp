@@ -1,5 +1,6 @@
 #include "fsw/app/can_io_task.hpp"
 
+#include "fsw/app/app_events.hpp"
 #include "hal/devices/rse_device_ids.hpp"
 
 namespace rse::app {
@@ -72,10 +73,28 @@ core::Status CanIoTask::init() {
 void CanIoTask::takeCommands() {
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
         msg::WheelCommandMsg cmd;
-        if (core::isOk(inbox_.decode(&cmd))) {
-            for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
-                commanded_[w] = cmd.velocityRadS[w];
+        const char* why = nullptr;
+        if (!core::isOk(inbox_.decode(&cmd))) {
+            why = "malformed message";
+        } else {
+            for (double v : cmd.velocityRadS) {
+                // Written so that NaN fails too (every comparison with NaN is false).
+                if (!(v >= -kMaxWheelSpeedRadS && v <= kMaxWheelSpeedRadS)) {
+                    why = "wheel speed not finite or beyond the drive limit";
+                }
             }
+        }
+        if (why != nullptr) {
+            ++commandsRejected_;
+            if (core::isReportableOccurrence(commandsRejected_)) {
+                events_.report(events::kWheelCommandRejected, core::Severity::kError,
+                               "app: wheel command refused: %s (%u so far); previous command kept", why,
+                               static_cast<unsigned>(commandsRejected_));
+            }
+            continue;
+        }
+        for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+            commanded_[w] = cmd.velocityRadS[w];
         }
     }
 }
@@ -86,9 +105,8 @@ void CanIoTask::run(const core::FrameContext& frame) {
     double safe[msg::kWheelCount];
     interlock_.apply(status_, commanded_, safe);
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
-        const double mrad = safe[w] / kMrad;
-        const double clamped = mrad > 2.0e9 ? 2.0e9 : (mrad < -2.0e9 ? -2.0e9 : mrad);
-        drives_[w].setTargetVelocity(static_cast<std::int32_t>(clamped));
+        // Commands were range-checked on arrival, so this always fits an int32.
+        drives_[w].setTargetVelocity(static_cast<std::int32_t>(safe[w] / kMrad));
     }
     master_.cycle(now);
     groundLink_.service();

@@ -1,6 +1,7 @@
 // The hal I/O task (every minor frame): runs the CANopen master cycle on the
 // rover's CAN bus and bridges the devices to the software bus.
-//   in:  WheelCommandMsg (latest wins)
+//   in:  WheelCommandMsg (latest valid one wins; malformed, non-finite or
+//        out-of-range commands are refused whole, counted and evented)
 //   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per new
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
@@ -29,6 +30,9 @@ namespace rse::app {
 // Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
 constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
 constexpr core::TimeNs kDeviceHeartbeatTimeout = 250 * core::kNsPerMs;
+// Largest wheel speed a command may ask for (the drives' limit, 5000 mrad/s;
+// a table once tables exist). A command beyond it, or not finite, is refused whole.
+constexpr double kMaxWheelSpeedRadS = 5.0;
 
 class CanIoTask final : public core::Task {
 public:
@@ -42,6 +46,7 @@ public:
     const reflexive::DriveInterlock& interlock() const { return interlock_; }
     const CanGroundLink& groundLink() const { return groundLink_; }
     void resetInterlock() { interlock_.reset(); }
+    std::uint32_t commandsRejected() const { return commandsRejected_; }
 
 private:
     void takeCommands();
@@ -62,6 +67,7 @@ private:
     CanGroundLink groundLink_;
     core::PipeId pipe_ = 0;
     double commanded_[msg::kWheelCount] = {};
+    std::uint32_t commandsRejected_ = 0;
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};

@@ -138,3 +138,22 @@ TEST(LockstepDrive, NoHeapAllocationAcrossTenThousandFramesOfFlightAndSimulator)
     CHECK(rig->fsw().executive().stats().framesRun >= 10000);
     CHECK(rig->rover().truth().pose.x > 9.0);  // it really drove
 }
+
+TEST(LockstepDrive, HostileWheelCommandsAreRefusedAndThePreviousOneKept) {
+    CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 2 * kNsPerSec));
+    rig->commandAllWheels(1.0);
+    rig->runFor(500 * kNsPerMs);
+    const std::uint8_t truncated[8] = {};
+    CHECK(core::Status::kOk == rig->fsw().bus().publish(msg::ids::kWheelCommand, truncated, sizeof truncated));
+    rig->commandAllWheels(std::nan(""));
+    rig->commandAllWheels(99.0);  // beyond the drives' 5 rad/s
+    rig->runFor(500 * kNsPerMs);
+    LONGS_EQUAL(3, rig->fsw().canIo().commandsRejected());
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        LONGS_EQUAL(1000, rig->drives().drive(w).targetVelocityMradS());
+    }
+    // Evented on the 1st and 2nd rejection, counted on all three.
+    LONGS_EQUAL(1, rig->consoleCount("EVT 204 ERROR app: wheel command refused: malformed message (1 so far)"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 204 ERROR app: wheel command refused: wheel speed not finite"));
+    LONGS_EQUAL(2, rig->consoleCount("EVT 204 "));
+}
