@@ -29,7 +29,8 @@ RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COM
 # test need (the VM test also downloads Debian's kernel package into build/).
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
                 g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64 \
-                qemu-system-x86 busybox-static can-utils
+                qemu-system-x86 busybox-static can-utils \
+                libmbedtls-dev libmbedtls-dev:arm64 tshark clang libclang-rt-14-dev
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
 .PHONY: deps
@@ -64,9 +65,23 @@ FLIGHT_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS) -fno-exceptions -fno-rtti
 # and -Wconversion reject, so those two are off there.
 TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror
 SIM_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS)
-LDLIBS_TEST := -lCppUTest -lpthread
+# HMAC-SHA-256 for authenticated commands: Debian's mbedTLS (libmbedcrypto).
+LDLIBS_CRYPTO := -lmbedcrypto
+LDLIBS_TEST := -lCppUTest -lpthread $(LDLIBS_CRYPTO)
 # Bind every symbol at load time: no lazy-binding stall in the first frames.
 LDFLAGS := -Wl,-z,now
+
+# ---------------------------------------------------------------------------
+# Default table images: rse-ground (always a host build, also when cross
+# compiling) compiles tables/*.toml into images and those into a C++ source
+# that rse-fsw and the test binaries link, so the flight software boots with
+# the same bytes ground would upload. Not part of the flight library: the
+# ground tool links that library and must not need its own output.
+HOST_GROUND_BIN := build/$(shell uname -m)/bin/rse-ground
+TABLE_SOURCES := $(sort $(wildcard tables/*.toml))
+TABLE_DEFS := fsw/tables/table_defs.def
+DEFAULT_TABLES_SRC := $(BUILD)/gen/default_tables.cpp
+DEFAULT_TABLES_OBJ := $(BUILD)/obj/gen/default_tables.o
 
 # ---------------------------------------------------------------------------
 # Flight library and executable.
@@ -105,28 +120,57 @@ $(SIM_LIB): $(SIM_OBJS)
 	@mkdir -p $(@D)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(FLIGHT_LIB)
+$(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(DEFAULT_TABLES_OBJ) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) -o $@ $^
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
 SIM_BIN := $(BUILD)/bin/rse-sim
 $(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) -o $@ $^
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
-# Ground tools (host side: full language allowed).
+# Ground tools (host side: full language allowed). ground/*.cpp other than the
+# mains form the ground library, which the unit tests link too.
 $(BUILD)/obj/ground/%.o: ground/%.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(SIM_CXXFLAGS) -c $< -o $@
+
+GROUND_MAINS := ground/rse_isotp.cpp ground/rse_ground.cpp
+GROUND_SRCS := $(filter-out $(GROUND_MAINS),$(sort $(wildcard ground/*.cpp)))
+GROUND_LIB := $(BUILD)/lib/librse_ground.a
+$(GROUND_LIB): $(GROUND_SRCS:%.cpp=$(BUILD)/obj/%.o)
+	@mkdir -p $(@D)
+	rm -f $@ && $(AR) rcs $@ $^
 
 ISOTP_BIN := $(BUILD)/bin/rse-isotp
 $(ISOTP_BIN): $(BUILD)/obj/ground/rse_isotp.o $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^
 
+GROUND_BIN := $(BUILD)/bin/rse-ground
+$(GROUND_BIN): $(BUILD)/obj/ground/rse_ground.o $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
+# The default table images (DEFAULT_TABLES_SRC above). A cross build first
+# makes the host rse-ground in a make run of its own.
+ifeq ($(CROSS_COMPILE),)
+$(DEFAULT_TABLES_SRC): $(TABLE_SOURCES) $(TABLE_DEFS) $(HOST_GROUND_BIN)
+else
+.PHONY: host-ground
+host-ground:
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_GROUND_BIN)
+$(DEFAULT_TABLES_SRC): $(TABLE_SOURCES) $(TABLE_DEFS) | host-ground
+endif
+	@mkdir -p $(@D)
+	$(HOST_GROUND_BIN) table build --cpp $@ $(TABLE_SOURCES)
+$(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(FLIGHT_CXXFLAGS) -c $< -o $@
+
 # A cross build makes what runs on the rover; a host build adds the simulator
 # and the ground tools.
-HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN)
+HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN) $(GROUND_BIN)
 .PHONY: all
 all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
@@ -139,7 +183,7 @@ SUITES := $(sort $(filter-out support integration bench fuzz,\
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
 define suite_rule
-$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(SIM_LIB) $(FLIGHT_LIB)
+$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $$(@D)
 	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST)
 endef
@@ -193,9 +237,9 @@ demo: $(FSW_BIN)
 
 # Each program in unit_test/bench/ is one benchmark; make bench runs them all.
 BENCH_BINS := $(patsubst unit_test/bench/%.cpp,$(BUILD)/bin/%,$(wildcard unit_test/bench/*.cpp))
-$(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(SIM_LIB) $(FLIGHT_LIB)
+$(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) -o $@ $^
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
 bench: $(BENCH_BINS)
 	@set -e; for b in $(filter-out %/bench_socketcan,$(BENCH_BINS)); do echo "### $$b"; $$b; echo; done

@@ -1,39 +1,93 @@
-// The ground link on CAN: ISO-TP (docs/icd.md §2), rover receives on 0x6F0 and
-// sends on 0x6F1. Until command ingest exists (the ground-link issue), every
-// packet received is sent straight back: a link-test service that lets the
-// operator (and the integration test) prove the round trip end to end.
+// The ground link on CAN: CCSDS packets carried as ISO-TP messages (docs/icd.md
+// §2), one packet per message; the rover receives on 0x6F0 and sends on 0x6F1.
+// To command ingest and telemetry output it is a PacketLink like the UDP link.
+//
+//   Uplink (commands): receive() hands over the next message the ISO-TP channel
+//   completed. The channel accepts messages of up to kMaxCommandPacket bytes and
+//   answers a longer First Frame with FC OVERFLOW (event 361), so oversized
+//   uploads are refused on the wire instead of filling the channel's receive FIFO
+//   (8 KB: about 30 commands of the largest size), where completed commands wait
+//   until command ingest reads them.
+//   Downlink (telemetry): send() copies the packet into a fixed queue of
+//   kGroundLinkTxQueueDepth packets and returns at once (kFull when the queue is
+//   full: counted, evented). service() starts the queued packets one ISO-TP
+//   message at a time, in order, whenever the channel's transmitter is idle. Only
+//   service(), called once per minor frame by the CAN I/O task, touches the bus,
+//   so any task of the frame may send() without racing the CANopen traffic.
+//
+// Throughput down is set by the ground's flow control: with its block size 8 the
+// rover sends one block (56 bytes) per 10 ms frame, so a 512-byte packet takes
+// about 10 frames; single-frame packets (up to 7 bytes) go several per frame.
+//
+// Counters: stats() (PacketLinkStats) sums what means the same on every link and
+// is brought up to date by service() and receive(); channel().stats() keeps each
+// ISO-TP reason apart. Events: queue full and packets too large for the reader or
+// the queue (hal/link/link_events.hpp, 1st, 2nd, 4th ... occurrence); protocol
+// errors are evented by the channel (hal/can/can_events.hpp, 350-367).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/core/event_log.hpp"
 #include "hal/can/isotp.hpp"
 #include "hal/canopen/canopen_master.hpp"
+#include "hal/link/packet_link.hpp"
+#include "hal/link/packet_queue.hpp"
 
 namespace rse::app {
 
 constexpr std::uint32_t kGroundUplinkCobId = 0x6F0;
 constexpr std::uint32_t kGroundDownlinkCobId = 0x6F1;
+constexpr std::size_t kGroundLinkTxQueueDepth = 8;  // telemetry packets waiting for the transmitter
 
-class CanGroundLink final : public hal::canopen::CanFrameSink {
+class CanGroundLink final : public hal::canopen::CanFrameSink, public hal::PacketLink {
 public:
     CanGroundLink(hal::CanBus& can, const core::Clock& clock, core::EventLog& events);
+    CanGroundLink(const CanGroundLink&) = delete;
+    CanGroundLink& operator=(const CanGroundLink&) = delete;
 
+    // Frames with id kGroundUplinkCobId (the CANopen master routes them here).
     void onFrame(const hal::CanFrame& frame, core::TimeNs) override { channel_.onFrame(frame); }
-    // Once per minor frame: advance ISO-TP, answer completed packets.
-    void service();
 
-    std::uint32_t echoed() const { return echoed_; }
-    std::uint32_t echoRefused() const { return echoRefused_; }
+    // The oldest completed uplink message: kOk, kEmpty, kTooLarge (longer than
+    // capacity: dropped, counted in rxDropped, evented; *length says how long),
+    // kInvalidArgument (null length, or null out with capacity > 0).
+    core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override;
+    // Queues a copy for the downlink: kOk, kFull (queue full), kTooLarge (more than
+    // kMaxTelemetryPacket), kInvalidArgument (empty or null), kUnavailable (the
+    // channel's configuration was refused). Every refusal counts in txDropped.
+    core::Status send(const std::uint8_t* data, std::size_t length) override;
+    // Once per minor frame: advances ISO-TP (CFs, flow control, timeouts) and starts
+    // the next queued packets while the transmitter is idle.
+    void service() override;
+    const char* name() const override { return "can-isotp"; }
+    const hal::PacketLinkStats& stats() const override { return stats_; }
+
+    std::size_t txQueued() const { return txQueue_.size(); }        // waiting, not yet started
+    std::uint32_t txCompleted() const { return txCompleted_; }      // every frame accepted by the bus
+    std::uint32_t txAborted() const { return txAborted_; }          // ISO-TP gave up (reason in channel().stats())
     const hal::IsoTpChannel& channel() const { return channel_; }
 
 private:
     static hal::IsoTpConfig config();
+    void finishTransmission();
+    void refreshStats();
 
+    core::EventLog& events_;
     hal::IsoTpChannel channel_;
-    std::uint8_t packet_[hal::kIsoTpMaxMessage] = {};
-    bool pending_ = false;       // a received packet waits for the transmitter
-    std::size_t pendingLength_ = 0;
-    std::uint32_t echoed_ = 0;
-    std::uint32_t echoRefused_ = 0;
+    hal::PacketQueue<kGroundLinkTxQueueDepth, cmdtlm::kMaxTelemetryPacket> txQueue_;
+    bool inFlight_ = false;  // a queued packet was handed to the channel and has not finished
+    // Where an uplink message too long for the reader's buffer is read to drop it.
+    std::uint8_t discard_[cmdtlm::kMaxCommandPacket] = {};
+    hal::PacketLinkStats stats_;
+    std::uint32_t txCompleted_ = 0;
+    std::uint32_t txAborted_ = 0;
+    // Occurrences per reason, for the 1, 2, 4, 8 ... event throttle.
+    std::uint32_t rxTooLarge_ = 0;
+    std::uint32_t txFull_ = 0;
+    std::uint32_t txInvalid_ = 0;
 };
 
 }  // namespace rse::app

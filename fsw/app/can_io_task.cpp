@@ -1,6 +1,7 @@
 #include "fsw/app/can_io_task.hpp"
 
 #include "fsw/app/app_events.hpp"
+#include "fsw/msg/mode_msgs.hpp"
 #include "hal/devices/rse_device_ids.hpp"
 
 namespace rse::app {
@@ -18,10 +19,12 @@ const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR",
 constexpr double kMrad = 1e-3;
 }  // namespace
 
-CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events)
+CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
+                     const tables::TableService& tables)
     : can_(can),
       bus_(bus),
       events_(events),
+      tables_(tables),
       master_(can, events),
       link_(can, events, "rover"),
       drives_{{can, events, master_.heartbeats(), kDriveNodeIds[0], kWheelNames[0]},
@@ -67,11 +70,28 @@ core::Status CanIoTask::init() {
     if (!core::isOk(st)) {
         return st;
     }
-    return bus_.subscribe(pipe_, msg::ids::kWheelCommand);
+    st = bus_.subscribe(pipe_, msg::ids::kWheelCommand);
+    if (!core::isOk(st)) {
+        return st;
+    }
+    return bus_.subscribe(pipe_, msg::ids::kMode);
 }
 
 void CanIoTask::takeCommands() {
+    const double maxSpeed = static_cast<double>(tables_.roverGeometry().max_wheel_speed_rad_s);
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
+        if (inbox_.header.id == msg::ids::kMode) {
+            msg::ModeMsg mode{};
+            if (core::isOk(inbox_.decode(&mode))) {
+                estop_ = mode.estop != 0;
+                if (estop_) {
+                    for (double& c : commanded_) {
+                        c = 0.0;
+                    }
+                }
+            }
+            continue;
+        }
         msg::WheelCommandMsg cmd;
         const char* why = nullptr;
         if (!core::isOk(inbox_.decode(&cmd))) {
@@ -79,10 +99,19 @@ void CanIoTask::takeCommands() {
         } else {
             for (double v : cmd.velocityRadS) {
                 // Written so that NaN fails too (every comparison with NaN is false).
-                if (!(v >= -kMaxWheelSpeedRadS && v <= kMaxWheelSpeedRadS)) {
-                    why = "wheel speed not finite or beyond the drive limit";
+                if (!(v >= -maxSpeed && v <= maxSpeed)) {
+                    why = "wheel speed not finite or beyond the geometry table's limit";
                 }
             }
+        }
+        if (why == nullptr && estop_) {
+            ++heldByEstop_;
+            if (core::isReportableOccurrence(heldByEstop_)) {
+                events_.report(events::kWheelCommandHeld, core::Severity::kWarning,
+                               "app: wheel command ignored: software e-stop set (%u so far)",
+                               static_cast<unsigned>(heldByEstop_));
+            }
+            continue;
         }
         if (why != nullptr) {
             ++commandsRejected_;

@@ -1,7 +1,12 @@
 // The hal I/O task (every minor frame): runs the CANopen master cycle on the
 // rover's CAN bus and bridges the devices to the software bus.
 //   in:  WheelCommandMsg (latest valid one wins; malformed, non-finite or
-//        out-of-range commands are refused whole, counted and evented)
+//        beyond the rover geometry table's max_wheel_speed_rad_s: refused
+//        whole, counted and evented)
+//        ModeMsg: while the software e-stop is set every drive is commanded to
+//        zero (in the frame the e-stop arrives) and wheel commands are ignored,
+//        counted and evented, until it is cleared; the drives then stay at zero
+//        until a new command arrives.
 //   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per new
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
@@ -16,6 +21,7 @@
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/reflexive/drive_interlock.hpp"
+#include "fsw/tables/table_service.hpp"
 #include "hal/can/can_bus.hpp"
 #include "hal/can/can_link_monitor.hpp"
 #include "hal/canopen/canopen_master.hpp"
@@ -30,13 +36,11 @@ namespace rse::app {
 // Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
 constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
 constexpr core::TimeNs kDeviceHeartbeatTimeout = 250 * core::kNsPerMs;
-// Largest wheel speed a command may ask for (the drives' limit, 5000 mrad/s;
-// a table once tables exist). A command beyond it, or not finite, is refused whole.
-constexpr double kMaxWheelSpeedRadS = 5.0;
 
 class CanIoTask final : public core::Task {
 public:
-    CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events);
+    CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
+              const tables::TableService& tables);
 
     core::Status init();
     void run(const core::FrameContext& frame) override;
@@ -45,8 +49,11 @@ public:
     const hal::WheelDrive& drive(std::size_t wheel) const { return drives_[wheel]; }
     const reflexive::DriveInterlock& interlock() const { return interlock_; }
     const CanGroundLink& groundLink() const { return groundLink_; }
+    CanGroundLink& groundLink() { return groundLink_; }  // command ingest and telemetry output use it
     void resetInterlock() { interlock_.reset(); }
     std::uint32_t commandsRejected() const { return commandsRejected_; }
+    bool estopHeld() const { return estop_; }
+    std::uint32_t commandsHeldByEstop() const { return heldByEstop_; }
 
 private:
     void takeCommands();
@@ -56,6 +63,7 @@ private:
     hal::CanBus& can_;
     core::SoftwareBus& bus_;
     core::EventLog& events_;
+    const tables::TableService& tables_;
     hal::canopen::CanOpenMaster master_;
     hal::CanLinkMonitor link_;
     hal::WheelDrive drives_[msg::kWheelCount];
@@ -68,6 +76,8 @@ private:
     core::PipeId pipe_ = 0;
     double commanded_[msg::kWheelCount] = {};
     std::uint32_t commandsRejected_ = 0;
+    bool estop_ = false;
+    std::uint32_t heldByEstop_ = 0;
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};

@@ -24,7 +24,7 @@ void ConsoleTask::run(const core::FrameContext&) { drain(); }
 void ConsoleTask::drain() {
     bool wrote = false;
     core::Event event;
-    while (core::isOk(events_.pop(&event))) {
+    while (core::isOk(events_.read(&cursor_, &event))) {
         ++eventsWritten_;
         wrote = true;
         if (stream_ != nullptr) {

@@ -1,6 +1,7 @@
-// Writes housekeeping summaries and events to a console stream: the walking
-// skeleton's stand-in for telemetry output (which the ground link replaces).
-// With no stream it still drains both, so nothing piles up unread.
+// Writes housekeeping summaries and events to a console stream (the operator's
+// view when no ground tool is attached, and the demo's output). Telemetry output
+// is the event log's primary reader; the console reads with its own cursor, so
+// a quiet or slow console never costs the ground an event.
 #pragma once
 
 #include <cstdio>
@@ -13,7 +14,7 @@ namespace rse::app {
 
 class ConsoleTask final : public core::Task {
 public:
-    ConsoleTask(core::SoftwareBus& bus, core::EventLog& events) : bus_(bus), events_(events) {}
+    ConsoleTask(core::SoftwareBus& bus, const core::EventLog& events) : bus_(bus), events_(events) {}
 
     // Creates and subscribes the task's pipe; stream may be nullptr (quiet).
     core::Status init(std::FILE* stream);
@@ -25,12 +26,14 @@ public:
     std::uint32_t housekeepingSeen() const { return housekeepingSeen_; }
     std::uint32_t eventsWritten() const { return eventsWritten_; }
     std::uint32_t malformed() const { return malformed_; }
+    std::uint32_t eventsMissed() const { return cursor_.lost; }
 
 private:
     static constexpr std::uint16_t kPipeDepth = 4;
 
     core::SoftwareBus& bus_;
-    core::EventLog& events_;
+    const core::EventLog& events_;
+    core::EventLog::Cursor cursor_{};
     std::FILE* stream_ = nullptr;
     core::PipeId pipe_ = 0;
     std::uint32_t housekeepingSeen_ = 0;

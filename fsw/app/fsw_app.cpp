@@ -1,38 +1,110 @@
 #include "fsw/app/fsw_app.hpp"
 
+#include <ctime>
+
 #include "fsw/app/app_events.hpp"
+#include "fsw/tables/default_tables.hpp"
 
 namespace rse::app {
 
+namespace {
+
+// UTC (Unix seconds) at mission elapsed time zero: the time correlation that
+// HK carries so ground can turn packet times into UTC.
+double utcAtMetZero(const core::Clock& clock) {
+    timespec now{};
+    if (clock_gettime(CLOCK_REALTIME, &now) != 0) {
+        return 0.0;
+    }
+    return static_cast<double>(now.tv_sec) + static_cast<double>(now.tv_nsec) * 1e-9 -
+           static_cast<double>(clock.now()) / static_cast<double>(core::kNsPerSec);
+}
+
+}  // namespace
+
 FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
-    : events_(clock),
+    : clock_(clock),
+      events_(clock),
       bus_(clock, events_),
       executive_(clock, events_),
-      canIo_(can, clock, bus_, events_),
+      tables_(events_),
+      telemetryOutput_(clock, events_),
+      handler_(AppCommandHandler::Parts{clock, bus_, events_, executive_, tables_, telemetryOutput_}),
+      commands_(clock, events_, telemetryOutput_, handler_),
+      canIo_(can, clock, bus_, events_, tables_),
       housekeeping_(executive_, bus_, events_),
-      console_(bus_, events_) {}
+      telemetry_(bus_, events_, telemetryOutput_,
+                 TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
+      manualDrive_(clock, bus_, events_, tables_),
+      console_(bus_, events_) {
+    handler_.attach(&commands_, &telemetry_);
+}
+
+core::Status FswApp::addGroundLink(hal::PacketLink* link) {
+    core::Status status = commands_.addLink(link);
+    if (core::isOk(status)) {
+        status = telemetryOutput_.addLink(link);
+    }
+    return status;
+}
+
+core::Status FswApp::initStep(core::Status status, const char* what) {
+    if (!core::isOk(status)) {
+        events_.report(events::kAppInitFailed, core::Severity::kCritical, "app: %s failed (%s)", what,
+                       core::toString(status));
+    }
+    return status;
+}
 
 core::Status FswApp::init(std::FILE* console) {
-    core::Status status = console_.init(console);
+    core::Status status = initStep(console_.init(console), "console task init");
+    if (core::isOk(status)) {
+        status = initStep(tables_.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount),
+                          "loading the default tables");
+    }
+    if (core::isOk(status)) {
+        status = initStep(canIo_.init(), "CAN I/O task init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(addGroundLink(&canIo_.groundLink()), "adding the CAN ground link");
+    }
+    if (core::isOk(status) && commands_.keys().size() == 0) {
+        status = initStep(commands_.keys().add(cmdtlm::kLabKeyId, cmdtlm::kLabKey), "loading the lab key");
+    }
+    if (core::isOk(status)) {
+        status = initStep(commands_.init(), "command service init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(telemetry_.init(), "telemetry task init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(manualDrive_.init(), "manual drive init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(handler_.init(), "command handlers init");
+    }
     if (!core::isOk(status)) {
-        events_.report(events::kAppInitFailed, core::Severity::kCritical,
-                       "app: console task init failed (%s)", core::toString(status));
         return status;
     }
-    status = canIo_.init();
-    if (!core::isOk(status)) {
-        events_.report(events::kAppInitFailed, core::Severity::kCritical,
-                       "app: CAN I/O task init failed (%s)", core::toString(status));
-        return status;
+    telemetry_.setUtcAtMetZero(utcAtMetZero(clock_));
+    for (std::size_t i = 0; i < telemetryOutput_.linkCount(); ++i) {
+        events_.report(events::kGroundLinkOpened, core::Severity::kInfo,
+                       "app: ground link %s: commands in, telemetry out", telemetryOutput_.link(i)->name());
     }
 
     // The rate-group table. Divisors count 100 Hz minor frames (10 = 10 Hz,
     // 100 = 1 Hz); offsets spread tasks of one rate over different frames; budgets
-    // are the longest acceptable run. Keep docs/architecture.md in step.
+    // are the longest acceptable run. Tables come first, so an activation lands
+    // between frames and every task of a frame sees the same values. Keep
+    // docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
+        {"tables", &tables_, 1, 0, 200},
         {"can_io", &canIo_, 1, 0, 1000},
+        {"commands", &commands_, 1, 0, 1000},
+        {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},
+        {"telemetry", &telemetry_, 1, 0, 2000},
         {"console", &console_, 10, 1, 2000},
     };
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
@@ -79,6 +151,10 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned>(b.published), static_cast<unsigned>(b.delivered),
                  static_cast<unsigned>(b.dropped), static_cast<unsigned>(b.rejectedTooLarge),
                  static_cast<unsigned>(b.noSubscribers));
+    const cmdtlm::CommandCounters& c = commands_.counters();
+    std::fprintf(out, "  commands: %u accepted, %u rejected; telemetry: %u packets sent, %u dropped\n",
+                 static_cast<unsigned>(c.accepted), static_cast<unsigned>(c.rejected),
+                 static_cast<unsigned>(telemetryOutput_.sent()), static_cast<unsigned>(telemetryOutput_.dropped()));
     if (console_.malformed() > 0) {
         std::fprintf(out, "  console: %u malformed housekeeping messages ignored\n",
                      static_cast<unsigned>(console_.malformed()));

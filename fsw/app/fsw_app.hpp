@@ -9,12 +9,19 @@
 #include <cstdio>
 
 #include "fsw/app/can_io_task.hpp"
+#include "fsw/app/command_handlers.hpp"
 #include "fsw/app/console_task.hpp"
+#include "fsw/app/telemetry_task.hpp"
+#include "fsw/cmdtlm/command_task.hpp"
 #include "fsw/cmdtlm/housekeeping_task.hpp"
+#include "fsw/cmdtlm/telemetry_output.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/reflexive/manual_drive.hpp"
+#include "fsw/tables/table_service.hpp"
+#include "hal/link/packet_link.hpp"
 
 namespace rse::app {
 
@@ -26,6 +33,14 @@ class FswApp {
 public:
     // can: the rover's CAN bus (SocketCAN, or an in-memory bus in lockstep).
     FswApp(core::Clock& clock, hal::CanBus& can);
+
+    // Before init: ground links besides ISO-TP on the rover CAN bus (UDP, or an
+    // in-memory link in tests); each carries commands in and telemetry out.
+    core::Status addGroundLink(hal::PacketLink* link);
+    // Before init: keys that authenticate commands (none added: the lab key),
+    // and the lab setting that accepts unauthenticated commands.
+    cmdtlm::KeyStore& keys() { return commands_.keys(); }
+    void setAuthRequired(bool required) { commands_.setAuthRequired(required); }
 
     // console: where the console task writes (nullptr: quiet).
     core::Status init(std::FILE* console);
@@ -44,13 +59,28 @@ public:
     const ConsoleTask& console() const { return console_; }
     const CanIoTask& canIo() const { return canIo_; }
     CanIoTask& canIo() { return canIo_; }
+    const tables::TableService& tables() const { return tables_; }
+    const cmdtlm::CommandTask& commands() const { return commands_; }
+    const cmdtlm::TelemetryOutput& telemetryOutput() const { return telemetryOutput_; }
+    const TelemetryTask& telemetry() const { return telemetry_; }
+    const AppCommandHandler& commandHandler() const { return handler_; }
+    const reflexive::ManualDrive& manualDrive() const { return manualDrive_; }
 
 private:
+    core::Status initStep(core::Status status, const char* what);
+
+    core::Clock& clock_;
     core::EventLog events_;
     core::SoftwareBus bus_;
     core::Executive executive_;
+    tables::TableService tables_;
+    cmdtlm::TelemetryOutput telemetryOutput_;
+    AppCommandHandler handler_;
+    cmdtlm::CommandTask commands_;
     CanIoTask canIo_;
     cmdtlm::HousekeepingTask housekeeping_;
+    TelemetryTask telemetry_;
+    reflexive::ManualDrive manualDrive_;
     ConsoleTask console_;
 };
 

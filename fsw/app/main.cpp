@@ -1,13 +1,21 @@
 // rse-fsw: the flight executable.
 //
 //   rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
+//           [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]
+//           [--key-file FILE] [--lab-no-auth]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
+// The ground link always runs over ISO-TP on the rover bus; --udp adds the UDP
+// link (commands on ADDR:1234, telemetry to 127.0.0.1:1235 by default: the cFS
+// lab ports). Commands must be authenticated with a key from --key-file (lines
+// "ID:64-hex-digits"), or with the public lab key when no file is given;
+// --lab-no-auth also accepts unauthenticated commands (docs/icd.md).
 // Real-time mode (default) runs on CLOCK_MONOTONIC until SIGINT/SIGTERM or the
 // duration; lockstep mode runs the same tasks on a virtual clock as fast as the
 // CPU allows (a duration is then required). Exit status: 0 after a clean stop,
 // 1 if initialisation failed, 2 for a bad command line.
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +26,7 @@
 #include "fsw/core/realtime_process.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/can/socketcan_bus.hpp"
+#include "hal/link/udp_packet_link.hpp"
 
 namespace {
 
@@ -32,16 +41,34 @@ struct Options {
     bool realtimePosture = true;
     double durationSec = 0.0;  // 0: until a signal
     const char* canInterface = nullptr;
+    bool udp = false;
+    const char* udpBind = "127.0.0.1";
+    std::uint16_t commandPort = rse::hal::kDefaultCommandPort;
+    const char* telemetryHost = "127.0.0.1";
+    std::uint16_t telemetryPort = rse::hal::kDefaultTelemetryPort;
+    const char* keyFile = nullptr;
+    bool authRequired = true;
 };
 
 void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
-                 "  --can IFACE         SocketCAN interface of the rover bus (default: none attached)\n"
+                 "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
+                 "               [--key-file FILE] [--lab-no-auth]\n"
+                 "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
+                 "                      the ground link runs over ISO-TP on it (rx 0x6F0, tx 0x6F1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
                  "  --duration SECONDS  stop after this much executive time (default: until SIGINT/SIGTERM)\n"
                  "  --quiet             no console housekeeping or event lines\n"
-                 "  --no-rt             real time without mlockall/SCHED_FIFO\n");
+                 "  --no-rt             real time without mlockall/SCHED_FIFO\n"
+                 "  --udp               add the UDP ground link\n"
+                 "  --udp-bind ADDR     address the command port binds to (default 127.0.0.1)\n"
+                 "  --cmd-port N        UDP command port (default 1234)\n"
+                 "  --tlm-host ADDR     where UDP telemetry goes (default 127.0.0.1)\n"
+                 "  --tlm-port N        UDP telemetry port (default 1235)\n"
+                 "  --key-file FILE     command authentication keys, lines ID:64-hex-digits\n"
+                 "                      (default: the public lab key, id 1 - not for flight)\n"
+                 "  --lab-no-auth       lab setting: also accept unauthenticated commands\n");
 }
 
 // Returns false (after printing why) on a bad command line.
@@ -73,6 +100,34 @@ bool parseOptions(int argc, char** argv, Options* options) {
                 return false;
             }
             options->durationSec = value;
+        } else if (std::strcmp(arg, "--udp") == 0) {
+            options->udp = true;
+        } else if (std::strcmp(arg, "--lab-no-auth") == 0) {
+            options->authRequired = false;
+        } else if (std::strcmp(arg, "--udp-bind") == 0 || std::strcmp(arg, "--tlm-host") == 0 ||
+                   std::strcmp(arg, "--key-file") == 0) {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "rse-fsw: %s needs a value\n", arg);
+                return false;
+            }
+            const char* value = argv[++i];
+            if (std::strcmp(arg, "--udp-bind") == 0) {
+                options->udpBind = value;
+            } else if (std::strcmp(arg, "--tlm-host") == 0) {
+                options->telemetryHost = value;
+            } else {
+                options->keyFile = value;
+            }
+        } else if (std::strcmp(arg, "--cmd-port") == 0 || std::strcmp(arg, "--tlm-port") == 0) {
+            char* end = nullptr;
+            const unsigned long port = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
+            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || port == 0 || port > 65535) {
+                std::fprintf(stderr, "rse-fsw: %s needs a port number 1..65535\n", arg);
+                return false;
+            }
+            ++i;
+            (std::strcmp(arg, "--cmd-port") == 0 ? options->commandPort : options->telemetryPort) =
+                static_cast<std::uint16_t>(port);
         } else if (std::strcmp(arg, "--help") == 0 || std::strcmp(arg, "-h") == 0) {
             usage(stdout);
             std::exit(0);
@@ -90,6 +145,39 @@ bool parseOptions(int argc, char** argv, Options* options) {
         return false;
     }
     return true;
+}
+
+// Reads the key file into the app's key store (start-up only). Any bad line
+// refuses the whole file: a half-loaded key set is worse than none.
+bool loadKeyFile(const char* path, rse::cmdtlm::KeyStore& keys) {
+    std::FILE* file = std::fopen(path, "r");
+    if (file == nullptr) {
+        std::fprintf(stderr, "rse-fsw: cannot read key file '%s': %s\n", path, std::strerror(errno));
+        return false;
+    }
+    char line[256];
+    unsigned lineNumber = 0;
+    bool ok = true;
+    while (ok && std::fgets(line, sizeof line, file) != nullptr) {
+        ++lineNumber;
+        std::uint16_t id = 0;
+        std::uint8_t key[rse::cmdtlm::kKeySize];
+        bool isKey = false;
+        if (!rse::core::isOk(rse::cmdtlm::parseKeyLine(line, &id, key, &isKey))) {
+            std::fprintf(stderr, "rse-fsw: %s:%u: not a key line (want ID:64-hex-digits)\n", path, lineNumber);
+            ok = false;
+        } else if (isKey && !rse::core::isOk(keys.add(id, key))) {
+            std::fprintf(stderr, "rse-fsw: %s:%u: key id %u refused (at most %zu keys)\n", path, lineNumber,
+                         static_cast<unsigned>(id), rse::cmdtlm::kMaxKeys);
+            ok = false;
+        }
+    }
+    std::fclose(file);
+    if (ok && keys.size() == 0) {
+        std::fprintf(stderr, "rse-fsw: key file '%s' holds no key\n", path);
+        ok = false;
+    }
+    return ok;
 }
 
 void installStopHandlers() {
@@ -130,6 +218,20 @@ int main(int argc, char** argv) {
         can = &g_socketCan;
     }
     static rse::app::FswApp app(clock, *can);
+    if (options.keyFile != nullptr && !loadKeyFile(options.keyFile, app.keys())) {
+        return 1;
+    }
+    app.setAuthRequired(options.authRequired);
+    static rse::hal::UdpPacketLink g_udpLink(app.events());
+    if (options.udp) {
+        if (!rse::core::isOk(g_udpLink.open(options.udpBind, options.commandPort, options.telemetryHost,
+                                            options.telemetryPort))) {
+            std::fprintf(stderr, "rse-fsw: cannot open the UDP ground link on %s:%u: %s\n", options.udpBind,
+                         static_cast<unsigned>(options.commandPort), std::strerror(g_udpLink.lastErrno()));
+            return 1;
+        }
+        (void)app.addGroundLink(&g_udpLink);
+    }
     if (!rse::core::isOk(app.init(options.quiet ? nullptr : stdout))) {
         std::fprintf(stderr, "rse-fsw: initialisation failed:\n");
         rse::core::Event event;

@@ -19,7 +19,7 @@ const char* toString(Severity severity) {
 void EventLog::report(EventId id, Severity severity, const char* format, ...) {
     Event event;
     event.time = clock_.now();
-    event.sequence = total_;
+    event.sequence = written_;
     event.id = id;
     event.severity = severity;
     va_list args;
@@ -34,9 +34,41 @@ void EventLog::report(EventId id, Severity severity, const char* format, ...) {
     if (index < kSeverityCount) {
         ++bySeverity_[index];
     }
-    if (ring_.pushOverwrite(event)) {
+    history_[written_ % kEventRingDepth] = event;
+    ++written_;
+    if (written_ - primaryNext_ > kDepth) {
+        ++primaryNext_;
         ++lost_;
     }
+}
+
+Status EventLog::pop(Event* out) {
+    if (primaryNext_ == written_) {
+        return Status::kEmpty;
+    }
+    if (out != nullptr) {
+        *out = history_[primaryNext_ % kEventRingDepth];
+    }
+    ++primaryNext_;
+    return Status::kOk;
+}
+
+Status EventLog::read(Cursor* cursor, Event* out) const {
+    if (cursor == nullptr) {
+        return Status::kInvalidArgument;
+    }
+    if (cursor->next == written_) {
+        return Status::kEmpty;
+    }
+    if (written_ - cursor->next > kDepth) {
+        cursor->lost += written_ - kDepth - cursor->next;
+        cursor->next = written_ - kDepth;
+    }
+    if (out != nullptr) {
+        *out = history_[cursor->next % kEventRingDepth];
+    }
+    ++cursor->next;
+    return Status::kOk;
 }
 
 std::uint32_t EventLog::count(Severity severity) const {

@@ -20,4 +20,9 @@ constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), 
 constexpr core::MsgId kPositionFix = 0x0122;   // PositionFixMsg, per fix (1 Hz), can_io -> estimator
 constexpr core::MsgId kHazards = 0x0123;       // HazardMsg, 10 Hz, can_io -> habitual
 
+// commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
+constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers
+constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive
+constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> deliberative, telemetry
+
 }  // namespace rse::msg::ids

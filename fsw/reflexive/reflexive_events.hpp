@@ -7,5 +7,7 @@ namespace rse::reflexive::events {
 
 constexpr core::EventId kInterlockTripped = 601;  // a drive is unhealthy: all wheels held at zero
 constexpr core::EventId kInterlockReset = 602;
+constexpr core::EventId kManualDriveStarted = 603;  // DRIVE accepted: speeds, duration, whether limited
+constexpr core::EventId kManualDriveEnded = 604;    // duration over, mode left, or e-stop
 
 }  // namespace rse::reflexive::events

@@ -70,6 +70,7 @@ public:
 
     // Applied only while operational; zero otherwise.
     void setTargetVelocity(std::int32_t mradPerSec) { target_ = mradPerSec; }
+    std::int32_t targetVelocityMradS() const { return target_; }
 
     DriveState state() const { return state_; }
     const DriveFeedback& feedback() const { return feedback_; }

@@ -1,0 +1,184 @@
+#include "fsw/app/command_handlers.hpp"
+
+#include "fsw/app/app_events.hpp"
+#include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+
+namespace rse::app {
+
+using cmdtlm::CommandCode;
+using cmdtlm::CommandOutcome;
+
+namespace {
+
+template <typename Args>
+Args decoded(const cmdtlm::CommandVerdict& verdict) {
+    Args args{};
+    core::BeReader r(verdict.args, verdict.argLength);
+    cmdtlm::decodeArgs(r, &args);
+    return args;
+}
+
+CommandOutcome failed(std::int16_t detail) { return CommandOutcome{false, detail}; }
+
+}  // namespace
+
+AppCommandHandler::AppCommandHandler(const Parts& parts) : parts_(parts), goals_(1e-3) {}
+
+core::Status AppCommandHandler::init() {
+    goals_.setRiskBound(parts_.tables.planner().default_risk_bound);
+    publishMode();
+    publishGoals();
+    return core::Status::kOk;
+}
+
+CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict) {
+    switch (verdict.command->code) {
+        case CommandCode::NOOP:
+            parts_.events.report(cmdtlm::events::kNoop, core::Severity::kInfo, "cmd: NOOP (key %u, seq %u)",
+                                 static_cast<unsigned>(verdict.keyId), static_cast<unsigned>(verdict.authSequence));
+            return {};
+        case CommandCode::RESET_COUNTERS:
+            parts_.executive.resetCounters();
+            parts_.bus.resetCounters();
+            parts_.events.resetCounters();
+            parts_.telemetry.resetCounters();
+            parts_.tables.resetCounters();
+            if (commands_ != nullptr) {
+                commands_->resetCounters();
+            }
+            parts_.events.report(cmdtlm::events::kCountersReset, core::Severity::kInfo, "cmd: counters reset");
+            return {};
+        case CommandCode::REQUEST_HK:
+            if (telemetryTask_ != nullptr) {
+                telemetryTask_->requestHousekeeping();
+            }
+            return {};
+        case CommandCode::SET_MODE:
+            setMode(static_cast<cmdtlm::Mode>(decoded<cmdtlm::SET_MODE_Args>(verdict).mode));
+            return {};
+        case CommandCode::GOTO: {
+            const auto a = decoded<cmdtlm::GOTO_Args>(verdict);
+            goals_.replaceWithGoal(a.x, a.y, a.risk);
+            publishGoals();
+            return {};
+        }
+        case CommandCode::ADD_TARGET: {
+            const auto a = decoded<cmdtlm::ADD_TARGET_Args>(verdict);
+            if (!core::isOk(goals_.addTarget(a.x, a.y, a.priority))) {
+                return failed(static_cast<std::int16_t>(msg::kMaxGoals));  // goal list full
+            }
+            publishGoals();
+            return {};
+        }
+        case CommandCode::CLEAR_GOALS:
+            goals_.clear();
+            publishGoals();
+            return {};
+        case CommandCode::SET_RISK_BOUND:
+            goals_.setRiskBound(decoded<cmdtlm::SET_RISK_BOUND_Args>(verdict).risk);
+            publishGoals();
+            return {};
+        case CommandCode::ESTOP_SET:
+            setEstop(true);
+            return {};
+        case CommandCode::ESTOP_CLEAR:
+            setEstop(false);
+            return {};
+        case CommandCode::DRIVE: {
+            if (estop_) {
+                return failed(0);  // the e-stop holds: clear it first
+            }
+            const auto a = decoded<cmdtlm::DRIVE_Args>(verdict);
+            msg::ManualDriveMsg request{};
+            request.timeNs = parts_.clock.now();
+            request.speedMS = static_cast<double>(a.v);
+            request.turnRateRadS = static_cast<double>(a.omega);
+            request.durationS = static_cast<double>(a.duration);
+            return core::isOk(parts_.bus.publish(request)) ? CommandOutcome{} : failed(1);
+        }
+        case CommandCode::TABLE_LOAD:
+        case CommandCode::TABLE_VALIDATE:
+        case CommandCode::TABLE_ACTIVATE:
+        case CommandCode::TABLE_DUMP:
+            return executeTable(verdict);
+        case CommandCode::kCount:
+            break;
+    }
+    return failed(-1);
+}
+
+CommandOutcome AppCommandHandler::executeTable(const cmdtlm::CommandVerdict& verdict) {
+    tables::TableId id{};
+    tables::TableCheck check{};
+    switch (verdict.command->code) {
+        case CommandCode::TABLE_LOAD: {
+            const auto a = decoded<cmdtlm::TABLE_LOAD_Args>(verdict);
+            id = static_cast<tables::TableId>(a.table_id);
+            check = parts_.tables.loadChunk(id, a.offset, a.data, a.data_length);
+            break;
+        }
+        case CommandCode::TABLE_VALIDATE:
+            id = static_cast<tables::TableId>(decoded<cmdtlm::TABLE_VALIDATE_Args>(verdict).table_id);
+            check = parts_.tables.validate(id);
+            break;
+        case CommandCode::TABLE_ACTIVATE:
+            id = static_cast<tables::TableId>(decoded<cmdtlm::TABLE_ACTIVATE_Args>(verdict).table_id);
+            check = parts_.tables.activate(id);
+            break;
+        case CommandCode::TABLE_DUMP: {
+            const auto a = decoded<cmdtlm::TABLE_DUMP_Args>(verdict);
+            id = static_cast<tables::TableId>(a.table_id);
+            if (telemetryTask_ == nullptr || !core::isOk(telemetryTask_->sendTableDump(id, a.buffer != 0))) {
+                check.reason = tables::TableReject::kNotLoaded;
+            }
+            break;
+        }
+        default:
+            return failed(-1);
+    }
+    if (telemetryTask_ != nullptr) {
+        telemetryTask_->sendTableStatus(id, check);
+    }
+    if (check.reason != tables::TableReject::kNone) {
+        return failed(static_cast<std::int16_t>(check.reason));
+    }
+    return {};
+}
+
+void AppCommandHandler::setMode(cmdtlm::Mode mode) {
+    parts_.events.report(events::kModeChanged, core::Severity::kInfo, "app: mode %s -> %s",
+                         cmdtlm::toString(mode_), cmdtlm::toString(mode));
+    mode_ = mode;
+    publishMode();
+}
+
+void AppCommandHandler::setEstop(bool set) {
+    if (set) {
+        parts_.events.report(events::kEstopSet, core::Severity::kWarning,
+                             "app: software e-stop SET: all drives commanded to zero and held");
+    } else {
+        parts_.events.report(events::kEstopCleared, core::Severity::kInfo,
+                             "app: software e-stop cleared (drives stay at zero until commanded)");
+    }
+    estop_ = set;
+    publishMode();
+}
+
+void AppCommandHandler::publishMode() {
+    msg::ModeMsg m{};
+    m.timeNs = parts_.clock.now();
+    m.mode = static_cast<std::uint8_t>(mode_);
+    m.estop = estop_ ? 1 : 0;
+    (void)parts_.bus.publish(m);
+}
+
+void AppCommandHandler::publishGoals() {
+    msg::GoalListMsg m = goals_.message();
+    m.timeNs = parts_.clock.now();
+    (void)parts_.bus.publish(m);
+    parts_.events.report(events::kGoalsChanged, core::Severity::kInfo, "app: %u goal(s), risk bound %.3g",
+                         static_cast<unsigned>(m.count), m.riskBound);
+}
+
+}  // namespace rse::app

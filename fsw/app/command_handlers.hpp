@@ -1,0 +1,64 @@
+// What each ground command does, once the command service has checked it
+// (fsw/cmdtlm/command_task.hpp). Owns the rover mode and the software e-stop
+// flag and announces both on the bus (ModeMsg); mission goals go to the goal
+// list (GoalListMsg), manual drives to the manual-drive task, table commands to
+// the table service, counter resets to everything that counts.
+#pragma once
+
+#include "fsw/app/telemetry_task.hpp"
+#include "fsw/cmdtlm/command_handler.hpp"
+#include "fsw/cmdtlm/command_task.hpp"
+#include "fsw/cmdtlm/telemetry_output.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/deliberative/goal_list.hpp"
+#include "fsw/tables/table_service.hpp"
+
+namespace rse::app {
+
+// The mode the rover boots in: nothing moves until ground says so.
+constexpr cmdtlm::Mode kBootMode = cmdtlm::Mode::kSafe;
+
+class AppCommandHandler final : public cmdtlm::CommandHandler {
+public:
+    struct Parts {
+        const core::Clock& clock;
+        core::SoftwareBus& bus;
+        core::EventLog& events;
+        core::Executive& executive;
+        tables::TableService& tables;
+        cmdtlm::TelemetryOutput& telemetry;
+    };
+    explicit AppCommandHandler(const Parts& parts);
+
+    // The parts built after this one (they need it to exist first).
+    void attach(cmdtlm::CommandTask* commands, TelemetryTask* telemetryTask) {
+        commands_ = commands;
+        telemetryTask_ = telemetryTask;
+    }
+    // Start-up: announces the boot mode; the goal list takes the planner table's default risk bound.
+    core::Status init();
+
+    cmdtlm::Mode mode() const override { return mode_; }
+    cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
+
+    bool estop() const { return estop_; }
+    const deliberative::GoalList& goals() const { return goals_; }
+
+private:
+    cmdtlm::CommandOutcome executeTable(const cmdtlm::CommandVerdict& verdict);
+    void setMode(cmdtlm::Mode mode);
+    void setEstop(bool set);
+    void publishMode();
+    void publishGoals();
+
+    Parts parts_;
+    cmdtlm::CommandTask* commands_ = nullptr;
+    TelemetryTask* telemetryTask_ = nullptr;
+    cmdtlm::Mode mode_ = kBootMode;
+    bool estop_ = false;
+    deliberative::GoalList goals_;
+};
+
+}  // namespace rse::app

@@ -1,0 +1,223 @@
+#include "fsw/app/telemetry_task.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace rse::app {
+
+core::Status TelemetryTask::init() {
+    // Depth: drive status arrives every frame and this task runs every frame.
+    core::Status status = bus_.createPipe("telemetry", 8, &pipe_);
+    const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPositionFix,
+                               msg::ids::kMode, msg::ids::kGoalList};
+    for (const core::MsgId id : ids) {
+        if (core::isOk(status)) {
+            status = bus_.subscribe(pipe_, id);
+        }
+    }
+    return status;
+}
+
+void TelemetryTask::run(const core::FrameContext& frame) {
+    takeBusMessages();
+    sendEvents();
+    if (frame.slot == 0 || hkRequested_) {
+        hkRequested_ = false;
+        sendHousekeeping(frame.actualStart);
+    }
+    if (frame.slot == 0) {
+        sendDrives();
+        sendRoverState();
+    }
+    if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
+        planChanged_ = false;
+        sendPlan();
+    }
+}
+
+void TelemetryTask::takeBusMessages() {
+    // Bounded by the pipe depth.
+    while (core::isOk(bus_.receive(pipe_, &inbox_))) {
+        switch (inbox_.header.id) {
+            case msg::ids::kDriveStatus: (void)inbox_.decode(&drives_); break;
+            case msg::ids::kWheelCommand: (void)inbox_.decode(&wheelCommand_); break;
+            case msg::ids::kPositionFix: haveFix_ = core::isOk(inbox_.decode(&fix_)) || haveFix_; break;
+            case msg::ids::kMode: (void)inbox_.decode(&mode_); break;
+            case msg::ids::kGoalList:
+                planChanged_ = core::isOk(inbox_.decode(&goals_)) || planChanged_;
+                break;
+            default: break;
+        }
+    }
+}
+
+void TelemetryTask::sendEvents() {
+    core::Event event;
+    for (std::size_t i = 0; i < kEventsPerFrame && core::isOk(events_.pop(&event)); ++i) {
+        cmdtlm::EVENT_Tlm tlm{};
+        tlm.event_sequence = event.sequence;
+        tlm.event_time = static_cast<double>(event.time) / static_cast<double>(core::kNsPerSec);
+        tlm.event_id = event.id;
+        tlm.severity = static_cast<std::uint8_t>(event.severity);
+        std::memcpy(tlm.text, event.text, std::min(sizeof tlm.text, sizeof event.text));
+        output_.send(tlm);
+        ++eventsSent_;
+    }
+}
+
+void TelemetryTask::sendHousekeeping(core::TimeNs now) {
+    sources_.housekeeping.collect(&hkMsg_, now);
+    const cmdtlm::CommandCounters& c = sources_.commands.counters();
+    const hal::CanBusStats& can = sources_.can.stats();
+    hk_ = cmdtlm::HK_Tlm{};
+    hk_.utc_at_met_zero = sources_.utcAtMetZero;
+    hk_.mode = mode_.mode;
+    hk_.estop = mode_.estop;
+    hk_.auth_required = sources_.commands.authRequired() ? 1 : 0;
+    hk_.cmd_queue_depth = c.queueDepth;
+    hk_.cmd_accepted = c.accepted;
+    hk_.cmd_rejected = c.rejected;
+    for (std::size_t i = 0; i < cmdtlm::kRejectReasonCount; ++i) {
+        hk_.cmd_rejected_by_reason[i] = c.byReason[i];
+    }
+    hk_.last_cmd_apid = c.lastApid;
+    hk_.last_cmd_fc = c.lastFunctionCode;
+    hk_.last_cmd_result = static_cast<std::uint8_t>(c.lastResult);
+    hk_.frames_run = hkMsg_.framesRun;
+    hk_.frame_overruns = hkMsg_.frameOverruns;
+    hk_.frames_skipped = hkMsg_.framesSkipped;
+    hk_.frame_busy_last_us = hkMsg_.frameBusyLastUs;
+    hk_.frame_busy_max_us = hkMsg_.frameBusyMaxUs;
+    hk_.frame_lateness_max_us = hkMsg_.frameLatenessMaxUs;
+    hk_.task_count = hkMsg_.taskCount;
+    hk_.bus_published = hkMsg_.busPublished;
+    hk_.bus_dropped = hkMsg_.busDropped;
+    hk_.bus_rejected = hkMsg_.busRejectedTooLarge;
+    hk_.events_total = hkMsg_.eventsTotal;
+    hk_.events_lost = hkMsg_.eventsLost;
+    for (std::size_t i = 0; i < core::kSeverityCount; ++i) {
+        hk_.events_by_severity[i] = hkMsg_.eventsBySeverity[i];
+    }
+    hk_.can_rx_frames = can.rxFrames;
+    hk_.can_tx_frames = can.txFrames;
+    hk_.can_tx_refused = can.txInvalid + can.txUnavailable + can.txBufferFull;
+    hk_.can_rx_overruns = can.rxOverruns;
+    hk_.can_error_frames = can.errorFrames;
+    hk_.can_bus_off = can.busOffCount;
+    hk_.tlm_sent = output_.sent();
+    hk_.tlm_dropped = output_.dropped();
+    hk_.table_activations = sources_.tables.activations();
+    hk_.table_rejects = sources_.tables.rejects();
+    output_.send(hk_);
+    ++housekeepingSent_;
+
+    for (std::uint8_t i = 0; i < hkMsg_.taskCount && i < core::kMaxTasks; ++i) {
+        const msg::TaskTimingTlm& t = hkMsg_.tasks[i];
+        cmdtlm::TASK_TIMING_Tlm tlm{};
+        tlm.task_index = i;
+        std::memcpy(tlm.task_name, t.name, std::min(sizeof tlm.task_name, sizeof t.name));
+        tlm.runs = t.runs;
+        tlm.over_budget = t.overBudget;
+        tlm.last_us = t.lastUs;
+        tlm.mean_us = t.meanUs;
+        tlm.max_us = t.maxUs;
+        tlm.cpu_mean_us = t.hostMeanUs;
+        tlm.cpu_max_us = t.hostMaxUs;
+        output_.send(tlm);
+    }
+}
+
+void TelemetryTask::sendDrives() {
+    cmdtlm::DRIVES_Tlm tlm{};
+    for (std::size_t i = 0; i < msg::kWheelCount; ++i) {
+        const msg::WheelStatus& w = drives_.wheels[i];
+        tlm.state[i] = static_cast<std::uint8_t>(w.health);
+        tlm.speed[i] = static_cast<float>(w.velocityRadS);
+        tlm.commanded[i] = static_cast<float>(wheelCommand_.velocityRadS[i]);
+        tlm.current[i] = static_cast<float>(w.currentA);
+        tlm.last_emcy[i] = w.lastEmcyCode;
+    }
+    tlm.interlock = drives_.interlockTripped;
+    tlm.estop = mode_.estop;
+    output_.send(tlm);
+}
+
+// Until the state estimator exists, the pose is the last position fix with its
+// stated accuracy (source 1) and the speeds come from the wheels.
+void TelemetryTask::sendRoverState() {
+    cmdtlm::ROVER_STATE_Tlm tlm{};
+    if (haveFix_) {
+        tlm.source = 1;
+        tlm.x = fix_.xM;
+        tlm.y = fix_.yM;
+        tlm.heading = fix_.headingRad;
+        const auto variance = static_cast<float>(fix_.sigmaM * fix_.sigmaM);
+        tlm.covariance[0] = variance;
+        tlm.covariance[4] = variance;
+    }
+    const tables::RoverGeometryTable& g = sources_.tables.roverGeometry();
+    double left = 0.0;
+    double right = 0.0;
+    for (std::size_t i = 0; i < msg::kWheelCount / 2; ++i) {
+        left += drives_.wheels[i].velocityRadS;
+        right += drives_.wheels[i + msg::kWheelCount / 2].velocityRadS;
+    }
+    left /= static_cast<double>(msg::kWheelCount / 2);
+    right /= static_cast<double>(msg::kWheelCount / 2);
+    const double radius = static_cast<double>(g.wheel_radius_m);
+    tlm.speed = static_cast<float>(0.5 * (left + right) * radius);
+    tlm.turn_rate = static_cast<float>((right - left) * radius / static_cast<double>(g.track_width_m));
+    output_.send(tlm);
+}
+
+void TelemetryTask::sendPlan() {
+    plan_ = cmdtlm::PLAN_Tlm{};
+    plan_.waypoint_count = goals_.count;
+    plan_.status = goals_.count > 0 ? 1 : 0;  // goals pending; the planner will report the rest
+    plan_.risk_bound = goals_.riskBound;
+    for (std::size_t i = 0; i < goals_.count && i < msg::kMaxGoals; ++i) {
+        plan_.waypoint_x[i] = static_cast<float>(goals_.goals[i].xM);
+        plan_.waypoint_y[i] = static_cast<float>(goals_.goals[i].yM);
+        // The paper's even split until the planner allocates risk itself.
+        plan_.leg_risk[i] = static_cast<float>(goals_.riskBound / static_cast<double>(goals_.count));
+        plan_.priority[i] = goals_.goals[i].priority;
+    }
+    output_.send(plan_);
+}
+
+void TelemetryTask::sendTableStatus(tables::TableId id, const tables::TableCheck& check) {
+    const tables::TableStatus s = sources_.tables.status(id);
+    cmdtlm::TABLE_STATUS_Tlm tlm{};
+    tlm.table_id = static_cast<std::uint16_t>(id);
+    tlm.inactive_state = static_cast<std::uint8_t>(s.inactiveState);
+    tlm.inactive_length = static_cast<std::uint16_t>(s.inactiveLength);
+    tlm.active_version = s.activeVersion;
+    tlm.active_crc = s.activeCrc;
+    tlm.last_reject = static_cast<std::uint8_t>(check.reason);
+    tlm.last_reject_field = check.field;
+    tlm.activations = s.activations;
+    output_.send(tlm);
+}
+
+core::Status TelemetryTask::sendTableDump(tables::TableId id, bool inactive) {
+    std::size_t length = 0;
+    const tables::TableCheck check = sources_.tables.dump(id, inactive, image_, sizeof image_, &length);
+    if (check.reason != tables::TableReject::kNone) {
+        return core::Status::kNotFound;
+    }
+    // Bounded: kMaxTableImageSize / sizeof data chunks.
+    for (std::size_t offset = 0; offset < length; offset += sizeof dump_.data) {
+        dump_ = cmdtlm::TABLE_DUMP_Tlm{};
+        dump_.table_id = static_cast<std::uint16_t>(id);
+        dump_.buffer = inactive ? 1 : 0;
+        dump_.total_length = static_cast<std::uint16_t>(length);
+        dump_.offset = static_cast<std::uint16_t>(offset);
+        const std::size_t chunk = std::min(sizeof dump_.data, length - offset);
+        dump_.length = static_cast<std::uint16_t>(chunk);
+        std::memcpy(dump_.data, image_ + offset, chunk);
+        output_.send(dump_);
+    }
+    return core::Status::kOk;
+}
+
+}  // namespace rse::app

@@ -1,0 +1,90 @@
+// What goes to the ground when (every minor frame; docs/icd.md "Telemetry"):
+//   every frame  EVENT packets for new events (at most kEventsPerFrame a frame;
+//                the event log is this task's to drain, so the rest wait there)
+//   1 Hz         HK, one TASK_TIMING per task, DRIVES, ROVER_STATE
+//   on change    PLAN (goal list), and every 5 s
+//   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
+//                (table commands) through the send helpers below
+#pragma once
+
+#include "fsw/app/can_io_task.hpp"
+#include "fsw/cmdtlm/command_task.hpp"
+#include "fsw/cmdtlm/housekeeping_task.hpp"
+#include "fsw/cmdtlm/telemetry_output.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/goal_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/sensor_msgs.hpp"
+#include "fsw/tables/table_service.hpp"
+
+namespace rse::app {
+
+constexpr std::size_t kEventsPerFrame = 8;  // 800 events/s downlink at most
+constexpr std::uint16_t kPlanPeriodFrames = 500;  // PLAN repeats every 5 s
+
+// What the task reads besides the bus. All references, all owned by FswApp.
+struct TelemetrySources {
+    const core::Executive& executive;
+    const cmdtlm::HousekeepingTask& housekeeping;
+    const cmdtlm::CommandTask& commands;
+    const tables::TableService& tables;
+    const hal::CanBus& can;
+    double utcAtMetZero;  // time correlation, fixed at start-up
+};
+
+class TelemetryTask final : public core::Task {
+public:
+    TelemetryTask(core::SoftwareBus& bus, core::EventLog& events, cmdtlm::TelemetryOutput& output,
+                  const TelemetrySources& sources)
+        : bus_(bus), events_(events), output_(output), sources_(sources) {}
+
+    core::Status init();
+    void run(const core::FrameContext& frame) override;
+
+    void setUtcAtMetZero(double utc) { sources_.utcAtMetZero = utc; }
+    // REQUEST_HK: HK and TASK_TIMING on the next run.
+    void requestHousekeeping() { hkRequested_ = true; }
+    void sendHousekeeping(core::TimeNs now);
+    // Table commands report through these.
+    void sendTableStatus(tables::TableId id, const tables::TableCheck& check);
+    core::Status sendTableDump(tables::TableId id, bool inactive);
+
+    std::uint32_t eventsSent() const { return eventsSent_; }
+    std::uint32_t housekeepingSent() const { return housekeepingSent_; }
+
+private:
+    void takeBusMessages();
+    void sendEvents();
+    void sendDrives();
+    void sendRoverState();
+    void sendPlan();
+
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    cmdtlm::TelemetryOutput& output_;
+    TelemetrySources sources_;
+    core::PipeId pipe_ = 0;
+    core::Message inbox_{};
+    bool hkRequested_ = false;
+    bool planChanged_ = true;
+    std::uint32_t eventsSent_ = 0;
+    std::uint32_t housekeepingSent_ = 0;
+    // Latest of each input (what the 1 Hz packets report).
+    msg::DriveStatusMsg drives_{};
+    msg::WheelCommandMsg wheelCommand_{};
+    msg::PositionFixMsg fix_{};
+    bool haveFix_ = false;
+    msg::ModeMsg mode_{};
+    msg::GoalListMsg goals_{};
+    // Packet structs kept out of the task's stack.
+    msg::HousekeepingMsg hkMsg_{};
+    cmdtlm::HK_Tlm hk_{};
+    cmdtlm::PLAN_Tlm plan_{};
+    cmdtlm::TABLE_DUMP_Tlm dump_{};
+    std::uint8_t image_[tables::kMaxTableImageSize] = {};
+};
+
+}  // namespace rse::app

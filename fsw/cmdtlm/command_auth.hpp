@@ -1,0 +1,87 @@
+// Command authentication in the spirit of CCSDS SDLS (355.0-B): each command
+// names a key (key id, SDLS's SPI), carries a 32-bit anti-replay sequence
+// number and ends in HMAC-SHA-256 truncated to 128 bits. The MAC covers the
+// whole packet before it with the checksum byte taken as zero (so the checksum,
+// computed last, can cover the MAC). Crypto is Debian's mbedTLS, not ours.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include <mbedtls/md.h>
+
+#include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/core/status.hpp"
+
+namespace rse::cmdtlm {
+
+constexpr std::size_t kKeySize = 32;        // HMAC-SHA-256 keys are 256 bits here
+constexpr std::size_t kMaxKeys = 4;         // key slots in the key store
+constexpr std::uint16_t kNoKey = 0;         // key id of an unauthenticated command
+constexpr std::uint32_t kReplayWindow = 64; // sequence numbers accepted out of order
+
+// The lab key (key id 1). Anyone with this repository has it: it exists so a
+// fresh checkout can command a lab rover. A flight build loads its own keys
+// (rse-fsw --key-file) and rse-fsw warns at start-up while the lab key is in use.
+constexpr std::uint16_t kLabKeyId = 1;
+extern const std::uint8_t kLabKey[kKeySize];
+
+// One HMAC-SHA-256 engine. init() allocates mbedTLS's context once, at start-up;
+// computing a MAC afterwards allocates nothing.
+class HmacSha256 {
+public:
+    HmacSha256();
+    ~HmacSha256();
+    HmacSha256(const HmacSha256&) = delete;
+    HmacSha256& operator=(const HmacSha256&) = delete;
+
+    core::Status init();
+    // The 128-bit MAC of packet[0..length) with the checksum byte taken as zero.
+    core::Status packetMac(const std::uint8_t key[kKeySize], const std::uint8_t* packet, std::size_t length,
+                           std::uint8_t mac[kMacSize]);
+
+private:
+    mbedtls_md_context_t context_;
+    bool ready_ = false;
+};
+
+// Compares in time independent of where the first difference is.
+bool macEqual(const std::uint8_t a[kMacSize], const std::uint8_t b[kMacSize]);
+
+class KeyStore {
+public:
+    // kInvalidArgument for key id 0; kFull when every slot is taken; a known id is replaced.
+    core::Status add(std::uint16_t keyId, const std::uint8_t key[kKeySize]);
+    const std::uint8_t* find(std::uint16_t keyId) const;  // nullptr: unknown key
+    std::size_t size() const { return count_; }
+    bool labKeyInUse() const { return find(kLabKeyId) != nullptr && labKeyLoaded_; }
+    void clear();
+
+    // Per-key anti-replay state, kept with the key.
+    enum class Freshness : std::uint8_t { kFresh, kReplayed, kStale };
+    Freshness check(std::uint16_t keyId, std::uint32_t sequence) const;
+    void commit(std::uint16_t keyId, std::uint32_t sequence);  // after the MAC verified
+    std::uint32_t lastSequence(std::uint16_t keyId) const;
+
+private:
+    struct Slot {
+        std::uint16_t id = kNoKey;
+        std::uint8_t key[kKeySize] = {};
+        bool anySeen = false;
+        std::uint32_t highest = 0;  // highest sequence accepted
+        std::uint64_t seenMask = 0; // bit i: highest - i was accepted
+    };
+    const Slot* slot(std::uint16_t keyId) const;
+    Slot* slot(std::uint16_t keyId);
+
+    Slot slots_[kMaxKeys];
+    std::size_t count_ = 0;
+    bool labKeyLoaded_ = false;
+};
+
+// Parses "ID:64-hex-digits" lines ('#' comments, blank lines allowed): the key
+// file format of rse-fsw --key-file and rse-ground --key-file. Returns the line
+// number of the first bad line in *badLine (0 if none) and kInvalidArgument.
+core::Status parseKeyLine(const char* line, std::uint16_t* keyId, std::uint8_t key[kKeySize], bool* isKey);
+
+}  // namespace rse::cmdtlm

@@ -1,0 +1,196 @@
+#include "fsw/cmdtlm/command_task.hpp"
+
+#include <cstring>
+
+#include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/core/byte_codec.hpp"
+
+namespace rse::cmdtlm {
+
+CommandTask::CommandTask(const core::Clock& clock, core::EventLog& events, TelemetryOutput& telemetry,
+                         CommandHandler& handler)
+    : clock_(clock), events_(events), telemetry_(telemetry), handler_(handler), validator_(keys_, hmac_) {}
+
+core::Status CommandTask::init() {
+    const core::Status status = hmac_.init();
+    if (!core::isOk(status)) {
+        events_.report(events::kCmdInitFailed, core::Severity::kCritical,
+                       "cmd: HMAC-SHA-256 engine unavailable (%s)", core::toString(status));
+        return status;
+    }
+    if (keys_.labKeyInUse()) {
+        events_.report(events::kLabKeyInUse, core::Severity::kWarning,
+                       "cmd: the public lab key (id %u) authenticates commands: not for flight",
+                       static_cast<unsigned>(kLabKeyId));
+    }
+    if (!validator_.authRequired()) {
+        events_.report(events::kAuthDisabled, core::Severity::kWarning,
+                       "cmd: lab setting: unauthenticated commands (key id 0) accepted");
+    }
+    return core::Status::kOk;
+}
+
+core::Status CommandTask::addLink(hal::PacketLink* link) {
+    if (link == nullptr) {
+        return core::Status::kInvalidArgument;
+    }
+    if (linkCount_ >= kMaxLinks) {
+        return core::Status::kNoCapacity;
+    }
+    links_[linkCount_++] = link;
+    return core::Status::kOk;
+}
+
+void CommandTask::run(const core::FrameContext&) {
+    ingest();
+    for (std::size_t i = 0; i < kCommandsPerFrame && count_ > 0; ++i) {
+        dispatchOne();
+    }
+    counters_.queueDepth = static_cast<std::uint8_t>(count_);
+}
+
+void CommandTask::ingest() {
+    for (std::size_t l = 0; l < linkCount_; ++l) {
+        for (std::size_t n = 0; n < kMaxPacketsPerLink; ++n) {
+            std::size_t length = 0;
+            const core::Status status = links_[l]->receive(scratch_, sizeof scratch_, &length);
+            if (status == core::Status::kEmpty) {
+                break;
+            }
+            if (status == core::Status::kTooLarge || (core::isOk(status) && length > kMaxCommandPacket)) {
+                // Longer than any command: refused before it takes a queue slot.
+                CommandVerdict v = claimedFields(scratch_, core::isOk(status) ? length : 0);
+                v.reason = CommandReject::kBadLength;
+                reject(v);
+                continue;
+            }
+            if (!core::isOk(status)) {
+                break;  // the link counts its own errors
+            }
+            if (count_ >= kCommandQueueDepth) {
+                CommandVerdict v = claimedFields(scratch_, length);
+                v.reason = CommandReject::kQueueOverflow;
+                v.detail = static_cast<std::int16_t>(kCommandQueueDepth);
+                reject(v);
+                continue;
+            }
+            QueuedPacket& slot = queue_[(head_ + count_) % kCommandQueueDepth];
+            std::memcpy(slot.bytes, scratch_, length);
+            slot.length = static_cast<std::uint16_t>(length);
+            ++count_;
+            if (count_ > counters_.queueHighWater) {
+                counters_.queueHighWater = static_cast<std::uint8_t>(count_);
+            }
+        }
+    }
+}
+
+void CommandTask::dispatchOne() {
+    const QueuedPacket& packet = queue_[head_];
+    head_ = (head_ + 1) % kCommandQueueDepth;
+    --count_;
+    CommandVerdict verdict = validator_.check(packet.bytes, packet.length, handler_.mode());
+    if (verdict.reason != CommandReject::kAccepted) {
+        if (verdict.command == nullptr && verdict.reason <= CommandReject::kBadHeader) {
+            // Header unreadable or inconsistent: acknowledge what it claims.
+            const CommandVerdict claimed = claimedFields(packet.bytes, packet.length);
+            verdict.header = claimed.header;
+            verdict.functionCode = claimed.functionCode;
+            verdict.keyId = claimed.keyId;
+            verdict.authSequence = claimed.authSequence;
+        }
+        reject(verdict);
+        return;
+    }
+    const CommandOutcome outcome = handler_.execute(verdict);
+    if (!outcome.ok) {
+        verdict.reason = CommandReject::kExecutionFailed;
+        verdict.detail = outcome.detail;
+        reject(verdict);
+        return;
+    }
+    ++counters_.accepted;
+    counters_.lastApid = verdict.header.apid;
+    counters_.lastFunctionCode = verdict.functionCode;
+    counters_.lastResult = CommandReject::kAccepted;
+    if (verdict.command->code != CommandCode::NOOP && verdict.command->code != CommandCode::RESET_COUNTERS) {
+        events_.report(events::kCommandExecuted, core::Severity::kDebug, "cmd: %s executed (key %u, seq %u)",
+                       verdict.command->name, static_cast<unsigned>(verdict.keyId),
+                       static_cast<unsigned>(verdict.authSequence));
+    }
+    acknowledge(verdict);
+}
+
+void CommandTask::reject(const CommandVerdict& verdict) {
+    ++counters_.rejected;
+    const auto reason = static_cast<std::size_t>(verdict.reason);
+    if (reason < kRejectReasonCount) {
+        ++counters_.byReason[reason];
+    }
+    counters_.lastApid = verdict.header.apid;
+    counters_.lastFunctionCode = verdict.functionCode;
+    counters_.lastResult = verdict.reason;
+
+    // A flood of bad packets must not wash the event log out: at most
+    // kRejectEventsPerSecond rejection events a second, the rest counted.
+    const core::TimeNs now = clock_.now();
+    if (now - rejectWindowStart_ >= core::kNsPerSec) {
+        if (rejectEventsInWindow_ > kRejectEventsPerSecond) {
+            events_.report(events::kRejectEventsSuppressed, core::Severity::kWarning,
+                           "cmd: %u rejection events suppressed in the last second (%u suppressed in all)",
+                           static_cast<unsigned>(rejectEventsInWindow_ - kRejectEventsPerSecond),
+                           static_cast<unsigned>(counters_.rejectEventsSuppressed));
+        }
+        rejectWindowStart_ = now;
+        rejectEventsInWindow_ = 0;
+    }
+    ++rejectEventsInWindow_;
+    if (rejectEventsInWindow_ <= kRejectEventsPerSecond) {
+        events_.report(events::rejectEvent(verdict.reason), core::Severity::kError,
+                       "cmd: rejected %s: %s (APID 0x%03x fc %u, key %u seq %u, detail %d)",
+                       verdict.command != nullptr ? verdict.command->name : "packet", toString(verdict.reason),
+                       static_cast<unsigned>(verdict.header.apid), static_cast<unsigned>(verdict.functionCode),
+                       static_cast<unsigned>(verdict.keyId), static_cast<unsigned>(verdict.authSequence),
+                       static_cast<int>(verdict.detail));
+    } else {
+        ++counters_.rejectEventsSuppressed;
+    }
+    acknowledge(verdict);
+}
+
+void CommandTask::acknowledge(const CommandVerdict& verdict) {
+    CMD_ACK_Tlm ack{};
+    ack.apid = verdict.header.apid;
+    ack.function_code = verdict.functionCode;
+    ack.ccsds_sequence = verdict.header.sequenceCount;
+    ack.key_id = verdict.keyId;
+    ack.auth_sequence = verdict.authSequence;
+    ack.reason = static_cast<std::uint8_t>(verdict.reason);
+    ack.detail = verdict.detail;
+    ack.accepted = counters_.accepted;
+    ack.rejected = counters_.rejected;
+    telemetry_.send(ack);
+}
+
+CommandVerdict CommandTask::claimedFields(const std::uint8_t* packet, std::size_t length) {
+    CommandVerdict v;
+    if (length >= kPrimaryHeaderSize) {
+        v.header = decodePrimaryHeader(packet);
+    }
+    if (length > kPrimaryHeaderSize) {
+        v.functionCode = static_cast<std::uint8_t>(packet[kPrimaryHeaderSize] & 0x7F);
+    }
+    if (length >= kCommandHeaderSize) {
+        core::BeReader r(packet + kPrimaryHeaderSize + kCommandSecondaryHeaderSize, kSecurityHeaderSize);
+        v.keyId = r.u16();
+        v.authSequence = r.u32();
+    }
+    return v;
+}
+
+void CommandTask::resetCounters() {
+    counters_ = CommandCounters{};
+    counters_.queueDepth = static_cast<std::uint8_t>(count_);
+}
+
+}  // namespace rse::cmdtlm

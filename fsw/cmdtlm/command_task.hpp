@@ -1,0 +1,94 @@
+// The command service (cFS's command ingest plus dispatch), every minor frame:
+//   1 ingest: take up to kMaxPacketsPerLink packets from each ground link into a
+//     fixed queue of kCommandQueueDepth; a packet that finds the queue full is
+//     rejected (queue_overflow), acknowledged, evented and counted - never lost
+//     silently. Packets beyond kMaxPacketsPerLink wait in the link's own buffer.
+//   2 dispatch: up to kCommandsPerFrame queued packets are checked
+//     (CommandValidator: length, header, checksum, APID and function code, key,
+//     MAC, anti-replay sequence, argument ranges, mode) and, when they pass,
+//     executed by the application's CommandHandler.
+// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_auth.hpp"
+#include "fsw/cmdtlm/command_handler.hpp"
+#include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/telemetry_output.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "hal/link/packet_link.hpp"
+
+namespace rse::cmdtlm {
+
+constexpr std::size_t kCommandQueueDepth = 8;    // commands waiting between frames
+constexpr std::size_t kMaxPacketsPerLink = 16;   // ingest bound per link per frame
+constexpr std::size_t kCommandsPerFrame = 2;     // executed per frame (200 commands/s)
+constexpr std::uint32_t kRejectEventsPerSecond = 8;  // beyond this, rejections are counted, not evented
+
+struct CommandCounters {
+    std::uint32_t accepted = 0;
+    std::uint32_t rejected = 0;
+    std::uint32_t byReason[kRejectReasonCount] = {};
+    std::uint32_t rejectEventsSuppressed = 0;
+    std::uint16_t lastApid = 0;
+    std::uint8_t lastFunctionCode = 0;
+    CommandReject lastResult = CommandReject::kAccepted;
+    std::uint8_t queueDepth = 0;
+    std::uint8_t queueHighWater = 0;
+};
+
+class CommandTask final : public core::Task {
+public:
+    CommandTask(const core::Clock& clock, core::EventLog& events, TelemetryOutput& telemetry,
+                CommandHandler& handler);
+
+    // Start-up: the MAC engine (its one allocation) and the events that say how
+    // commanding is secured.
+    core::Status init();
+    core::Status addLink(hal::PacketLink* link);
+    KeyStore& keys() { return keys_; }
+    void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
+    bool authRequired() const { return validator_.authRequired(); }
+
+    void run(const core::FrameContext& frame) override;
+
+    const CommandCounters& counters() const { return counters_; }
+    void resetCounters();
+
+private:
+    struct QueuedPacket {
+        std::uint8_t bytes[kMaxCommandPacket];
+        std::uint16_t length;
+    };
+
+    void ingest();
+    void dispatchOne();
+    void acknowledge(const CommandVerdict& verdict);
+    void reject(const CommandVerdict& verdict);
+    // Header fields of a packet we will not validate (queue overflow, too long),
+    // read as far as the bytes allow, for the acknowledgement.
+    static CommandVerdict claimedFields(const std::uint8_t* packet, std::size_t length);
+
+    const core::Clock& clock_;
+    core::EventLog& events_;
+    TelemetryOutput& telemetry_;
+    CommandHandler& handler_;
+    HmacSha256 hmac_;
+    KeyStore keys_;
+    CommandValidator validator_;
+    hal::PacketLink* links_[kMaxLinks] = {};
+    std::size_t linkCount_ = 0;
+    QueuedPacket queue_[kCommandQueueDepth] = {};
+    std::size_t head_ = 0;
+    std::size_t count_ = 0;
+    std::uint8_t scratch_[kMaxCommandPacket + 1] = {};  // one byte more: detects oversize packets
+    CommandCounters counters_;
+    core::TimeNs rejectWindowStart_ = 0;
+    std::uint32_t rejectEventsInWindow_ = 0;
+};
+
+}  // namespace rse::cmdtlm

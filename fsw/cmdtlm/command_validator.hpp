@@ -1,0 +1,82 @@
+// Every check a command packet passes before it may act, in a fixed order, and
+// the first one it fails. Pure and bounded: no I/O, no events (the dispatcher
+// reports), so the fuzzer can drive it directly.
+//
+// Order (docs/icd.md, "Command checks"):
+//   1 length: at least the command headers, at most kMaxCommandPacket, equal to
+//     the primary header's length field            -> kBadLength
+//   2 header: version 0, command type, secondary header present, unsegmented,
+//     function-code reserved bit clear              -> kBadHeader
+//   3 checksum (cFS rule)                           -> kBadChecksum
+//   4 APID, then function code, in the dictionary   -> kUnknownApid, kUnknownFunction
+//   5 key id: 0 is refused when authentication is required -> kMacMissing;
+//     otherwise the key must be loaded             -> kUnknownKey
+//   6 MAC over the packet                           -> kBadMac (or kBadLength if no room for it)
+//   7 anti-replay sequence: repeated / too old      -> kReplayedSequence, kStaleSequence
+//     (only now is the sequence number recorded: a forged packet cannot move the window)
+//   8 argument bytes: exactly the dictionary's size (a blob within its maximum) -> kBadLength
+//   9 each argument within [min, max] and finite    -> kArgumentOutOfRange (detail: argument index)
+//  10 the current mode allows the command           -> kWrongMode
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_auth.hpp"
+#include "fsw/cmdtlm/dictionary.hpp"
+
+namespace rse::cmdtlm {
+
+// Numeric values are part of the telemetry format (CMD_ACK.reason, HK counters).
+enum class CommandReject : std::uint8_t {
+    kAccepted = 0,
+    kQueueOverflow = 1,
+    kBadLength = 2,
+    kBadHeader = 3,
+    kBadChecksum = 4,
+    kUnknownApid = 5,
+    kUnknownFunction = 6,
+    kMacMissing = 7,
+    kUnknownKey = 8,
+    kBadMac = 9,
+    kReplayedSequence = 10,
+    kStaleSequence = 11,
+    kArgumentOutOfRange = 12,
+    kWrongMode = 13,
+    kExecutionFailed = 14,
+    kCount
+};
+constexpr std::size_t kRejectReasonCount = static_cast<std::size_t>(CommandReject::kCount);
+static_assert(kRejectReasonCount <= 16, "HK.cmd_rejected_by_reason holds 16 counters");
+const char* toString(CommandReject reason);  // snake_case names, as in docs/dictionary.md
+
+struct CommandVerdict {
+    CommandReject reason = CommandReject::kAccepted;
+    std::int16_t detail = -1;               // argument index for kArgumentOutOfRange
+    PrimaryHeader header{};                 // valid from check 2 on
+    std::uint8_t functionCode = 0;
+    std::uint16_t keyId = kNoKey;
+    std::uint32_t authSequence = 0;
+    const CommandDesc* command = nullptr;   // set from check 4 on
+    const std::uint8_t* args = nullptr;     // argument bytes inside the packet
+    std::size_t argLength = 0;
+};
+
+class CommandValidator {
+public:
+    CommandValidator(KeyStore& keys, HmacSha256& hmac) : keys_(keys), hmac_(hmac) {}
+
+    // The lab setting: unauthenticated commands (key id 0) accepted. Default off.
+    void setAuthRequired(bool required) { authRequired_ = required; }
+    bool authRequired() const { return authRequired_; }
+
+    CommandVerdict check(const std::uint8_t* packet, std::size_t length, Mode mode);
+
+private:
+    KeyStore& keys_;
+    HmacSha256& hmac_;
+    bool authRequired_ = true;
+};
+
+}  // namespace rse::cmdtlm

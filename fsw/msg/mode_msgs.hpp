@@ -1,0 +1,28 @@
+// Rover mode, software e-stop and manual driving across the bus.
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/msg/msg_ids.hpp"
+
+namespace rse::msg {
+
+// Published on every change of mode or e-stop, and once at start-up.
+struct ModeMsg {
+    static constexpr core::MsgId kMsgId = ids::kMode;
+    std::int64_t timeNs;
+    std::uint8_t mode;    // cmdtlm::Mode: 0 SAFE, 1 STANDBY, 2 AUTONOMOUS, 3 MANUAL
+    std::uint8_t estop;   // 1: every drive held at zero until ESTOP_CLEAR
+    std::uint8_t pad[6];
+};
+
+// A manual DRIVE command, already range-checked against the dictionary.
+struct ManualDriveMsg {
+    static constexpr core::MsgId kMsgId = ids::kManualDrive;
+    std::int64_t timeNs;
+    double speedMS;       // body forward speed
+    double turnRateRadS;  // body turn rate, counter-clockwise positive
+    double durationS;
+};
+
+}  // namespace rse::msg

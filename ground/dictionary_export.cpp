@@ -1,0 +1,303 @@
+#include "ground/dictionary_export.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+#include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/dictionary.hpp"
+#include "ground/command_encoder.hpp"
+#include "ground/text_format.hpp"
+
+namespace rse::ground {
+namespace {
+
+using cmdtlm::ArgDesc;
+using cmdtlm::CommandDesc;
+using cmdtlm::FieldDesc;
+using cmdtlm::FieldType;
+using cmdtlm::TelemetryDesc;
+
+// Indexed by cmdtlm::CommandReject; the order of checks is command_validator.hpp's.
+constexpr const char* kReasonDescriptions[] = {
+    "accepted (and executed)",
+    "the command queue was full: the command was dropped unread",
+    "packet length wrong: shorter than the headers, longer than 256 bytes, not equal to the length field, "
+    "no room for the MAC, or argument bytes not the dictionary's size (detail: fixed argument bytes)",
+    "primary or secondary header wrong: version, packet type, secondary header flag, sequence flags or the "
+    "function code's reserved bit",
+    "the cFS checksum does not check",
+    "no command has this APID",
+    "the APID has no command with this function code",
+    "unauthenticated (key id 0) while the rover requires authentication",
+    "the key id names no key loaded on the rover",
+    "the MAC does not verify with the key",
+    "the anti-replay sequence number was already accepted",
+    "the anti-replay sequence number is older than the replay window (64 below the highest accepted)",
+    "an argument is outside its [min, max] or not finite (detail: argument index, from 0)",
+    "the current mode does not allow the command (detail: the rover's mode)",
+    "the command was valid but failed when executed (detail: the handler's code, e.g. the table reject code)",
+};
+static_assert(sizeof kReasonDescriptions / sizeof kReasonDescriptions[0] == cmdtlm::kRejectReasonCount,
+              "one description per CMD_ACK reason code");
+
+std::string hex3(unsigned value) {
+    char buffer[16];
+    std::snprintf(buffer, sizeof buffer, "0x%03X", value);
+    return buffer;
+}
+
+std::string modeNames(std::uint8_t modes, const char* separator) {
+    if (modes == cmdtlm::mode_mask::kAnyMode) {
+        return "any";
+    }
+    std::string text;
+    for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
+        if (cmdtlm::modeAllows(modes, static_cast<cmdtlm::Mode>(m))) {
+            text += (text.empty() ? "" : separator);
+            text += cmdtlm::toString(static_cast<cmdtlm::Mode>(m));
+        }
+    }
+    return text;
+}
+
+std::string md(const char* text) {
+    std::string out;
+    for (const char* p = text; p != nullptr && *p != '\0'; ++p) {
+        if (*p == '|') {
+            out += "\\|";
+        } else {
+            out += *p;
+        }
+    }
+    return out;
+}
+
+std::string json(const char* text) {
+    std::string out = "\"";
+    for (const char* p = text; p != nullptr && *p != '\0'; ++p) {
+        const auto c = static_cast<unsigned char>(*p);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += *p;
+        } else if (c < 0x20) {
+            char buffer[8];
+            std::snprintf(buffer, sizeof buffer, "\\u%04X", c);
+            out += buffer;
+        } else {
+            out += *p;
+        }
+    }
+    return out + "\"";
+}
+
+std::size_t fieldSize(const FieldDesc& f) { return cmdtlm::wireSize(f.type) * f.count; }
+
+const CommandDesc* commands(std::size_t* count) { return cmdtlm::commandDescs(count); }
+const TelemetryDesc* telemetry(std::size_t* count) { return cmdtlm::telemetryDescs(count); }
+
+std::string anchor(const char* name) { return toLower(name); }
+
+}  // namespace
+
+const char* rejectReasonDescription(unsigned reason) {
+    return reason < cmdtlm::kRejectReasonCount ? kReasonDescriptions[reason] : "";
+}
+
+std::string exportDictionaryMarkdown() {
+    std::ostringstream o;
+    std::size_t commandCount = 0;
+    std::size_t telemetryCount = 0;
+    const CommandDesc* cmds = commands(&commandCount);
+    const TelemetryDesc* tlm = telemetry(&telemetryCount);
+
+    o << "# RSE command and telemetry dictionary\n\n"
+      << "<!-- Generated from fsw/cmdtlm/dictionary.def by `rse-ground dict --markdown`. Do not edit:\n"
+      << "     change the .def and regenerate (a unit test fails while this file is stale). -->\n\n"
+      << "Every command the rover accepts and every telemetry packet it sends. Packets are CCSDS\n"
+      << "space packets, every field big-endian (docs/icd.md, \"Ground link\"). A machine-readable\n"
+      << "copy of the same content is [dictionary.json](dictionary.json); `rse-ground` (docs/ground.md)\n"
+      << "encodes and decodes by the same descriptors.\n\n"
+      << "- Command packet: primary header (6) + function code (1) + checksum (1) + key id (2) +\n"
+      << "  anti-replay sequence (4) + arguments, in the order listed + HMAC-SHA-256/128 MAC (16,\n"
+      << "  when the key id is not 0). At most " << cmdtlm::kMaxCommandPacket << " bytes.\n"
+      << "- Telemetry packet: primary header (6) + mission elapsed time, seconds (4) and 1/65536 s (2) +\n"
+      << "  payload, the fields listed. At most " << cmdtlm::kMaxTelemetryPacket << " bytes.\n"
+      << "- A command is refused whole if any argument is outside [min, max] or, for floats, not\n"
+      << "  finite. Types: u8/u16/u32/u64 unsigned, i16/i32/i64 signed, f32/f64 IEEE 754, chr N: text of\n"
+      << "  N bytes padded with NUL, blob: the remaining bytes of the packet (last argument only).\n\n";
+
+    o << "## Modes\n\n| Value | Mode |\n|---:|---|\n";
+    for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
+        o << "| " << m << " | " << cmdtlm::toString(static_cast<cmdtlm::Mode>(m)) << " |\n";
+    }
+
+    o << "\n## Commands\n\n| Command | APID | FC | Modes | Arguments | Description |\n"
+      << "|---|---|---:|---|---|---|\n";
+    for (std::size_t i = 0; i < commandCount; ++i) {
+        const CommandDesc& c = cmds[i];
+        std::string args;
+        for (std::size_t a = 0; a < c.argCount; ++a) {
+            args += std::string(a > 0 ? ", " : "") + c.args[a].name;
+        }
+        o << "| [" << c.name << "](#" << anchor(c.name) << ") | " << hex3(c.apid) << " | "
+          << static_cast<unsigned>(c.functionCode) << " | " << modeNames(c.modes, ", ") << " | "
+          << (args.empty() ? "-" : args) << " | " << md(c.description) << " |\n";
+    }
+    for (std::size_t i = 0; i < commandCount; ++i) {
+        const CommandDesc& c = cmds[i];
+        o << "\n### " << c.name << "\n\n"
+          << md(c.description) << ".\n\n"
+          << "APID " << hex3(c.apid) << ", function code " << static_cast<unsigned>(c.functionCode)
+          << ", accepted in mode" << (c.modes == cmdtlm::mode_mask::kAnyMode ? "" : "s") << " "
+          << modeNames(c.modes, ", ") << ". ";
+        if (c.argCount == 0) {
+            o << "No arguments.\n";
+        } else {
+            o << "Argument bytes: " << c.fixedArgBytes;
+            if (c.maxBlobBytes > 0) {
+                o << " + 1.." << c.maxBlobBytes;
+            }
+            o << ".\n\n| Argument | Type | Units | Min | Max | Description |\n|---|---|---|---:|---:|---|\n";
+            for (std::size_t a = 0; a < c.argCount; ++a) {
+                const ArgDesc& arg = c.args[a];
+                if (arg.type == FieldType::blob) {
+                    o << "| " << arg.name << " | blob | bytes | 1 | " << arg.maxBytes << " | " << md(arg.description)
+                      << " |\n";
+                } else {
+                    o << "| " << arg.name << " | " << cmdtlm::toString(arg.type) << " | " << md(arg.units) << " | "
+                      << formatNumber(arg.min) << " | " << formatNumber(arg.max) << " | " << md(arg.description)
+                      << " |\n";
+                }
+            }
+        }
+        o << "\n`rse-ground send " << commandUsage(c) << "`\n";
+    }
+
+    o << "\n## CMD_ACK reason codes\n\n"
+      << "Every command received is answered by one CMD_ACK packet; `reason` is 0 when the command\n"
+      << "was accepted, otherwise the first check it failed, in this order (HK.cmd_rejected_by_reason\n"
+      << "counts them by code).\n\n| Code | Name | Meaning |\n|---:|---|---|\n";
+    for (unsigned r = 0; r < cmdtlm::kRejectReasonCount; ++r) {
+        o << "| " << r << " | " << cmdtlm::toString(static_cast<cmdtlm::CommandReject>(r)) << " | "
+          << md(kReasonDescriptions[r]) << " |\n";
+    }
+
+    o << "\n## Telemetry\n\n| Packet | APID | Payload bytes | Packet bytes | Description |\n"
+      << "|---|---|---:|---:|---|\n";
+    for (std::size_t i = 0; i < telemetryCount; ++i) {
+        const TelemetryDesc& t = tlm[i];
+        o << "| [" << t.name << "](#" << anchor(t.name) << ") | " << hex3(t.apid) << " | " << t.payloadSize << " | "
+          << t.payloadSize + cmdtlm::kTelemetryHeaderSize << " | " << md(t.description) << " |\n";
+    }
+    for (std::size_t i = 0; i < telemetryCount; ++i) {
+        const TelemetryDesc& t = tlm[i];
+        o << "\n### " << t.name << "\n\n"
+          << md(t.description) << ". APID " << hex3(t.apid) << ", payload " << t.payloadSize << " bytes (packet "
+          << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ").\n\n"
+          << "| Offset | Field | Type | Count | Units | Description |\n|---:|---|---|---:|---|---|\n";
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < t.fieldCount; ++f) {
+            const FieldDesc& field = t.fields[f];
+            o << "| " << offset << " | " << field.name << " | " << cmdtlm::toString(field.type) << " | " << field.count
+              << " | " << md(field.units) << " | " << md(field.description) << " |\n";
+            offset += fieldSize(field);
+        }
+    }
+    return o.str();
+}
+
+std::string exportDictionaryJson() {
+    std::ostringstream o;
+    std::size_t commandCount = 0;
+    std::size_t telemetryCount = 0;
+    const CommandDesc* cmds = commands(&commandCount);
+    const TelemetryDesc* tlm = telemetry(&telemetryCount);
+
+    o << "{\n"
+      << "  \"format\": \"rse-dictionary\",\n"
+      << "  \"format_version\": 1,\n"
+      << "  \"generated_from\": \"fsw/cmdtlm/dictionary.def\",\n"
+      << "  \"generated_by\": \"rse-ground dict --json\",\n"
+      << "  \"byte_order\": \"big-endian\",\n"
+      << "  \"command_packet\": {\"header_bytes\": " << cmdtlm::kCommandHeaderSize
+      << ", \"mac_bytes\": " << cmdtlm::kMacSize << ", \"max_bytes\": " << cmdtlm::kMaxCommandPacket << "},\n"
+      << "  \"telemetry_packet\": {\"header_bytes\": " << cmdtlm::kTelemetryHeaderSize
+      << ", \"max_bytes\": " << cmdtlm::kMaxTelemetryPacket << "},\n";
+
+    o << "  \"modes\": [\n";
+    for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
+        o << "    {\"value\": " << m << ", \"name\": " << json(cmdtlm::toString(static_cast<cmdtlm::Mode>(m))) << "}"
+          << (m + 1 < cmdtlm::kModeCount ? "," : "") << "\n";
+    }
+    o << "  ],\n";
+
+    o << "  \"cmd_ack_reasons\": [\n";
+    for (unsigned r = 0; r < cmdtlm::kRejectReasonCount; ++r) {
+        o << "    {\"code\": " << r << ", \"name\": " << json(cmdtlm::toString(static_cast<cmdtlm::CommandReject>(r)))
+          << ", \"description\": " << json(kReasonDescriptions[r]) << "}" << (r + 1 < cmdtlm::kRejectReasonCount ? "," : "")
+          << "\n";
+    }
+    o << "  ],\n";
+
+    o << "  \"commands\": [\n";
+    for (std::size_t i = 0; i < commandCount; ++i) {
+        const CommandDesc& c = cmds[i];
+        o << "    {\n"
+          << "      \"name\": " << json(c.name) << ",\n"
+          << "      \"apid\": " << c.apid << ",\n"
+          << "      \"function_code\": " << static_cast<unsigned>(c.functionCode) << ",\n"
+          << "      \"modes\": [";
+        bool first = true;
+        for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
+            if (cmdtlm::modeAllows(c.modes, static_cast<cmdtlm::Mode>(m))) {
+                o << (first ? "" : ", ") << json(cmdtlm::toString(static_cast<cmdtlm::Mode>(m)));
+                first = false;
+            }
+        }
+        o << "],\n"
+          << "      \"description\": " << json(c.description) << ",\n"
+          << "      \"fixed_argument_bytes\": " << c.fixedArgBytes << ",\n"
+          << "      \"max_blob_bytes\": " << c.maxBlobBytes << ",\n"
+          << "      \"arguments\": [";
+        for (std::size_t a = 0; a < c.argCount; ++a) {
+            const ArgDesc& arg = c.args[a];
+            o << (a > 0 ? "," : "") << "\n        {\"name\": " << json(arg.name) << ", \"type\": "
+              << json(cmdtlm::toString(arg.type));
+            if (arg.type == FieldType::blob) {
+                o << ", \"units\": \"bytes\", \"min_bytes\": 1, \"max_bytes\": " << arg.maxBytes;
+            } else {
+                o << ", \"units\": " << json(arg.units) << ", \"min\": " << formatNumber(arg.min)
+                  << ", \"max\": " << formatNumber(arg.max);
+            }
+            o << ", \"description\": " << json(arg.description) << "}";
+        }
+        o << (c.argCount > 0 ? "\n      ]\n" : "]\n") << "    }" << (i + 1 < commandCount ? "," : "") << "\n";
+    }
+    o << "  ],\n";
+
+    o << "  \"telemetry\": [\n";
+    for (std::size_t i = 0; i < telemetryCount; ++i) {
+        const TelemetryDesc& t = tlm[i];
+        o << "    {\n"
+          << "      \"name\": " << json(t.name) << ",\n"
+          << "      \"apid\": " << t.apid << ",\n"
+          << "      \"description\": " << json(t.description) << ",\n"
+          << "      \"payload_bytes\": " << t.payloadSize << ",\n"
+          << "      \"packet_bytes\": " << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ",\n"
+          << "      \"fields\": [";
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < t.fieldCount; ++f) {
+            const FieldDesc& field = t.fields[f];
+            o << (f > 0 ? "," : "") << "\n        {\"name\": " << json(field.name) << ", \"type\": "
+              << json(cmdtlm::toString(field.type)) << ", \"count\": " << field.count << ", \"offset\": " << offset
+              << ", \"units\": " << json(field.units) << ", \"description\": " << json(field.description) << "}";
+            offset += fieldSize(field);
+        }
+        o << "\n      ]\n    }" << (i + 1 < telemetryCount ? "," : "") << "\n";
+    }
+    o << "  ]\n}\n";
+    return o.str();
+}
+
+}  // namespace rse::ground

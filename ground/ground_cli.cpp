@@ -1,0 +1,575 @@
+#include "ground/ground_cli.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/dictionary.hpp"
+#include "ground/command_encoder.hpp"
+#include "ground/dictionary_export.hpp"
+#include "ground/ground_link.hpp"
+#include "ground/ground_session.hpp"
+#include "ground/key_file.hpp"
+#include "ground/script_runner.hpp"
+#include "ground/sequence_store.hpp"
+#include "ground/table_compiler.hpp"
+#include "ground/table_tool.hpp"
+#include "ground/table_transfer.hpp"
+#include "ground/telemetry_decoder.hpp"
+#include "ground/text_format.hpp"
+
+namespace rse::ground {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: rse-ground [global options] COMMAND ...\n"
+    "commands:\n"
+    "  send NAME [arg=value ...] [--auth-seq N] [--no-wait]   send a command, print its CMD_ACK\n"
+    "  watch [--count N] [--seconds S] [--only NAME,...]     print telemetry and events as they come\n"
+    "  run SCRIPT [--verbose]                                run a command script (docs/ground.md)\n"
+    "  table load IMAGE.tbl [--activate] [--force]           upload, validate (and activate) a table\n"
+    "  table dump ID|NAME [--inactive] [-o FILE]             download a table image and print it\n"
+    "  table build|show|check|list ...                       table images on this machine\n"
+    "  dict --markdown|--json [-o FILE]                      export the command/telemetry dictionary\n"
+    "  encode NAME [arg=value ...] [--auth-seq N] [-o FILE]  write a command packet (hex without -o)\n"
+    "global options:\n"
+    "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
+    "  --tlm-port [ADDR:]PORT   receive telemetry on ADDR:PORT (default 0.0.0.0:1235)\n"
+    "  --can IFACE              ISO-TP on a SocketCAN interface instead of UDP\n"
+    "  --can-tx ID --can-rx ID  ISO-TP ids in hex (default 6F0 and 6F1); --pad pads frames to 8 bytes\n"
+    "  --key-file FILE          command keys, one ID:64hex a line (default: the built-in lab key, id 1)\n"
+    "  --key-id N               which key of the file (default: its first)\n"
+    "  --no-auth                unauthenticated commands (key id 0): only a lab-setting rover takes them\n"
+    "  --state-dir DIR          anti-replay sequence state (default $RSE_GROUND_STATE or ~/.rse-ground)\n"
+    "  --timeout S              how long to wait for an acknowledgement (default 2)\n"
+    "exit: 0 ok/accepted, 1 link error/no acknowledgement/script failed, 2 usage or bad argument,\n"
+    "      3 rejected by the rover\n";
+
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct GlobalOptions {
+    std::string udp = "127.0.0.1";
+    std::string tlm = "0.0.0.0:1235";
+    std::string can;
+    std::uint32_t canTx = kGroundIsoTpTxId;
+    std::uint32_t canRx = kGroundIsoTpRxId;
+    bool pad = false;
+    std::string keyFile;
+    std::optional<std::uint16_t> keyId;
+    bool noAuth = false;
+    std::string stateDir;
+    double timeout = kDefaultAckTimeout;
+};
+
+double parsePositiveSeconds(const std::string& option, const std::string& text) {
+    double value = 0.0;
+    if (!parseDouble(text, &value) || !std::isfinite(value) || value <= 0.0 || value > 86400.0) {
+        throw UsageError(option + " '" + text + "': expected seconds, a number > 0");
+    }
+    return value;
+}
+
+long long parseCount(const std::string& option, const std::string& text, long long min, long long max) {
+    long long value = 0;
+    if (!parseInteger(text, &value) || value < min || value > max) {
+        throw UsageError(option + " '" + text + "': expected a whole number " + std::to_string(min) + ".." +
+                         std::to_string(max));
+    }
+    return value;
+}
+
+std::uint32_t parseCanId(const std::string& option, const std::string& text) {
+    long long value = 0;
+    const std::string hex = text.rfind("0x", 0) == 0 || text.rfind("0X", 0) == 0 ? text : "0x" + text;
+    if (!parseInteger(hex, &value) || value < 0 || value > 0x7FF) {
+        throw UsageError(option + " '" + text + "': expected an 11-bit CAN id in hex (000..7FF)");
+    }
+    return static_cast<std::uint32_t>(value);
+}
+
+// Splits the global options out of args (everything after the program name).
+// Stops at "table build|show|check|list": those arguments belong to the table tool.
+std::vector<std::string> takeGlobalOptions(const std::vector<std::string>& args, GlobalOptions* g) {
+    std::vector<std::string> rest;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (rest.size() == 1 && rest[0] == "table" &&
+            (a == "build" || a == "show" || a == "check" || a == "list")) {
+            rest.insert(rest.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+            return rest;
+        }
+        auto value = [&]() -> std::string {
+            if (i + 1 >= args.size()) {
+                throw UsageError(a + " needs a value");
+            }
+            return args[++i];
+        };
+        if (a == "--udp") {
+            g->udp = value();
+        } else if (a == "--tlm-port") {
+            g->tlm = value();
+        } else if (a == "--can") {
+            g->can = value();
+        } else if (a == "--can-tx") {
+            g->canTx = parseCanId(a, value());
+        } else if (a == "--can-rx") {
+            g->canRx = parseCanId(a, value());
+        } else if (a == "--pad") {
+            g->pad = true;
+        } else if (a == "--key-file") {
+            g->keyFile = value();
+        } else if (a == "--key-id") {
+            g->keyId = static_cast<std::uint16_t>(parseCount(a, value(), 1, 65535));
+        } else if (a == "--no-auth") {
+            g->noAuth = true;
+        } else if (a == "--state-dir") {
+            g->stateDir = value();
+        } else if (a == "--timeout") {
+            g->timeout = parsePositiveSeconds(a, value());
+        } else {
+            rest.push_back(a);
+        }
+    }
+    return rest;
+}
+
+class Cli {
+public:
+    Cli(GlobalOptions options, std::ostream& out, std::ostream& err)
+        : g_(std::move(options)), out_(out), err_(err) {}
+
+    int send(const std::vector<std::string>& args);
+    int watch(const std::vector<std::string>& args);
+    int run(const std::vector<std::string>& args);
+    int table(const std::vector<std::string>& args);
+    int encode(const std::vector<std::string>& args);
+    int dict(const std::vector<std::string>& args);
+
+private:
+    PacketAuth auth() {
+        if (g_.noAuth) {
+            if (!g_.keyFile.empty() || g_.keyId) {
+                throw UsageError("--no-auth cannot be combined with --key-file or --key-id");
+            }
+            return PacketAuth{};
+        }
+        PacketAuth a = loadPacketAuth(g_.keyFile, g_.keyId);
+        if (g_.keyFile.empty()) {
+            err_ << "rse-ground: signing with the built-in lab key (id 1): lab rovers only, never flight\n";
+        } else if (keyFileTooOpen(g_.keyFile)) {
+            err_ << "rse-ground: warning: " << g_.keyFile << " is readable by others (chmod 600 it)\n";
+        }
+        return a;
+    }
+    SequenceStore& store() {
+        if (!store_) {
+            store_ = std::make_unique<SequenceStore>(g_.stateDir.empty() ? SequenceStore::defaultDirectory()
+                                                                         : g_.stateDir);
+        }
+        return *store_;
+    }
+    std::unique_ptr<GroundLink> openLink(bool listen) {
+        if (!g_.can.empty()) {
+            return std::make_unique<IsoTpGroundLink>(g_.can, g_.canTx, g_.canRx, g_.pad);
+        }
+        const HostPort remote = parseHostPort(g_.udp, "127.0.0.1", kDefaultCommandPort);
+        const HostPort local = parseHostPort(g_.tlm, "0.0.0.0", kDefaultTelemetryPort);
+        return std::make_unique<UdpGroundLink>(remote, local, listen);
+    }
+    // Splits "--auth-seq N" out of a command's words.
+    std::optional<std::uint32_t> takeAuthSeq(std::vector<std::string>* words) {
+        std::optional<std::uint32_t> seq;
+        for (std::size_t i = 0; i < words->size();) {
+            if ((*words)[i] == "--auth-seq") {
+                if (i + 1 >= words->size()) {
+                    throw UsageError("--auth-seq needs a number");
+                }
+                seq = static_cast<std::uint32_t>(parseCount("--auth-seq", (*words)[i + 1], 0, 0xFFFFFFFFLL));
+                words->erase(words->begin() + static_cast<std::ptrdiff_t>(i),
+                             words->begin() + static_cast<std::ptrdiff_t>(i + 2));
+            } else {
+                ++i;
+            }
+        }
+        return seq;
+    }
+    bool takeFlag(std::vector<std::string>* words, const std::string& flag) {
+        for (std::size_t i = 0; i < words->size(); ++i) {
+            if ((*words)[i] == flag) {
+                words->erase(words->begin() + static_cast<std::ptrdiff_t>(i));
+                return true;
+            }
+        }
+        return false;
+    }
+    std::optional<std::string> takeValue(std::vector<std::string>* words, const std::string& option) {
+        for (std::size_t i = 0; i < words->size(); ++i) {
+            if ((*words)[i] == option) {
+                if (i + 1 >= words->size()) {
+                    throw UsageError(option + " needs a value");
+                }
+                std::string v = (*words)[i + 1];
+                words->erase(words->begin() + static_cast<std::ptrdiff_t>(i),
+                             words->begin() + static_cast<std::ptrdiff_t>(i + 2));
+                return v;
+            }
+        }
+        return std::nullopt;
+    }
+    void rejectOptions(const std::vector<std::string>& words, const std::string& where) {
+        for (const std::string& w : words) {
+            if (w.rfind("--", 0) == 0 || w == "-o") {
+                throw UsageError(where + ": unknown option " + w);
+            }
+        }
+    }
+    void hint(const AckResult& result) {
+        using cmdtlm::CommandReject;
+        switch (static_cast<CommandReject>(result.reason)) {
+            case CommandReject::kStaleSequence:
+            case CommandReject::kReplayedSequence:
+                err_ << "hint: the rover has seen this anti-replay number (or newer ones) for key "
+                     << (g_.noAuth ? 0 : (g_.keyId ? *g_.keyId : 1)) << "; numbers come from "
+                     << store().directory() << " — another ground station or a reset state? --auth-seq N jumps ahead\n";
+                break;
+            case CommandReject::kMacMissing:
+                err_ << "hint: the rover requires authenticated commands: drop --no-auth\n";
+                break;
+            case CommandReject::kUnknownKey:
+            case CommandReject::kBadMac:
+                err_ << "hint: the rover does not have this key: check --key-file/--key-id against rse-fsw --key-file\n";
+                break;
+            default:
+                break;
+        }
+    }
+
+    GlobalOptions g_;
+    std::ostream& out_;
+    std::ostream& err_;
+    std::unique_ptr<SequenceStore> store_;
+};
+
+int Cli::send(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const bool noWait = takeFlag(&words, "--no-wait");
+    const std::optional<std::uint32_t> forced = takeAuthSeq(&words);
+    if (words.empty()) {
+        throw UsageError("send: which command? (rse-ground dict --markdown lists them)");
+    }
+    rejectOptions(words, "send");
+    const cmdtlm::CommandDesc* command = lookupCommand(words[0]);
+    if (command == nullptr) {
+        throw CommandError("unknown command '" + words[0] + "' (rse-ground dict --markdown lists them)");
+    }
+    // Every argument is checked before the link is even opened.
+    const std::vector<std::uint8_t> encoded =
+        encodeArguments(*command, std::vector<std::string>(words.begin() + 1, words.end()));
+    const PacketAuth packetAuth = auth();
+    std::unique_ptr<GroundLink> link = openLink(!noWait);
+    GroundSession session(*link, store(), packetAuth, g_.timeout);
+    const AckResult result = session.sendCommand(*command, encoded, forced, !noWait);
+    switch (result.outcome) {
+        case AckOutcome::kAccepted:
+            out_ << result.summary << "\n";
+            return kExitOk;
+        case AckOutcome::kNotWaited:
+            out_ << result.summary << "\n";
+            return kExitOk;
+        case AckOutcome::kRejected:
+            out_ << result.summary << "\n";
+            hint(result);
+            return kExitRejected;
+        case AckOutcome::kNoAck:
+            break;
+    }
+    err_ << "rse-ground: " << result.summary << "\n";
+    return kExitLink;
+}
+
+int Cli::watch(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    long long count = 0;
+    double seconds = 0.0;
+    std::set<std::string> only;
+    if (auto v = takeValue(&words, "--count")) {
+        count = parseCount("--count", *v, 1, 1LL << 40);
+    }
+    if (auto v = takeValue(&words, "--seconds")) {
+        seconds = parsePositiveSeconds("--seconds", *v);
+    }
+    if (auto v = takeValue(&words, "--only")) {
+        std::string list = *v + ",";
+        for (std::size_t start = 0, comma = list.find(','); comma != std::string::npos;
+             start = comma + 1, comma = list.find(',', start)) {
+            const std::string name = toUpper(list.substr(start, comma - start));
+            if (name.empty()) {
+                continue;
+            }
+            if (cmdtlm::findTelemetry(name.c_str()) == nullptr) {
+                throw UsageError("watch --only: unknown telemetry packet '" + name + "'");
+            }
+            only.insert(name);
+        }
+    }
+    if (!words.empty()) {
+        throw UsageError("watch: unexpected '" + words[0] + "'");
+    }
+    std::unique_ptr<GroundLink> link = openLink(true);
+    out_ << "watching " << link->describe() << (seconds > 0 ? " for " + formatNumber(seconds) + " s" : "") << "\n"
+         << std::flush;
+    const double start = monotonicSeconds();
+    const double deadline = seconds > 0 ? start + seconds : 0.0;
+    long long shown = 0;
+    bool anything = false;
+    bool warned = false;
+    for (;;) {
+        const double now = monotonicSeconds();
+        if (seconds > 0 && now >= deadline) {
+            break;
+        }
+        const double slice = seconds > 0 ? deadline - now : 1.0;
+        std::optional<std::vector<std::uint8_t>> bytes = link->receive(slice < 1.0 ? slice : 1.0);
+        if (!bytes) {
+            if (!anything && !warned && monotonicSeconds() - start >= 5.0) {
+                err_ << "watch: nothing received in 5 s on " << link->describe()
+                     << ": is rse-fsw running and sending telemetry here?\n";
+                warned = true;
+            }
+            continue;
+        }
+        anything = true;
+        const DecodedPacket packet = decodeTelemetry(*bytes);
+        if (!only.empty() && (!packet.ok || only.count(packet.name()) == 0)) {
+            continue;
+        }
+        out_ << renderPacket(packet) << std::endl;
+        if (count > 0 && ++shown >= count) {
+            return kExitOk;
+        }
+    }
+    if (count > 0) {
+        err_ << "watch: " << shown << " of " << count << " packets within " << formatNumber(seconds) << " s\n";
+        return kExitLink;
+    }
+    if (!anything) {
+        err_ << "watch: no telemetry within " << formatNumber(seconds) << " s on " << link->describe()
+             << ": is rse-fsw running and is the link up?\n";
+        return kExitLink;
+    }
+    return kExitOk;
+}
+
+int Cli::run(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const bool verbose = takeFlag(&words, "--verbose");
+    if (words.size() != 1) {
+        throw UsageError("usage: rse-ground run SCRIPT [--verbose]");
+    }
+    std::ifstream in(words[0]);
+    if (!in) {
+        throw UsageError("run: cannot read script '" + words[0] + "'");
+    }
+    const Script script = parseScript(in);
+    if (!script.ok()) {
+        for (const std::string& e : script.errors) {
+            err_ << words[0] << ": " << e << "\n";
+        }
+        err_ << words[0] << ": " << script.errors.size() << " bad line(s); nothing was sent\n";
+        return kExitLink;
+    }
+    const PacketAuth packetAuth = auth();
+    std::unique_ptr<GroundLink> link = openLink(true);
+    GroundSession session(*link, store(), packetAuth, g_.timeout);
+    ScriptRunner runner(session, out_, err_, verbose);
+    return runner.run(script, words[0]);
+}
+
+int Cli::table(const std::vector<std::string>& args) {
+    if (args.empty()) {
+        throw UsageError("table: load, dump, build, show, check or list");
+    }
+    std::vector<std::string> words(args.begin() + 1, args.end());
+    if (args[0] == "load") {
+        const bool activate = takeFlag(&words, "--activate");
+        const bool force = takeFlag(&words, "--force");
+        rejectOptions(words, "table load");
+        if (words.size() != 1) {
+            throw UsageError("usage: rse-ground table load IMAGE.tbl [--activate] [--force]");
+        }
+        std::vector<std::uint8_t> image;
+        try {
+            image = readTableImageFile(words[0]);
+        } catch (const std::exception& e) {
+            err_ << "table load: " << e.what() << "\n";
+            return kExitLink;
+        }
+        const PacketAuth packetAuth = auth();
+        std::unique_ptr<GroundLink> link = openLink(true);
+        GroundSession session(*link, store(), packetAuth, g_.timeout);
+        return loadTableImage(session, image, activate, force, out_, err_);
+    }
+    if (args[0] == "dump") {
+        const bool inactive = takeFlag(&words, "--inactive");
+        const std::string output = takeValue(&words, "-o").value_or("");
+        rejectOptions(words, "table dump");
+        if (words.size() != 1) {
+            throw UsageError("usage: rse-ground table dump ID|NAME [--inactive] [-o FILE]");
+        }
+        const tables::TableDesc* table = lookupTable(words[0]);
+        if (table == nullptr) {
+            std::size_t n = 0;
+            const tables::TableDesc* all = tables::tableDescs(&n);
+            std::string known;
+            for (std::size_t i = 0; i < n; ++i) {
+                known += (i > 0 ? ", " : "") + std::to_string(static_cast<unsigned>(all[i].id)) + " " + all[i].name;
+            }
+            throw UsageError("table dump: no table '" + words[0] + "' (tables: " + known + ")");
+        }
+        const PacketAuth packetAuth = auth();
+        std::unique_ptr<GroundLink> link = openLink(true);
+        GroundSession session(*link, store(), packetAuth, g_.timeout);
+        return dumpTableImage(session, *table, inactive, output, out_, err_);
+    }
+    // build, show, check, list: the table tool's, with its own argv ("table" first).
+    std::vector<std::string> storage(args);
+    storage.insert(storage.begin(), "table");
+    std::vector<char*> argv;
+    for (std::string& s : storage) {
+        argv.push_back(s.data());
+    }
+    argv.push_back(nullptr);
+    return runTableCommand(static_cast<int>(storage.size()), argv.data(), out_, err_);
+}
+
+int Cli::encode(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const std::optional<std::uint32_t> forced = takeAuthSeq(&words);
+    const std::optional<std::string> output = takeValue(&words, "-o");
+    if (words.empty()) {
+        throw UsageError("usage: rse-ground encode NAME [arg=value ...] [--auth-seq N] [-o FILE]");
+    }
+    rejectOptions(words, "encode");
+    const cmdtlm::CommandDesc* command = lookupCommand(words[0]);
+    if (command == nullptr) {
+        throw CommandError("unknown command '" + words[0] + "' (rse-ground dict --markdown lists them)");
+    }
+    const std::vector<std::uint8_t> encoded =
+        encodeArguments(*command, std::vector<std::string>(words.begin() + 1, words.end()));
+    const PacketAuth packetAuth = auth();
+    std::uint32_t sequence = 0;
+    if (forced) {
+        sequence = *forced;
+    } else {
+        sequence = store().next(packetAuth.keyId);
+    }
+    const std::vector<std::uint8_t> packet = buildCommandPacket(*command, encoded, packetAuth, sequence);
+    if (!output) {
+        out_ << hexBytes(packet.data(), packet.size()) << "\n";
+        return kExitOk;
+    }
+    std::ofstream file(*output, std::ios::binary | std::ios::trunc);
+    file.write(reinterpret_cast<const char*>(packet.data()), static_cast<std::streamsize>(packet.size()));
+    file.close();
+    if (!file) {
+        err_ << "encode: cannot write '" << *output << "'\n";
+        return kExitLink;
+    }
+    out_ << "wrote " << *output << ": " << command->name << ", " << packet.size() << " bytes, key id "
+         << packetAuth.keyId << ", auth seq " << sequence << "\n";
+    return kExitOk;
+}
+
+int Cli::dict(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const std::optional<std::string> output = takeValue(&words, "-o");
+    if (words.size() != 1 || (words[0] != "--markdown" && words[0] != "--json")) {
+        throw UsageError("usage: rse-ground dict --markdown|--json [-o FILE]");
+    }
+    const std::string text = words[0] == "--markdown" ? exportDictionaryMarkdown() : exportDictionaryJson();
+    if (!output) {
+        out_ << text;
+        return kExitOk;
+    }
+    std::ofstream file(*output, std::ios::binary | std::ios::trunc);
+    file << text;
+    file.close();
+    if (!file) {
+        err_ << "dict: cannot write '" << *output << "'\n";
+        return kExitLink;
+    }
+    return kExitOk;
+}
+
+}  // namespace
+
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err) {
+    std::vector<std::string> args;
+    for (int i = 1; i < argc; ++i) {
+        args.emplace_back(argv[i] != nullptr ? argv[i] : "");
+    }
+    try {
+        GlobalOptions options;
+        std::vector<std::string> rest = takeGlobalOptions(args, &options);
+        if (rest.empty()) {
+            err << kUsage;
+            return kExitUsage;
+        }
+        const std::string command = rest[0];
+        const std::vector<std::string> commandArgs(rest.begin() + 1, rest.end());
+        if (command == "help" || command == "--help" || command == "-h") {
+            out << kUsage;
+            return kExitOk;
+        }
+        Cli cli(options, out, err);
+        if (command == "send") {
+            return cli.send(commandArgs);
+        }
+        if (command == "watch") {
+            return cli.watch(commandArgs);
+        }
+        if (command == "run") {
+            return cli.run(commandArgs);
+        }
+        if (command == "table") {
+            return cli.table(commandArgs);
+        }
+        if (command == "encode") {
+            return cli.encode(commandArgs);
+        }
+        if (command == "dict") {
+            return cli.dict(commandArgs);
+        }
+        err << "rse-ground: unknown command '" << command << "'\n" << kUsage;
+        return kExitUsage;
+    } catch (const UsageError& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitUsage;
+    } catch (const CommandError& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitUsage;
+    } catch (const KeyFileError& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitUsage;
+    } catch (const LinkError& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitLink;
+    } catch (const StateError& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitLink;
+    } catch (const std::exception& e) {
+        err << "rse-ground: " << e.what() << "\n";
+        return kExitLink;
+    }
+}
+
+}  // namespace rse::ground

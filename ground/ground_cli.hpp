@@ -1,0 +1,40 @@
+// rse-ground: the operator's command-line tool (docs/ground.md).
+//
+//   rse-ground [global options] send NAME [arg=value ...] [--auth-seq N] [--no-wait]
+//   rse-ground [global options] watch [--count N] [--seconds S] [--only NAME,...]
+//   rse-ground [global options] run SCRIPT [--verbose]
+//   rse-ground [global options] table load IMAGE.tbl [--activate] [--force]
+//   rse-ground [global options] table dump ID|NAME [--inactive] [-o FILE]
+//   rse-ground table build|show|check|list ...        (ground/table_tool.hpp)
+//   rse-ground dict --markdown|--json [-o FILE]
+//   rse-ground [global options] encode NAME [arg=value ...] [--auth-seq N] [-o FILE]
+//
+// Global options (anywhere before a table build|show|check|list):
+//   --udp HOST[:PORT]     commands to HOST:PORT (default 127.0.0.1:1234)
+//   --tlm-port [ADDR:]PORT  telemetry received on ADDR:PORT (default 0.0.0.0:1235)
+//   --can IFACE           ISO-TP on SocketCAN instead of UDP (tx 0x6F0, rx 0x6F1)
+//   --can-tx ID --can-rx ID --pad    ISO-TP ids (hex) and frame padding
+//   --key-file FILE       keys "ID:64hex" per line ('#' comments); the first, or --key-id's
+//   --key-id N            which key (default: the built-in lab key, id 1)
+//   --no-auth             unauthenticated (key id 0, no MAC): lab setting only
+//   --state-dir DIR       anti-replay sequence state (default $RSE_GROUND_STATE or ~/.rse-ground)
+//   --timeout S           acknowledgement wait (default 2)
+//
+// Exit codes: 0 success (accepted); 1 link error, no acknowledgement, failed script
+// or wait; 2 usage error, unknown command or bad argument (nothing sent); 3 the
+// rover rejected the command.
+#pragma once
+
+#include <iosfwd>
+
+namespace rse::ground {
+
+constexpr int kExitOk = 0;
+constexpr int kExitLink = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitRejected = 3;
+
+// argv[0] is the program name. Output on out, diagnostics on err.
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err);
+
+}  // namespace rse::ground

@@ -1,0 +1,39 @@
+// A ground link as the flight software sees it: whole packets in, whole packets
+// out, never blocking. Transports (UDP, ISO-TP over CAN, in-memory for tests and
+// lockstep) carry the same CCSDS bytes; command ingest and telemetry output do
+// not know which one they talk to.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/core/status.hpp"
+
+namespace rse::hal {
+
+struct PacketLinkStats {
+    std::uint32_t rxPackets = 0;   // handed to the caller
+    std::uint32_t rxDropped = 0;   // lost before the caller read them (queue full, too large, truncated)
+    std::uint32_t txPackets = 0;   // accepted for sending
+    std::uint32_t txDropped = 0;   // refused: queue full, too large, link down
+    std::uint32_t errors = 0;      // OS or protocol errors
+};
+
+class PacketLink {
+public:
+    // The oldest received packet: kOk, kEmpty when none is waiting, kTooLarge when
+    // it did not fit capacity (it is dropped and counted). Never blocks.
+    virtual core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) = 0;
+    // Queues or sends one packet: kOk, kFull (queue full, counted), kTooLarge,
+    // kUnavailable (link not open or down). Never blocks.
+    virtual core::Status send(const std::uint8_t* data, std::size_t length) = 0;
+    // Advances the transport once per minor frame (segmentation, retries).
+    virtual void service() {}
+    virtual const char* name() const = 0;
+    virtual const PacketLinkStats& stats() const = 0;
+
+protected:
+    ~PacketLink() = default;
+};
+
+}  // namespace rse::hal

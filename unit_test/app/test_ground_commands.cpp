@@ -1,0 +1,319 @@
+// The whole flight application commanded from a ground station over an
+// in-memory link: commands in as CCSDS packets, acknowledgements and telemetry
+// out, decoded with the dictionary's descriptors (so this also checks that the
+// flight's telemetry matches the dictionary the ground reads).
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "fsw/app/fsw_app.hpp"
+#include "fsw/cmdtlm/command_packet.hpp"
+#include "fsw/tables/table_image.hpp"
+#include "hal/can/memory_can_bus.hpp"
+#include "hal/link/memory_packet_link.hpp"
+#include "unit_test/support/alloc_guard.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using namespace rse::cmdtlm;
+
+namespace {
+
+struct Packet {
+    std::uint16_t apid = 0;
+    std::vector<std::uint8_t> payload;
+};
+
+// Value of one field (element) of a telemetry payload, found by name in the dictionary.
+double field(const Packet& p, const char* name, std::size_t element = 0) {
+    const TelemetryDesc* t = findTelemetry(p.apid);
+    CHECK(t != nullptr);
+    core::BeReader r(p.payload.data(), p.payload.size());
+    for (std::size_t i = 0; i < t->fieldCount; ++i) {
+        const FieldDesc& f = t->fields[i];
+        for (std::size_t e = 0; e < f.count; ++e) {
+            const double v = readAsDouble(r, f.type);
+            if (std::strcmp(f.name, name) == 0 && e == element) {
+                return v;
+            }
+        }
+    }
+    FAIL(name);
+    return 0.0;
+}
+
+}  // namespace
+
+TEST_GROUP(GroundCommands) {
+    core::VirtualClock clock;
+    hal::MemoryCanBus can{clock};
+    hal::MemoryPacketLink link;
+    app::FswApp fsw{clock, *can.attach("fsw")};
+    HmacSha256 hmac;
+    std::uint32_t authSequence = 1;
+    std::vector<Packet> received;
+    core::PipeId probe = 0;
+
+    void setup() override {
+        CHECK(core::isOk(fsw.addGroundLink(&link)));
+        CHECK(core::isOk(fsw.init(nullptr)));
+        CHECK(core::isOk(hmac.init()));
+        CHECK(core::isOk(fsw.bus().createPipe("probe", 16, &probe)));
+        CHECK(core::isOk(fsw.bus().subscribe(probe, msg::ids::kWheelCommand)));
+    }
+
+    void send(const char* name, const std::vector<std::uint8_t>& args = {}) {
+        const CommandDesc* c = findCommand(name);
+        CHECK(c != nullptr);
+        CommandFields f;
+        f.apid = c->apid;
+        f.functionCode = c->functionCode;
+        f.keyId = kLabKeyId;
+        f.authSequence = authSequence++;
+        std::uint8_t bytes[kMaxCommandPacket];
+        const std::size_t n = encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, bytes, sizeof bytes);
+        CHECK(n > 0);
+        CHECK(core::isOk(link.groundSend(bytes, n)));
+    }
+    void runFrames(int n) {
+        for (int i = 0; i < n; ++i) {
+            fsw.run(nullptr, 1);
+            std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
+            std::size_t length = 0;
+            while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
+                const PrimaryHeader h = decodePrimaryHeader(bytes);
+                LONGS_EQUAL(length, h.dataLength + 7u);
+                Packet p;
+                p.apid = h.apid;
+                p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
+                const TelemetryDesc* t = findTelemetry(h.apid);
+                CHECK(t != nullptr);
+                LONGS_EQUAL(t->payloadSize, p.payload.size());
+                received.push_back(p);
+            }
+        }
+    }
+    // The last packet of a kind received so far (fails if none).
+    const Packet& last(const char* name) {
+        const TelemetryDesc* t = findTelemetry(name);
+        for (auto it = received.rbegin(); it != received.rend(); ++it) {
+            if (it->apid == t->apid) {
+                return *it;
+            }
+        }
+        FAIL(name);
+        return received.front();
+    }
+    std::size_t countOf(const char* name) {
+        std::size_t n = 0;
+        for (const Packet& p : received) {
+            n += p.apid == findTelemetry(name)->apid ? 1 : 0;
+        }
+        return n;
+    }
+    void expectAccepted(const char* name) {
+        const Packet& ack = last("CMD_ACK");
+        LONGS_EQUAL(findCommand(name)->apid, static_cast<long>(field(ack, "apid")));
+        LONGS_EQUAL(0, static_cast<long>(field(ack, "reason")));
+    }
+    std::vector<std::uint8_t> u16(std::uint16_t v) { return {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)}; }
+    std::vector<std::uint8_t> f32s(std::initializer_list<float> values) {
+        std::vector<std::uint8_t> out(values.size() * 4);
+        core::BeWriter w(out.data(), out.size());
+        for (float v : values) {
+            w.f32(v);
+        }
+        return out;
+    }
+    // TABLE_LOAD in chunks of at most 40 bytes, then TABLE_VALIDATE.
+    void uploadTable(const std::uint8_t* image, std::size_t length, std::uint16_t id) {
+        for (std::size_t offset = 0; offset < length; offset += 40) {
+            std::vector<std::uint8_t> args = u16(id);
+            const std::vector<std::uint8_t> off = u16(static_cast<std::uint16_t>(offset));
+            args.insert(args.end(), off.begin(), off.end());
+            args.insert(args.end(), image + offset, image + std::min(length, offset + 40));
+            send("TABLE_LOAD", args);
+            runFrames(1);
+            expectAccepted("TABLE_LOAD");
+        }
+        send("TABLE_VALIDATE", u16(id));
+        runFrames(1);
+    }
+};
+
+TEST(GroundCommands, SetModeIsAcknowledgedAndShownInHousekeeping) {
+    runFrames(1);
+    LONGS_EQUAL(0, static_cast<long>(field(last("HK"), "mode")));  // boots in SAFE
+    send("SET_MODE", {1});
+    send("REQUEST_HK");
+    runFrames(2);
+    expectAccepted("REQUEST_HK");
+    const Packet& hk = last("HK");
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "mode")));
+    LONGS_EQUAL(2, static_cast<long>(field(hk, "cmd_accepted")));
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_required")));
+    LONGS_EQUAL(7, static_cast<long>(field(hk, "task_count")));
+    CHECK(countOf("TASK_TIMING") >= 14);  // seven after each HK
+    CHECK(countOf("EVENT") > 5);          // the start-up events came down
+}
+
+TEST(GroundCommands, RejectionsAreCountedByReasonInHousekeeping) {
+    send("DRIVE", f32s({0.1F, 0.0F, 1.0F}));  // SAFE mode: wrong mode
+    send("SET_MODE", {9});                     // out of range
+    send("REQUEST_HK");
+    runFrames(3);
+    const Packet& hk = last("HK");
+    LONGS_EQUAL(2, static_cast<long>(field(hk, "cmd_rejected")));
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 13)));
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 12)));
+}
+
+TEST(GroundCommands, GoalsAndRiskBoundShowInThePlanPacket) {
+    send("SET_MODE", {1});
+    std::vector<std::uint8_t> args(24);
+    core::BeWriter w(args.data(), args.size());
+    w.f64(12.5);
+    w.f64(-3.0);
+    w.f64(1e-6);
+    send("GOTO", args);
+    runFrames(3);
+    expectAccepted("GOTO");
+    const Packet& plan = last("PLAN");
+    LONGS_EQUAL(1, static_cast<long>(field(plan, "waypoint_count")));
+    DOUBLES_EQUAL(12.5, field(plan, "waypoint_x"), 1e-6);
+    DOUBLES_EQUAL(-3.0, field(plan, "waypoint_y"), 1e-6);
+    DOUBLES_EQUAL(1e-6, field(plan, "risk_bound"), 1e-15);
+}
+
+TEST(GroundCommands, ManualDriveTurnsIntoSkidSteerWheelSpeedsAndStops) {
+    send("SET_MODE", {3});
+    send("DRIVE", f32s({0.25F, 0.0F, 0.5F}));
+    runFrames(3);
+    expectAccepted("DRIVE");
+    core::Message m;
+    msg::WheelCommandMsg cmd{};
+    CHECK(core::isOk(fsw.bus().receive(probe, &m)));
+    CHECK(core::isOk(m.decode(&cmd)));
+    const double radius = static_cast<double>(fsw.tables().roverGeometry().wheel_radius_m);
+    for (double v : cmd.velocityRadS) {
+        DOUBLES_EQUAL(0.25 / radius, v, 1e-9);
+    }
+    CHECK(fsw.manualDrive().driving());
+    runFrames(60);  // 0.5 s and a little
+    CHECK_FALSE(fsw.manualDrive().driving());
+    CHECK(core::isOk(fsw.bus().receive(probe, &m)));
+    CHECK(core::isOk(m.decode(&cmd)));
+    for (double v : cmd.velocityRadS) {
+        DOUBLES_EQUAL(0.0, v, 0.0);
+    }
+}
+
+TEST(GroundCommands, EstopZeroesTheDrivesAndHoldsOffCommands) {
+    msg::WheelCommandMsg moving{};
+    for (double& v : moving.velocityRadS) {
+        v = 2.0;
+    }
+    CHECK(core::isOk(fsw.bus().publish(moving)));
+    runFrames(1);
+    CHECK(fsw.canIo().drive(0).targetVelocityMradS() != 0);
+    send("ESTOP_SET");
+    runFrames(2);  // executed in one frame, enforced by CAN I/O in the next
+    CHECK(fsw.canIo().estopHeld());
+    LONGS_EQUAL(0, fsw.canIo().drive(0).targetVelocityMradS());
+    CHECK(core::isOk(fsw.bus().publish(moving)));
+    runFrames(1);
+    LONGS_EQUAL(0, fsw.canIo().drive(0).targetVelocityMradS());
+    LONGS_EQUAL(1, fsw.canIo().commandsHeldByEstop());
+    send("ESTOP_CLEAR");
+    runFrames(2);
+    CHECK_FALSE(fsw.canIo().estopHeld());
+    LONGS_EQUAL(0, fsw.canIo().drive(0).targetVelocityMradS());  // stays at zero until commanded
+}
+
+TEST(GroundCommands, TableActivationThroughCommandsLandsAtTheNextFrameBoundary) {
+    tables::RoverGeometryTable g = fsw.tables().roverGeometry();
+    const float before = g.max_wheel_speed_rad_s;
+    g.max_wheel_speed_rad_s = 3.0F;
+    std::uint8_t image[tables::kMaxTableImageSize];
+    const std::size_t n = tables::encodeTable(g, 7, image, sizeof image);
+    uploadTable(image, n, 1);
+    expectAccepted("TABLE_VALIDATE");
+    send("TABLE_ACTIVATE", u16(1));
+    runFrames(1);  // executed by the command task, after the table task ran in this frame
+    expectAccepted("TABLE_ACTIVATE");
+    DOUBLES_EQUAL(before, fsw.tables().roverGeometry().max_wheel_speed_rad_s, 0.0);
+    runFrames(1);  // the table task applies it first thing in the next frame
+    DOUBLES_EQUAL(3.0, fsw.tables().roverGeometry().max_wheel_speed_rad_s, 0.0);
+    LONGS_EQUAL(7, fsw.tables().status(tables::TableId::kRoverGeometry).activeVersion);
+    // The CAN I/O task now refuses wheel commands beyond the new limit.
+    msg::WheelCommandMsg fast{};
+    fast.velocityRadS[0] = 4.0;
+    CHECK(core::isOk(fsw.bus().publish(fast)));
+    const std::uint32_t refusedBefore = fsw.canIo().commandsRejected();
+    runFrames(1);
+    LONGS_EQUAL(refusedBefore + 1, fsw.canIo().commandsRejected());
+}
+
+TEST(GroundCommands, BadTableImageIsRejectedWithTheReasonAndTheActiveTableStays) {
+    tables::RoverGeometryTable g = fsw.tables().roverGeometry();
+    const float before = g.max_wheel_speed_rad_s;
+    g.max_wheel_speed_rad_s = 3.0F;
+    std::uint8_t image[tables::kMaxTableImageSize];
+    const std::size_t n = tables::encodeTable(g, 8, image, sizeof image);
+    image[n - 1] ^= 0x40;  // one flipped bit in the payload
+    uploadTable(image, n, 1);
+    const Packet& ack = last("CMD_ACK");
+    STRCMP_EQUAL("execution_failed", toString(static_cast<CommandReject>(field(ack, "reason"))));
+    LONGS_EQUAL(static_cast<long>(tables::TableReject::kBadCrc), static_cast<long>(field(ack, "detail")));
+    LONGS_EQUAL(static_cast<long>(tables::TableReject::kBadCrc),
+                static_cast<long>(field(last("TABLE_STATUS"), "last_reject")));
+    send("TABLE_ACTIVATE", u16(1));
+    runFrames(3);
+    STRCMP_EQUAL("execution_failed", toString(static_cast<CommandReject>(field(last("CMD_ACK"), "reason"))));
+    DOUBLES_EQUAL(before, fsw.tables().roverGeometry().max_wheel_speed_rad_s, 0.0);
+}
+
+TEST(GroundCommands, TableDumpSendsTheActiveImage) {
+    send("TABLE_DUMP", {0, 5, 0});  // CAN node map, active buffer
+    runFrames(1);
+    expectAccepted("TABLE_DUMP");
+    std::vector<std::uint8_t> image;
+    for (const Packet& p : received) {
+        if (p.apid == findTelemetry("TABLE_DUMP")->apid) {
+            LONGS_EQUAL(image.size(), static_cast<long>(field(p, "offset")));
+            const auto length = static_cast<std::size_t>(field(p, "length"));
+            image.insert(image.end(), p.payload.begin() + 9, p.payload.begin() + 9 + static_cast<long>(length));
+        }
+    }
+    std::uint8_t expected[tables::kMaxTableImageSize];
+    const std::size_t n = tables::encodeTable(fsw.tables().canNodeMap(), fsw.tables().status(tables::TableId::kCanNodeMap).activeVersion,
+                                              expected, sizeof expected);
+    LONGS_EQUAL(n, image.size());
+    CHECK(std::memcmp(expected, image.data(), n) == 0);
+}
+
+TEST(GroundCommands, NoHeapUseWithCommandsAndTelemetryFlowing) {
+    runFrames(5);
+    received.clear();
+    received.reserve(20000);
+    test::AllocationWatch watch;
+    for (int i = 0; i < 300; ++i) {
+        CommandFields f;
+        f.apid = 0x180;
+        f.functionCode = 2;  // REQUEST_HK
+        f.keyId = kLabKeyId;
+        f.authSequence = authSequence++;
+        std::uint8_t bytes[kMaxCommandPacket];
+        const std::size_t n = encodeCommandPacket(f, nullptr, 0, kLabKey, hmac, bytes, sizeof bytes);
+        (void)link.groundSend(bytes, n);
+        fsw.run(nullptr, 1);
+        std::uint8_t out[hal::kMemoryLinkMaxPacket];
+        std::size_t length = 0;
+        while (core::isOk(link.groundReceive(out, sizeof out, &length))) {
+        }
+    }
+    LONGS_EQUAL(0, watch.count());
+    LONGS_EQUAL(300, fsw.commands().counters().accepted);
+}

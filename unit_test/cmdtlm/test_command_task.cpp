@@ -1,0 +1,402 @@
+// The command service: one test per rejection reason, each asserting the
+// counter, the specific event and the CMD_ACK in telemetry; plus acceptance,
+// the anti-replay window, the lab setting and the allocation rule.
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/cmdtlm/command_packet.hpp"
+#include "fsw/cmdtlm/command_task.hpp"
+#include "fsw/core/byte_codec.hpp"
+#include "hal/link/packet_link.hpp"
+#include "unit_test/support/alloc_guard.hpp"
+#include "unit_test/support/event_probe.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using namespace rse::cmdtlm;
+
+namespace {
+
+// A ground link with fixed storage: packets the test queues for the flight
+// side, and the telemetry the flight side sends.
+class ScriptedLink final : public hal::PacketLink {
+public:
+    static constexpr std::size_t kSlots = 64;
+    struct Packet {
+        std::uint8_t bytes[600];
+        std::size_t length;
+    };
+
+    void push(const std::uint8_t* data, std::size_t length) {
+        Packet& p = rx_[(rxHead_ + rxCount_++) % kSlots];
+        std::memcpy(p.bytes, data, length);
+        p.length = length;
+    }
+    core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override {
+        if (rxCount_ == 0) {
+            return core::Status::kEmpty;
+        }
+        const Packet& p = rx_[rxHead_];
+        rxHead_ = (rxHead_ + 1) % kSlots;
+        --rxCount_;
+        if (p.length > capacity) {
+            return core::Status::kTooLarge;
+        }
+        std::memcpy(out, p.bytes, p.length);
+        *length = p.length;
+        return core::Status::kOk;
+    }
+    core::Status send(const std::uint8_t* data, std::size_t length) override {
+        Packet& p = tx_[txCount_ % kSlots];
+        std::memcpy(p.bytes, data, length);
+        p.length = length;
+        ++txCount_;
+        return core::Status::kOk;
+    }
+    const char* name() const override { return "scripted"; }
+    const hal::PacketLinkStats& stats() const override { return stats_; }
+
+    std::size_t sentCount() const { return txCount_; }
+    const Packet& sent(std::size_t i) const { return tx_[i % kSlots]; }
+
+private:
+    Packet rx_[kSlots] = {};
+    std::size_t rxHead_ = 0, rxCount_ = 0;
+    Packet tx_[kSlots] = {};
+    std::size_t txCount_ = 0;
+    hal::PacketLinkStats stats_;
+};
+
+class FakeHandler final : public CommandHandler {
+public:
+    Mode mode() const override { return mode_; }
+    CommandOutcome execute(const CommandVerdict& verdict) override {
+        ++executed;
+        last = verdict.command->code;
+        return outcome;
+    }
+    Mode mode_ = Mode::kSafe;
+    CommandOutcome outcome{};
+    int executed = 0;
+    CommandCode last = CommandCode::kCount;
+};
+
+struct Ack {
+    std::uint16_t apid, ccsdsSequence, keyId;
+    std::uint8_t functionCode, reason;
+    std::uint32_t authSequence, accepted, rejected;
+    std::int16_t detail;
+};
+
+Ack decodeAck(const ScriptedLink::Packet& p) {
+    const PrimaryHeader h = decodePrimaryHeader(p.bytes);
+    CHECK_EQUAL(CMD_ACK_Tlm::kApid, h.apid);
+    core::BeReader r(p.bytes + kTelemetryHeaderSize, p.length - kTelemetryHeaderSize);
+    Ack a{};
+    a.apid = r.u16();
+    a.functionCode = r.u8();
+    a.ccsdsSequence = r.u16();
+    a.keyId = r.u16();
+    a.authSequence = r.u32();
+    a.reason = r.u8();
+    a.detail = r.i16();
+    a.accepted = r.u32();
+    a.rejected = r.u32();
+    CHECK(r.ok());
+    return a;
+}
+
+}  // namespace
+
+TEST_GROUP(CommandTask) {
+    core::VirtualClock clock;
+    core::EventLog* events = nullptr;
+    TelemetryOutput* output = nullptr;
+    ScriptedLink* link = nullptr;
+    FakeHandler* handler = nullptr;
+    CommandTask* task = nullptr;
+    HmacSha256 hmac;
+    std::uint32_t nextAuth = 1;
+    std::uint64_t frame = 0;
+
+    void setup() override {
+        events = new core::EventLog(clock);
+        output = new TelemetryOutput(clock, *events);
+        link = new ScriptedLink;
+        handler = new FakeHandler;
+        task = new CommandTask(clock, *events, *output, *handler);
+        CHECK(core::isOk(task->keys().add(kLabKeyId, kLabKey)));
+        CHECK(core::isOk(task->addLink(link)));
+        CHECK(core::isOk(output->addLink(link)));
+        CHECK(core::isOk(task->init()));
+        CHECK(core::isOk(hmac.init()));
+        while (core::isOk(events->pop(nullptr))) {
+        }
+    }
+    void teardown() override {
+        delete task;
+        delete handler;
+        delete link;
+        delete output;
+        delete events;
+    }
+
+    std::vector<std::uint8_t> packet(const char* name, const std::vector<std::uint8_t>& args,
+                                     std::uint32_t authSequence, const std::uint8_t* key = kLabKey,
+                                     std::uint16_t keyId = kLabKeyId) {
+        const CommandDesc* c = findCommand(name);
+        CHECK(c != nullptr);
+        std::vector<std::uint8_t> out(kMaxCommandPacket);
+        CommandFields f;
+        f.apid = c->apid;
+        f.functionCode = c->functionCode;
+        f.sequenceCount = static_cast<std::uint16_t>(authSequence);
+        f.keyId = keyId;
+        f.authSequence = authSequence;
+        const std::size_t n =
+            encodeCommandPacket(f, args.data(), args.size(), key, hmac, out.data(), out.size());
+        CHECK(n > 0);
+        out.resize(n);
+        return out;
+    }
+    std::vector<std::uint8_t> packet(const char* name, const std::vector<std::uint8_t>& args = {}) {
+        return packet(name, args, nextAuth++);
+    }
+    void runFrame() {
+        core::FrameContext fc;
+        fc.frame = frame++;
+        clock.advance(10 * core::kNsPerMs);
+        task->run(fc);
+    }
+    Ack submit(const std::vector<std::uint8_t>& bytes) {
+        const std::size_t before = link->sentCount();
+        link->push(bytes.data(), bytes.size());
+        runFrame();
+        CHECK_EQUAL(before + 1, link->sentCount());
+        return decodeAck(link->sent(link->sentCount() - 1));
+    }
+    // Checks the reason in the ack, the counter and exactly one event of its id.
+    void expectRejected(const Ack& ack, CommandReject reason) {
+        STRCMP_EQUAL(toString(reason), toString(static_cast<CommandReject>(ack.reason)));
+        LONGS_EQUAL(1, task->counters().byReason[static_cast<std::size_t>(reason)]);
+        LONGS_EQUAL(1, task->counters().rejected);
+        LONGS_EQUAL(1, test::drainEventsWithId(*events, events::rejectEvent(reason)));
+        LONGS_EQUAL(0, handler->executed);
+    }
+    static void refreshChecksum(std::vector<std::uint8_t>& p) { p[kChecksumOffset] = commandChecksum(p.data(), p.size()); }
+};
+
+static std::vector<std::uint8_t> u8Arg(std::uint8_t v) { return {v}; }
+static std::vector<std::uint8_t> f64Args(std::initializer_list<double> values) {
+    std::vector<std::uint8_t> out(values.size() * 8);
+    core::BeWriter w(out.data(), out.size());
+    for (double v : values) {
+        w.f64(v);
+    }
+    return out;
+}
+
+TEST(CommandTask, AuthenticatedCommandIsExecutedAndAcknowledged) {
+    const Ack ack = submit(packet("SET_MODE", u8Arg(1), 41));
+    LONGS_EQUAL(0, ack.reason);
+    LONGS_EQUAL(0x180, ack.apid);
+    LONGS_EQUAL(3, ack.functionCode);
+    LONGS_EQUAL(kLabKeyId, ack.keyId);
+    LONGS_EQUAL(41, ack.authSequence);
+    LONGS_EQUAL(1, ack.accepted);
+    LONGS_EQUAL(1, handler->executed);
+    CHECK(handler->last == CommandCode::SET_MODE);
+    LONGS_EQUAL(1, task->counters().accepted);
+    LONGS_EQUAL(0, task->counters().rejected);
+    LONGS_EQUAL(1, test::drainEventsWithId(*events, events::kCommandExecuted));
+}
+
+TEST(CommandTask, TruncatedPacketIsRejectedForLength) {
+    std::vector<std::uint8_t> p = packet("NOOP");
+    p.resize(p.size() - 3);  // the length field now disagrees with the bytes
+    expectRejected(submit(p), CommandReject::kBadLength);
+}
+
+TEST(CommandTask, ArgumentBytesOfTheWrongSizeAreRejectedForLength) {
+    expectRejected(submit(packet("SET_MODE", {1, 0})), CommandReject::kBadLength);
+}
+
+TEST(CommandTask, PacketLongerThanAnyCommandIsRejectedForLength) {
+    std::vector<std::uint8_t> p(kMaxCommandPacket + 40, 0);
+    PrimaryHeader h;
+    h.type = PacketType::kCommand;
+    h.apid = 0x180;
+    h.dataLength = static_cast<std::uint16_t>(p.size() - 7);
+    encodePrimaryHeader(h, p.data());
+    expectRejected(submit(p), CommandReject::kBadLength);
+}
+
+TEST(CommandTask, WrongVersionOrTelemetryTypeIsRejectedAsBadHeader) {
+    std::vector<std::uint8_t> p = packet("NOOP");
+    p[0] = static_cast<std::uint8_t>(p[0] | 0x20);  // version 1
+    refreshChecksum(p);
+    expectRejected(submit(p), CommandReject::kBadHeader);
+}
+
+TEST(CommandTask, FlippedBitIsRejectedForChecksum) {
+    std::vector<std::uint8_t> p = packet("SET_MODE", u8Arg(1));
+    p[kCommandHeaderSize] ^= 0x01;
+    expectRejected(submit(p), CommandReject::kBadChecksum);
+}
+
+TEST(CommandTask, UnknownApidIsRejected) {
+    std::vector<std::uint8_t> p = packet("NOOP");
+    p[1] = 0xFF;  // APID 0x1FF
+    refreshChecksum(p);
+    const Ack ack = submit(p);
+    LONGS_EQUAL(0x1FF, ack.apid);
+    expectRejected(ack, CommandReject::kUnknownApid);
+}
+
+TEST(CommandTask, UnknownFunctionCodeIsRejected) {
+    std::vector<std::uint8_t> p = packet("NOOP");
+    p[6] = 0x55;
+    refreshChecksum(p);
+    const Ack ack = submit(p);
+    LONGS_EQUAL(0x55, ack.functionCode);
+    expectRejected(ack, CommandReject::kUnknownFunction);
+}
+
+TEST(CommandTask, UnauthenticatedCommandIsRejectedAsMacMissing) {
+    expectRejected(submit(packet("NOOP", {}, 7, nullptr, kNoKey)), CommandReject::kMacMissing);
+}
+
+TEST(CommandTask, LabSettingAcceptsUnauthenticatedCommands) {
+    task->setAuthRequired(false);
+    const Ack ack = submit(packet("NOOP", {}, 7, nullptr, kNoKey));
+    LONGS_EQUAL(0, ack.reason);
+    LONGS_EQUAL(1, handler->executed);
+}
+
+TEST(CommandTask, UnknownKeyIdIsRejected) {
+    expectRejected(submit(packet("NOOP", {}, 7, kLabKey, 9)), CommandReject::kUnknownKey);
+}
+
+TEST(CommandTask, WrongKeyIsRejectedAsBadMac) {
+    std::uint8_t otherKey[kKeySize];
+    std::memcpy(otherKey, kLabKey, kKeySize);
+    otherKey[0] ^= 1;
+    expectRejected(submit(packet("NOOP", {}, 7, otherKey, kLabKeyId)), CommandReject::kBadMac);
+}
+
+TEST(CommandTask, AlteredArgumentWithRecomputedChecksumIsRejectedAsBadMac) {
+    std::vector<std::uint8_t> p = packet("SET_MODE", u8Arg(1));
+    p[kCommandHeaderSize] = 3;  // an attacker changes the mode and fixes the checksum
+    refreshChecksum(p);
+    expectRejected(submit(p), CommandReject::kBadMac);
+}
+
+TEST(CommandTask, ReplayedCommandIsRejected) {
+    const std::vector<std::uint8_t> p = packet("NOOP", {}, 100);
+    LONGS_EQUAL(0, submit(p).reason);
+    (void)test::drainEventsWithId(*events, 0);
+    handler->executed = 0;
+    task->resetCounters();
+    expectRejected(submit(p), CommandReject::kReplayedSequence);
+}
+
+TEST(CommandTask, SequenceOlderThanTheWindowIsStale) {
+    LONGS_EQUAL(0, submit(packet("NOOP", {}, 1000)).reason);
+    LONGS_EQUAL(0, submit(packet("NOOP", {}, 990)).reason);  // out of order within the window: fresh once
+    (void)test::drainEventsWithId(*events, 0);
+    handler->executed = 0;
+    task->resetCounters();
+    expectRejected(submit(packet("NOOP", {}, 1000 - kReplayWindow)), CommandReject::kStaleSequence);
+}
+
+TEST(CommandTask, ForgedPacketDoesNotAdvanceTheReplayWindow) {
+    std::uint8_t otherKey[kKeySize] = {};
+    LONGS_EQUAL(static_cast<int>(CommandReject::kBadMac),
+                submit(packet("NOOP", {}, 5000, otherKey, kLabKeyId)).reason);
+    LONGS_EQUAL(0, submit(packet("NOOP", {}, 50)).reason);  // 5000 was never recorded
+}
+
+TEST(CommandTask, ArgumentOutOfRangeIsRejectedNamingTheArgument) {
+    const Ack ack = submit(packet("SET_MODE", u8Arg(7)));
+    LONGS_EQUAL(0, ack.detail);
+    expectRejected(ack, CommandReject::kArgumentOutOfRange);
+}
+
+TEST(CommandTask, NonFiniteArgumentIsRejectedAsOutOfRange) {
+    handler->mode_ = Mode::kStandby;
+    const Ack ack = submit(packet("GOTO", f64Args({1.0, 2.0, std::nan("")})));
+    LONGS_EQUAL(2, ack.detail);  // risk
+    expectRejected(ack, CommandReject::kArgumentOutOfRange);
+}
+
+TEST(CommandTask, CommandNotAllowedInTheModeIsRejected) {
+    std::vector<std::uint8_t> args(12);
+    core::BeWriter w(args.data(), args.size());
+    w.f32(0.1F);
+    w.f32(0.0F);
+    w.f32(1.0F);
+    handler->mode_ = Mode::kSafe;  // DRIVE needs MANUAL
+    expectRejected(submit(packet("DRIVE", args)), CommandReject::kWrongMode);
+}
+
+TEST(CommandTask, QueueOverflowIsRejectedAndCountedNotLost) {
+    const std::size_t extra = 4;
+    for (std::size_t i = 0; i < kCommandQueueDepth + extra; ++i) {
+        const std::vector<std::uint8_t> p = packet("NOOP");
+        link->push(p.data(), p.size());
+    }
+    runFrame();
+    LONGS_EQUAL(extra, task->counters().byReason[static_cast<std::size_t>(CommandReject::kQueueOverflow)]);
+    LONGS_EQUAL(extra, test::drainEventsWithId(*events, events::rejectEvent(CommandReject::kQueueOverflow)));
+    LONGS_EQUAL(kCommandQueueDepth, task->counters().queueHighWater);
+    // The queued ones all run in the frames that follow; each packet got one ack.
+    for (int f = 0; f < 10; ++f) {
+        runFrame();
+    }
+    LONGS_EQUAL(kCommandQueueDepth, task->counters().accepted);
+    LONGS_EQUAL(kCommandQueueDepth + extra, link->sentCount());
+    LONGS_EQUAL(static_cast<int>(CommandReject::kQueueOverflow), decodeAck(link->sent(0)).reason);
+}
+
+TEST(CommandTask, HandlerFailureIsRejectedAsExecutionFailed) {
+    handler->outcome = CommandOutcome{false, 3};
+    const Ack ack = submit(packet("NOOP"));
+    LONGS_EQUAL(3, ack.detail);
+    STRCMP_EQUAL("execution_failed", toString(static_cast<CommandReject>(ack.reason)));
+    LONGS_EQUAL(1, task->counters().byReason[static_cast<std::size_t>(CommandReject::kExecutionFailed)]);
+    LONGS_EQUAL(1, test::drainEventsWithId(*events, events::rejectEvent(CommandReject::kExecutionFailed)));
+}
+
+TEST(CommandTask, RejectionFloodIsEventedAtABoundedRateButCountedInFull) {
+    std::vector<std::uint8_t> bad = packet("NOOP");
+    bad[kCommandHeaderSize - 1] ^= 0xFF;  // bad checksum
+    for (int i = 0; i < 40; ++i) {
+        link->push(bad.data(), bad.size());
+        runFrame();
+    }
+    LONGS_EQUAL(40, task->counters().byReason[static_cast<std::size_t>(CommandReject::kBadChecksum)]);
+    LONGS_EQUAL(kRejectEventsPerSecond,
+                test::drainEventsWithId(*events, events::rejectEvent(CommandReject::kBadChecksum)));
+    LONGS_EQUAL(40 - kRejectEventsPerSecond, task->counters().rejectEventsSuppressed);
+}
+
+TEST(CommandTask, NoHeapUseWhileCommandsFlow) {
+    std::vector<std::vector<std::uint8_t>> packets;
+    for (int i = 0; i < 200; ++i) {
+        packets.push_back(packet(i % 3 == 0 ? "NOOP" : "SET_MODE", i % 3 == 0 ? std::vector<std::uint8_t>{} : u8Arg(1)));
+    }
+    std::vector<std::uint8_t> bad = packets[1];
+    bad[3] ^= 1;
+    test::AllocationWatch watch;
+    for (const auto& p : packets) {
+        link->push(p.data(), p.size());
+        link->push(bad.data(), bad.size());
+        runFrame();
+        (void)test::drainEventsWithId(*events, 0);
+    }
+    LONGS_EQUAL(0, watch.count());
+    LONGS_EQUAL(200, task->counters().accepted);
+}

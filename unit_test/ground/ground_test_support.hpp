@@ -1,0 +1,216 @@
+// Test support for the ground tool: a fake rover that checks command packets
+// with the flight's own CommandValidator (lab key, anti-replay window, modes) and
+// answers as the flight does (one CMD_ACK per command, then an HK), reachable
+// in memory (FakeRoverLink) or over UDP; and a temporary directory.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <dirent.h>
+#include <unistd.h>
+
+#include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_auth.hpp"
+#include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/core/byte_codec.hpp"
+#include "fsw/tables/table_image.hpp"
+#include "ground/ground_link.hpp"
+
+namespace rse::test {
+
+// A packet as the flight's TelemetryOutput builds it.
+template <typename T>
+std::vector<std::uint8_t> telemetryPacket(const T& tlm, std::uint16_t sequence = 0, core::TimeNs time = 0) {
+    std::uint8_t payload[cmdtlm::kMaxTelemetryPacket];
+    core::BeWriter w(payload, sizeof payload);
+    cmdtlm::encodeTelemetry(w, tlm);
+    std::vector<std::uint8_t> packet(cmdtlm::kMaxTelemetryPacket);
+    const std::size_t n = cmdtlm::buildTelemetryPacket(T::kApid, sequence, time, payload, w.size(), packet.data(),
+                                                       packet.size());
+    packet.resize(n);
+    return packet;
+}
+
+class FakeRover {
+public:
+    FakeRover() : validator_(keys_, hmac_) {
+        (void)hmac_.init();
+        (void)keys_.add(cmdtlm::kLabKeyId, cmdtlm::kLabKey);
+    }
+
+    cmdtlm::Mode mode = cmdtlm::Mode::kStandby;
+    std::vector<std::uint8_t> tableImage;     // what TABLE_DUMP sends
+    std::vector<std::uint8_t> loadedImage;    // what TABLE_LOAD chunks built
+    std::vector<cmdtlm::CommandVerdict> verdicts;
+    std::vector<std::string> executed;        // names of accepted commands
+    std::uint32_t accepted = 0;
+    std::uint32_t rejected = 0;
+    bool answer = true;                       // false: silent (no link)
+
+    void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
+
+    // The telemetry the flight would send in answer to one command packet.
+    std::vector<std::vector<std::uint8_t>> handle(const std::uint8_t* packet, std::size_t length) {
+        std::vector<std::vector<std::uint8_t>> out;
+        if (!answer) {
+            return out;
+        }
+        cmdtlm::CommandVerdict v = validator_.check(packet, length, mode);
+        std::vector<std::vector<std::uint8_t>> after;
+        if (v.reason == cmdtlm::CommandReject::kAccepted) {
+            execute(v, &after);
+        }
+        verdicts.push_back(v);
+        cmdtlm::CMD_ACK_Tlm ack{};
+        ack.apid = v.header.apid;
+        ack.function_code = v.functionCode;
+        ack.ccsds_sequence = v.header.sequenceCount;
+        ack.key_id = v.keyId;
+        ack.auth_sequence = v.authSequence;
+        ack.reason = static_cast<std::uint8_t>(v.reason);
+        ack.detail = v.detail;
+        (v.reason == cmdtlm::CommandReject::kAccepted ? accepted : rejected)++;
+        ack.accepted = accepted;
+        ack.rejected = rejected;
+        out.push_back(telemetryPacket(ack, static_cast<std::uint16_t>(verdicts.size())));
+        out.insert(out.end(), after.begin(), after.end());
+        cmdtlm::HK_Tlm hk{};
+        hk.mode = static_cast<std::uint8_t>(mode);
+        hk.cmd_accepted = accepted;
+        hk.cmd_rejected = rejected;
+        out.push_back(telemetryPacket(hk, static_cast<std::uint16_t>(verdicts.size())));
+        return out;
+    }
+
+private:
+    void execute(cmdtlm::CommandVerdict& v, std::vector<std::vector<std::uint8_t>>* after) {
+        core::BeReader r(v.args, v.argLength);
+        executed.push_back(v.command->name);
+        switch (v.command->code) {
+            case cmdtlm::CommandCode::SET_MODE: {
+                cmdtlm::SET_MODE_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                mode = static_cast<cmdtlm::Mode>(a.mode);
+                break;
+            }
+            case cmdtlm::CommandCode::TABLE_LOAD: {
+                cmdtlm::TABLE_LOAD_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                if (a.offset == 0) {
+                    loadedImage.clear();
+                }
+                if (a.offset != loadedImage.size()) {
+                    fail(v, tables::TableReject::kChunkGap);
+                    return;
+                }
+                loadedImage.insert(loadedImage.end(), a.data, a.data + a.data_length);
+                break;
+            }
+            case cmdtlm::CommandCode::TABLE_VALIDATE: {
+                const tables::TableCheck check = tables::checkTableImage(loadedImage.data(), loadedImage.size());
+                if (!check.ok()) {
+                    fail(v, check.reason);
+                }
+                break;
+            }
+            case cmdtlm::CommandCode::TABLE_DUMP: {
+                cmdtlm::TABLE_DUMP_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                for (std::size_t offset = 0; offset < tableImage.size(); offset += 200) {
+                    cmdtlm::TABLE_DUMP_Tlm d{};
+                    d.table_id = a.table_id;
+                    d.buffer = a.buffer;
+                    d.total_length = static_cast<std::uint16_t>(tableImage.size());
+                    d.offset = static_cast<std::uint16_t>(offset);
+                    d.length = static_cast<std::uint16_t>(std::min<std::size_t>(200, tableImage.size() - offset));
+                    std::memcpy(d.data, tableImage.data() + offset, d.length);
+                    after->push_back(telemetryPacket(d));
+                }
+                break;
+            }
+            default:
+                break;
+        }
+    }
+    static void fail(cmdtlm::CommandVerdict& v, tables::TableReject reason) {
+        v.reason = cmdtlm::CommandReject::kExecutionFailed;
+        v.detail = static_cast<std::int16_t>(reason);
+    }
+
+    cmdtlm::KeyStore keys_;
+    cmdtlm::HmacSha256 hmac_;
+    cmdtlm::CommandValidator validator_;
+};
+
+// The fake rover behind an in-memory GroundLink.
+class FakeRoverLink final : public ground::GroundLink {
+public:
+    explicit FakeRoverLink(FakeRover& rover) : rover_(rover) {}
+
+    void send(const std::vector<std::uint8_t>& packet) override {
+        sent.push_back(packet);
+        for (auto& tlm : rover_.handle(packet.data(), packet.size())) {
+            queue.push_back(std::move(tlm));
+        }
+    }
+    std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) override {
+        if (queue.empty()) {
+            // Nothing will come: let the time pass (in small steps for callers' deadlines).
+            const double step = std::min(timeoutSeconds, 0.01);
+            if (step > 0.0) {
+                std::this_thread::sleep_for(std::chrono::duration<double>(step));
+            }
+            return std::nullopt;
+        }
+        std::vector<std::uint8_t> packet = std::move(queue.front());
+        queue.pop_front();
+        return packet;
+    }
+    std::string describe() const override { return "fake rover"; }
+
+    std::deque<std::vector<std::uint8_t>> queue;
+    std::vector<std::vector<std::uint8_t>> sent;
+
+private:
+    FakeRover& rover_;
+};
+
+// A fresh directory under /tmp, removed (one level deep) when the test ends.
+class TempDir {
+public:
+    TempDir() {
+        char pattern[] = "/tmp/rse_ground_test_XXXXXX";
+        const char* made = ::mkdtemp(pattern);
+        path_ = made != nullptr ? made : "/tmp";
+    }
+    ~TempDir() {
+        if (DIR* d = ::opendir(path_.c_str())) {
+            while (const dirent* e = ::readdir(d)) {
+                const std::string name = e->d_name;
+                if (name != "." && name != "..") {
+                    ::unlink((path_ + "/" + name).c_str());
+                }
+            }
+            ::closedir(d);
+        }
+        ::rmdir(path_.c_str());
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::string& path() const { return path_; }
+    std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+private:
+    std::string path_;
+};
+
+}  // namespace rse::test
