@@ -246,6 +246,9 @@ bench: $(BENCH_BINS)
 	@echo "### $(BUILD)/bin/bench_socketcan (inside the vcan VM)"
 	@RSE_BIN_DIR=$(BUILD)/bin unit_test/bench/vm_bench.sh
 
+# libFuzzer targets with sanitizers (Debian clang): make fuzz [FUZZ_SECONDS=60]
+include unit_test/fuzz/fuzz.mk
+
 .PHONY: clean
 clean:
 	rm -rf build

@@ -69,14 +69,16 @@ double parseScalar(const CommandDesc& command, const ArgDesc& arg, const std::st
         }
     } else {
         long long integer = 0;
-        if (!parseInteger(text, &integer)) {
-            double asDouble = 0.0;
-            if (parseDouble(text, &asDouble) && std::isfinite(asDouble)) {
+        if (parseInteger(text, &integer)) {
+            value = static_cast<double>(integer);
+        } else if (parseDouble(text, &value) && std::isfinite(value)) {
+            // "1e3" is an integer too; "1.5" is not.
+            if (value != std::floor(value)) {
                 fail(command, shown + " is not an integer" + expected);
             }
+        } else {
             fail(command, shown + " is not a number" + expected);
         }
-        value = static_cast<double>(integer);
     }
     if (value < arg.min || value > arg.max) {
         fail(command, shown + " is out of range " + formatNumber(arg.min) + ".." + formatNumber(arg.max) +

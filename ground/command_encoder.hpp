@@ -35,8 +35,9 @@ std::string commandUsage(const cmdtlm::CommandDesc& command);
 std::string argumentUsage(const cmdtlm::ArgDesc& arg);
 
 // Argument bytes (big-endian, dictionary order) from "name=value" strings.
-// Values: integers in decimal or 0x hex; floats in any strtod form except
-// nan/inf; blobs as hex digits (optionally 0x-prefixed, ':' or '-' separators
+// Values: integers in decimal, 0x hex or any number form with an integral value
+// ("1e3"); floats in any strtod form except nan/inf (f32: the value as stored,
+// the float, is what is range-checked, as flight does); blobs as hex digits (optionally 0x-prefixed, ':' or '-' separators
 // allowed) or @FILE for a file's bytes. SET_MODE's mode also takes a mode name
 // (SAFE ...), and a table_id a table name (ROVER_GEOMETRY ...).
 // Throws CommandError.

@@ -21,6 +21,10 @@ using tables::TableReject;
 
 namespace {
 
+// Sources and images are small; the bound keeps a wrong argument (a disk image,
+// a device) from being read whole.
+constexpr std::size_t kMaxFileBytes = std::size_t{1} << 20;
+
 const char* typeName(const toml::node& n) {
     switch (n.type()) {
         case toml::node_type::table:
@@ -272,7 +276,8 @@ CompiledTable SourceCompiler::compile(const std::string& text) {
                 }
             }
         } else if (!check.ok()) {
-            error(nullptr, std::string("internal: compiled payload fails its check: ") + tables::toString(check.reason));
+            error(nullptr,
+                  std::string("internal: compiled payload fails its check: ") + tables::toString(check.reason));
         }
     }
     if (!errors_.empty()) {
@@ -301,8 +306,7 @@ std::string readWholeFile(const std::string& path, std::size_t limit) {
         throw TableSourceError(path + ": read error");
     }
     if (data.size() > limit) {
-        throw TableSourceError(path + ": " + std::to_string(data.size()) + " bytes, more than the largest image (" +
-                               std::to_string(limit) + ")");
+        throw TableSourceError(path + ": larger than " + std::to_string(limit) + " bytes: not a table source or image");
     }
     return data;
 }
@@ -331,14 +335,13 @@ CompiledTable compileTableText(const std::string& text, const std::string& sourc
 }
 
 CompiledTable compileTableFile(const std::string& path) {
-    // Sources are small; a megabyte bound keeps a wrong argument (a binary) from being slurped whole.
-    return compileTableText(readWholeFile(path, 1U << 20), path);
+    return compileTableText(readWholeFile(path, kMaxFileBytes), path);
 }
 
 std::vector<std::uint8_t> compileTableSource(const std::string& path) { return compileTableFile(path).image; }
 
 std::vector<std::uint8_t> readTableImageFile(const std::string& path) {
-    const std::string data = readWholeFile(path, tables::kMaxTableImageSize);
+    const std::string data = readWholeFile(path, kMaxFileBytes);
     return std::vector<std::uint8_t>(data.begin(), data.end());
 }
 
@@ -444,8 +447,9 @@ std::string describeImage(const std::uint8_t* image, std::size_t length) {
     for (std::size_t f = 0; f < table->fieldCount; ++f) {
         const TableFieldDesc& field = table->fields[f];
         out << "  " << names[f] << std::string(nameWidth - names[f].size() + 2, ' ') << values[f]
-            << std::string(valueWidth - values[f].size() + 2, ' ') << "[" << formatFieldValue(FieldType::kF64, field.min)
-            << ", " << formatFieldValue(FieldType::kF64, field.max) << "]  " << field.description;
+            << std::string(valueWidth - values[f].size() + 2, ' ') << "["
+            << formatFieldValue(FieldType::kF64, field.min) << ", " << formatFieldValue(FieldType::kF64, field.max)
+            << "]  " << field.description;
         if (check.field == static_cast<std::int16_t>(f)) {
             out << "   <-- " << tables::toString(check.reason);
         }
@@ -506,7 +510,9 @@ std::string defaultTablesSource(const std::vector<CompiledTable>& compiled) {
     for (std::size_t i = 0; i < count; ++i) {
         out << "    {kImage_" << descs[i].name << ", sizeof kImage_" << descs[i].name << "},\n";
     }
-    out << "};\nconst std::size_t kDefaultTableImageCount = sizeof kDefaultTableImages / sizeof kDefaultTableImages[0];\n\n"
+    out << "};\n"
+           "const std::size_t kDefaultTableImageCount = sizeof kDefaultTableImages / sizeof kDefaultTableImages[0];\n"
+           "\n"
            "}  // namespace rse::tables\n";
     return out.str();
 }

@@ -47,8 +47,9 @@ CompiledTable compileTableFile(const std::string& path);
 // The image of one source file.
 std::vector<std::uint8_t> compileTableSource(const std::string& path);
 
-// Whole-file image I/O. Reading refuses files larger than kMaxTableImageSize
-// (no check of the contents: describeImage or checkTableImage do that).
+// Whole-file image I/O. Reading does not check the contents (describeImage and
+// checkTableImage do, and say what is wrong, a wrong length included); it only
+// refuses files far beyond any image (1 MiB).
 std::vector<std::uint8_t> readTableImageFile(const std::string& path);
 void writeTableImageFile(const std::string& path, const std::vector<std::uint8_t>& image);
 

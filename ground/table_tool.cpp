@@ -1,6 +1,8 @@
 #include "ground/table_tool.hpp"
 
+#include <fstream>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -66,7 +68,12 @@ int build(const std::vector<std::string>& args, std::ostream& out) {
         throw TableSourceError(errors);
     }
     const std::string text = defaultTablesSource(compiled);
-    writeTableImageFile(output, std::vector<std::uint8_t>(text.begin(), text.end()));
+    std::ofstream file(output, std::ios::trunc);
+    file << text;
+    file.close();
+    if (!file) {
+        throw TableSourceError(output + ": cannot write");
+    }
     return kExitOk;
 }
 
@@ -132,7 +139,8 @@ int runTableCommand(int argc, char** argv, std::ostream& out, std::ostream& err)
         }
     } catch (const std::invalid_argument& e) {
         return usage(err, e.what());
-    } catch (const TableSourceError& e) {
+    } catch (const std::exception& e) {
+        // TableSourceError (bad source, unreadable file) and anything unexpected.
         err << e.what() << "\n";
         return kExitBadInput;
     }

@@ -25,8 +25,13 @@ void TelemetryTask::run(const core::FrameContext& frame) {
         hkRequested_ = false;
         sendHousekeeping(frame.actualStart);
     }
-    if (frame.slot == 0) {
+    if (frame.slot >= kTaskTimingSlot && frame.slot < kTaskTimingSlot + hkMsg_.taskCount) {
+        sendTaskTiming(frame.slot - kTaskTimingSlot);
+    }
+    if (frame.slot == kDrivesSlot) {
         sendDrives();
+    }
+    if (frame.slot == kRoverStateSlot) {
         sendRoverState();
     }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
@@ -110,21 +115,25 @@ void TelemetryTask::sendHousekeeping(core::TimeNs now) {
     hk_.table_rejects = sources_.tables.rejects();
     output_.send(hk_);
     ++housekeepingSent_;
+}
 
-    for (std::uint8_t i = 0; i < hkMsg_.taskCount && i < core::kMaxTasks; ++i) {
-        const msg::TaskTimingTlm& t = hkMsg_.tasks[i];
-        cmdtlm::TASK_TIMING_Tlm tlm{};
-        tlm.task_index = i;
-        std::memcpy(tlm.task_name, t.name, std::min(sizeof tlm.task_name, sizeof t.name));
-        tlm.runs = t.runs;
-        tlm.over_budget = t.overBudget;
-        tlm.last_us = t.lastUs;
-        tlm.mean_us = t.meanUs;
-        tlm.max_us = t.maxUs;
-        tlm.cpu_mean_us = t.hostMeanUs;
-        tlm.cpu_max_us = t.hostMaxUs;
-        output_.send(tlm);
+// From the housekeeping collection of the last HK, so all rows are of one instant.
+void TelemetryTask::sendTaskTiming(std::size_t index) {
+    if (index >= hkMsg_.taskCount || index >= core::kMaxTasks) {
+        return;
     }
+    const msg::TaskTimingTlm& t = hkMsg_.tasks[index];
+    cmdtlm::TASK_TIMING_Tlm tlm{};
+    tlm.task_index = static_cast<std::uint8_t>(index);
+    std::memcpy(tlm.task_name, t.name, std::min(sizeof tlm.task_name, sizeof t.name));
+    tlm.runs = t.runs;
+    tlm.over_budget = t.overBudget;
+    tlm.last_us = t.lastUs;
+    tlm.mean_us = t.meanUs;
+    tlm.max_us = t.maxUs;
+    tlm.cpu_mean_us = t.hostMeanUs;
+    tlm.cpu_max_us = t.hostMaxUs;
+    output_.send(tlm);
 }
 
 void TelemetryTask::sendDrives() {

@@ -1,7 +1,9 @@
 // What goes to the ground when (every minor frame; docs/icd.md "Telemetry"):
 //   every frame  EVENT packets for new events (at most kEventsPerFrame a frame;
 //                the event log is this task's to drain, so the rest wait there)
-//   1 Hz         HK, one TASK_TIMING per task, DRIVES, ROVER_STATE
+//   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
+//                slot 50, ROVER_STATE in slot 60: spread over the second so the
+//                slow CAN downlink never gets them in one burst
 //   on change    PLAN (goal list), and every 5 s
 //   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
 //                (table commands) through the send helpers below
@@ -24,6 +26,9 @@ namespace rse::app {
 
 constexpr std::size_t kEventsPerFrame = 8;  // 800 events/s downlink at most
 constexpr std::uint16_t kPlanPeriodFrames = 500;  // PLAN repeats every 5 s
+constexpr std::uint32_t kTaskTimingSlot = 10;     // TASK_TIMING of task i in slot 10 + i
+constexpr std::uint32_t kDrivesSlot = 50;
+constexpr std::uint32_t kRoverStateSlot = 60;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -48,6 +53,7 @@ public:
     // REQUEST_HK: HK and TASK_TIMING on the next run.
     void requestHousekeeping() { hkRequested_ = true; }
     void sendHousekeeping(core::TimeNs now);
+    void sendTaskTiming(std::size_t index);
     // Table commands report through these.
     void sendTableStatus(tables::TableId id, const tables::TableCheck& check);
     core::Status sendTableDump(tables::TableId id, bool inactive);

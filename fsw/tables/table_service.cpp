@@ -93,8 +93,7 @@ core::Status TableService::init(const TableImageRef* images, std::size_t count) 
         events_.report(events::kTableStartupActive, core::Severity::kInfo, "table %s version %u active, crc 0x%08X",
                        tableName(id), slot.activeVersion, slot.activeCrc);
     }
-    std::size_t descCount = 0;
-    const TableDesc* descs = tableDescs(&descCount);
+    const TableDesc* descs = tableDescs(nullptr);
     for (std::size_t i = 0; i < kTableCount; ++i) {
         if (!slots_[i].active) {
             events_.report(events::kTableMissing, core::Severity::kCritical, "table %s: no valid start-up image",
@@ -106,8 +105,7 @@ core::Status TableService::init(const TableImageRef* images, std::size_t count) 
 }
 
 void TableService::run(const core::FrameContext&) {
-    std::size_t descCount = 0;
-    const TableDesc* descs = tableDescs(&descCount);
+    const TableDesc* descs = tableDescs(nullptr);
     for (std::size_t i = 0; i < kTableCount; ++i) {
         Slot& slot = slots_[i];
         if (slot.state != TableBufferState::kPending) {
@@ -117,8 +115,9 @@ void TableService::run(const core::FrameContext&) {
         applyStaged(descs[i].id);
         slot.state = TableBufferState::kEmpty;
         slot.length = 0;
-        events_.report(events::kTableActivated, core::Severity::kInfo, "table %s activated: version %u -> %u, crc 0x%08X%s",
-                       descs[i].name, previous, slot.activeVersion, slot.activeCrc,
+        events_.report(events::kTableActivated, core::Severity::kInfo,
+                       "table %s activated: version %u -> %u, crc 0x%08X%s", descs[i].name, previous,
+                       slot.activeVersion, slot.activeCrc,
                        appliesAtNextStart(descs[i].id) ? "; applies at next start" : "");
     }
 }

@@ -26,10 +26,10 @@ namespace {
 const char* errnoText(int error) {
     switch (error) {
         case EADDRINUSE: return "address in use";
-        case EADDRNOTAVAIL: return "address not on this host";
+        case EADDRNOTAVAIL: return "address not local";
         case EACCES: return "permission denied";
-        case EPERM: return "not permitted (firewall?)";
-        case ECONNREFUSED: return "refused (ground not listening?)";
+        case EPERM: return "not permitted";
+        case ECONNREFUSED: return "port closed";  // ground not listening
         case EHOSTUNREACH: return "host unreachable";
         case ENETUNREACH: return "network unreachable";
         case ENETDOWN: return "network down";
@@ -62,6 +62,9 @@ sockaddr_in makeAddress(std::uint32_t address, std::uint16_t port) {
 
 unsigned u(std::uint32_t v) { return static_cast<unsigned>(v); }
 
+// The socket buffer or the device queue is full: try again later.
+bool isBufferFull(int error) { return error == EAGAIN || error == EWOULDBLOCK || error == ENOBUFS; }
+
 }  // namespace
 
 UdpPacketLink::~UdpPacketLink() { closeSocket(); }
@@ -88,8 +91,8 @@ void UdpPacketLink::closeSocket() {
 
 void UdpPacketLink::close() {
     if (fd_ >= 0) {
-        event(events::kLinkClosed, Severity::kInfo, "udp: closed (%u packets in, %u out)",
-                       u(stats_.rxPackets), u(stats_.txPackets));
+        event(events::kLinkClosed, Severity::kInfo, "udp: closed (%u packets in, %u out)", u(stats_.rxPackets),
+              u(stats_.txPackets));
     }
     closeSocket();
 }
@@ -101,8 +104,8 @@ Status UdpPacketLink::open(const char* bindAddress, std::uint16_t commandPort, c
     if (!parseIpv4(bindAddress, &bindIp, bindHost_)) {
         lastErrno_ = EINVAL;
         event(events::kLinkBadAddress, Severity::kError,
-                       "udp: bind address '%.40s' is not a numeric IPv4 address: link closed",
-                       bindAddress == nullptr ? "(null)" : bindAddress);
+              "udp: bad bind address '%.32s' (numeric IPv4 only): link closed",
+              bindAddress == nullptr ? "(null)" : bindAddress);
         return Status::kInvalidArgument;
     }
     const Status destination = setTelemetryDestination(groundHost, telemetryPort);
@@ -113,8 +116,8 @@ Status UdpPacketLink::open(const char* bindAddress, std::uint16_t commandPort, c
     const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) {
         lastErrno_ = errno;
-        event(events::kLinkOpenFailed, Severity::kError, "udp: no socket: %s (errno %d)",
-                       errnoText(lastErrno_), lastErrno_);
+        event(events::kLinkOpenFailed, Severity::kError, "udp: no socket: %s (errno %d)", errnoText(lastErrno_),
+              lastErrno_);
         return Status::kUnavailable;
     }
     const int on = 1;
@@ -122,15 +125,15 @@ Status UdpPacketLink::open(const char* bindAddress, std::uint16_t commandPort, c
         lastErrno_ = errno;
         ::close(fd);
         event(events::kLinkOpenFailed, Severity::kError, "udp: IP_RECVERR refused: %s (errno %d)",
-                       errnoText(lastErrno_), lastErrno_);
+              errnoText(lastErrno_), lastErrno_);
         return Status::kUnavailable;
     }
     const sockaddr_in local = makeAddress(bindIp, commandPort);
     if (bind(fd, reinterpret_cast<const sockaddr*>(&local), sizeof local) != 0) {
         lastErrno_ = errno;
         ::close(fd);
-        event(events::kLinkOpenFailed, Severity::kError, "udp: bind %s:%u failed: %s (errno %d)",
-                       bindHost_, static_cast<unsigned>(commandPort), errnoText(lastErrno_), lastErrno_);
+        event(events::kLinkOpenFailed, Severity::kError, "udp: bind %s:%u failed: %s (errno %d)", bindHost_,
+              static_cast<unsigned>(commandPort), errnoText(lastErrno_), lastErrno_);
         return Status::kUnavailable;
     }
     sockaddr_in bound{};
@@ -139,14 +142,14 @@ Status UdpPacketLink::open(const char* bindAddress, std::uint16_t commandPort, c
         lastErrno_ = errno;
         ::close(fd);
         event(events::kLinkOpenFailed, Severity::kError, "udp: getsockname failed: %s (errno %d)",
-                       errnoText(lastErrno_), lastErrno_);
+              errnoText(lastErrno_), lastErrno_);
         return Status::kUnavailable;
     }
     fd_ = fd;
     boundPort_ = ntohs(bound.sin_port);
     lastErrno_ = 0;
     event(events::kLinkOpened, Severity::kInfo, "udp: commands on %s:%u, telemetry to %s:%u", bindHost_,
-                   static_cast<unsigned>(boundPort_), telemetryHost_, static_cast<unsigned>(telemetryPort_));
+          static_cast<unsigned>(boundPort_), telemetryHost_, static_cast<unsigned>(telemetryPort_));
     return Status::kOk;
 }
 
@@ -156,8 +159,8 @@ Status UdpPacketLink::setTelemetryDestination(const char* groundHost, std::uint1
     if (!parseIpv4(groundHost, &address, text) || telemetryPort == 0) {
         lastErrno_ = EINVAL;
         event(events::kLinkBadAddress, Severity::kError,
-                       "udp: telemetry destination '%.40s' port %u refused: numeric IPv4 and port 1-65535",
-                       groundHost == nullptr ? "(null)" : groundHost, static_cast<unsigned>(telemetryPort));
+              "udp: bad telemetry destination '%.24s':%u (numeric IPv4, port > 0)",
+              groundHost == nullptr ? "(null)" : groundHost, static_cast<unsigned>(telemetryPort));
         return Status::kInvalidArgument;
     }
     const bool changed = telemetryAddress_ != address || telemetryPort_ != telemetryPort;
@@ -165,8 +168,8 @@ Status UdpPacketLink::setTelemetryDestination(const char* groundHost, std::uint1
     telemetryPort_ = telemetryPort;
     std::memcpy(telemetryHost_, text, sizeof telemetryHost_);
     if (changed && fd_ >= 0) {
-        event(events::kLinkTelemetryRedirected, Severity::kInfo, "udp: telemetry now to %s:%u",
-                       telemetryHost_, static_cast<unsigned>(telemetryPort_));
+        event(events::kLinkTelemetryRedirected, Severity::kInfo, "udp: telemetry now to %s:%u", telemetryHost_,
+              static_cast<unsigned>(telemetryPort_));
     }
     return Status::kOk;
 }
@@ -205,7 +208,7 @@ std::size_t UdpPacketLink::drainErrorReports() {
         ++undeliverable_;
         if (core::isReportableOccurrence(undeliverable_)) {
             event(events::kLinkTxUndeliverable, Severity::kWarning,
-                  "udp: telemetry to %s:%u undeliverable: %s (errno %d, %u times)", telemetryHost_,
+                  "udp: tlm to %s:%u undeliverable: %s (errno %d, %u times)", telemetryHost_,
                   static_cast<unsigned>(telemetryPort_), errnoText(reported), reported, u(undeliverable_));
         }
     }
@@ -238,8 +241,7 @@ Status UdpPacketLink::receive(std::uint8_t* out, std::size_t capacity, std::size
                 ++rxTooLarge_;
                 if (core::isReportableOccurrence(rxTooLarge_)) {
                     event(events::kLinkRxTooLarge, Severity::kWarning,
-                                   "udp: %zu-byte datagram dropped, longer than %zu (%u times)", size, capacity,
-                                   u(rxTooLarge_));
+                          "udp: %zu-byte datagram dropped, longer than %zu (%u times)", size, capacity, u(rxTooLarge_));
                 }
                 return Status::kTooLarge;
             }
@@ -256,7 +258,7 @@ Status UdpPacketLink::receive(std::uint8_t* out, std::size_t capacity, std::size
             ++rxErrors_;
             if (core::isReportableOccurrence(rxErrors_)) {
                 event(events::kLinkRxError, Severity::kError, "udp: receive failed: %s (errno %d, %u times)",
-                               errnoText(error), error, u(rxErrors_));
+                      errnoText(error), error, u(rxErrors_));
             }
             return Status::kUnavailable;
         }
@@ -273,47 +275,47 @@ Status UdpPacketLink::send(const std::uint8_t* data, std::size_t length) {
         ++stats_.txDropped;
         ++txInvalid_;
         if (core::isReportableOccurrence(txInvalid_)) {
-            event(events::kLinkTxInvalid, Severity::kError, "udp: empty packet refused (%u times)",
-                           u(txInvalid_));
+            event(events::kLinkTxInvalid, Severity::kError, "udp: empty packet refused (%u times)", u(txInvalid_));
         }
         return Status::kInvalidArgument;
     }
     const sockaddr_in to = makeAddress(telemetryAddress_, telemetryPort_);
-    const ssize_t n = sendto(fd_, data, length, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+    const auto* address = reinterpret_cast<const sockaddr*>(&to);
+    ssize_t n = sendto(fd_, data, length, MSG_DONTWAIT, address, sizeof to);
+    int error = n < 0 ? errno : 0;
+    if (n < 0 && !isBufferFull(error) && error != EMSGSIZE && drainErrorReports() > 0) {
+        // The errno was an earlier datagram's report (now counted), and Linux did
+        // not send this one: send it again, once, so the result is about this packet.
+        n = sendto(fd_, data, length, MSG_DONTWAIT, address, sizeof to);
+        error = n < 0 ? errno : 0;
+    }
     if (n >= 0) {  // a datagram goes whole or not at all
         ++stats_.txPackets;
         return Status::kOk;
     }
-    const int error = errno;
     lastErrno_ = error;
     ++stats_.txDropped;
-    if (error == EAGAIN || error == EWOULDBLOCK || error == ENOBUFS) {
+    if (isBufferFull(error)) {
         ++txFull_;
         if (core::isReportableOccurrence(txFull_)) {
             event(events::kLinkTxFull, Severity::kWarning,
-                           "udp: socket buffer full, %zu-byte packet dropped (%u times)", length, u(txFull_));
+                  "udp: socket buffer full, %zu-byte packet dropped (%u times)", length, u(txFull_));
         }
         return Status::kFull;
     }
     if (error == EMSGSIZE) {
         ++txInvalid_;
         if (core::isReportableOccurrence(txInvalid_)) {
-            event(events::kLinkTxInvalid, Severity::kError,
-                           "udp: %zu-byte packet refused: too large for a datagram (%u times)", length,
-                           u(txInvalid_));
+            event(events::kLinkTxInvalid, Severity::kError, "udp: %zu-byte packet too large for a datagram (%u times)",
+                  length, u(txInvalid_));
         }
         return Status::kTooLarge;
     }
-    // The errno may be an earlier packet's undeliverable report (Linux returns it
-    // once, on the next call): then it is in the error queue and counted there.
-    if (drainErrorReports() == 0) {
-        ++stats_.errors;
-        ++txErrors_;
-        if (core::isReportableOccurrence(txErrors_)) {
-            event(events::kLinkTxError, Severity::kError, "udp: send to %s:%u failed: %s (errno %d, %u times)",
-                           telemetryHost_, static_cast<unsigned>(telemetryPort_), errnoText(error), error,
-                           u(txErrors_));
-        }
+    ++stats_.errors;
+    ++txErrors_;
+    if (core::isReportableOccurrence(txErrors_)) {
+        event(events::kLinkTxError, Severity::kError, "udp: send to %s:%u failed: %s (errno %d, %u times)",
+              telemetryHost_, static_cast<unsigned>(telemetryPort_), errnoText(error), error, u(txErrors_));
     }
     return Status::kUnavailable;
 }

@@ -16,12 +16,13 @@
 //   - A ground that is not listening answers with ICMP "port unreachable". The
 //     socket asks for those reports (IP_RECVERR) so the operator learns that
 //     telemetry goes nowhere: each report is counted in errors and evented
-//     (kLinkTxUndeliverable). service() drains the reports every minor frame; left
-//     there they would take the receive buffer that commands need. Linux also
-//     returns such a report once as the errno of the next sendto() (that packet is
-//     not sent: txDropped) or recv() (read again at once); it is counted once, and
-//     those calls drain the reports too, so a link whose owner never calls
-//     service() still keeps its receive buffer free.
+//     (kLinkTxUndeliverable); the packets still count as sent (txPackets), since
+//     they left. service() drains the reports every minor frame; left there they
+//     would take the receive buffer that commands need. Linux also hands a report
+//     once to the next sendto() or recv() as its errno, without sending or reading
+//     anything: the report is then drained and counted the same way and the call
+//     made again, once, so its result is about this packet (and a link whose
+//     owner never calls service() still keeps its receive buffer free).
 //   - Only numeric IPv4 addresses (inet_pton), no name lookup: resolving a name
 //     can block for seconds.
 // Events (hal/link/link_events.hpp): open, close and redirection every time;
@@ -86,9 +87,10 @@ public:
     // counted; *length says how long it was), kUnavailable (closed, or an OS error:
     // counted and evented), kInvalidArgument (null length, or null out with capacity > 0).
     core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override;
-    // One datagram to the telemetry destination: kOk, kFull (socket buffer full),
-    // kTooLarge (EMSGSIZE), kInvalidArgument (empty or null), kUnavailable (closed,
-    // or an OS error). Every refusal counts in txDropped.
+    // One datagram to the telemetry destination (a second sendto() only after an
+    // undeliverable report, see above): kOk, kFull (socket buffer full), kTooLarge
+    // (EMSGSIZE), kInvalidArgument (empty or null), kUnavailable (closed, or an OS
+    // error such as no route: counted in errors, evented). Every refusal counts in txDropped.
     core::Status send(const std::uint8_t* data, std::size_t length) override;
     // Every minor frame: drains the socket's error queue (undeliverable reports).
     void service() override;

@@ -182,7 +182,10 @@ TEST(GroundCommandEncoder, OutOfRangeShowsTheValidRange) {
     CHECK_TRUE(contains(errorOf("ADD_TARGET", {"x=0", "y=0", "priority=0"}), "priority=0 is out of range 1..10"));
     CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=-1"}), "mode=-1 is out of range 0..3"));
     CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=256"}), "out of range"));
-    CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=99999999999999999999999"}), "not a number"));
+    CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=99999999999999999999999"}), "is out of range 0..3"));
+    CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=inf"}), "mode=inf is not a number"));
+    CHECK_EQUAL(1, decoded<cmdtlm::SET_MODE_Args>(ground::encodeArguments(command("SET_MODE"), {"mode=1e0"})).mode);
+    CHECK_EQUAL(2, decoded<cmdtlm::SET_MODE_Args>(ground::encodeArguments(command("SET_MODE"), {"mode=0x2"})).mode);
 }
 
 TEST(GroundCommandEncoder, NonNumericAndNonIntegerValuesAreRefused) {

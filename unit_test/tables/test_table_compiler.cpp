@@ -93,8 +93,9 @@ ToolResult tool(std::vector<std::string> args) {
     return {status, out.str(), err.str()};
 }
 
-const char* const kSources[] = {"tables/rover_geometry.toml", "tables/estimator_noise.toml", "tables/planner.toml",
-                                "tables/habitual.toml",       "tables/can_node_map.toml",    "tables/fault_response.toml"};
+const char* const kSources[] = {"tables/rover_geometry.toml", "tables/estimator_noise.toml",
+                                "tables/planner.toml",        "tables/habitual.toml",
+                                "tables/can_node_map.toml",   "tables/fault_response.toml"};
 
 }  // namespace
 
@@ -293,6 +294,11 @@ TEST(TableTool, BuildShowAndCheckAnImage) {
     r = tool({"show", image});
     LONGS_EQUAL(0, r.status);
     CHECK_TEXT(contains(r.out, "max_wheel_speed_rad_s"), r.out.c_str());
+
+    writeText(image, bytes + "x");
+    r = tool({"check", image});
+    LONGS_EQUAL(1, r.status);
+    CHECK_TEXT(contains(r.err, "rejected: bad length (header says 38 payload bytes, image has 39"), r.err.c_str());
 
     std::string corrupt = bytes;
     corrupt[30] = static_cast<char>(corrupt[30] ^ 0x40);

@@ -62,8 +62,8 @@ TEST(TableImage, HeaderLayoutIsBigEndianAsDocumented) {
                                        0x00, 0x00, 0x00, static_cast<std::uint8_t>(kRoverGeometryPayloadSize)};
     MEMCMP_EQUAL(expected, image.data(), sizeof expected);
     // CRC over bytes 0..15 then the payload, stored big-endian at 16.
-    const std::uint32_t crc =
-        rse::core::crc32(image.data() + kTableHeaderSize, kRoverGeometryPayloadSize, rse::core::crc32(image.data(), 16));
+    const std::uint32_t header = rse::core::crc32(image.data(), 16);
+    const std::uint32_t crc = rse::core::crc32(image.data() + kTableHeaderSize, kRoverGeometryPayloadSize, header);
     LONGS_EQUAL(crc >> 24, image[16]);
     LONGS_EQUAL(crc & 0xFFU, image[19]);
     // First payload field: wheel_radius_m as a big-endian IEEE float.
@@ -380,7 +380,8 @@ TEST(TableDescriptors, IdsNamesAndLookupsAgree) {
     const TableDesc* descs = tableDescs(&count);
     LONGS_EQUAL(6, count);
     const std::uint16_t ids[] = {1, 2, 3, 4, 5, 6};
-    const char* names[] = {"ROVER_GEOMETRY", "ESTIMATOR_NOISE", "PLANNER", "HABITUAL", "CAN_NODE_MAP", "FAULT_RESPONSE"};
+    const char* names[] = {"ROVER_GEOMETRY", "ESTIMATOR_NOISE", "PLANNER",
+                           "HABITUAL",       "CAN_NODE_MAP",    "FAULT_RESPONSE"};
     for (std::size_t i = 0; i < count; ++i) {
         LONGS_EQUAL(ids[i], static_cast<std::uint16_t>(descs[i].id));
         STRCMP_EQUAL(names[i], descs[i].name);
@@ -412,6 +413,11 @@ TEST(TableDescriptors, EveryFieldIsDescribedAndItsRangeFitsItsType) {
             // The bounds themselves are storable values (else a field could never be set to them).
             CHECK_TEXT(checkFieldValue(field, field.min) == TableReject::kNone, field.name);
             CHECK_TEXT(checkFieldValue(field, field.max) == TableReject::kNone, field.name);
+            // ... and the wire type holds them.
+            std::vector<std::uint8_t> payload(table.payloadSize);
+            const auto index = static_cast<std::uint16_t>(f);
+            CHECK_TEXT(writeFieldValue(table, payload.data(), payload.size(), index, 0, field.min), field.name);
+            CHECK_TEXT(writeFieldValue(table, payload.data(), payload.size(), index, 0, field.max), field.name);
             bytes += field.count * fieldTypeSize(field.type);
         }
         LONGS_EQUAL(bytes, table.payloadSize);
