@@ -61,6 +61,15 @@ std::string modeNames(std::uint8_t modes, const char* separator) {
     return text;
 }
 
+// "any mode", "mode MANUAL", "modes STANDBY, AUTONOMOUS"
+std::string modeList(std::uint8_t modes) {
+    if (modes == cmdtlm::mode_mask::kAnyMode) {
+        return "any mode";
+    }
+    const std::string names = modeNames(modes, ", ");
+    return (names.find(',') == std::string::npos ? "mode " : "modes ") + names;
+}
+
 std::string md(const char* text) {
     std::string out;
     for (const char* p = text; p != nullptr && *p != '\0'; ++p) {
@@ -149,8 +158,7 @@ std::string exportDictionaryMarkdown() {
         o << "\n### " << c.name << "\n\n"
           << md(c.description) << ".\n\n"
           << "APID " << hex3(c.apid) << ", function code " << static_cast<unsigned>(c.functionCode)
-          << ", accepted in mode" << (c.modes == cmdtlm::mode_mask::kAnyMode ? "" : "s") << " "
-          << modeNames(c.modes, ", ") << ". ";
+          << ", accepted in " << modeList(c.modes) << ". ";
         if (c.argCount == 0) {
             o << "No arguments.\n";
         } else {
@@ -187,7 +195,9 @@ std::string exportDictionaryMarkdown() {
       << "|---|---|---:|---:|---|\n";
     for (std::size_t i = 0; i < telemetryCount; ++i) {
         const TelemetryDesc& t = tlm[i];
-        o << "| [" << t.name << "](#" << anchor(t.name) << ") | " << hex3(t.apid) << " | " << t.payloadSize << " | "
+        // A packet named like a command (TABLE_DUMP) gets the second heading's anchor.
+        const bool clash = cmdtlm::findCommand(t.name) != nullptr;
+        o << "| [" << t.name << "](#" << anchor(t.name) << (clash ? "-1" : "") << ") | " << hex3(t.apid) << " | " << t.payloadSize << " | "
           << t.payloadSize + cmdtlm::kTelemetryHeaderSize << " | " << md(t.description) << " |\n";
     }
     for (std::size_t i = 0; i < telemetryCount; ++i) {

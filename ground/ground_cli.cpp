@@ -239,7 +239,7 @@ private:
             case CommandReject::kReplayedSequence:
                 err_ << "hint: the rover has seen this anti-replay number (or newer ones) for key "
                      << (g_.noAuth ? 0 : (g_.keyId ? *g_.keyId : 1)) << "; numbers come from "
-                     << store().directory() << " — another ground station or a reset state? --auth-seq N jumps ahead\n";
+                     << store().directory() << " (another ground station, or a reset state directory?); --auth-seq N jumps ahead\n";
                 break;
             case CommandReject::kMacMissing:
                 err_ << "hint: the rover requires authenticated commands: drop --no-auth\n";

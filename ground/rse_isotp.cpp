@@ -5,10 +5,9 @@
 //
 //   rse-isotp --can IFACE --tx ID --rx ID [--pad] [--timeout S] send   < hex line
 //   rse-isotp --can IFACE --tx ID --rx ID [--pad] [--timeout S] recv   > hex line
-//   rse-isotp --can IFACE --tx ID --rx ID [--pad] [--timeout S] echo-check SIZE
 //
-// echo-check sends SIZE pattern bytes and expects the same bytes back (the
-// rover's link-test service). Exit: 0 ok, 1 failed or timed out, 2 bad usage.
+// Exit: 0 ok, 1 failed or timed out, 2 bad usage. (Commanding the rover over
+// ISO-TP is rse-ground --can's job; this tool moves raw messages.)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -29,7 +28,7 @@ using rse::core::TimeNs;
 int usage(const char* why) {
     std::fprintf(stderr,
                  "rse-isotp: %s\n"
-                 "usage: rse-isotp --can IFACE --tx ID --rx ID [--pad] [--timeout S] send|recv|echo-check SIZE\n",
+                 "usage: rse-isotp --can IFACE --tx ID --rx ID [--pad] [--timeout S] send|recv\n",
                  why);
     return 2;
 }
@@ -175,18 +174,6 @@ int main(int argc, char** argv) {
         for (std::size_t i = 0; ok && i < data.size(); ++i) {
             std::printf("%02X%s", data[i], i + 1 < data.size() ? " " : "\n");
         }
-    } else if (rest[0] == "echo-check" && rest.size() == 2) {
-        const long size = std::atol(rest[1].c_str());
-        if (size < 1 || size > static_cast<long>(rse::hal::kIsoTpMaxMessage)) {
-            return usage("echo-check SIZE must be 1..4095");
-        }
-        std::vector<std::uint8_t> data(static_cast<std::size_t>(size));
-        for (std::size_t i = 0; i < data.size(); ++i) {
-            data[i] = static_cast<std::uint8_t>((i * 13 + 5) & 0xFF);
-        }
-        std::vector<std::uint8_t> back;
-        ok = sendAll(link, data, timeout) && receiveOne(link, &back, timeout) && back == data;
-        std::printf("echo-check %ld bytes: %s\n", size, ok ? "identical" : "MISMATCH or missing");
     } else {
         return usage("unknown command");
     }

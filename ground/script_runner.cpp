@@ -393,13 +393,18 @@ bool ScriptRunner::runWait(const ScriptStatement& s, std::string* why) {
     }
     const double start = monotonicSeconds();
     const double deadline = start + s.seconds;
+    std::size_t others = 0;
     for (;;) {
         const double left = deadline - monotonicSeconds();
         if (left <= 0.0) {
             break;
         }
         std::optional<DecodedPacket> packet = session_.receive(left);
-        if (!packet || !c.appliesTo(*packet)) {
+        if (!packet) {
+            continue;
+        }
+        if (!c.appliesTo(*packet)) {
+            ++others;
             continue;
         }
         if (c.holds(*packet)) {
@@ -413,7 +418,9 @@ bool ScriptRunner::runWait(const ScriptStatement& s, std::string* why) {
     }
     *why = "wait " + c.source + ": not met within " + formatNumber(s.seconds) + " s (" +
            (lastSeen ? "last " + c.observed(*lastSeen)
-                     : "no " + std::string(c.packet->name) + " packet received: is the link up?") +
+                     : "no " + std::string(c.packet->name) + " packet received" +
+                           (others > 0 ? " (" + std::to_string(others) + " other packets were)"
+                                       : std::string(": is the link up?"))) +
            ")";
     return false;
 }

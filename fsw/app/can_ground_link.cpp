@@ -35,6 +35,9 @@ Status CanGroundLink::receive(std::uint8_t* out, std::size_t capacity, std::size
         return Status::kInvalidArgument;
     }
     const Status s = channel_.receive(out, capacity, length);
+    if (core::isOk(s) || s == Status::kTooLarge) {
+        groundHeard_ = true;
+    }
     if (core::isOk(s)) {
         ++stats_.rxPackets;
     } else if (s == Status::kTooLarge) {

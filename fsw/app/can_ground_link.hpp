@@ -40,7 +40,7 @@ namespace rse::app {
 
 constexpr std::uint32_t kGroundUplinkCobId = 0x6F0;
 constexpr std::uint32_t kGroundDownlinkCobId = 0x6F1;
-constexpr std::size_t kGroundLinkTxQueueDepth = 8;  // telemetry packets waiting for the transmitter
+constexpr std::size_t kGroundLinkTxQueueDepth = 16;  // telemetry packets waiting for the transmitter
 
 class CanGroundLink final : public hal::canopen::CanFrameSink, public hal::PacketLink {
 public:
@@ -59,6 +59,9 @@ public:
     // kMaxTelemetryPacket), kInvalidArgument (empty or null), kUnavailable (the
     // channel's configuration was refused). Every refusal counts in txDropped.
     core::Status send(const std::uint8_t* data, std::size_t length) override;
+    // Telemetry goes down only once a ground has sent something on 0x6F0: with
+    // nobody there every multi-frame packet would wait N_Bs for flow control.
+    bool downlinkActive() const override { return groundHeard_; }
     // Once per minor frame: advances ISO-TP (CFs, flow control, timeouts) and starts
     // the next queued packets while the transmitter is idle.
     void service() override;
@@ -71,6 +74,7 @@ public:
     const hal::IsoTpChannel& channel() const { return channel_; }
 
 private:
+    bool groundHeard_ = false;
     static hal::IsoTpConfig config();
     void finishTransmission();
     void refreshStats();

@@ -31,6 +31,9 @@ void TelemetryOutput::sendPayload(std::uint16_t apid, const std::uint8_t* payloa
     }
     sequence_[apid & kMaxApid] = static_cast<std::uint16_t>((sequence_[apid & kMaxApid] + 1) & kSequenceCountMask);
     for (std::size_t i = 0; i < linkCount_; ++i) {
+        if (!links_[i]->downlinkActive()) {
+            continue;
+        }
         const core::Status status = links_[i]->send(packet_, size);
         if (core::isOk(status)) {
             ++sent_;

@@ -29,6 +29,11 @@ public:
     virtual core::Status send(const std::uint8_t* data, std::size_t length) = 0;
     // Advances the transport once per minor frame (segmentation, retries).
     virtual void service() {}
+    // Whether telemetry should be offered now. A link whose transport needs a
+    // listening peer (ISO-TP waits for flow control) holds its downlink back
+    // until the ground has been heard on it, like cFS TO_LAB's "enable output";
+    // packets not offered are not drops.
+    virtual bool downlinkActive() const { return true; }
     virtual const char* name() const = 0;
     virtual const PacketLinkStats& stats() const = 0;
 

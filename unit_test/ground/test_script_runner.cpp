@@ -72,7 +72,7 @@ TEST(GroundScriptParse, GoodScriptWithCommentsAndBlankLines) {
         "wait HK.mode == 1 within 5\n"
         "wait DRIVES.state[2]>=4\n"
         "sleep 0.5\n"
-        "print step #2 done\n");
+        "print step 2 done # a comment\n");
     CHECK_TRUE(s.ok());
     CHECK_EQUAL(6U, s.statements.size());
     CHECK_TRUE(s.statements[0].kind == ScriptStatement::Kind::kSend);
@@ -98,7 +98,7 @@ TEST(GroundScriptParse, GoodScriptWithCommentsAndBlankLines) {
     CHECK_TRUE(s.statements[4].kind == ScriptStatement::Kind::kSleep);
     DOUBLES_EQUAL(0.5, s.statements[4].seconds, 0.0);
     CHECK_TRUE(s.statements[5].kind == ScriptStatement::Kind::kPrint);
-    STRCMP_EQUAL("step #2 done", s.statements[5].text.c_str());
+    STRCMP_EQUAL("step 2 done", s.statements[5].text.c_str());
     CHECK_EQUAL(8, s.statements[5].line);
 }
 
@@ -203,8 +203,9 @@ TEST(GroundScriptRun, PassingScriptExitsZero) {
     CHECK_TRUE(contains(rig.out.str(), "test.rsc: all 9 statements passed"));
     CHECK_TRUE(rig.rover.mode == cmdtlm::Mode::kManual);
     CHECK_EQUAL(3U, rig.rover.executed.size());  // SET_MODE, DRIVE, the first NOOP
-    // Numbers after a forced one continue above it.
-    CHECK_EQUAL(500U, rig.store.last(1));
+    // Numbers after a forced one continue above it: the GOTO after the two 500s got 501.
+    CHECK_EQUAL(501U, rig.store.last(1));
+    CHECK_EQUAL(501U, rig.rover.verdicts.back().authSequence);
 }
 
 TEST(GroundScriptRun, ARejectedSendFailsAtItsLine) {

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_packet.hpp"
 #include "hal/can/isotp.hpp"
 #include "unit_test/lockstep/lockstep_rig.hpp"
 
@@ -82,6 +83,21 @@ TEST_GROUP(LockstepGroundLink) {
 
 TEST(LockstepGroundLink, TelemetryComesDownAsWholeCcsdsPacketsWhileTheRoverDrives) {
     CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 2 * core::kNsPerSec));
+    rig->runFor(core::kNsPerSec);
+    LONGS_EQUAL(0, g_ground.packets);  // nobody heard on 0x6F0 yet: the downlink holds back
+    LONGS_EQUAL(0, link().stats().txDropped);
+
+    // The ground says NOOP; from then on telemetry comes down.
+    cmdtlm::HmacSha256 hmac;
+    CHECK(core::isOk(hmac.init()));
+    cmdtlm::CommandFields noop;
+    noop.apid = 0x180;
+    noop.keyId = cmdtlm::kLabKeyId;
+    noop.authSequence = 1;
+    std::uint8_t packet[cmdtlm::kMaxCommandPacket];
+    const std::size_t n = cmdtlm::encodeCommandPacket(noop, nullptr, 0, cmdtlm::kLabKey, hmac, packet, sizeof packet);
+    CHECK(core::Status::kOk == g_ground.channel->send(packet, n));
+    CHECK_TRUE(rig->runUntil([&] { return rig->fsw().commands().counters().accepted == 1; }, core::kNsPerSec));
     rig->commandAllWheels(1.0);
     const std::uint32_t before = g_ground.packets;
     rig->runFor(3 * core::kNsPerSec);

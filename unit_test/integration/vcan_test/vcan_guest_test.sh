@@ -26,8 +26,20 @@ FSW=$!
 i=0
 while [ $i -lt 100 ] && [ "$(count 'EVT 432 ' /tmp/fsw.log)" -lt 6 ]; do sleep 0.1; i=$((i + 1)); done
 check "all six drives configured by SDO and enabled over SocketCAN" [ "$(count 'EVT 432 ' /tmp/fsw.log)" -ge 6 ]
-check "ground packet round trip through rse-fsw (ISO-TP 0x6F0/0x6F1, 1000 bytes)" \
-  $B/rse-isotp --can vcan0 --tx 6F0 --rx 6F1 --timeout 5 echo-check 1000
+# --- Ground link: rse-ground commands over ISO-TP (0x6F0 up, 0x6F1 down).
+G="$B/rse-ground --can vcan0 --state-dir /tmp/ground-state --timeout 5"
+$G send NOOP --auth-seq 7001 > /tmp/g1.out 2>&1; g1=$?
+check "rse-ground: authenticated NOOP over ISO-TP, acknowledged in telemetry (exit 0)" [ $g1 -eq 0 ]
+check "rse-ground: the acknowledgement says accepted" grep -qi "accepted" /tmp/g1.out
+check "rse-fsw: NOOP executed (EVT 500)" grep -q "EVT 500 INFO  cmd: NOOP (key 1, seq 7001)" /tmp/fsw.log
+$G send NOOP --auth-seq 7001 > /tmp/g2.out 2>&1; g2=$?
+check "rse-ground: a replayed copy is rejected by the rover (exit 3)" [ $g2 -eq 3 ]
+check "rse-ground: the rejection names replayed_sequence" grep -q "replayed_sequence" /tmp/g2.out
+check "rse-fsw: replay evented (EVT 530)" grep -q "EVT 530 ERROR cmd: rejected NOOP: replayed_sequence" /tmp/fsw.log
+$G send SET_MODE mode=1 > /tmp/g3.out 2>&1; g3=$?
+check "rse-ground: SET_MODE STANDBY accepted with a fresh sequence number" [ $g3 -eq 0 ]
+$G watch --count 40 --seconds 4 --only HK > /tmp/g4.out 2>&1
+check "rse-ground watch: housekeeping over ISO-TP shows mode 1" grep -q "mode=1" /tmp/g4.out
 
 wait $FSW; fsw_rc=$?
 wait $SIM; sim_rc=$?

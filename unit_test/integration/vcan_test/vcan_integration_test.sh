@@ -22,7 +22,7 @@ if [ -e /sys/class/net/vcan0 ] && grep -q '^can_isotp' /proc/modules 2>/dev/null
   RSE_GUEST_BIN="$root/$bin" RSE_GUEST_DATA="$here" sh "$here/vcan_guest_test.sh" > "$out/vm.log" 2>&1
 else
   "$root/unit_test/integration/vcan_vm/run_in_vm.sh" \
-    --bin "$bin/rse-fsw" --bin "$bin/rse-sim" --bin "$bin/rse-isotp" \
+    --bin "$bin/rse-fsw" --bin "$bin/rse-sim" --bin "$bin/rse-isotp" --bin "$bin/rse-ground" \
     --file "$here/vcan_session.toml" "$here/vcan_guest_test.sh" > "$out/vm.log" 2>&1
 fi
 vm_rc=$?

@@ -1,0 +1,369 @@
+// libFuzzer target: the table loader - image checks, the typed decoders and
+// encoders, and the table service's load / validate / activate / run / dump
+// sequence (unit_test/fuzz/README.md).
+//
+// An input is one table image, exactly as `rse-ground table build` writes it
+// (so the seed corpus holds real images and the unit tests replay it as is).
+// Each input is tried twice:
+//   raw       the bytes as they are;
+//   repaired  the header's payload length and CRC recomputed, so mutated
+//             payloads reach the field range and cross-field checks instead
+//             of dying at the CRC.
+//
+// Invariants (a broken one traps, which libFuzzer reports as a crash):
+//   - checkTableImage without an expected id agrees with the check against
+//     the header's own id, and passes against no other id;
+//   - decodeTable gives the verdict of checkTableImage for its table, leaves
+//     its output untouched when it refuses, and when it accepts, encodeTable of
+//     the result reproduces the image byte for byte;
+//   - every element of an accepted image reads back finite (floats) and within
+//     its [min, max], and every cross-field rule holds;
+//   - TableService: chunks (split at points derived from the data) load into
+//     the inactive buffer and dump back unchanged; a chunk at the wrong offset
+//     is refused with chunk_gap and changes nothing; validate gives
+//     checkTableImage's verdict; a refused validate or activate leaves every
+//     active table byte for byte as it was, also after run(); an accepted one
+//     changes nothing until run(), after which the table's active dump is the
+//     image byte for byte (version and CRC included) and no other table moved.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "fsw/core/clock.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/tables/default_tables.hpp"
+#include "fsw/tables/table_image.hpp"
+#include "fsw/tables/table_service.hpp"
+#include "fsw/tables/table_types.hpp"
+
+using namespace rse;
+using namespace rse::tables;
+
+namespace {
+
+// A little beyond the largest image the service takes, to reach too_large.
+constexpr std::size_t kMaxInput = kMaxTableImageSize + 64;
+
+#define FUZZ_REQUIRE(condition) \
+    do {                        \
+        if (!(condition)) {     \
+            __builtin_trap();   \
+        }                       \
+    } while (0)
+
+struct Rig {
+    core::VirtualClock clock;
+    core::EventLog events{clock};
+    std::uint64_t frame = 0;
+
+    void drainEvents() {
+        while (core::isOk(events.pop(nullptr))) {
+        }
+    }
+};
+
+Rig& rig() {
+    static Rig r;
+    return r;
+}
+
+// FNV-1a: a data-derived, deterministic choice of chunk boundaries.
+std::uint32_t fnv1a(const std::uint8_t* data, std::size_t size) {
+    std::uint32_t h = 2166136261U;
+    for (std::size_t i = 0; i < size; ++i) {
+        h = (h ^ data[i]) * 16777619U;
+    }
+    return h;
+}
+
+// Field-by-field check of an accepted image, from the descriptors and the
+// documented rule (f32 bounds compared as floats), independently of
+// checkTablePayload.
+void requireFieldsInRange(const TableDesc& table, const std::uint8_t* image, std::size_t length) {
+    const std::uint8_t* payload = image + kTableHeaderSize;
+    const std::size_t payloadLength = length - kTableHeaderSize;
+    for (std::size_t f = 0; f < table.fieldCount; ++f) {
+        const TableFieldDesc& field = table.fields[f];
+        for (std::uint16_t e = 0; e < field.count; ++e) {
+            double value = 0.0;
+            FUZZ_REQUIRE(readFieldValue(table, payload, payloadLength, static_cast<std::uint16_t>(f), e, &value));
+            FUZZ_REQUIRE(std::isfinite(value));
+            if (field.type == FieldType::kF32) {
+                const auto v = static_cast<float>(value);
+                FUZZ_REQUIRE(v >= static_cast<float>(field.min) && v <= static_cast<float>(field.max));
+            } else {
+                FUZZ_REQUIRE(value >= field.min && value <= field.max);
+            }
+        }
+        // An index past the end reads nothing.
+        double ignored = 0.0;
+        FUZZ_REQUIRE(!readFieldValue(table, payload, payloadLength, static_cast<std::uint16_t>(f), field.count,
+                                     &ignored));
+    }
+    std::size_t ruleCount = 0;
+    const TableRuleDesc* rules = tableRules(&ruleCount);
+    for (std::size_t i = 0; i < ruleCount; ++i) {
+        if (rules[i].id != table.id) {
+            continue;
+        }
+        double lower = 0.0;
+        double upper = 0.0;
+        FUZZ_REQUIRE(readFieldValue(table, payload, payloadLength, rules[i].lower, 0, &lower));
+        FUZZ_REQUIRE(readFieldValue(table, payload, payloadLength, rules[i].upper, 0, &upper));
+        FUZZ_REQUIRE(lower < upper);
+    }
+}
+
+// checkTableImage against every id (and a few that name no table), and the
+// typed decoder and encoder of every table.
+void checkAndDecode(const std::uint8_t* data, std::size_t size) {
+    const TableCheck any = checkTableImage(data, size);
+    TableHeader header;
+    const bool haveHeader = readTableHeader(data, size, &header);
+    FUZZ_REQUIRE(haveHeader == (size >= kTableHeaderSize));
+    if (!haveHeader) {
+        FUZZ_REQUIRE(any.reason == TableReject::kTooShort);
+    }
+    const TableDesc* named = haveHeader ? findTable(static_cast<TableId>(header.tableId)) : nullptr;
+    if (any.ok()) {
+        FUZZ_REQUIRE(named != nullptr);
+        requireFieldsInRange(*named, data, size);
+    }
+    if (named != nullptr) {
+        const TableCheck own = checkTableImage(data, size, named->id);
+        FUZZ_REQUIRE(own.reason == any.reason && own.field == any.field && own.element == any.element);
+        if (own.field >= 0) {
+            FUZZ_REQUIRE(static_cast<std::size_t>(own.field) < named->fieldCount);
+            FUZZ_REQUIRE(own.element < named->fields[own.field].count);
+        }
+    }
+
+    std::size_t count = 0;
+    const TableDesc* descs = tableDescs(&count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const TableCheck c = checkTableImage(data, size, descs[i].id);
+        FUZZ_REQUIRE(!c.ok() || (any.ok() && named != nullptr && named->id == descs[i].id));
+    }
+    for (const std::uint16_t bogus : {std::uint16_t{0}, std::uint16_t{kTableCount + 1}, std::uint16_t{0xFFFF}}) {
+        FUZZ_REQUIRE(!checkTableImage(data, size, static_cast<TableId>(bogus)).ok());
+    }
+
+    std::uint8_t encoded[kMaxTableImageSize];
+#define RSE_TABLE(Name, id, description)                                                                  \
+    {                                                                                                     \
+        Name##Table table;                                                                                \
+        std::memset(&table, 0xA5, sizeof table);                                                          \
+        Name##Table untouched;                                                                            \
+        std::memcpy(&untouched, &table, sizeof table);                                                    \
+        const TableCheck decoded = decodeTable(data, size, &table);                                       \
+        const TableCheck expected = checkTableImage(data, size, TableId::k##Name);                        \
+        FUZZ_REQUIRE(decoded.reason == expected.reason && decoded.field == expected.field);               \
+        if (!decoded.ok()) {                                                                              \
+            FUZZ_REQUIRE(std::memcmp(&table, &untouched, sizeof table) == 0);                             \
+        } else {                                                                                          \
+            const std::size_t n = encodeTable(table, header.version, encoded, sizeof encoded);            \
+            FUZZ_REQUIRE(n == size && std::memcmp(encoded, data, size) == 0);                             \
+            FUZZ_REQUIRE(encodeTable(table, header.version, encoded, size - 1) == 0);                     \
+        }                                                                                                 \
+    }
+#include "fsw/tables/table_defs.def"
+}
+
+struct ActiveDumps {
+    std::uint8_t bytes[kTableCount][kMaxTableImageSize];
+    std::size_t length[kTableCount];
+};
+
+void dumpActive(const TableService& service, ActiveDumps* out) {
+    const TableDesc* descs = tableDescs(nullptr);
+    for (std::size_t i = 0; i < kTableCount; ++i) {
+        FUZZ_REQUIRE(service.dump(descs[i].id, false, out->bytes[i], kMaxTableImageSize, &out->length[i]).ok());
+        FUZZ_REQUIRE(checkTableImage(out->bytes[i], out->length[i], descs[i].id).ok());
+    }
+}
+
+bool sameDump(const ActiveDumps& a, const ActiveDumps& b, std::size_t i) {
+    return a.length[i] == b.length[i] && std::memcmp(a.bytes[i], b.bytes[i], a.length[i]) == 0;
+}
+
+void requireUnchangedBut(const ActiveDumps& before, const TableService& service, std::size_t except) {
+    ActiveDumps now;
+    dumpActive(service, &now);
+    for (std::size_t i = 0; i < kTableCount; ++i) {
+        FUZZ_REQUIRE(i == except || sameDump(before, now, i));
+    }
+}
+
+// Loads the image into table `id` in chunks and takes it through validate,
+// activate and run, checking the service against checkTableImage.
+void loadSequence(const std::uint8_t* data, std::size_t size, TableId id) {
+    Rig& r = rig();
+    TableService service(r.events);
+    FUZZ_REQUIRE(core::isOk(service.init(kDefaultTableImages, kDefaultTableImageCount)));
+    const std::size_t index = tableIndex(id);
+    FUZZ_REQUIRE(index < kTableCount);
+
+    ActiveDumps before;
+    dumpActive(service, &before);
+    const TableStatus statusBefore = service.status(id);
+
+    // One to three chunks, the boundaries picked by the data. The first starts
+    // the load even when empty; empty later ones are skipped.
+    const std::uint32_t h = fnv1a(data, size);
+    std::size_t cut1 = (h >> 8) % (size + 1);
+    std::size_t cut2 = (h >> 20) % (size + 1);
+    if (cut1 > cut2) {
+        const std::size_t t = cut1;
+        cut1 = cut2;
+        cut2 = t;
+    }
+    const std::size_t chunks = 1 + h % 3;
+    const std::size_t bounds[4] = {0, chunks >= 2 ? cut1 : size, chunks == 3 ? cut2 : size, size};
+    bool allLoaded = true;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t from = bounds[c];
+        const std::size_t to = bounds[c + 1];
+        if (c > 0 && to == from) {
+            continue;
+        }
+        const TableCheck loaded = service.loadChunk(id, static_cast<std::uint32_t>(from), data + from, to - from);
+        if (!allLoaded) {
+            // After a refused chunk the buffer ends short of this one's offset.
+            FUZZ_REQUIRE(loaded.reason == TableReject::kChunkGap);
+        } else if (to <= kMaxTableImageSize) {
+            FUZZ_REQUIRE(loaded.ok());
+        } else {
+            FUZZ_REQUIRE(loaded.reason == TableReject::kTooLarge);
+        }
+        allLoaded = allLoaded && loaded.ok();
+    }
+    FUZZ_REQUIRE(allLoaded == (size <= kMaxTableImageSize));
+    requireUnchangedBut(before, service, kTableCount);  // loading touches no active table
+
+    std::uint8_t inactive[kMaxTableImageSize];
+    std::size_t inactiveLength = 0;
+    if (allLoaded) {
+        FUZZ_REQUIRE(service.dump(id, true, inactive, sizeof inactive, &inactiveLength).ok());
+        FUZZ_REQUIRE(inactiveLength == size && (size == 0 || std::memcmp(inactive, data, size) == 0));
+        // A chunk that does not continue where the buffer ends changes nothing.
+        const std::uint8_t stray = 0x5A;
+        const TableCheck gap = service.loadChunk(id, static_cast<std::uint32_t>(size + 1), &stray, 1);
+        FUZZ_REQUIRE(gap.reason == TableReject::kChunkGap);
+        std::size_t againLength = 0;
+        std::uint8_t again[kMaxTableImageSize];
+        FUZZ_REQUIRE(service.dump(id, true, again, sizeof again, &againLength).ok());
+        FUZZ_REQUIRE(againLength == size && (size == 0 || std::memcmp(again, data, size) == 0));
+        const bool complete = service.status(id).inactiveState == TableBufferState::kLoaded;
+        TableHeader header;
+        FUZZ_REQUIRE(complete == (readTableHeader(data, size, &header) && size - kTableHeaderSize == header.payloadLength));
+    }
+
+    const TableCheck validated = service.validate(id);
+    if (allLoaded) {
+        const TableCheck expected = checkTableImage(data, size, id);
+        FUZZ_REQUIRE(validated.reason == expected.reason && validated.field == expected.field &&
+                     validated.element == expected.element);
+    }
+    if (!validated.ok()) {
+        FUZZ_REQUIRE(service.status(id).lastReject == validated.reason);
+        const TableCheck activated = service.activate(id);
+        FUZZ_REQUIRE(activated.reason == TableReject::kNotValidated || activated.reason == TableReject::kNotLoaded);
+        core::FrameContext fc;
+        fc.frame = r.frame++;
+        service.run(fc);
+        requireUnchangedBut(before, service, kTableCount);
+        const TableStatus after = service.status(id);
+        FUZZ_REQUIRE(after.activeVersion == statusBefore.activeVersion && after.activeCrc == statusBefore.activeCrc);
+        FUZZ_REQUIRE(after.activations == statusBefore.activations);
+        if (service.status(id).inactiveState == TableBufferState::kEmpty) {
+            FUZZ_REQUIRE(service.abort(id).reason == TableReject::kNoPending);
+        } else {
+            FUZZ_REQUIRE(service.abort(id).ok());
+        }
+        FUZZ_REQUIRE(service.status(id).inactiveState == TableBufferState::kEmpty);
+        FUZZ_REQUIRE(service.validate(id).reason == TableReject::kNotLoaded);
+        return;
+    }
+
+    FUZZ_REQUIRE(allLoaded);
+    FUZZ_REQUIRE(service.status(id).inactiveState == TableBufferState::kValidated);
+    FUZZ_REQUIRE(service.activate(id).ok());
+    FUZZ_REQUIRE(service.status(id).inactiveState == TableBufferState::kPending);
+    requireUnchangedBut(before, service, kTableCount);  // nothing changes before the frame boundary
+    FUZZ_REQUIRE(service.loadChunk(id, 0, data, size).reason == TableReject::kActivationPending);
+    FUZZ_REQUIRE(service.validate(id).reason == TableReject::kActivationPending);
+    FUZZ_REQUIRE(service.activate(id).reason == TableReject::kActivationPending);
+
+    core::FrameContext fc;
+    fc.frame = r.frame++;
+    service.run(fc);
+    requireUnchangedBut(before, service, index);
+    std::uint8_t active[kMaxTableImageSize];
+    std::size_t activeLength = 0;
+    FUZZ_REQUIRE(service.dump(id, false, active, sizeof active, &activeLength).ok());
+    FUZZ_REQUIRE(activeLength == size && std::memcmp(active, data, size) == 0);  // round trip
+    FUZZ_REQUIRE(service.dump(id, false, active, size - 1, &activeLength).reason == TableReject::kTooLarge);
+    TableHeader header;
+    FUZZ_REQUIRE(readTableHeader(data, size, &header));
+    const TableStatus after = service.status(id);
+    FUZZ_REQUIRE(after.activeVersion == header.version && after.activeCrc == header.crc);
+    FUZZ_REQUIRE(after.activations == statusBefore.activations + 1);
+    FUZZ_REQUIRE(after.inactiveState == TableBufferState::kEmpty);
+    FUZZ_REQUIRE(service.dump(id, true, inactive, sizeof inactive, &inactiveLength).reason == TableReject::kNotLoaded);
+}
+
+void exercise(const std::uint8_t* data, std::size_t size) {
+    checkAndDecode(data, size);
+    TableHeader header;
+    const bool haveHeader = readTableHeader(data, size, &header);
+    const TableId named = static_cast<TableId>(header.tableId);
+    const std::uint32_t h = fnv1a(data, size);
+    const TableDesc* descs = tableDescs(nullptr);
+    // The table the header names (when it names one), and one picked by the data.
+    if (haveHeader && tableIndex(named) < kTableCount) {
+        loadSequence(data, size, named);
+    }
+    const TableId other = descs[h % kTableCount].id;
+    if (!haveHeader || other != named) {
+        loadSequence(data, size, other);
+    }
+}
+
+// Header payload length and CRC made consistent with the bytes that follow.
+bool repair(const std::uint8_t* data, std::size_t size, std::uint8_t* out) {
+    if (size < kTableHeaderSize || size > kMaxTableImageSize) {
+        return false;
+    }
+    std::memcpy(out, data, size);
+    const auto payloadLength = static_cast<std::uint32_t>(size - kTableHeaderSize);
+    for (std::size_t i = 0; i < 4; ++i) {
+        out[12 + i] = static_cast<std::uint8_t>(payloadLength >> (24 - 8 * i));
+    }
+    const std::uint32_t crc = computeTableCrc(out, payloadLength);
+    for (std::size_t i = 0; i < 4; ++i) {
+        out[kTableCrcOffset + i] = static_cast<std::uint8_t>(crc >> (24 - 8 * i));
+    }
+    return true;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    (void)rig();
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size > kMaxInput) {
+        return -1;  // not added to the corpus
+    }
+    exercise(data, size);
+    std::uint8_t repaired[kMaxTableImageSize];
+    if (repair(data, size, repaired) && std::memcmp(repaired, data, size) != 0) {
+        exercise(repaired, size);
+    }
+    rig().drainEvents();
+    return 0;
+}
