@@ -191,8 +191,10 @@ $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
 TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # Script suites drive the built executables (RSE_BIN_DIR, under RSE_RUNNER).
 # The vcan test boots an x86_64 VM with real SocketCAN: host build only.
+# The tshark check captures the UDP ground link on lo: host build only too.
 VCAN_TEST := unit_test/integration/vcan_test/vcan_integration_test.sh
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(VCAN_TEST))
+TSHARK_TEST := unit_test/integration/tshark/tshark_ccsds_test.sh
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(VCAN_TEST) $(TSHARK_TEST))
 
 RESULTS := build/test-results.txt
 

@@ -340,14 +340,59 @@ bool repair(Rig& rig, const std::uint8_t* data, std::size_t size, std::uint8_t* 
     return true;
 }
 
+// The anti-replay window on a packet the lab key authenticates: the same
+// sequence twice is a replay; after a jump two windows ahead the original is
+// stale; inside the window an unseen sequence passes once; exactly one window
+// behind the highest is stale.
+void setSequenceAndSign(Rig& rig, std::uint8_t* packet, std::size_t length, std::uint32_t sequence) {
+    for (std::size_t i = 0; i < 4; ++i) {
+        packet[10 + i] = static_cast<std::uint8_t>(sequence >> (24 - 8 * i));
+    }
+    FUZZ_REQUIRE(core::isOk(rig.hmac.packetMac(kLabKey, packet, length - kMacSize, packet + length - kMacSize)));
+    packet[kChecksumOffset] = commandChecksum(packet, length);
+}
+
+void replayLadder(Rig& rig, const std::uint8_t* packet, std::size_t length, Mode mode) {
+    const CommandVerdict first = checkDirect(rig, packet, length, true, mode);
+    if (first.reason != CommandReject::kAccepted || first.keyId != kLabKeyId ||
+        first.authSequence > 0xFFFFFFFFU - 2 * kReplayWindow) {
+        return;
+    }
+    const std::uint32_t s = first.authSequence;
+    const std::uint32_t top = s + 2 * kReplayWindow;
+    std::uint8_t p[kMaxCommandPacket];
+    std::memcpy(p, packet, length);
+    resetKeys(rig.keys);
+    rig.validator.setAuthRequired(true);
+    const auto expect = [&](std::uint32_t sequence, CommandReject reason) {
+        setSequenceAndSign(rig, p, length, sequence);
+        const CommandVerdict v = rig.validator.check(p, length, mode);
+        FUZZ_REQUIRE(v.reason == reason && v.authSequence == sequence);
+    };
+    expect(s, CommandReject::kAccepted);
+    expect(s, CommandReject::kReplayedSequence);
+    expect(top, CommandReject::kAccepted);
+    expect(s, CommandReject::kStaleSequence);
+    expect(top - kReplayWindow, CommandReject::kStaleSequence);
+    expect(top - kReplayWindow + 1, CommandReject::kAccepted);
+    expect(top - kReplayWindow + 1, CommandReject::kReplayedSequence);
+    expect(top, CommandReject::kReplayedSequence);
+    FUZZ_REQUIRE(rig.keys.lastSequence(kLabKeyId) == top);
+}
+
 constexpr Mode kModes[kModeCount] = {Mode::kSafe, Mode::kStandby, Mode::kAutonomous, Mode::kManual};
 
 void exercise(Rig& rig, const std::uint8_t* packet, std::size_t length) {
+    bool laddered = false;
     for (const bool authRequired : {true, false}) {
         for (const Mode mode : kModes) {
             const CommandVerdict direct = checkDirect(rig, packet, length, authRequired, mode);
             const CommandReject viaTask = throughTask(rig, packet, length, authRequired, mode);
             FUZZ_REQUIRE(viaTask == direct.reason);
+            if (!laddered && authRequired && direct.reason == CommandReject::kAccepted) {
+                replayLadder(rig, packet, length, mode);
+                laddered = true;
+            }
         }
     }
 }

@@ -102,6 +102,22 @@ void requireFieldsInRange(const TableDesc& table, const std::uint8_t* image, std
         FUZZ_REQUIRE(!readFieldValue(table, payload, payloadLength, static_cast<std::uint16_t>(f), field.count,
                                      &ignored));
     }
+    // Writing back every value read, then sealing, reproduces the image.
+    std::uint8_t copy[kMaxTableImageSize];
+    std::memcpy(copy, image, length);
+    for (std::size_t f = 0; f < table.fieldCount; ++f) {
+        for (std::uint16_t e = 0; e < table.fields[f].count; ++e) {
+            double value = 0.0;
+            FUZZ_REQUIRE(readFieldValue(table, payload, payloadLength, static_cast<std::uint16_t>(f), e, &value));
+            FUZZ_REQUIRE(writeFieldValue(table, copy + kTableHeaderSize, payloadLength, static_cast<std::uint16_t>(f),
+                                         e, value));
+        }
+    }
+    TableHeader header;
+    FUZZ_REQUIRE(readTableHeader(image, length, &header));
+    FUZZ_REQUIRE(sealTableImage(table.id, header.version, copy, length) == length);
+    FUZZ_REQUIRE(std::memcmp(copy, image, length) == 0);
+
     std::size_t ruleCount = 0;
     const TableRuleDesc* rules = tableRules(&ruleCount);
     for (std::size_t i = 0; i < ruleCount; ++i) {
@@ -209,6 +225,18 @@ void loadSequence(const std::uint8_t* data, std::size_t size, TableId id) {
     dumpActive(service, &before);
     const TableStatus statusBefore = service.status(id);
 
+    // An id that names no table is refused by every operation and changes nothing.
+    const auto bogus = static_cast<TableId>(kTableCount + 1 + (size % 3));
+    std::uint8_t scratch[kMaxTableImageSize];
+    std::size_t scratchLength = 0;
+    FUZZ_REQUIRE(service.loadChunk(bogus, 0, data, size).reason == TableReject::kUnknownTable);
+    FUZZ_REQUIRE(service.validate(bogus).reason == TableReject::kUnknownTable);
+    FUZZ_REQUIRE(service.activate(bogus).reason == TableReject::kUnknownTable);
+    FUZZ_REQUIRE(service.abort(bogus).reason == TableReject::kUnknownTable);
+    FUZZ_REQUIRE(service.dump(bogus, false, scratch, sizeof scratch, &scratchLength).reason ==
+                 TableReject::kUnknownTable);
+    FUZZ_REQUIRE(service.dump(id, true, scratch, sizeof scratch, &scratchLength).reason == TableReject::kNotLoaded);
+
     // One to three chunks, the boundaries picked by the data. The first starts
     // the load even when empty; empty later ones are skipped.
     const std::uint32_t h = fnv1a(data, size);
@@ -255,6 +283,9 @@ void loadSequence(const std::uint8_t* data, std::size_t size, TableId id) {
         std::uint8_t again[kMaxTableImageSize];
         FUZZ_REQUIRE(service.dump(id, true, again, sizeof again, &againLength).ok());
         FUZZ_REQUIRE(againLength == size && (size == 0 || std::memcmp(again, data, size) == 0));
+        if (size > 0) {
+            FUZZ_REQUIRE(service.dump(id, true, again, size - 1, &againLength).reason == TableReject::kTooLarge);
+        }
         const bool complete = service.status(id).inactiveState == TableBufferState::kLoaded;
         TableHeader header;
         FUZZ_REQUIRE(complete == (readTableHeader(data, size, &header) && size - kTableHeaderSize == header.payloadLength));
@@ -314,8 +345,54 @@ void loadSequence(const std::uint8_t* data, std::size_t size, TableId id) {
     FUZZ_REQUIRE(service.dump(id, true, inactive, sizeof inactive, &inactiveLength).reason == TableReject::kNotLoaded);
 }
 
+// Start-up with the input in place of one default image (its own table's when
+// it names one): init succeeds exactly when the image passes its checks, and
+// then that table's active dump is the image. A second init with the defaults
+// brings every table back to its default bytes.
+void startup(const std::uint8_t* data, std::size_t size) {
+    Rig& r = rig();
+    TableHeader header;
+    const bool haveHeader = readTableHeader(data, size, &header);
+    const std::size_t named = haveHeader ? tableIndex(static_cast<TableId>(header.tableId)) : kTableCount;
+    const std::size_t slot = named < kTableCount ? named : fnv1a(data, size) % kTableCount;
+    FUZZ_REQUIRE(kDefaultTableImageCount == kTableCount);
+    TableImageRef images[kTableCount];
+    std::size_t replaced = kTableCount;
+    for (std::size_t i = 0; i < kTableCount; ++i) {
+        images[i] = kDefaultTableImages[i];
+        TableHeader h;
+        FUZZ_REQUIRE(readTableHeader(images[i].data, images[i].length, &h));
+        if (tableIndex(static_cast<TableId>(h.tableId)) == slot) {
+            images[i] = TableImageRef{data, size};
+            replaced = i;
+        }
+    }
+    FUZZ_REQUIRE(replaced < kTableCount);
+    const TableId id = tableDescs(nullptr)[slot].id;
+    const bool valid = checkTableImage(data, size).ok() && named == slot;
+
+    TableService service(r.events);
+    FUZZ_REQUIRE(core::isOk(service.init(images, kTableCount)) == valid);
+    FUZZ_REQUIRE(service.status(id).active == valid);
+    std::uint8_t dumped[kMaxTableImageSize];
+    std::size_t dumpedLength = 0;
+    if (valid) {
+        FUZZ_REQUIRE(service.dump(id, false, dumped, sizeof dumped, &dumpedLength).ok());
+        FUZZ_REQUIRE(dumpedLength == size && std::memcmp(dumped, data, size) == 0);
+    }
+    FUZZ_REQUIRE(core::isOk(service.init(kDefaultTableImages, kDefaultTableImageCount)));
+    for (std::size_t i = 0; i < kDefaultTableImageCount; ++i) {
+        const TableImageRef& image = kDefaultTableImages[i];
+        TableHeader h;
+        FUZZ_REQUIRE(readTableHeader(image.data, image.length, &h));
+        FUZZ_REQUIRE(service.dump(static_cast<TableId>(h.tableId), false, dumped, sizeof dumped, &dumpedLength).ok());
+        FUZZ_REQUIRE(dumpedLength == image.length && std::memcmp(dumped, image.data, image.length) == 0);
+    }
+}
+
 void exercise(const std::uint8_t* data, std::size_t size) {
     checkAndDecode(data, size);
+    startup(data, size);
     TableHeader header;
     const bool haveHeader = readTableHeader(data, size, &header);
     const TableId named = static_cast<TableId>(header.tableId);
