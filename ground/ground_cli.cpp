@@ -144,8 +144,8 @@ std::vector<std::string> takeGlobalOptions(const std::vector<std::string>& args,
 
 class Cli {
 public:
-    Cli(GlobalOptions options, std::ostream& out, std::ostream& err)
-        : g_(std::move(options)), out_(out), err_(err) {}
+    Cli(GlobalOptions options, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory)
+        : g_(std::move(options)), out_(out), err_(err), linkFactory_(linkFactory) {}
 
     int send(const std::vector<std::string>& args);
     int watch(const std::vector<std::string>& args);
@@ -178,6 +178,9 @@ private:
         return *store_;
     }
     std::unique_ptr<GroundLink> openLink(bool listen) {
+        if (linkFactory_) {
+            return linkFactory_(listen);
+        }
         if (!g_.can.empty()) {
             return std::make_unique<IsoTpGroundLink>(g_.can, g_.canTx, g_.canRx, g_.pad);
         }
@@ -257,6 +260,7 @@ private:
     std::ostream& out_;
     std::ostream& err_;
     std::unique_ptr<SequenceStore> store_;
+    const LinkFactory& linkFactory_;
 };
 
 int Cli::send(const std::vector<std::string>& args) {
@@ -513,6 +517,10 @@ int Cli::dict(const std::vector<std::string>& args) {
 }  // namespace
 
 int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err) {
+    return runGroundCli(argc, argv, out, err, LinkFactory());
+}
+
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory) {
     std::vector<std::string> args;
     for (int i = 1; i < argc; ++i) {
         args.emplace_back(argv[i] != nullptr ? argv[i] : "");
@@ -530,7 +538,7 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err) {
             out << kUsage;
             return kExitOk;
         }
-        Cli cli(options, out, err);
+        Cli cli(options, out, err, linkFactory);
         if (command == "send") {
             return cli.send(commandArgs);
         }

@@ -25,7 +25,11 @@
 // rover rejected the command.
 #pragma once
 
+#include <functional>
 #include <iosfwd>
+#include <memory>
+
+#include "ground/ground_link.hpp"
 
 namespace rse::ground {
 
@@ -36,5 +40,11 @@ constexpr int kExitRejected = 3;
 
 // argv[0] is the program name. Output on out, diagnostics on err.
 int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err);
+
+// The same with the link supplied by the caller instead of --udp/--can (tests,
+// embedding): linkFactory(listen) returns the link a subcommand uses; listen is
+// false for send --no-wait, which needs no telemetry.
+using LinkFactory = std::function<std::unique_ptr<GroundLink>(bool listen)>;
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory);
 
 }  // namespace rse::ground

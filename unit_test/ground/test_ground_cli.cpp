@@ -1,18 +1,18 @@
 // rse-ground's command line end to end: exit codes, messages, the packet file of
-// `encode`, the dictionary export, and `send` over real UDP sockets (ephemeral
-// ports) to a fake rover thread that checks packets with the flight validator.
+// `encode`, the dictionary export, `send` and `watch` against a fake rover that
+// checks packets with the flight validator, and a real UDP link with no rover.
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <cstring>
 #include <fstream>
 #include <iterator>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "ground/command_encoder.hpp"
@@ -32,7 +32,7 @@ struct CliResult {
     std::string err;
 };
 
-CliResult cli(std::vector<std::string> args) {
+CliResult cli(std::vector<std::string> args, const ground::LinkFactory& factory = ground::LinkFactory()) {
     args.insert(args.begin(), "rse-ground");
     std::vector<char*> argv;
     for (std::string& a : args) {
@@ -42,7 +42,8 @@ CliResult cli(std::vector<std::string> args) {
     std::ostringstream out;
     std::ostringstream err;
     CliResult r;
-    r.rc = ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err);
+    r.rc = factory ? ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err, factory)
+                   : ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err);
     r.out = out.str();
     r.err = err.str();
     return r;
@@ -55,11 +56,10 @@ std::vector<std::uint8_t> fileBytes(const std::string& path) {
     return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// The fake rover on a UDP socket of its own thread: answers every command to
-// the port it came from (rse-ground sends from its telemetry socket).
-class UdpRover {
+// A bound UDP socket that never answers: a rover that is not there.
+class SilentSocket {
 public:
-    UdpRover() {
+    SilentSocket() {
         fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
         sockaddr_in a{};
         a.sin_family = AF_INET;
@@ -69,46 +69,46 @@ public:
         ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &length);
         port_ = ntohs(a.sin_port);
     }
-    ~UdpRover() {
-        stop();
-        ::close(fd_);
-    }
-    void start() {
-        thread_ = std::thread([this] { loop(); });
-    }
-    void stop() {
-        running_ = false;
-        if (thread_.joinable()) {
-            thread_.join();
-        }
-    }
+    ~SilentSocket() { ::close(fd_); }
     std::uint16_t port() const { return port_; }
-    test::FakeRover rover;
 
 private:
-    void loop() {
-        while (running_) {
-            pollfd p{fd_, POLLIN, 0};
-            if (::poll(&p, 1, 20) <= 0) {
-                continue;
-            }
-            std::uint8_t buffer[2048];
-            sockaddr_in from{};
-            socklen_t length = sizeof from;
-            const ssize_t n = ::recvfrom(fd_, buffer, sizeof buffer, 0, reinterpret_cast<sockaddr*>(&from), &length);
-            if (n <= 0) {
-                continue;
-            }
-            for (const auto& tlm : rover.handle(buffer, static_cast<std::size_t>(n))) {
-                ::sendto(fd_, tlm.data(), tlm.size(), 0, reinterpret_cast<sockaddr*>(&from), length);
-            }
-        }
-    }
-
     int fd_ = -1;
     std::uint16_t port_ = 0;
-    std::atomic<bool> running_{true};
-    std::thread thread_;
+};
+
+// Hands the CLI a link to the rig's fake rover (the CLI owns what it gets).
+class BorrowedLink final : public ground::GroundLink {
+public:
+    explicit BorrowedLink(ground::GroundLink& inner) : inner_(inner) {}
+    void send(const std::vector<std::uint8_t>& packet) override { inner_.send(packet); }
+    std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) override {
+        return inner_.receive(timeoutSeconds);
+    }
+    std::string describe() const override { return inner_.describe(); }
+
+private:
+    ground::GroundLink& inner_;
+};
+
+// The CLI against the fake rover (no sockets, no threads: the aarch64 suite runs
+// under qemu-user), with its own state directory.
+struct CliRig {
+    test::FakeRover rover;
+    test::FakeRoverLink link{rover};
+    test::TempDir dir;
+    int linksOpened = 0;
+    bool lastListen = false;
+
+    CliResult run(std::vector<std::string> args) {
+        args.insert(args.begin(), {"--state-dir", dir.path()});
+        const ground::LinkFactory factory = [this](bool listen) -> std::unique_ptr<ground::GroundLink> {
+            ++linksOpened;
+            lastListen = listen;
+            return std::make_unique<BorrowedLink>(link);
+        };
+        return cli(args, factory);
+    }
 };
 
 }  // namespace
@@ -153,7 +153,7 @@ TEST(GroundCli, BadCommandsAndArgumentsExitTwoBeforeAnyLinkIsOpened) {
 
 TEST(GroundCli, NoRoverMeansExitOneWithTheLinkHint) {
     test::TempDir dir;
-    UdpRover silent;  // bound, never answering
+    SilentSocket silent;
     const CliResult r = cli({"--udp", "127.0.0.1:" + std::to_string(silent.port()), "--tlm-port", "127.0.0.1:0",
                              "--timeout", "0.2", "--state-dir", dir.path(), "send", "NOOP"});
     CHECK_EQUAL(1, r.rc);
@@ -161,41 +161,55 @@ TEST(GroundCli, NoRoverMeansExitOneWithTheLinkHint) {
 }
 
 TEST(GroundCli, SendAcceptedRejectedAndReplayed) {
-    test::TempDir dir;
-    UdpRover rover;
-    rover.start();
-    const std::vector<std::string> link = {"--udp", "127.0.0.1:" + std::to_string(rover.port()), "--tlm-port",
-                                           "127.0.0.1:0", "--state-dir", dir.path()};
-    auto with = [&](std::vector<std::string> rest) {
-        std::vector<std::string> all = link;
-        all.insert(all.end(), rest.begin(), rest.end());
-        return cli(all);
-    };
-    CliResult r = with({"send", "goto", "x=10", "y=-5", "risk=1e-3"});
+    CliRig rig;
+    CliResult r = rig.run({"send", "goto", "x=10", "y=-5", "risk=1e-3"});
     CHECK_EQUAL(0, r.rc);
     CHECK_TRUE(contains(r.out, "GOTO (0x181/0, auth seq 1) accepted"));
     CHECK_TRUE(contains(r.err, "built-in lab key"));
+    CHECK_TRUE(rig.lastListen);
 
-    r = with({"send", "DRIVE", "v=0.1", "omega=0", "duration=2"});  // STANDBY: DRIVE needs MANUAL
+    r = rig.run({"send", "DRIVE", "v=0.1", "omega=0", "duration=2"});  // STANDBY: DRIVE needs MANUAL
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "DRIVE (0x182/2, auth seq 2) rejected: wrong_mode (detail 1: rover in STANDBY)"));
 
-    r = with({"send", "NOOP", "--auth-seq", "2"});
+    r = rig.run({"send", "NOOP", "--auth-seq", "2"});
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "rejected: replayed_sequence"));
     CHECK_TRUE(contains(r.err, "hint: the rover has seen this anti-replay number"));
 
-    r = with({"--no-auth", "send", "NOOP"});
+    r = rig.run({"--no-auth", "send", "NOOP"});
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "rejected: mac_missing"));
+    CHECK_TRUE(contains(r.err, "drop --no-auth"));
 
-    r = with({"send", "NOOP", "--no-wait"});
+    r = rig.run({"send", "NOOP", "--no-wait"});
     CHECK_EQUAL(0, r.rc);
     CHECK_TRUE(contains(r.out, "NOOP sent (auth seq 3)"));
-    rover.stop();
-    CHECK_EQUAL(5U, rover.rover.verdicts.size());
-    CHECK_EQUAL(1U, rover.rover.verdicts[1].keyId);
-    CHECK_EQUAL(0U, rover.rover.verdicts[3].keyId);
+    CHECK_FALSE(rig.lastListen);
+
+    CHECK_EQUAL(5U, rig.rover.verdicts.size());
+    CHECK_EQUAL(1U, rig.rover.verdicts[1].keyId);
+    CHECK_EQUAL(0U, rig.rover.verdicts[3].keyId);
+    CHECK_EQUAL(5, rig.linksOpened);
+}
+
+TEST(GroundCli, SendWithoutAnAnswerExitsOne) {
+    CliRig rig;
+    rig.rover.answer = false;
+    const CliResult r = rig.run({"--timeout", "0.1", "send", "NOOP"});
+    CHECK_EQUAL(1, r.rc);
+    CHECK_TRUE(contains(r.err, "no acknowledgement within 0.1 s"));
+}
+
+TEST(GroundCli, TableLoadThroughTheCli) {
+    CliRig rig;
+    const std::string image = rig.dir.file("geometry.tbl");
+    CHECK_EQUAL(0, cli({"table", "build", "tables/rover_geometry.toml", "-o", image}).rc);
+    const CliResult r = rig.run({"table", "load", image, "--activate"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(rig.rover.loadedImage == fileBytes(image));
+    CHECK_TRUE(contains(r.out, "ROVER_GEOMETRY loaded, validated and activated"));
+    CHECK_EQUAL(1, cli({"table", "load", rig.dir.file("missing.tbl")}).rc);
 }
 
 TEST(GroundCli, EncodeWritesThePacketFile) {
@@ -225,44 +239,33 @@ TEST(GroundCli, DictExportsMarkdownAndJson) {
 }
 
 TEST(GroundCli, WatchPrintsDecodedPacketsAndStopsAtCount) {
-    // A rover socket that sends three packets to the ground's telemetry port.
-    int probe = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(probe, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t length = sizeof a;
-    ::getsockname(probe, reinterpret_cast<sockaddr*>(&a), &length);
-    const std::uint16_t port = ntohs(a.sin_port);
-    ::close(probe);  // a free port for watch to bind
-
-    std::thread sender([port] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-        sockaddr_in to{};
-        to.sin_family = AF_INET;
-        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        to.sin_port = htons(port);
-        cmdtlm::HK_Tlm hk{};
-        hk.mode = 1;
-        cmdtlm::EVENT_Tlm e{};
-        e.event_id = 7;
-        e.severity = 3;
-        std::strncpy(e.text, "drive 3 faulted", sizeof e.text);
-        const std::vector<std::vector<std::uint8_t>> packets = {
-            test::telemetryPacket(hk), {1, 2, 3}, test::telemetryPacket(e), test::telemetryPacket(hk)};
-        for (const auto& p : packets) {
-            ::sendto(fd, p.data(), p.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
-        }
-        ::close(fd);
-    });
-    const CliResult r = cli({"--tlm-port", "127.0.0.1:" + std::to_string(port), "watch", "--count", "3", "--seconds",
-                             "3"});
-    sender.join();
+    CliRig rig;
+    cmdtlm::HK_Tlm hk{};
+    hk.mode = 1;
+    cmdtlm::EVENT_Tlm e{};
+    e.event_id = 7;
+    e.severity = 3;
+    std::strncpy(e.text, "drive 3 faulted", sizeof e.text);
+    for (const auto& p : std::vector<std::vector<std::uint8_t>>{test::telemetryPacket(hk), {1, 2, 3},
+                                                                test::telemetryPacket(e), test::telemetryPacket(hk)}) {
+        rig.link.queue.push_back(p);
+    }
+    CliResult r = rig.run({"watch", "--count", "3", "--seconds", "3"});
     CHECK_EQUAL(0, r.rc);
     CHECK_TRUE(contains(r.out, "HK           apid=0x001 seq=0"));
     CHECK_TRUE(contains(r.out, "MALFORMED    length 3 is shorter"));
     CHECK_TRUE(contains(r.out, "EVT 7 ERROR drive 3 faulted"));
+    CHECK_EQUAL(1U, rig.link.queue.size());  // stopped at the count
+
+    rig.link.queue.push_back(test::telemetryPacket(e));
+    r = rig.run({"watch", "--only", "event", "--seconds", "0.3"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(contains(r.out, "EVT 7 ERROR"));
+    CHECK_FALSE(contains(r.out, "HK "));
+
+    r = rig.run({"watch", "--count", "5", "--seconds", "0.2"});
+    CHECK_EQUAL(1, r.rc);
+    CHECK_TRUE(contains(r.err, "watch: 0 of 5 packets within 0.2 s"));
 }
 
 TEST(GroundCli, WatchWithNothingToSeeExitsOne) {
