@@ -27,6 +27,17 @@
 namespace rse::ground {
 namespace {
 
+// words[0] names a dictionary command, the rest are its arg=value assignments:
+// the command and its checked argument bytes (CommandError on anything wrong).
+const cmdtlm::CommandDesc* namedCommand(const std::vector<std::string>& words, std::vector<std::uint8_t>* encoded) {
+    const cmdtlm::CommandDesc* command = lookupCommand(words[0]);
+    if (command == nullptr) {
+        throw CommandError("unknown command '" + words[0] + "' (rse-ground dict --markdown lists them)");
+    }
+    *encoded = encodeArguments(*command, std::vector<std::string>(words.begin() + 1, words.end()));
+    return command;
+}
+
 constexpr const char* kUsage =
     "usage: rse-ground [global options] COMMAND ...\n"
     "commands:\n"
@@ -271,13 +282,9 @@ int Cli::send(const std::vector<std::string>& args) {
         throw UsageError("send: which command? (rse-ground dict --markdown lists them)");
     }
     rejectOptions(words, "send");
-    const cmdtlm::CommandDesc* command = lookupCommand(words[0]);
-    if (command == nullptr) {
-        throw CommandError("unknown command '" + words[0] + "' (rse-ground dict --markdown lists them)");
-    }
     // Every argument is checked before the link is even opened.
-    const std::vector<std::uint8_t> encoded =
-        encodeArguments(*command, std::vector<std::string>(words.begin() + 1, words.end()));
+    std::vector<std::uint8_t> encoded;
+    const cmdtlm::CommandDesc* command = namedCommand(words, &encoded);
     const PacketAuth packetAuth = auth();
     std::unique_ptr<GroundLink> link = openLink(!noWait);
     GroundSession session(*link, store(), packetAuth, g_.timeout);
@@ -463,12 +470,8 @@ int Cli::encode(const std::vector<std::string>& args) {
         throw UsageError("usage: rse-ground encode NAME [arg=value ...] [--auth-seq N] [-o FILE]");
     }
     rejectOptions(words, "encode");
-    const cmdtlm::CommandDesc* command = lookupCommand(words[0]);
-    if (command == nullptr) {
-        throw CommandError("unknown command '" + words[0] + "' (rse-ground dict --markdown lists them)");
-    }
-    const std::vector<std::uint8_t> encoded =
-        encodeArguments(*command, std::vector<std::string>(words.begin() + 1, words.end()));
+    std::vector<std::uint8_t> encoded;
+    const cmdtlm::CommandDesc* command = namedCommand(words, &encoded);
     const PacketAuth packetAuth = auth();
     std::uint32_t sequence = 0;
     if (forced) {

@@ -9,11 +9,12 @@ constexpr core::EventId kAppInitFailed = 201;   // a start-up step failed; rse-f
 constexpr core::EventId kAppStarted = 202;
 constexpr core::EventId kAppShutdown = 203;     // stop requested (signal or duration reached)
 constexpr core::EventId kWheelCommandRejected = 204;  // malformed, non-finite or out-of-range wheel command
-constexpr core::EventId kModeChanged = 205;     // SET_MODE: old and new mode
+constexpr core::EventId kModeChanged = 205;     // SET_MODE: the mode before and after
 constexpr core::EventId kEstopSet = 206;        // software e-stop: every drive commanded to zero and held
 constexpr core::EventId kEstopCleared = 207;
 constexpr core::EventId kGoalsChanged = 208;    // GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND
 constexpr core::EventId kWheelCommandHeld = 209; // wheel commands ignored while the e-stop holds (throttled)
 constexpr core::EventId kGroundLinkOpened = 210; // start-up: which ground links carry commands and telemetry
+constexpr core::EventId kBusMessageMalformed = 211; // a bus message that does not decode as its id's type (throttled)
 
 }  // namespace rse::app::events

@@ -77,17 +77,28 @@ core::Status CanIoTask::init() {
     return bus_.subscribe(pipe_, msg::ids::kMode);
 }
 
+void CanIoTask::refuse(const char* why) {
+    ++commandsRejected_;
+    if (core::isReportableOccurrence(commandsRejected_)) {
+        events_.report(events::kWheelCommandRejected, core::Severity::kError,
+                       "app: wheel command refused: %s (%u so far); previous command kept", why,
+                       static_cast<unsigned>(commandsRejected_));
+    }
+}
+
 void CanIoTask::takeCommands() {
     const double maxSpeed = static_cast<double>(tables_.roverGeometry().max_wheel_speed_rad_s);
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
         if (inbox_.header.id == msg::ids::kMode) {
             msg::ModeMsg mode{};
-            if (core::isOk(inbox_.decode(&mode))) {
-                estop_ = mode.estop != 0;
-                if (estop_) {
-                    for (double& c : commanded_) {
-                        c = 0.0;
-                    }
+            if (!core::isOk(inbox_.decode(&mode))) {
+                refuse("malformed mode message (e-stop state unchanged)");
+                continue;
+            }
+            estop_ = mode.estop != 0;
+            if (estop_) {
+                for (double& c : commanded_) {
+                    c = 0.0;
                 }
             }
             continue;
@@ -114,12 +125,7 @@ void CanIoTask::takeCommands() {
             continue;
         }
         if (why != nullptr) {
-            ++commandsRejected_;
-            if (core::isReportableOccurrence(commandsRejected_)) {
-                events_.report(events::kWheelCommandRejected, core::Severity::kError,
-                               "app: wheel command refused: %s (%u so far); previous command kept", why,
-                               static_cast<unsigned>(commandsRejected_));
-            }
+            refuse(why);
             continue;
         }
         for (std::size_t w = 0; w < msg::kWheelCount; ++w) {

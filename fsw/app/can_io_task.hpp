@@ -6,8 +6,8 @@
 //        ModeMsg: while the software e-stop is set every drive is commanded to
 //        zero (in the frame the e-stop arrives) and wheel commands are ignored,
 //        counted and evented, until it is cleared; the drives then stay at zero
-//        until a new command arrives.
-//   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per new
+//        until the next command arrives.
+//   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
 // The reflexive drive interlock is applied here, in the same frame the drive
@@ -57,6 +57,7 @@ public:
 
 private:
     void takeCommands();
+    void refuse(const char* why);  // counts and events a bus input that was not applied
     void publishStatus(core::TimeNs now);
     void publishSensors(const core::FrameContext& frame);
 

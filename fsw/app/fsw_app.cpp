@@ -28,9 +28,9 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       bus_(clock, events_),
       executive_(clock, events_),
       tables_(events_),
-      telemetryOutput_(clock, events_),
+      telemetryOutput_(clock, events_, groundLinks_),
       handler_(AppCommandHandler::Parts{clock, bus_, events_, executive_, tables_, telemetryOutput_}),
-      commands_(clock, events_, telemetryOutput_, handler_),
+      commands_(clock, events_, groundLinks_, telemetryOutput_, handler_),
       canIo_(can, clock, bus_, events_, tables_),
       housekeeping_(executive_, bus_, events_),
       telemetry_(bus_, events_, telemetryOutput_,
@@ -40,13 +40,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
     handler_.attach(&commands_, &telemetry_);
 }
 
-core::Status FswApp::addGroundLink(hal::PacketLink* link) {
-    core::Status status = commands_.addLink(link);
-    if (core::isOk(status)) {
-        status = telemetryOutput_.addLink(link);
-    }
-    return status;
-}
+core::Status FswApp::addGroundLink(hal::PacketLink* link) { return groundLinks_.add(link); }
 
 core::Status FswApp::initStep(core::Status status, const char* what) {
     if (!core::isOk(status)) {
@@ -87,9 +81,9 @@ core::Status FswApp::init(std::FILE* console) {
         return status;
     }
     telemetry_.setUtcAtMetZero(utcAtMetZero(clock_));
-    for (std::size_t i = 0; i < telemetryOutput_.linkCount(); ++i) {
+    for (std::size_t i = 0; i < groundLinks_.size(); ++i) {
         events_.report(events::kGroundLinkOpened, core::Severity::kInfo,
-                       "app: ground link %s: commands in, telemetry out", telemetryOutput_.link(i)->name());
+                       "app: ground link %s: commands in, telemetry out", groundLinks_.at(i)->name());
     }
 
     // The rate-group table. Divisors count 100 Hz minor frames (10 = 10 Hz,

@@ -74,6 +74,7 @@ private:
     core::SoftwareBus bus_;
     core::Executive executive_;
     tables::TableService tables_;
+    cmdtlm::GroundLinks groundLinks_;
     cmdtlm::TelemetryOutput telemetryOutput_;
     AppCommandHandler handler_;
     cmdtlm::CommandTask commands_;

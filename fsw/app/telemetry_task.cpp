@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "fsw/app/app_events.hpp"
+
 namespace rse::app {
 
 core::Status TelemetryTask::init() {
@@ -43,15 +45,29 @@ void TelemetryTask::run(const core::FrameContext& frame) {
 void TelemetryTask::takeBusMessages() {
     // Bounded by the pipe depth.
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {
+        // A message that does not decode leaves the last good one in place.
+        core::Status status = core::Status::kWrongType;
         switch (inbox_.header.id) {
-            case msg::ids::kDriveStatus: (void)inbox_.decode(&drives_); break;
-            case msg::ids::kWheelCommand: (void)inbox_.decode(&wheelCommand_); break;
-            case msg::ids::kPositionFix: haveFix_ = core::isOk(inbox_.decode(&fix_)) || haveFix_; break;
-            case msg::ids::kMode: (void)inbox_.decode(&mode_); break;
+            case msg::ids::kDriveStatus: status = inbox_.decode(&drives_); break;
+            case msg::ids::kWheelCommand: status = inbox_.decode(&wheelCommand_); break;
+            case msg::ids::kPositionFix:
+                status = inbox_.decode(&fix_);
+                haveFix_ = haveFix_ || core::isOk(status);
+                break;
+            case msg::ids::kMode: status = inbox_.decode(&mode_); break;
             case msg::ids::kGoalList:
-                planChanged_ = core::isOk(inbox_.decode(&goals_)) || planChanged_;
+                status = inbox_.decode(&goals_);
+                planChanged_ = planChanged_ || core::isOk(status);
                 break;
             default: break;
+        }
+        if (!core::isOk(status)) {
+            ++malformed_;
+            if (core::isReportableOccurrence(malformed_)) {
+                events_.report(events::kBusMessageMalformed, core::Severity::kError,
+                               "app: telemetry ignored a malformed bus message 0x%04x (%u so far)",
+                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformed_));
+            }
         }
     }
 }

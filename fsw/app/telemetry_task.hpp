@@ -1,5 +1,5 @@
 // What goes to the ground when (every minor frame; docs/icd.md "Telemetry"):
-//   every frame  EVENT packets for new events (at most kEventsPerFrame a frame;
+//   every frame  EVENT packets for events not yet sent (at most kEventsPerFrame a frame;
 //                the event log is this task's to drain, so the rest wait there)
 //   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
 //                slot 50, ROVER_STATE in slot 60: spread over the second so the
@@ -60,6 +60,7 @@ public:
 
     std::uint32_t eventsSent() const { return eventsSent_; }
     std::uint32_t housekeepingSent() const { return housekeepingSent_; }
+    std::uint32_t malformed() const { return malformed_; }
 
 private:
     void takeBusMessages();
@@ -78,6 +79,7 @@ private:
     bool planChanged_ = true;
     std::uint32_t eventsSent_ = 0;
     std::uint32_t housekeepingSent_ = 0;
+    std::uint32_t malformed_ = 0;
     // Latest of each input (what the 1 Hz packets report).
     msg::DriveStatusMsg drives_{};
     msg::WheelCommandMsg wheelCommand_{};

@@ -7,9 +7,14 @@
 
 namespace rse::cmdtlm {
 
-CommandTask::CommandTask(const core::Clock& clock, core::EventLog& events, TelemetryOutput& telemetry,
-                         CommandHandler& handler)
-    : clock_(clock), events_(events), telemetry_(telemetry), handler_(handler), validator_(keys_, hmac_) {}
+CommandTask::CommandTask(const core::Clock& clock, core::EventLog& events, const GroundLinks& links,
+                         TelemetryOutput& telemetry, CommandHandler& handler)
+    : clock_(clock),
+      events_(events),
+      telemetry_(telemetry),
+      handler_(handler),
+      validator_(keys_, hmac_),
+      links_(links) {}
 
 core::Status CommandTask::init() {
     const core::Status status = hmac_.init();
@@ -30,17 +35,6 @@ core::Status CommandTask::init() {
     return core::Status::kOk;
 }
 
-core::Status CommandTask::addLink(hal::PacketLink* link) {
-    if (link == nullptr) {
-        return core::Status::kInvalidArgument;
-    }
-    if (linkCount_ >= kMaxLinks) {
-        return core::Status::kNoCapacity;
-    }
-    links_[linkCount_++] = link;
-    return core::Status::kOk;
-}
-
 void CommandTask::run(const core::FrameContext&) {
     ingest();
     for (std::size_t i = 0; i < kCommandsPerFrame && count_ > 0; ++i) {
@@ -50,10 +44,11 @@ void CommandTask::run(const core::FrameContext&) {
 }
 
 void CommandTask::ingest() {
-    for (std::size_t l = 0; l < linkCount_; ++l) {
+    for (std::size_t l = 0; l < links_.size(); ++l) {
+        hal::PacketLink* link = links_.at(l);
         for (std::size_t n = 0; n < kMaxPacketsPerLink; ++n) {
             std::size_t length = 0;
-            const core::Status status = links_[l]->receive(scratch_, sizeof scratch_, &length);
+            const core::Status status = link->receive(scratch_, sizeof scratch_, &length);
             if (status == core::Status::kEmpty) {
                 break;
             }

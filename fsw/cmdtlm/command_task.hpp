@@ -17,6 +17,7 @@
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/command_handler.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/ground_links.hpp"
 #include "fsw/cmdtlm/telemetry_output.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
@@ -43,13 +44,12 @@ struct CommandCounters {
 
 class CommandTask final : public core::Task {
 public:
-    CommandTask(const core::Clock& clock, core::EventLog& events, TelemetryOutput& telemetry,
-                CommandHandler& handler);
+    CommandTask(const core::Clock& clock, core::EventLog& events, const GroundLinks& links,
+                TelemetryOutput& telemetry, CommandHandler& handler);
 
     // Start-up: the MAC engine (its one allocation) and the events that say how
     // commanding is secured.
     core::Status init();
-    core::Status addLink(hal::PacketLink* link);
     KeyStore& keys() { return keys_; }
     void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
     bool authRequired() const { return validator_.authRequired(); }
@@ -80,8 +80,7 @@ private:
     HmacSha256 hmac_;
     KeyStore keys_;
     CommandValidator validator_;
-    hal::PacketLink* links_[kMaxLinks] = {};
-    std::size_t linkCount_ = 0;
+    const GroundLinks& links_;
     QueuedPacket queue_[kCommandQueueDepth] = {};
     std::size_t head_ = 0;
     std::size_t count_ = 0;

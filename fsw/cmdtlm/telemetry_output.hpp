@@ -7,29 +7,28 @@
 #include <cstdint>
 
 #include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/ground_links.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
-#include "hal/link/packet_link.hpp"
 
 namespace rse::cmdtlm {
 
-constexpr std::size_t kMaxLinks = 3;  // UDP, CAN ISO-TP, and one spare (in-memory in tests)
-
 class TelemetryOutput {
 public:
-    TelemetryOutput(const core::Clock& clock, core::EventLog& events) : clock_(clock), events_(events) {}
-
-    core::Status addLink(hal::PacketLink* link);
-    std::size_t linkCount() const { return linkCount_; }
-    hal::PacketLink* link(std::size_t index) const { return index < linkCount_ ? links_[index] : nullptr; }
+    TelemetryOutput(const core::Clock& clock, core::EventLog& events, const GroundLinks& links)
+        : clock_(clock), events_(events), links_(links) {}
 
     template <typename T>
     void send(const T& telemetry) {
         core::BeWriter w(payload_, sizeof payload_);
         encodeTelemetry(w, telemetry);
-        sendPayload(T::kApid, payload_, w.ok() ? w.size() : kMaxTelemetryPacket + 1);
+        if (w.ok()) {
+            sendPayload(T::kApid, payload_, w.size());
+        } else {
+            reportTooLarge(T::kApid, sizeof telemetry);
+        }
     }
     void sendPayload(std::uint16_t apid, const std::uint8_t* payload, std::size_t length);
 
@@ -38,10 +37,11 @@ public:
     void resetCounters();
 
 private:
+    void reportTooLarge(std::uint16_t apid, std::size_t length);
+
     const core::Clock& clock_;
     core::EventLog& events_;
-    hal::PacketLink* links_[kMaxLinks] = {};
-    std::size_t linkCount_ = 0;
+    const GroundLinks& links_;
     std::uint16_t sequence_[kMaxApid + 1] = {};
     std::uint8_t payload_[kMaxTelemetryPacket] = {};
     std::uint8_t packet_[kMaxTelemetryPacket] = {};

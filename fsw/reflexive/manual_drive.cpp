@@ -62,8 +62,22 @@ void ManualDrive::run(const core::FrameContext&) {
             if (driving_ && !manualMode_) {
                 stop(mode.estop != 0 ? "software e-stop" : "left MANUAL mode");
             }
-        } else if (core::isOk(inbox_.decode(&request)) && manualMode_) {
-            start(request);
+        } else if (core::isOk(inbox_.decode(&request))) {
+            if (manualMode_) {
+                start(request);
+            } else {
+                // The handler checked the mode; this only happens when the mode or
+                // the e-stop changed in between. Said, not silently dropped.
+                events_.report(events::kManualDriveEnded, core::Severity::kWarning,
+                               "manual: drive request ignored (not in MANUAL mode, or e-stop set)");
+            }
+        } else {
+            ++malformed_;
+            if (core::isReportableOccurrence(malformed_)) {
+                events_.report(events::kManualDriveMalformed, core::Severity::kError,
+                               "manual: malformed bus message 0x%04x ignored (%u so far)",
+                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformed_));
+            }
         }
     }
     if (driving_ && clock_.now() >= endTime_) {

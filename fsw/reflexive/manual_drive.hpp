@@ -35,6 +35,7 @@ public:
     bool driving() const { return driving_; }
     std::uint32_t drivesStarted() const { return started_; }
     std::uint32_t drivesEnded() const { return ended_; }
+    std::uint32_t malformed() const { return malformed_; }
 
 private:
     void start(const msg::ManualDriveMsg& request);
@@ -51,6 +52,7 @@ private:
     core::TimeNs endTime_ = 0;
     std::uint32_t started_ = 0;
     std::uint32_t ended_ = 0;
+    std::uint32_t malformed_ = 0;
 };
 
 }  // namespace rse::reflexive

@@ -9,5 +9,6 @@ constexpr core::EventId kInterlockTripped = 601;  // a drive is unhealthy: all w
 constexpr core::EventId kInterlockReset = 602;
 constexpr core::EventId kManualDriveStarted = 603;  // DRIVE accepted: speeds, duration, whether limited
 constexpr core::EventId kManualDriveEnded = 604;    // duration over, mode left, or e-stop
+constexpr core::EventId kManualDriveMalformed = 605;  // a bus message that does not decode (throttled)
 
 }  // namespace rse::reflexive::events

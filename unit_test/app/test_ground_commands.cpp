@@ -319,3 +319,15 @@ TEST(GroundCommands, NoHeapUseWithCommandsAndTelemetryFlowing) {
     LONGS_EQUAL(0, watch.count());
     LONGS_EQUAL(300, fsw.commands().counters().accepted);
 }
+
+TEST(GroundCommands, MalformedBusMessagesAreCountedNotSilentlyDropped) {
+    const std::uint8_t garbage[3] = {1, 2, 3};  // the wrong size for every message type
+    const std::uint32_t refusedBefore = fsw.canIo().commandsRejected();
+    CHECK(core::isOk(fsw.bus().publish(msg::ids::kMode, garbage, sizeof garbage)));
+    CHECK(core::isOk(fsw.bus().publish(msg::ids::kManualDrive, garbage, sizeof garbage)));
+    runFrames(1);
+    LONGS_EQUAL(refusedBefore + 1, fsw.canIo().commandsRejected());  // e-stop state unchanged
+    CHECK_FALSE(fsw.canIo().estopHeld());
+    LONGS_EQUAL(1, fsw.telemetry().malformed());
+    LONGS_EQUAL(2, fsw.manualDrive().malformed());  // both ids reach the manual-drive pipe
+}

@@ -114,6 +114,7 @@ Ack decodeAck(const ScriptedLink::Packet& p) {
 TEST_GROUP(CommandTask) {
     core::VirtualClock clock;
     core::EventLog* events = nullptr;
+    GroundLinks* links = nullptr;
     TelemetryOutput* output = nullptr;
     ScriptedLink* link = nullptr;
     FakeHandler* handler = nullptr;
@@ -124,13 +125,13 @@ TEST_GROUP(CommandTask) {
 
     void setup() override {
         events = new core::EventLog(clock);
-        output = new TelemetryOutput(clock, *events);
+        links = new GroundLinks;
+        output = new TelemetryOutput(clock, *events, *links);
         link = new ScriptedLink;
         handler = new FakeHandler;
-        task = new CommandTask(clock, *events, *output, *handler);
+        task = new CommandTask(clock, *events, *links, *output, *handler);
         CHECK(core::isOk(task->keys().add(kLabKeyId, kLabKey)));
-        CHECK(core::isOk(task->addLink(link)));
-        CHECK(core::isOk(output->addLink(link)));
+        CHECK(core::isOk(links->add(link)));
         CHECK(core::isOk(task->init()));
         CHECK(core::isOk(hmac.init()));
         while (core::isOk(events->pop(nullptr))) {
@@ -141,6 +142,7 @@ TEST_GROUP(CommandTask) {
         delete handler;
         delete link;
         delete output;
+        delete links;
         delete events;
     }
 

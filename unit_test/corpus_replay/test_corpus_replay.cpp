@@ -32,6 +32,7 @@
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "fsw/tables/table_types.hpp"
+#include "unit_test/support/decoded_args_check.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -106,41 +107,6 @@ std::string fileToken(const char* text) {
     return out;
 }
 
-bool inClosed(double value, double lo, double hi) { return value >= lo && value <= hi; }
-
-// The generated decoder of the command, and every typed argument within the
-// dictionary's range; true when decoding consumed exactly the argument bytes.
-bool decodesInRange(const CommandVerdict& v) {
-    core::BeReader r(v.args, v.argLength);
-    switch (v.command->code) {
-#define RSE_CMD(NAME, apid, fc, modes, text) \
-    case CommandCode::NAME: {                \
-        NAME##_Args a{};                     \
-        decodeArgs(r, &a);                   \
-        bool inRange = true;
-#define RSE_ARG(type, name, units, lo, hi, text) \
-    inRange = inRange && inClosed(static_cast<double>(a.name), static_cast<double>(lo), static_cast<double>(hi));
-#define RSE_BLOB(name, max, text) inRange = inRange && a.name##_length > 0 && a.name##_length <= (max);
-#define RSE_CMD_END(NAME)                             \
-    return inRange && r.ok() && r.remaining() == 0; \
-    }
-#define RSE_TLM(NAME, apid, text)
-#define RSE_FIELD(type, name, count, units, text)
-#define RSE_TLM_END(NAME)
-#include "fsw/cmdtlm/dictionary.def"
-#undef RSE_CMD
-#undef RSE_ARG
-#undef RSE_BLOB
-#undef RSE_CMD_END
-#undef RSE_TLM
-#undef RSE_FIELD
-#undef RSE_TLM_END
-        case CommandCode::kCount:
-            break;
-    }
-    return false;
-}
-
 // Round trip through the typed codec of the image's table.
 bool roundTrips(const Bytes& image) {
     tables::TableHeader header;
@@ -195,7 +161,7 @@ TEST_GROUP(CorpusReplay) {
             if (modeAllows(desc->modes, mode)) {
                 STRCMP_EQUAL_TEXT("accepted", toString(v.reason), where.c_str());
                 CHECK_TEXT(v.command == desc, where.c_str());
-                CHECK_TEXT(decodesInRange(v), where.c_str());
+                CHECK_TEXT(test::decodesInRange(v), where.c_str());
             } else {
                 STRCMP_EQUAL_TEXT("wrong_mode", toString(v.reason), where.c_str());
             }
@@ -311,7 +277,7 @@ TEST(CorpusReplay, CommandRegressionsReplayCleanly) {
                 const CommandVerdict v = check(packet, authRequired, mode);
                 CHECK_TEXT(v.reason < CommandReject::kCount, file.c_str());
                 if (v.reason == CommandReject::kAccepted) {
-                    CHECK_TEXT(decodesInRange(v), file.c_str());
+                    CHECK_TEXT(test::decodesInRange(v), file.c_str());
                 }
             }
         }

@@ -43,6 +43,7 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "hal/link/packet_link.hpp"
+#include "unit_test/support/decoded_args_check.hpp"
 
 using namespace rse;
 using namespace rse::cmdtlm;
@@ -120,42 +121,6 @@ private:
     hal::PacketLinkStats stats_;
 };
 
-bool inClosed(double value, double lo, double hi) { return value >= lo && value <= hi; }
-
-// The generated decoder of the verdict's command, then the dictionary's ranges
-// on the typed values (written out from the .def here, not read back through
-// the descriptors the validator used).
-bool decodeAndCheckArgs(const CommandVerdict& v) {
-    core::BeReader r(v.args, v.argLength);
-    switch (v.command->code) {
-#define RSE_CMD(NAME, apid, fc, modes, text) \
-    case CommandCode::NAME: {                \
-        NAME##_Args a{};                     \
-        decodeArgs(r, &a);                   \
-        bool inRange = true;
-#define RSE_ARG(type, name, units, lo, hi, text) \
-    inRange = inRange && inClosed(static_cast<double>(a.name), static_cast<double>(lo), static_cast<double>(hi));
-#define RSE_BLOB(name, max, text) inRange = inRange && a.name##_length > 0 && a.name##_length <= (max);
-#define RSE_CMD_END(NAME)                             \
-    return inRange && r.ok() && r.remaining() == 0; \
-    }
-#define RSE_TLM(NAME, apid, text)
-#define RSE_FIELD(type, name, count, units, text)
-#define RSE_TLM_END(NAME)
-#include "fsw/cmdtlm/dictionary.def"
-#undef RSE_CMD
-#undef RSE_ARG
-#undef RSE_BLOB
-#undef RSE_CMD_END
-#undef RSE_TLM
-#undef RSE_FIELD
-#undef RSE_TLM_END
-        case CommandCode::kCount:
-            break;
-    }
-    return false;
-}
-
 // A handler that accepts everything, and decodes the arguments as the real
 // handlers do (from the task's queue slot, not from the fuzzer's buffer).
 class AcceptingHandler final : public CommandHandler {
@@ -165,7 +130,7 @@ public:
         FUZZ_REQUIRE(verdict.reason == CommandReject::kAccepted);
         FUZZ_REQUIRE(verdict.command != nullptr && verdict.args != nullptr);
         FUZZ_REQUIRE(modeAllows(verdict.command->modes, mode_));
-        FUZZ_REQUIRE(decodeAndCheckArgs(verdict));
+        FUZZ_REQUIRE(test::decodesInRange(verdict));
         ++executed_;
         return CommandOutcome{};
     }
@@ -195,10 +160,11 @@ std::size_t payloadOffset(const char* packet, const char* field) {
 struct Rig {
     core::VirtualClock clock;
     core::EventLog events{clock};
-    TelemetryOutput output{clock, events};
+    GroundLinks links;
+    TelemetryOutput output{clock, events, links};
     FuzzLink link;
     AcceptingHandler handler;
-    CommandTask task{clock, events, output, handler};
+    CommandTask task{clock, events, links, output, handler};
     HmacSha256 hmac;
     KeyStore keys;
     CommandValidator validator{keys, hmac};
@@ -208,8 +174,7 @@ struct Rig {
     void init() {
         FUZZ_REQUIRE(core::isOk(hmac.init()));
         FUZZ_REQUIRE(core::isOk(task.keys().add(kLabKeyId, kLabKey)));
-        FUZZ_REQUIRE(core::isOk(task.addLink(&link)));
-        FUZZ_REQUIRE(core::isOk(output.addLink(&link)));
+        FUZZ_REQUIRE(core::isOk(links.add(&link)));
         FUZZ_REQUIRE(core::isOk(task.init()));
         ackReasonOffset = kTelemetryHeaderSize + payloadOffset("CMD_ACK", "reason");
         drainEvents();
@@ -272,7 +237,7 @@ CommandVerdict checkDirect(Rig& rig, const std::uint8_t* packet, std::size_t len
         FUZZ_REQUIRE(core::isOk(rig.hmac.packetMac(kLabKey, packet, length - kMacSize, mac)));
         FUZZ_REQUIRE(std::memcmp(mac, packet + length - kMacSize, kMacSize) == 0);
     }
-    FUZZ_REQUIRE(decodeAndCheckArgs(v));
+    FUZZ_REQUIRE(test::decodesInRange(v));
     return v;
 }
 
