@@ -13,6 +13,13 @@ check() {
   if "$@"; then echo "pass: $name"; pass=$((pass + 1)); else echo "FAIL: $name"; fail=$((fail + 1)); fi
 }
 count() { grep -c "$1" "$2" 2>/dev/null || true; }
+# The console prints events at 10 Hz, after the acknowledgement may already have
+# reached the ground tool, so a log line is waited for (up to 3 s), not assumed.
+logged() {
+  k=0
+  while [ $k -lt 30 ]; do grep -q "$1" "$2" && return 0; sleep 0.1; k=$((k + 1)); done
+  return 1
+}
 
 # --- Session: simulator first (its drives boot), then the flight software.
 candump -L vcan0 > /tmp/session.log &
@@ -31,11 +38,11 @@ G="$B/rse-ground --can vcan0 --state-dir /tmp/ground-state --timeout 5"
 $G send NOOP --auth-seq 7001 > /tmp/g1.out 2>&1; g1=$?
 check "rse-ground: authenticated NOOP over ISO-TP, acknowledged in telemetry (exit 0)" [ $g1 -eq 0 ]
 check "rse-ground: the acknowledgement says accepted" grep -qi "accepted" /tmp/g1.out
-check "rse-fsw: NOOP executed (EVT 500)" grep -q "EVT 500 INFO  cmd: NOOP (key 1, seq 7001)" /tmp/fsw.log
+check "rse-fsw: NOOP executed (EVT 500)" logged "EVT 500 INFO  cmd: NOOP (key 1, seq 7001)" /tmp/fsw.log
 $G send NOOP --auth-seq 7001 > /tmp/g2.out 2>&1; g2=$?
 check "rse-ground: a replayed copy is rejected by the rover (exit 3)" [ $g2 -eq 3 ]
 check "rse-ground: the rejection names replayed_sequence" grep -q "replayed_sequence" /tmp/g2.out
-check "rse-fsw: replay evented (EVT 530)" grep -q "EVT 530 ERROR cmd: rejected NOOP: replayed_sequence" /tmp/fsw.log
+check "rse-fsw: replay evented (EVT 530)" logged "EVT 530 ERROR cmd: rejected NOOP: replayed_sequence" /tmp/fsw.log
 $G send SET_MODE mode=1 > /tmp/g3.out 2>&1; g3=$?
 check "rse-ground: SET_MODE STANDBY accepted with a fresh sequence number" [ $g3 -eq 0 ]
 $G watch --count 40 --seconds 4 --only HK > /tmp/g4.out 2>&1
