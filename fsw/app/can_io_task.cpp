@@ -41,8 +41,11 @@ CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareB
       groundLink_(can, clock, events) {}
 
 core::Status CanIoTask::init() {
+    // Read once: the heartbeat consumer is configured at start-up (the node map
+    // table says an activated map applies at the next start).
+    heartbeatTimeout_ = static_cast<core::TimeNs>(tables_.canNodeMap().heartbeat_timeout_ms) * core::kNsPerMs;
     for (hal::WheelDrive& d : drives_) {
-        const core::Status s = master_.addNode(&d, hal::kDriveHeartbeatTimeout);
+        const core::Status s = master_.addNode(&d, heartbeatTimeout_);
         if (!core::isOk(s)) {
             return s;
         }
@@ -61,7 +64,7 @@ core::Status CanIoTask::init() {
         }
     }
     for (std::uint8_t node : {ids::kImuNode, ids::kPowerNode, ids::kHazardNode, ids::kFixNode}) {
-        const core::Status st = master_.monitor(node, kDeviceHeartbeatTimeout);
+        const core::Status st = master_.monitor(node, heartbeatTimeout_);
         if (!core::isOk(st)) {
             return st;
         }
@@ -156,6 +159,7 @@ void CanIoTask::publishStatus(core::TimeNs now) {
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         const hal::WheelDrive& d = drives_[w];
         msg::WheelStatus& s = status_.wheels[w];
+        s.targetRadS = static_cast<double>(d.targetVelocityMradS()) * kMrad;
         s.velocityRadS = static_cast<double>(d.feedback().velocityMradS) * kMrad;
         s.currentA = static_cast<double>(d.feedback().currentMa) * 1e-3;
         s.feedbackTimeNs = d.feedback().time;
@@ -166,6 +170,27 @@ void CanIoTask::publishStatus(core::TimeNs now) {
     }
     status_.interlockTripped = interlock_.tripped() ? 1 : 0;
     (void)bus_.publish(status_);
+    publishNodes(now);
+}
+
+void CanIoTask::publishNodes(core::TimeNs now) {
+    namespace ids = hal::device_ids;
+    static const std::uint8_t kDeviceNodes[msg::kDeviceNodeCount] = {ids::kImuNode, ids::kPowerNode,
+                                                                     ids::kHazardNode, ids::kFixNode};
+    nodes_.timeNs = now;
+    nodes_.heartbeatTimeoutNs = heartbeatTimeout_;
+    for (std::size_t i = 0; i < msg::kMonitoredNodeCount; ++i) {
+        const std::uint8_t id = i < msg::kWheelCount ? drives_[i].nodeId() : kDeviceNodes[i - msg::kWheelCount];
+        const hal::canopen::NodeHealth* h = master_.heartbeats().node(id);
+        msg::NodeLiveness& n = nodes_.nodes[i];
+        n.nodeId = id;
+        n.lastSeenNs = h != nullptr ? h->lastSeen : 0;
+        n.losses = h != nullptr ? h->losses : 0;
+        n.nmtState = h != nullptr ? static_cast<std::uint8_t>(h->state) : 0;
+        n.lost = h != nullptr && h->lost ? 1 : 0;
+        n.everSeen = h != nullptr && h->everSeen ? 1 : 0;
+    }
+    (void)bus_.publish(nodes_);
 }
 
 void CanIoTask::publishSensors(const core::FrameContext& frame) {

@@ -7,7 +7,7 @@
 //        zero (in the frame the e-stop arrives) and wheel commands are ignored,
 //        counted and evented, until it is cleared; the drives then stay at zero
 //        until the next command arrives.
-//   out: DriveStatusMsg every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
+//   out: DriveStatusMsg and NodeStatusMsg (heartbeat liveness of every node) every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
 // The reflexive drive interlock is applied here, in the same frame the drive
@@ -19,6 +19,7 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/node_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/reflexive/drive_interlock.hpp"
 #include "fsw/tables/table_service.hpp"
@@ -35,7 +36,6 @@ namespace rse::app {
 
 // Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
 constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
-constexpr core::TimeNs kDeviceHeartbeatTimeout = 250 * core::kNsPerMs;
 
 class CanIoTask final : public core::Task {
 public:
@@ -59,6 +59,7 @@ private:
     void takeCommands();
     void refuse(const char* why);  // counts and events a bus input that was not applied
     void publishStatus(core::TimeNs now);
+    void publishNodes(core::TimeNs now);
     void publishSensors(const core::FrameContext& frame);
 
     hal::CanBus& can_;
@@ -82,6 +83,8 @@ private:
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};
+    msg::NodeStatusMsg nodes_{};
+    core::TimeNs heartbeatTimeout_ = 0;  // from the CAN node map table at init
 };
 
 }  // namespace rse::app

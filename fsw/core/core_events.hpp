@@ -18,6 +18,7 @@ constexpr EventId kExecFramesSkipped = 112;   // whole minor frames were lost to
 constexpr EventId kExecTaskOverBudget = 113;  // a task ran longer than its budget
 constexpr EventId kExecStarted = 114;
 constexpr EventId kExecStopped = 115;
+constexpr EventId kExecTaskEnabled = 116;     // a rate-group row was enabled or disabled (maintenance, tests)
 
 // Process posture
 constexpr EventId kRealtimeDegraded = 120;  // mlockall or SCHED_FIFO refused by the OS

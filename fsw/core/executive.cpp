@@ -65,7 +65,9 @@ void Executive::runTask(Slot& slot, const FrameContext& context) {
     const TimeNs hostBegin = hostTimer_.now();
     slot.entry.task->run(context);
     const TimeNs hostTook = hostTimer_.now() - hostBegin;
-    const TimeNs took = clock_.now() - begin;
+    const TimeNs end = clock_.now();
+    const TimeNs took = end - begin;
+    slot.liveness.lastRunEnd = end;
 
     TaskStats& s = slot.stats;
     ++s.runs;
@@ -112,7 +114,7 @@ void Executive::runFrame() {
     }
 
     for (Slot& slot : tasks_) {  // bounded by kMaxTasks
-        if (context.slot % slot.entry.rateDivisor == slot.entry.offset) {
+        if (slot.liveness.enabled && context.slot % slot.entry.rateDivisor == slot.entry.offset) {
             runTask(slot, context);
         }
     }
@@ -174,6 +176,24 @@ const RateGroupEntry* Executive::entry(std::size_t index) const {
 const TaskStats* Executive::taskStats(std::size_t index) const {
     const Slot* slot = tasks_.at(index);
     return slot == nullptr ? nullptr : &slot->stats;
+}
+
+const TaskLiveness* Executive::taskLiveness(std::size_t index) const {
+    const Slot* slot = tasks_.at(index);
+    return slot == nullptr ? nullptr : &slot->liveness;
+}
+
+Status Executive::setTaskEnabled(std::size_t index, bool enabled) {
+    Slot* slot = tasks_.at(index);
+    if (slot == nullptr) {
+        return Status::kInvalidArgument;
+    }
+    if (slot->liveness.enabled != enabled) {
+        slot->liveness.enabled = enabled;
+        events_.report(events::kExecTaskEnabled, enabled ? Severity::kInfo : Severity::kWarning,
+                       "exec: task %s %s", slot->entry.name, enabled ? "enabled" : "disabled");
+    }
+    return Status::kOk;
 }
 
 void Executive::resetCounters() {

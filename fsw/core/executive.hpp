@@ -65,6 +65,13 @@ struct TaskStats {
     TimeNs hostMean() const { return runs == 0 ? 0 : hostTotal / runs; }
 };
 
+// When a task last finished a run, on the executive's clock: its liveness, read
+// by the health monitor. Not a counter, so resetCounters() leaves it alone.
+struct TaskLiveness {
+    TimeNs lastRunEnd = 0;  // 0: never ran
+    bool enabled = true;
+};
+
 struct ExecutiveStats {
     std::uint64_t framesRun = 0;
     std::uint32_t frameOverruns = 0;   // frames that ended after the next was due
@@ -95,6 +102,10 @@ public:
     std::size_t taskCount() const { return tasks_.size(); }
     const RateGroupEntry* entry(std::size_t index) const;
     const TaskStats* taskStats(std::size_t index) const;
+    const TaskLiveness* taskLiveness(std::size_t index) const;
+    // Maintenance hook: a disabled row is skipped (and evented once per change),
+    // so its task stops running and the health monitor sees it stall.
+    Status setTaskEnabled(std::size_t index, bool enabled);
     const ExecutiveConfig& config() const { return config_; }
     std::uint64_t nextFrame() const { return frame_; }
     void resetCounters();
@@ -103,6 +114,7 @@ private:
     struct Slot {
         RateGroupEntry entry{};
         TaskStats stats;
+        TaskLiveness liveness;
     };
 
     Status reject(const char* reason, std::size_t row);

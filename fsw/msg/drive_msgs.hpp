@@ -23,6 +23,7 @@ enum class DriveHealth : std::uint8_t {
 };
 
 struct WheelStatus {
+    double targetRadS;       // target velocity sent to the drive this frame (after the interlock)
     double velocityRadS;     // wheel angular velocity actual
     double currentA;         // motor current actual
     std::int64_t feedbackTimeNs;  // when the drive last reported

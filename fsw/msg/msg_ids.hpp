@@ -19,6 +19,12 @@ constexpr core::MsgId kImu = 0x0120;           // ImuMsg, per sample (100 Hz), c
 constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), can_io -> estimator, health
 constexpr core::MsgId kPositionFix = 0x0122;   // PositionFixMsg, per fix (1 Hz), can_io -> estimator
 constexpr core::MsgId kHazards = 0x0123;       // HazardMsg, 10 Hz, can_io -> habitual
+constexpr core::MsgId kNodeStatus = 0x0124;    // NodeStatusMsg, 100 Hz, can_io -> health
+
+// estimator and health -> layers, executive, telemetry (estimator_msgs.hpp, health_msgs.hpp)
+constexpr core::MsgId kPoseEstimate = 0x0150;  // PoseEstimateMsg, 100 Hz, estimator -> layers, health, telemetry
+constexpr core::MsgId kFaultStatus = 0x0151;   // FaultStatusMsg, on change and 1 Hz, health -> executive, telemetry
+constexpr core::MsgId kDriveModes = 0x0152;    // DriveModesMsg, 10 Hz, drive_modes -> habitual, deliberative, telemetry
 
 // commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
 constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers

@@ -97,6 +97,7 @@ public:
     const HabitualTable& habitual() const { return activeHabitual_; }
     const CanNodeMapTable& canNodeMap() const { return activeCanNodeMap_; }
     const FaultResponseTable& faultResponse() const { return activeFaultResponse_; }
+    const DriveHealthModelTable& driveHealthModel() const { return activeDriveHealthModel_; }
 
     TableStatus status(TableId id) const;  // all zero for an unknown id
     std::uint32_t activations() const { return activations_; }
@@ -138,6 +139,6 @@ private:
 };
 
 // One accessor per table above: a table added to the .def needs one too.
-static_assert(kTableCount == 6, "add an accessor to TableService for every table");
+static_assert(kTableCount == 7, "add an accessor to TableService for every table");
 
 }  // namespace rse::tables

@@ -95,7 +95,8 @@ ToolResult tool(std::vector<std::string> args) {
 
 const char* const kSources[] = {"tables/rover_geometry.toml", "tables/estimator_noise.toml",
                                 "tables/planner.toml",        "tables/habitual.toml",
-                                "tables/can_node_map.toml",   "tables/fault_response.toml"};
+                                "tables/can_node_map.toml",   "tables/fault_response.toml",
+                                "tables/drive_health_model.toml"};
 
 }  // namespace
 
@@ -258,7 +259,7 @@ TEST(TableCompiler, DefaultSourceNeedsEveryTableExactlyOnce) {
     } catch (const TableSourceError& e) {
         message = e.what();
     }
-    CHECK_TEXT(contains(message, "no source for table FAULT_RESPONSE"), message.c_str());
+    CHECK_TEXT(contains(message, "no source for table DRIVE_HEALTH_MODEL"), message.c_str());
 
     std::vector<CompiledTable> twice = all;
     twice.push_back(compileTableText(kGoodGeometry, "other.toml"));
@@ -321,7 +322,7 @@ TEST(TableTool, BuildCppWritesTheDefaultImagesSource) {
     LONGS_EQUAL(0, r.status);
     const std::string cpp = readText(out);
     std::remove(out.c_str());
-    CHECK_TEXT(contains(cpp, "kImage_FAULT_RESPONSE"), "all tables");
+    CHECK_TEXT(contains(cpp, "kImage_DRIVE_HEALTH_MODEL"), "all tables");
     // Missing a table: an error and no file.
     const ToolResult missing = tool({"build", "--cpp", out, "tables/planner.toml"});
     LONGS_EQUAL(1, missing.status);
