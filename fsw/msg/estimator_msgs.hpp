@@ -20,6 +20,7 @@ struct PoseEstimateMsg {
     double gyroBiasRadS;          // estimated IMU yaw-rate bias
     double covariance[9];         // (x, y, heading), row major: m^2, m rad, rad^2
     double gyroBiasVariance;      // (rad/s)^2
+    double positionSigmaM;        // sqrt of the largest eigenvalue of the (x, y) covariance block
     std::uint32_t fixesAccepted;
     std::uint32_t fixesRejected;  // by the Mahalanobis gate (outliers)
     std::uint32_t fixesInvalid;   // malformed (non-finite, sigma not positive)
