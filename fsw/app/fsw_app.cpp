@@ -32,6 +32,9 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       handler_(AppCommandHandler::Parts{clock, bus_, events_, executive_, tables_, telemetryOutput_}),
       commands_(clock, events_, groundLinks_, telemetryOutput_, handler_),
       canIo_(can, clock, bus_, events_, tables_),
+      poseEstimator_(bus_, events_, tables_),
+      driveModes_(bus_, events_, tables_),
+      health_(bus_, events_, tables_, executive_),
       housekeeping_(executive_, bus_, events_),
       telemetry_(bus_, events_, telemetryOutput_,
                  TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
@@ -66,6 +69,15 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(commands_.keys().add(cmdtlm::kLabKeyId, cmdtlm::kLabKey), "loading the lab key");
     }
     if (core::isOk(status)) {
+        status = initStep(poseEstimator_.init(), "pose estimator init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(driveModes_.init(), "drive mode estimator init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(health_.init(), "health monitor init");
+    }
+    if (core::isOk(status)) {
         status = initStep(commands_.init(), "command service init");
     }
     if (core::isOk(status)) {
@@ -89,12 +101,17 @@ core::Status FswApp::init(std::FILE* console) {
     // The rate-group table. Divisors count 100 Hz minor frames (10 = 10 Hz,
     // 100 = 1 Hz); offsets spread tasks of one rate over different frames; budgets
     // are the longest acceptable run. Tables come first, so an activation lands
-    // between frames and every task of a frame sees the same values. Keep
+    // between frames and every task of a frame sees the same values. The
+    // estimator, drive modes and health come right after the CAN I/O task, so
+    // what they publish describes this frame's CAN inputs. Keep
     // docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
         {"tables", &tables_, 1, 0, 200},
         {"can_io", &canIo_, 1, 0, 1000},
+        {"estimator", &poseEstimator_, 1, 0, 300},
+        {"drive_modes", &driveModes_, 1, 0, 200},
+        {"health", &health_, 1, 0, 200},
         {"commands", &commands_, 1, 0, 1000},
         {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},

@@ -19,6 +19,9 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/estimator/drive_mode_task.hpp"
+#include "fsw/estimator/health_task.hpp"
+#include "fsw/estimator/pose_estimator_task.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "fsw/tables/table_service.hpp"
 #include "hal/link/packet_link.hpp"
@@ -65,6 +68,9 @@ public:
     const TelemetryTask& telemetry() const { return telemetry_; }
     const AppCommandHandler& commandHandler() const { return handler_; }
     const reflexive::ManualDrive& manualDrive() const { return manualDrive_; }
+    const estimator::PoseEstimatorTask& poseEstimator() const { return poseEstimator_; }
+    const estimator::DriveModeTask& driveModes() const { return driveModes_; }
+    const estimator::HealthTask& health() const { return health_; }
 
 private:
     core::Status initStep(core::Status status, const char* what);
@@ -79,6 +85,9 @@ private:
     AppCommandHandler handler_;
     cmdtlm::CommandTask commands_;
     CanIoTask canIo_;
+    estimator::PoseEstimatorTask poseEstimator_;
+    estimator::DriveModeTask driveModes_;
+    estimator::HealthTask health_;
     cmdtlm::HousekeepingTask housekeeping_;
     TelemetryTask telemetry_;
     reflexive::ManualDrive manualDrive_;

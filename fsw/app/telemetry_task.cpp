@@ -8,10 +8,12 @@
 namespace rse::app {
 
 core::Status TelemetryTask::init() {
-    // Depth: drive status arrives every frame and this task runs every frame.
+    // Depth: drive status and the pose estimate arrive every frame, the rest
+    // seldom, and this task runs every frame.
     core::Status status = bus_.createPipe("telemetry", 8, &pipe_);
-    const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPositionFix,
-                               msg::ids::kMode, msg::ids::kGoalList};
+    const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
+                               msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
+                               msg::ids::kGoalList};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -36,6 +38,10 @@ void TelemetryTask::run(const core::FrameContext& frame) {
     if (frame.slot == kRoverStateSlot) {
         sendRoverState();
     }
+    if (frame.slot == kHealthSlot || healthChanged_) {
+        healthChanged_ = false;
+        sendHealth();
+    }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
         planChanged_ = false;
         sendPlan();
@@ -50,10 +56,24 @@ void TelemetryTask::takeBusMessages() {
         switch (inbox_.header.id) {
             case msg::ids::kDriveStatus: status = inbox_.decode(&drives_); break;
             case msg::ids::kWheelCommand: status = inbox_.decode(&wheelCommand_); break;
-            case msg::ids::kPositionFix:
-                status = inbox_.decode(&fix_);
-                haveFix_ = haveFix_ || core::isOk(status);
+            case msg::ids::kPoseEstimate: status = inbox_.decode(&pose_); break;
+            case msg::ids::kFaultStatus: {
+                const std::uint64_t before = faults_.activeMask;
+                status = inbox_.decode(&faults_);
+                healthChanged_ = healthChanged_ || (core::isOk(status) && faults_.activeMask != before);
                 break;
+            }
+            case msg::ids::kDriveModes: {
+                msg::DriveMode before[msg::kWheelCount];
+                for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+                    before[w] = driveModes_.drives[w].declared;
+                }
+                status = inbox_.decode(&driveModes_);
+                for (std::size_t w = 0; w < msg::kWheelCount && core::isOk(status); ++w) {
+                    healthChanged_ = healthChanged_ || driveModes_.drives[w].declared != before[w];
+                }
+                break;
+            }
             case msg::ids::kMode: status = inbox_.decode(&mode_); break;
             case msg::ids::kGoalList:
                 status = inbox_.decode(&goals_);
@@ -167,31 +187,42 @@ void TelemetryTask::sendDrives() {
     output_.send(tlm);
 }
 
-// Until the state estimator exists, the pose is the last position fix with its
-// stated accuracy (source 1) and the speeds come from the wheels.
 void TelemetryTask::sendRoverState() {
     cmdtlm::ROVER_STATE_Tlm tlm{};
-    if (haveFix_) {
-        tlm.source = 1;
-        tlm.x = fix_.xM;
-        tlm.y = fix_.yM;
-        tlm.heading = fix_.headingRad;
-        const auto variance = static_cast<float>(fix_.sigmaM * fix_.sigmaM);
-        tlm.covariance[0] = variance;
-        tlm.covariance[4] = variance;
+    tlm.estimate_valid = pose_.initialised;
+    tlm.yaw_from_imu = pose_.yawFromImu;
+    tlm.x = pose_.xM;
+    tlm.y = pose_.yM;
+    tlm.heading = pose_.headingRad;
+    for (std::size_t i = 0; i < 9; ++i) {
+        tlm.covariance[i] = static_cast<float>(pose_.covariance[i]);
     }
-    const tables::RoverGeometryTable& g = sources_.tables.roverGeometry();
-    double left = 0.0;
-    double right = 0.0;
-    for (std::size_t i = 0; i < msg::kWheelCount / 2; ++i) {
-        left += drives_.wheels[i].velocityRadS;
-        right += drives_.wheels[i + msg::kWheelCount / 2].velocityRadS;
+    tlm.position_sigma = static_cast<float>(pose_.positionSigmaM);
+    tlm.speed = static_cast<float>(pose_.speedMS);
+    tlm.turn_rate = static_cast<float>(pose_.yawRateRadS);
+    tlm.gyro_bias = static_cast<float>(pose_.gyroBiasRadS);
+    tlm.fixes_accepted = pose_.fixesAccepted;
+    tlm.fixes_rejected = pose_.fixesRejected;
+    tlm.fixes_invalid = pose_.fixesInvalid;
+    output_.send(tlm);
+}
+
+void TelemetryTask::sendHealth() {
+    cmdtlm::HEALTH_Tlm tlm{};
+    tlm.active_faults = faults_.activeMask;
+    tlm.faults_raised = faults_.raisedTotal;
+    tlm.faults_cleared = faults_.clearedTotal;
+    tlm.last_fault_id = faults_.lastFaultId;
+    tlm.last_fault_raised = faults_.lastRaised;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const msg::DriveModeBelief& b = driveModes_.drives[w];
+        tlm.drive_mode[w] = static_cast<std::uint8_t>(b.declared);
+        tlm.p_nominal[w] = b.probability[static_cast<std::size_t>(msg::DriveMode::kNominal)];
+        tlm.p_degraded[w] = b.probability[static_cast<std::size_t>(msg::DriveMode::kDegraded)];
+        tlm.p_failed[w] = b.probability[static_cast<std::size_t>(msg::DriveMode::kFailed)];
+        tlm.p_unknown[w] = b.probability[static_cast<std::size_t>(msg::DriveMode::kUnknown)];
+        tlm.power_factor[w] = b.powerFactor;
     }
-    left /= static_cast<double>(msg::kWheelCount / 2);
-    right /= static_cast<double>(msg::kWheelCount / 2);
-    const double radius = static_cast<double>(g.wheel_radius_m);
-    tlm.speed = static_cast<float>(0.5 * (left + right) * radius);
-    tlm.turn_rate = static_cast<float>((right - left) * radius / static_cast<double>(g.track_width_m));
     output_.send(tlm);
 }
 

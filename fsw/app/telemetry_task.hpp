@@ -2,9 +2,10 @@
 //   every frame  EVENT packets for events not yet sent (at most kEventsPerFrame a frame;
 //                the event log is this task's to drain, so the rest wait there)
 //   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
-//                slot 50, ROVER_STATE in slot 60: spread over the second so the
-//                slow CAN downlink never gets them in one burst
-//   on change    PLAN (goal list), and every 5 s
+//                slot 50, ROVER_STATE in slot 60, HEALTH in slot 70: spread over
+//                the second so the slow CAN downlink never gets them in one burst
+//   on change    PLAN (goal list), and every 5 s; HEALTH when the active faults
+//                or a declared drive mode change
 //   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
 //                (table commands) through the send helpers below
 #pragma once
@@ -17,9 +18,10 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
-#include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::app {
@@ -29,6 +31,7 @@ constexpr std::uint16_t kPlanPeriodFrames = 500;  // PLAN repeats every 5 s
 constexpr std::uint32_t kTaskTimingSlot = 10;     // TASK_TIMING of task i in slot 10 + i
 constexpr std::uint32_t kDrivesSlot = 50;
 constexpr std::uint32_t kRoverStateSlot = 60;
+constexpr std::uint32_t kHealthSlot = 70;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -67,6 +70,7 @@ private:
     void sendEvents();
     void sendDrives();
     void sendRoverState();
+    void sendHealth();
     void sendPlan();
 
     core::SoftwareBus& bus_;
@@ -83,8 +87,10 @@ private:
     // Latest of each input (what the 1 Hz packets report).
     msg::DriveStatusMsg drives_{};
     msg::WheelCommandMsg wheelCommand_{};
-    msg::PositionFixMsg fix_{};
-    bool haveFix_ = false;
+    msg::PoseEstimateMsg pose_{};
+    msg::FaultStatusMsg faults_{};
+    msg::DriveModesMsg driveModes_{};
+    bool healthChanged_ = false;
     msg::ModeMsg mode_{};
     msg::GoalListMsg goals_{};
     // Packet structs kept out of the task's stack.
