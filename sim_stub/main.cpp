@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
         }
         driveBusPtrs[w] = driveBuses[w].get();
     }
-    auto drives = std::make_unique<rse::sim::DriveBank>(driveBusPtrs, scenario.rover.driveNodes);
+    auto drives = std::make_unique<rse::sim::DriveBank>(driveBusPtrs, scenario);  // node ids, noise, seed
     rse::sim::RoverSimWiring wiring;
     wiring.driveFaults = drives.get();  // bus faults need the in-memory bus: counted as unhandled here
     auto rover = std::make_unique<rse::sim::RoverSim>(scenario, *devicesBus, drives->wheels(), wiring);

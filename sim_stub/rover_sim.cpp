@@ -213,4 +213,12 @@ void RoverSim::babble(std::uint32_t cobId, double framesPerSecond, bool on) {
     ++stats_.faultsApplied;
 }
 
+void RoverSim::positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) {
+    if (fix_.injectOutlier(offsetM, bearingRad, count)) {
+        ++stats_.faultsApplied;
+    } else {
+        ++stats_.faultsUnhandled;
+    }
+}
+
 }  // namespace rse::sim

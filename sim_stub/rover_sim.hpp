@@ -15,8 +15,13 @@
 // RoverSim is itself the FaultTarget: device hooks act on its emulators, bus
 // faults go to the in-memory bus (when one is given), babbling nodes send on
 // its bus, and the drive hooks are forwarded to the drive emulators' owner
-// (RoverSimWiring::driveFaults). A hook with nobody to act on it is counted in
-// stats().faultsUnhandled.
+// (RoverSimWiring::driveFaults), position-fix outliers to its position-fix
+// emulator. A hook with nobody to act on it (or, for an outlier, with an invalid
+// offset, bearing or count) is counted in stats().faultsUnhandled.
+//
+// The scenario is read only by the constructor (a program may change a loaded
+// Scenario first, e.g. its seed). The drive emulators' measurement noise comes
+// from the scenario too, but through DriveBank(buses, scenario).
 #pragma once
 
 #include <array>
@@ -102,6 +107,8 @@ public:
     void stepImuBias(double deltaRadS) override;
     void addBusFault(const hal::CanFaultRule& rule) override;
     void babble(std::uint32_t cobId, double framesPerSecond, bool on) override;
+    // Displaces the next `count` fixes (see PositionFixEmulator::injectOutlier).
+    void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override;
 
 private:
     struct Babbler {

@@ -1,5 +1,7 @@
 #include "sim_stub/devices/position_fix_emulator.hpp"
 
+#include <cmath>
+
 #include "hal/canopen/le_codec.hpp"
 
 namespace rse::sim {
@@ -10,6 +12,16 @@ PositionFixEmulator::PositionFixEmulator(hal::CanBus& bus, const World& world, c
       world_(world),
       params_(params),
       rng_(seed, RngStream::kPositionFix) {}
+
+bool PositionFixEmulator::injectOutlier(double offsetM, double bearingRad, std::uint32_t count) {
+    if (!(std::isfinite(offsetM) && offsetM > 0.0) || !std::isfinite(bearingRad) || count == 0) {
+        return false;
+    }
+    outliersPending_ = count;
+    outlierDx_ = offsetM * std::cos(bearingRad);
+    outlierDy_ = offsetM * std::sin(bearingRad);
+    return true;
+}
 
 void PositionFixEmulator::onBoot(core::TimeNs now, bool resetApplication) {
     if (resetApplication) {
@@ -23,8 +35,14 @@ void PositionFixEmulator::produce(core::TimeNs now) {
         return;  // a late fix is one fix
     }
     const Pose2& pose = world_.truth().pose;
-    const double x = pose.x + params_.sigmaM * rng_.gaussian();
-    const double y = pose.y + params_.sigmaM * rng_.gaussian();
+    double x = pose.x + params_.sigmaM * rng_.gaussian();
+    double y = pose.y + params_.sigmaM * rng_.gaussian();
+    if (outliersPending_ > 0) {
+        --outliersPending_;
+        ++outliersProduced_;
+        x += outlierDx_;
+        y += outlierDy_;
+    }
     const double heading = wrapAngle(pose.theta + params_.headingSigmaRad * rng_.gaussian());
     std::uint16_t sigmaMm = saturateU16(params_.sigmaM * 1e3);
     sigmaMm = sigmaMm == 0 ? 1 : sigmaMm;

@@ -5,6 +5,14 @@
 // Fix = true pose + independent Gaussian noise: x and y with sigmaM (default
 // 0.05 m), heading with headingSigmaRad (default 0.005 rad). The sigma field
 // carries sigmaM (at least 1 mm: the flight side rejects 0).
+//
+// Outliers (fault position_fix_outlier): injectOutlier(offset, bearing, count)
+// displaces the next `count` fixes produced by offset metres towards bearing (map
+// frame, counter-clockwise from +x) on top of the normal noise; the heading and
+// the sigma field are unchanged. "Produced" means given a fix counter: a fix
+// withheld by a dropout or NMT stopped still uses one up, a crashed device
+// produces none (the outliers wait for its restart). A new injection replaces
+// whatever is still pending.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +40,12 @@ public:
 
     std::uint16_t fixCounter() const { return counter_; }  // of the next fix
 
+    // False (and nothing changes) unless offsetM is finite and > 0, bearingRad is
+    // finite and count >= 1.
+    bool injectOutlier(double offsetM, double bearingRad, std::uint32_t count);
+    std::uint32_t outliersPending() const { return outliersPending_; }
+    std::uint32_t outliersProduced() const { return outliersProduced_; }  // since construction
+
 private:
     void onBoot(core::TimeNs now, bool resetApplication) override;
     void produce(core::TimeNs now) override;
@@ -41,6 +55,10 @@ private:
     SimRng rng_;
     PeriodicSchedule schedule_;
     std::uint16_t counter_ = 0;
+    std::uint32_t outliersPending_ = 0;
+    std::uint32_t outliersProduced_ = 0;
+    double outlierDx_ = 0.0;
+    double outlierDy_ = 0.0;
 };
 
 }  // namespace rse::sim

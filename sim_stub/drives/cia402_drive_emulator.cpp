@@ -95,6 +95,8 @@ T clampTo(long long v, long long lo, long long hi) {
 
 double seconds(core::TimeNs t) { return static_cast<double>(t) / static_cast<double>(core::kNsPerSec); }
 
+double noiseSigma(double sigma) { return std::isfinite(sigma) && sigma > 0.0 ? sigma : 0.0; }
+
 }  // namespace
 
 const char* toString(NmtState state) {
@@ -120,7 +122,11 @@ const char* toString(NodeLife life) {
 Cia402DriveEmulator::Cia402DriveEmulator(hal::CanBus& bus, std::uint8_t nodeId, const DriveEmulatorConfig& config)
     : bus_(bus), config_(config), nodeId_(nodeId), valid_(nodeId >= 1 && nodeId <= 127),
       sdo_(bus, static_cast<SdoObjectDictionary&>(*this), nodeId, config.sdoServerTimeout),
-      loadTorqueNm_(config.loadTorqueNm) {
+      loadTorqueNm_(config.loadTorqueNm),
+      currentRng_(config.noiseSeed, driveCurrentStream(config.noiseChannel)),
+      velocityRng_(config.noiseSeed, driveVelocityStream(config.noiseChannel)) {
+    config_.currentSigmaMa = noiseSigma(config_.currentSigmaMa);
+    config_.velocitySigmaMradS = noiseSigma(config_.velocitySigmaMradS);
     if (valid_ && config_.installFilters) {
         const hal::CanFilter filters[] = {
             {kCobNmt, 0x7FF, false},
@@ -156,6 +162,16 @@ void Cia402DriveEmulator::setDegradation(double currentFactor) {
 }
 
 void Cia402DriveEmulator::failMotor() { motorFailed_ = true; }
+
+void Cia402DriveEmulator::setMeasurementNoise(double currentSigmaMa, double velocitySigmaMradS, std::uint64_t seed,
+                                              std::size_t channel) {
+    config_.currentSigmaMa = noiseSigma(currentSigmaMa);
+    config_.velocitySigmaMradS = noiseSigma(velocitySigmaMradS);
+    config_.noiseSeed = seed;
+    config_.noiseChannel = channel;
+    currentRng_ = SimRng(seed, driveCurrentStream(channel));
+    velocityRng_ = SimRng(seed, driveVelocityStream(channel));
+}
 
 void Cia402DriveEmulator::injectFault(std::uint16_t emcyCode) {
     if (emcyCode != emcy::kNoError) {
@@ -585,8 +601,8 @@ void Cia402DriveEmulator::sendTpdo() {
     f.id = kCobTpdo1 + nodeId_;
     f.dlc = 8;
     le::put16(&f.data[0], statusword());
-    le::putI32(&f.data[2], velocityActualMradS());
-    le::putI16(&f.data[6], currentActualMa());
+    le::putI32(&f.data[2], reportVelocityMradS());
+    le::putI16(&f.data[6], reportCurrentMa());
     if (send(f)) {
         ++stats_.tpdoSent;
     }
@@ -687,6 +703,28 @@ std::int16_t Cia402DriveEmulator::currentActualMa() const {
     return clampTo<std::int16_t>(std::llround(current_), INT16_MIN, INT16_MAX);
 }
 
+// One report: the model value plus one noise draw, then quantised and saturated
+// like the noise-free value. With sigma 0 nothing is drawn.
+std::int32_t Cia402DriveEmulator::reportVelocityMradS() {
+    if (config_.velocitySigmaMradS > 0.0) {
+        const double v = velocity_ * 1000.0 + config_.velocitySigmaMradS * velocityRng_.gaussian();
+        reportedVelocity_ = clampTo<std::int32_t>(std::llround(v), INT32_MIN, INT32_MAX);
+    } else {
+        reportedVelocity_ = velocityActualMradS();
+    }
+    return reportedVelocity_;
+}
+
+std::int16_t Cia402DriveEmulator::reportCurrentMa() {
+    if (config_.currentSigmaMa > 0.0) {
+        const double c = current_ + config_.currentSigmaMa * currentRng_.gaussian();
+        reportedCurrent_ = clampTo<std::int16_t>(std::llround(c), INT16_MIN, INT16_MAX);
+    } else {
+        reportedCurrent_ = currentActualMa();
+    }
+    return reportedCurrent_;
+}
+
 // ---------------------------------------------------------------------------
 // Object dictionary
 
@@ -746,8 +784,8 @@ std::uint32_t Cia402DriveEmulator::read(std::uint16_t index, std::uint8_t subInd
         case key(0x6041, 0): v = statusword(); break;
         case key(0x6060, 0): v = static_cast<std::uint8_t>(mode_); break;
         case key(0x6061, 0): v = static_cast<std::uint8_t>(mode_); break;
-        case key(0x606C, 0): v = static_cast<std::uint32_t>(velocityActualMradS()); break;
-        case key(0x6078, 0): v = static_cast<std::uint16_t>(currentActualMa()); break;
+        case key(0x606C, 0): v = static_cast<std::uint32_t>(reportVelocityMradS()); break;
+        case key(0x6078, 0): v = static_cast<std::uint16_t>(reportCurrentMa()); break;
         case key(0x60FF, 0): v = static_cast<std::uint32_t>(targetVelocity_); break;
         case key(0x6502, 0): v = 0x00000004; break;  // bit 2: profile velocity
         default: return sdo_abort::kObjectDoesNotExist;

@@ -73,6 +73,16 @@
 // speed draws 750 mA, and 1125 mA at degradation 1.5.
 // Over-current: a current above overCurrentLimit (3000 mA) for more than
 // overCurrentTime (100 ms) -> EMCY 0x2310, fault (resettable).
+//
+// ---- Measurement noise -------------------------------------------------------------
+// What the drive REPORTS (TPDO1, and SDO uploads of 0x606C velocity actual and
+// 0x6078 current actual) carries Gaussian white noise: one independent draw per
+// report, standard deviation currentSigmaMa / velocitySigmaMradS (default 0 = off:
+// nothing is drawn and the reports are exactly the quantised model values). Each
+// quantity has its own SimRng stream per drive, from (noiseSeed, noiseChannel),
+// so the same seed gives the same reports. Everything physical stays noise-free:
+// currentMa() (what the battery sees), wheelSpeedRadS(), the over-current
+// detection and the statusword bits.
 // The body physics is not modelled here: the simulator reads wheelSpeedRadS() and
 // feeds back setLoadTorque().
 #pragma once
@@ -84,6 +94,7 @@
 #include "hal/can/can_bus.hpp"
 #include "hal/canopen/cia402.hpp"
 #include "sim_stub/drives/sdo_server.hpp"
+#include "sim_stub/world/random.hpp"
 
 namespace rse::sim {
 
@@ -135,6 +146,12 @@ struct DriveEmulatorConfig {
     // Install acceptance filters on the bus endpoint (NMT, SYNC, own RPDO1 and SDO
     // request), as a real controller would. Leave on unless the endpoint is shared.
     bool installFilters = true;
+    // Measurement noise on the reported values (see "Measurement noise" above).
+    // Negative or non-finite sigmas count as 0.
+    double currentSigmaMa = 0.0;      // on the current actual, mA
+    double velocitySigmaMradS = 0.0;  // on the velocity actual, mrad/s
+    std::uint64_t noiseSeed = 1;      // the scenario seed
+    std::size_t noiseChannel = 0;     // whose streams: the wheel index 0..5 (DriveBank sets it)
 };
 
 struct DriveEmulatorStats {
@@ -193,6 +210,10 @@ public:
     void failMotor();                           // EMCY 0x5000, fault; survives resets and power cycles
     void injectFault(std::uint16_t emcyCode);   // a one-shot, resettable fault with this code (non-zero)
     void setOverCurrentLimit(std::int32_t currentMa) { config_.overCurrentLimitMa = currentMa; }
+    // Replaces the measurement noise settings and restarts both noise streams
+    // from (seed, channel), as if constructed with them.
+    void setMeasurementNoise(double currentSigmaMa, double velocitySigmaMradS, std::uint64_t seed,
+                             std::size_t channel);
 
     // ---- truth for the simulator and tests ----
     bool valid() const { return valid_; }
@@ -206,8 +227,14 @@ public:
     std::int8_t modeOfOperation() const { return mode_; }
     double wheelSpeedRadS() const { return velocity_; }
     double currentMa() const { return current_; }
-    std::int32_t velocityActualMradS() const;  // as in TPDO1 / 0x606C
-    std::int16_t currentActualMa() const;      // as in TPDO1 / 0x6078
+    // The model's values quantised as TPDO1 / 0x606C / 0x6078 carry them, WITHOUT
+    // the measurement noise (identical to the reports when the sigmas are 0).
+    std::int32_t velocityActualMradS() const;
+    std::int16_t currentActualMa() const;
+    // The values in the last report (TPDO1 or SDO upload), noise included; 0
+    // before the first report.
+    std::int32_t lastReportedVelocityMradS() const { return reportedVelocity_; }
+    std::int16_t lastReportedCurrentMa() const { return reportedCurrent_; }
     double loadTorqueNm() const { return loadTorqueNm_; }
     double degradation() const { return degradation_; }
     bool motorFailed() const { return motorFailed_; }
@@ -251,6 +278,8 @@ private:
     void sendEmcy(std::uint16_t code);
     void sendTpdo();
     void sendHeartbeatIfDue(core::TimeNs now);
+    std::int32_t reportVelocityMradS();  // one report: the value plus one noise draw
+    std::int16_t reportCurrentMa();
     void advanceModel(core::TimeNs now);
     bool torqueOn() const;
     double effectiveTargetRadS() const;
@@ -302,6 +331,12 @@ private:
     double degradation_ = 1.0;
     bool overCurrentTiming_ = false;
     core::TimeNs overCurrentSince_ = 0;
+
+    // Measurement noise
+    SimRng currentRng_;
+    SimRng velocityRng_;
+    std::int16_t reportedCurrent_ = 0;
+    std::int32_t reportedVelocity_ = 0;
 
     DriveEmulatorStats stats_;
 };

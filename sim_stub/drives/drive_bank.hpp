@@ -2,6 +2,10 @@
 // each Cia402DriveEmulator sits on its own CAN endpoint (as six controllers
 // would), is seen by the World as a WheelModel, and takes the scenario's drive
 // faults (FaultTarget's drive hooks; RoverSim handles the device hooks itself).
+//
+// Built from a Scenario, it takes the drive node ids and the measurement noise
+// ([drives] current_sigma_a, velocity_sigma_rad_s) with the scenario seed: drive
+// w reports with noise streams (seed, w), so the same seed gives the same run.
 #pragma once
 
 #include <array>
@@ -10,6 +14,7 @@
 #include "hal/can/can_bus.hpp"
 #include "sim_stub/drives/cia402_drive_emulator.hpp"
 #include "sim_stub/scenario/fault_target.hpp"
+#include "sim_stub/scenario/scenario.hpp"
 #include "sim_stub/world/kinematics.hpp"
 #include "sim_stub/world/wheel_model.hpp"
 
@@ -18,8 +23,18 @@ namespace rse::sim {
 class DriveBank final : public FaultTarget {
 public:
     // buses[w]: the endpoint of wheel w's drive; nodeIds from the scenario's rover.
+    // Every drive gets `config` except noiseChannel, which is its wheel index.
     DriveBank(const std::array<hal::CanBus*, kWheelCount>& buses,
               const std::array<std::uint8_t, kWheelCount>& nodeIds, const DriveEmulatorConfig& config = {});
+    // Node ids, measurement noise and noise seed from the scenario, the rest from base.
+    DriveBank(const std::array<hal::CanBus*, kWheelCount>& buses, const Scenario& scenario,
+              const DriveEmulatorConfig& base = {});
+    // base with the scenario's measurement noise (converted to mA, mrad/s) and seed.
+    static DriveEmulatorConfig configFor(const Scenario& scenario, const DriveEmulatorConfig& base = {});
+
+    // Sets every drive's measurement noise and restarts its noise streams from
+    // (seed, wheel index): for a bank built without the scenario.
+    void setMeasurementNoise(const DriveNoiseParams& noise, std::uint64_t seed);
 
     void powerOn();
     // WheelModels for RoverSim, in wheel order.
@@ -40,6 +55,7 @@ public:
     void stepImuBias(double) override {}
     void addBusFault(const hal::CanFaultRule&) override {}
     void babble(std::uint32_t, double, bool) override {}
+    void positionFixOutlier(double, double, std::uint32_t) override {}
 
 private:
     // One drive seen as a wheel: the emulator's units converted to the world's.

@@ -48,6 +48,9 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
                 add(f.at, FaultAction::kBabbleStart);
                 addEnd(FaultAction::kBabbleEnd);
                 break;
+            case FaultType::kPositionFixOutlier:
+                add(f.at, FaultAction::kPositionFixOutlier);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -106,6 +109,9 @@ void FaultScheduler::fire(const FaultEvent& e) {
             break;
         case FaultAction::kBabbleEnd:
             target_.babble(f.cobId, f.value, false);
+            break;
+        case FaultAction::kPositionFixOutlier:
+            target_.positionFixOutlier(f.value, f.bearingRad, f.count);
             break;
     }
 }

@@ -32,6 +32,7 @@ enum class FaultAction : std::uint8_t {
     kBusFault,
     kBabbleStart,
     kBabbleEnd,
+    kPositionFixOutlier,
 };
 
 struct FaultEvent {

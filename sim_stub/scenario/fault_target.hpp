@@ -41,6 +41,9 @@ public:
     virtual void addBusFault(const hal::CanFaultRule& rule) = 0;
     // A node floods the bus with frames at cobId, framesPerSecond, until switched off.
     virtual void babble(std::uint32_t cobId, double framesPerSecond, bool on) = 0;
+    // The next `count` position fixes are displaced by offsetM towards bearingRad
+    // (map frame, counter-clockwise from +x), on top of their normal noise.
+    virtual void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) = 0;
 
 protected:
     ~FaultTarget() = default;

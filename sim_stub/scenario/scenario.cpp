@@ -36,6 +36,8 @@ const char* toString(FaultType type) {
             return "bus_fault";
         case FaultType::kBabblingNode:
             return "babbling_node";
+        case FaultType::kPositionFixOutlier:
+            return "position_fix_outlier";
     }
     return "?";
 }

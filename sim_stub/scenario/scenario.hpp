@@ -34,7 +34,9 @@ enum class FaultType : std::uint8_t {
     kImuBiasStep,       // value = bias step, rad/s
     kBusFault,          // busRule
     kBabblingNode,      // cobId, value = frames per second, until
+    kPositionFixOutlier,  // value = offset, m; bearingRad; count = how many fixes
 };
+constexpr FaultType kLastFaultType = FaultType::kPositionFixOutlier;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 
@@ -47,6 +49,15 @@ struct FaultSpec {
     double value = 0.0;
     hal::CanFaultRule busRule;
     std::uint32_t cobId = 0;
+    std::uint32_t count = 1;  // position_fix_outlier: how many fixes
+    double bearingRad = 0.0;  // position_fix_outlier: direction of the offset (map frame, CCW from +x)
+};
+
+// Measurement noise of the six wheel drives' reports (scenario [drives]; see
+// DriveEmulatorConfig). The physical current and speed stay noise-free.
+struct DriveNoiseParams {
+    double currentSigmaA = 0.0;      // on the reported current actual
+    double velocitySigmaRadS = 0.0;  // on the reported velocity actual
 };
 
 struct DeviceParams {
@@ -60,7 +71,7 @@ struct Scenario {
     std::string source;       // file name (or the name given for inline text)
     std::string name;
     std::string description;
-    std::uint64_t seed = 1;
+    std::uint64_t seed = 1;   // a program may set it after loading (e.g. one run per seed)
     double durationS = 60.0;  // how long a run of this scenario lasts
     RoverParams rover;
     BatteryParams battery;
@@ -69,6 +80,7 @@ struct Scenario {
     Pose2 start;
     std::vector<Obstacle> obstacles;
     DeviceParams devices;
+    DriveNoiseParams drives;
     std::vector<FaultSpec> faults;  // in time order (by at)
 
     WorldConfig worldConfig() const;

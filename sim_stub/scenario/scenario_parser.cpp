@@ -199,6 +199,7 @@ private:
     void parseObstacles(const toml::node& n, const MapBounds& map, std::vector<Obstacle>* out) const;
     void parseStart(const toml::table& t, const Scenario& s, Pose2* start) const;
     void parseDevices(const toml::table& t, DeviceParams* devices) const;
+    void parseDrives(const toml::table& t, DriveNoiseParams* drives) const;
     void parseFaults(const toml::node& n, std::vector<FaultSpec>* out) const;
     FaultSpec parseFault(const toml::table& t, const std::string& path) const;
     std::size_t wheel(const toml::table& t, const std::string& path) const;
@@ -409,6 +410,13 @@ void Parser::parseDevices(const toml::table& t, DeviceParams* d) const {
     }
 }
 
+void Parser::parseDrives(const toml::table& t, DriveNoiseParams* d) const {
+    const std::string p = "drives";
+    onlyKeys(t, p, {"current_sigma_a", "velocity_sigma_rad_s"});
+    d->currentSigmaA = ranged(t, p, "current_sigma_a", d->currentSigmaA, 0.0, 1.0);
+    d->velocitySigmaRadS = ranged(t, p, "velocity_sigma_rad_s", d->velocitySigmaRadS, 0.0, 1.0);
+}
+
 std::size_t Parser::wheel(const toml::table& t, const std::string& path) const {
     const std::int64_t w = integer(t, path, "wheel", 0, true);
     if (w < 1 || w > static_cast<std::int64_t>(kWheelCount)) {
@@ -463,7 +471,7 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
     FaultSpec f;
     const std::string type = string(t, p, "type", "", true);
     bool known = false;
-    for (std::uint8_t i = 0; i <= static_cast<std::uint8_t>(FaultType::kBabblingNode); ++i) {
+    for (std::uint8_t i = 0; i <= static_cast<std::uint8_t>(kLastFaultType); ++i) {
         if (type == toString(static_cast<FaultType>(i))) {
             f.type = static_cast<FaultType>(i);
             known = true;
@@ -472,8 +480,8 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
     if (!known) {
         fail(join(p, "type"), "unknown fault type \"" + type +
                                   "\" (expected motor_degradation, motor_failure, drive_heartbeat_loss, "
-                                  "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault or "
-                                  "babbling_node)");
+                                  "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
+                                  "babbling_node or position_fix_outlier)");
     }
     const double atS = ranged(t, p, "at_s", 0.0, 0.0, kMaxTimeS, true);
     f.at = toNs(atS);
@@ -561,6 +569,17 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
             f.value = positive(t, p, "rate_hz", kDefaultBabbleRateHz, 20000.0);
             f.until = intervalEnd(t, p, atS);
             break;
+        case FaultType::kPositionFixOutlier: {
+            onlyKeys(t, p, {"type", "at_s", "offset_m", "count", "bearing_deg"}, ctx);
+            f.value = positive(t, p, "offset_m", 0.0, 1000.0, true);
+            const std::int64_t count = integer(t, p, "count", 1);
+            if (count < 1 || count > 1000) {
+                fail(join(p, "count"), "must be 1..1000 (got " + std::to_string(count) + ")");
+            }
+            f.count = static_cast<std::uint32_t>(count);
+            f.bearingRad = ranged(t, p, "bearing_deg", 0.0, -360.0, 360.0) * kPi / 180.0;
+            break;
+        }
     }
     return f;
 }
@@ -601,7 +620,7 @@ Scenario Parser::parse(std::string_view text) {
     }
     onlyKeys(root, "",
              {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
-              "devices", "faults"});
+              "devices", "drives", "faults"});
     Scenario s;
     s.source = source_;
     s.name = string(root, "", "name", source_);
@@ -628,6 +647,9 @@ Scenario Parser::parse(std::string_view text) {
     parseStart(*table(root, "", "start", true), s, &s.start);
     if (const toml::table* t = table(root, "", "devices", false)) {
         parseDevices(*t, &s.devices);
+    }
+    if (const toml::table* t = table(root, "", "drives", false)) {
+        parseDrives(*t, &s.drives);
     }
     if (const toml::node* n = node(root, "", "faults", false)) {
         parseFaults(*n, &s.faults);

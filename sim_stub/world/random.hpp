@@ -1,19 +1,40 @@
 // Deterministic pseudo-random numbers for the simulator's noise models.
 //
 // xoshiro256** seeded through splitmix64 from (scenario seed, stream id), so each
-// noise source (wheel slip, IMU, power monitor, hazard detector, position fix)
-// has its own stream: adding samples to one never shifts another, and the same
+// noise source (wheel slip, IMU, power monitor, hazard detector, position fix,
+// and each drive's reported current and velocity) has its own stream: adding samples to one never shifts another, and the same
 // seed gives the same numbers on every run and every compiler (no dependence on
 // the standard library's distributions). Gaussian samples by Box-Muller.
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace rse::sim {
 
-// Stream ids: one per noise source.
-enum class RngStream : std::uint64_t { kWheelSlip = 1, kImu = 2, kPower = 3, kHazard = 4, kPositionFix = 5 };
+// Stream ids: one per noise source. Each wheel drive (0..5, wheel order) has one
+// stream for the current actual and one for the velocity actual it reports.
+enum class RngStream : std::uint64_t {
+    kWheelSlip = 1,
+    kImu = 2,
+    kPower = 3,
+    kHazard = 4,
+    kPositionFix = 5,
+    kDriveCurrent0 = 6,  // .. kDriveCurrent0 + 5
+    kDriveVelocity0 = 12,  // .. kDriveVelocity0 + 5
+};
+constexpr std::size_t kDriveNoiseStreams = 6;
+
+// The streams of drive `channel` (0..5; larger values wrap, so every drive has one).
+constexpr RngStream driveCurrentStream(std::size_t channel) {
+    return static_cast<RngStream>(static_cast<std::uint64_t>(RngStream::kDriveCurrent0) +
+                                  channel % kDriveNoiseStreams);
+}
+constexpr RngStream driveVelocityStream(std::size_t channel) {
+    return static_cast<RngStream>(static_cast<std::uint64_t>(RngStream::kDriveVelocity0) +
+                                  channel % kDriveNoiseStreams);
+}
 
 class SimRng {
 public:

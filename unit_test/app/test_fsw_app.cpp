@@ -33,18 +33,17 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(7, hk.taskCount);
-    STRCMP_EQUAL("tables", hk.tasks[0].name);
-    STRCMP_EQUAL("can_io", hk.tasks[1].name);
-    STRCMP_EQUAL("commands", hk.tasks[2].name);
-    STRCMP_EQUAL("manual_drive", hk.tasks[3].name);
-    STRCMP_EQUAL("housekeeping", hk.tasks[4].name);
-    STRCMP_EQUAL("telemetry", hk.tasks[5].name);
-    STRCMP_EQUAL("console", hk.tasks[6].name);
+    LONGS_EQUAL(10, hk.taskCount);
+    const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",
+                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console"};
+    for (std::size_t i = 0; i < 10; ++i) {
+        STRCMP_EQUAL(names[i], hk.tasks[i].name);
+    }
     LONGS_EQUAL(301, hk.tasks[1].runs);    // every frame, this one included
-    LONGS_EQUAL(3, hk.tasks[4].runs);      // runs before the 4th collection
-    LONGS_EQUAL(300, hk.tasks[5].runs);    // every frame, but after housekeeping in the table
-    LONGS_EQUAL(30, hk.tasks[6].runs);     // 10 Hz console, offset 1
+    LONGS_EQUAL(301, hk.tasks[4].runs);    // health: every frame, before housekeeping in the table
+    LONGS_EQUAL(3, hk.tasks[7].runs);      // runs before the 4th collection
+    LONGS_EQUAL(300, hk.tasks[8].runs);    // every frame, but after housekeeping in the table
+    LONGS_EQUAL(30, hk.tasks[9].runs);     // 10 Hz console, offset 1
     LONGS_EQUAL(0, hk.frameOverruns);
     CHECK(hk.eventsTotal >= 2);            // app and executive start-up events
 }
@@ -69,7 +68,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 7 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 10 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 

@@ -23,11 +23,13 @@ namespace rse::test {
 
 class LockstepRig {
 public:
-    explicit LockstepRig(const std::string& scenarioPath)
-        : scenario_(sim::loadScenarioFile(scenarioPath)),
+    explicit LockstepRig(const std::string& scenarioPath) : LockstepRig(sim::loadScenarioFile(scenarioPath)) {}
+    // A scenario already loaded (and perhaps changed, e.g. another seed).
+    explicit LockstepRig(const sim::Scenario& scenario)
+        : scenario_(scenario),
           fswCan_(wire_.attach("fsw")),
           simCan_(wire_.attach("sim")),
-          drives_(attachDrives(), scenario_.rover.driveNodes),
+          drives_(attachDrives(), scenario_),
           rover_(scenario_, *simCan_, drives_.wheels(), sim::RoverSimWiring{&wire_, &drives_, nullptr}),
           fsw_(clock_, *fswCan_) {}
 
@@ -83,12 +85,32 @@ public:
 
     // What a higher layer would publish: the same velocity on every wheel.
     void commandAllWheels(double radPerSec) {
-        msg::WheelCommandMsg cmd{};
-        cmd.timeNs = clock_.now();
-        for (double& v : cmd.velocityRadS) {
+        double speeds[msg::kWheelCount];
+        for (double& v : speeds) {
             v = radPerSec;
         }
+        commandWheels(speeds);
+    }
+    void commandWheels(const double (&radPerSec)[msg::kWheelCount]) {
+        msg::WheelCommandMsg cmd{};
+        cmd.timeNs = clock_.now();
+        for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+            cmd.velocityRadS[w] = radPerSec[w];
+        }
         (void)fsw_.bus().publish(cmd);
+    }
+    // Skid-steer wheel speeds for a body speed and yaw rate, with the rover's
+    // geometry from the flight tables (what a trajectory follower would send).
+    void commandBody(double speedMS, double yawRateRadS) {
+        const tables::RoverGeometryTable& g = fsw_.tables().roverGeometry();
+        const double r = static_cast<double>(g.wheel_radius_m);
+        const double halfTurn = 0.5 * yawRateRadS * static_cast<double>(g.skid_factor) *
+                                static_cast<double>(g.track_width_m);
+        double speeds[msg::kWheelCount];
+        for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+            speeds[w] = (w < msg::kWheelCount / 2 ? speedMS - halfTurn : speedMS + halfTurn) / r;
+        }
+        commandWheels(speeds);
     }
     bool allDrivesOperational() const {
         for (std::size_t w = 0; w < msg::kWheelCount; ++w) {

@@ -31,6 +31,9 @@ public:
     void babble(std::uint32_t id, double rate, bool on) override {
         add("babble 0x%03X %.0f %s", static_cast<unsigned>(id), rate, onOff(on));
     }
+    void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override {
+        add("fix-outlier %.2f %.4f x%u", offsetM, bearingRad, static_cast<unsigned>(count));
+    }
 
 private:
     static const char* onOff(bool on) { return on ? "on" : "off"; }

@@ -68,6 +68,12 @@ until_s = 7.0
 type = "motor_failure"
 at_s = 8.0
 wheel = 6
+[[faults]]
+type = "position_fix_outlier"
+at_s = 9.0
+offset_m = 12.5
+count = 3
+bearing_deg = 90
 )";
 
 const std::vector<std::string> kExpected = {
@@ -84,6 +90,7 @@ const std::vector<std::string> kExpected = {
     "6.500 babble 0x001 1000 on",
     "7.000 babble 0x001 1000 off",
     "8.000 fail 5",
+    "9.000 fix-outlier 12.50 1.5708 x3",
 };
 
 void checkLog(const std::vector<std::string>& expected, const std::vector<std::string>& got) {
@@ -101,14 +108,14 @@ TEST(SimFaultScheduler, EventsFireAtTheirTimesInOrder) {
     const Scenario s = parseScenario(kSchedule, "schedule.toml");
     test::RecordingFaultTarget target;
     FaultScheduler scheduler(s.faults, target);
-    LONGS_EQUAL(13, scheduler.eventCount());
+    LONGS_EQUAL(14, scheduler.eventCount());
     CHECK_EQUAL(core::kNsPerSec, scheduler.nextAt());
     for (core::TimeNs t = 0; t <= 10 * core::kNsPerSec; t += 10 * core::kNsPerMs) {
         target.now = t;
         scheduler.step(t);
     }
     checkLog(kExpected, target.log);
-    LONGS_EQUAL(13, scheduler.fired());
+    LONGS_EQUAL(14, scheduler.fired());
     CHECK_EQUAL(kNever, scheduler.nextAt());
 }
 

@@ -65,6 +65,9 @@ public:
     void stepImuBias(double delta) override { record.stepImuBias(delta); }
     void addBusFault(const hal::CanFaultRule& r) override { record.addBusFault(r); }
     void babble(std::uint32_t id, double rate, bool on) override { record.babble(id, rate, on); }
+    void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override {
+        record.positionFixOutlier(offsetM, bearingRad, count);
+    }
 
 private:
     bool note() {
@@ -150,6 +153,26 @@ Scenario openGround(std::uint64_t seed = 1) {
     return s;
 }
 
+// The position fixes a rig received, in metres (x from 0x6A3, y from 0x6A4).
+struct Fix {
+    double x = 0.0;
+    double y = 0.0;
+    std::uint16_t counter = 0;
+};
+std::vector<Fix> fixes(const Rig& rig) {
+    const std::vector<CanFrame> xs = rig.withId(0x6A3);
+    const std::vector<CanFrame> ys = rig.withId(0x6A4);
+    std::vector<Fix> out;
+    for (std::size_t i = 0; i < xs.size() && i < ys.size(); ++i) {
+        Fix f;
+        f.x = hal::le::getI32(&xs[i].data[0]) * 1e-3;
+        f.y = hal::le::getI32(&ys[i].data[0]) * 1e-3;
+        f.counter = hal::le::getU16(&xs[i].data[6]);
+        out.push_back(f);
+    }
+    return out;
+}
+
 bool sameFrame(const CanFrame& a, const CanFrame& b) {
     return a.id == b.id && a.dlc == b.dlc && a.flags == b.flags && a.timestamp == b.timestamp &&
            std::memcmp(a.data, b.data, sizeof a.data) == 0;
@@ -233,6 +256,7 @@ TEST(SimRover, StepAllocatesNothingWhileDrivingWithFaultsFiring) {
     add(FaultType::kMotorDegradation, 6.0, 0.0);
     add(FaultType::kMotorFailure, 7.0, 0.0);
     add(FaultType::kDriveCrash, 8.0, 8.5);
+    add(FaultType::kPositionFixOutlier, 9.0, 0.0);  // 1.5 m, one fix
     Rig* rig = new Rig(s);
     rig->capture = false;
     rig->drives.recording = false;
@@ -249,6 +273,7 @@ TEST(SimRover, StepAllocatesNothingWhileDrivingWithFaultsFiring) {
     LONGS_EQUAL(0, allocations);
     LONGS_EQUAL(s.faults.size() + 4, rig->sim.faultSchedule().fired());
     LONGS_EQUAL(4, rig->drives.hooks);  // degrade, fail, crash, restart
+    LONGS_EQUAL(1, rig->sim.positionFix().outliersProduced());
     CHECK(rig->sim.stats().babbleFrames > 50);
     CHECK(rig->received > 3000);  // 20 s: 2000 IMU, 200 power, 40 fix, 800 heartbeats, hazard, babble
     delete rig;
@@ -455,5 +480,105 @@ TEST(SimRover, StepsBackwardsInTimeAreIgnored) {
     rig->sim.step(500 * kMs);
     DOUBLES_EQUAL(x, rig->sim.truth().pose.x, 0.0);
     CHECK_EQUAL(core::kNsPerSec, rig->sim.time());
+    delete rig;
+}
+
+TEST(SimRover, APositionFixOutlierDisplacesExactlyCountFixesByTheOffset) {
+    // Noise-free fixes of a rover standing at (0, 0): every fix is (0, 0) but the outliers.
+    Scenario s = parseScenario(R"(
+seed = 3
+[map]
+x_min_m = -20.0
+x_max_m = 20.0
+y_min_m = -20.0
+y_max_m = 20.0
+[start]
+x_m = 0.0
+y_m = 0.0
+[devices.position_fix]
+sigma_m = 0.0
+heading_sigma_rad = 0.0
+[[faults]]
+type = "position_fix_outlier"
+at_s = 2.5
+offset_m = 10.0
+count = 3
+bearing_deg = 90
+)",
+                               "outlier.toml");
+    Rig* rig = new Rig(s);
+    rig->runUntil(10 * core::kNsPerSec);
+    const std::vector<Fix> got = fixes(*rig);
+    LONGS_EQUAL(10, got.size());  // 1 Hz from 1 s
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const bool outlier = got[i].counter >= 2 && got[i].counter <= 4;  // the fixes of 3, 4 and 5 s
+        DOUBLES_EQUAL(0.0, got[i].x, 1e-9);
+        DOUBLES_EQUAL(outlier ? 10.0 : 0.0, got[i].y, 1e-9);
+    }
+    LONGS_EQUAL(3, rig->sim.positionFix().outliersProduced());
+    LONGS_EQUAL(0, rig->sim.positionFix().outliersPending());
+    LONGS_EQUAL(1, rig->sim.stats().faultsApplied);
+    LONGS_EQUAL(0, rig->sim.stats().faultsUnhandled);
+    delete rig;
+}
+
+TEST(SimRover, AnOutlierComesOnTopOfTheNormalNoiseAndShiftsNoOtherFix) {
+    // Two simulators with the same seed, one with an outlier injected directly:
+    // the noise draws are the same, so the fixes differ by the offset exactly
+    // where the outliers are and nowhere else.
+    Scenario s = openGround(21);
+    s.devices.positionFix.sigmaM = 0.5;
+    Rig* a = new Rig(s);
+    Rig* b = new Rig(s);
+    a->runUntil(3200 * kMs);
+    b->runUntil(3200 * kMs);
+    const double bearing = 2.0;  // rad, map frame
+    b->sim.positionFixOutlier(25.0, bearing, 2);  // the fixes of 4 s and 5 s
+    LONGS_EQUAL(2, b->sim.positionFix().outliersPending());
+    a->runUntil(8 * core::kNsPerSec);
+    b->runUntil(8 * core::kNsPerSec);
+    const std::vector<Fix> fa = fixes(*a);
+    const std::vector<Fix> fb = fixes(*b);
+    LONGS_EQUAL(8, fa.size());
+    LONGS_EQUAL(8, fb.size());
+    std::size_t displaced = 0;
+    for (std::size_t i = 0; i < fa.size(); ++i) {
+        const double dx = fb[i].x - fa[i].x;
+        const double dy = fb[i].y - fa[i].y;
+        CHECK(std::fabs(fa[i].x) > 1e-3 || std::fabs(fa[i].y) > 1e-3);  // the noise is on
+        if (fb[i].counter == 3 || fb[i].counter == 4) {
+            ++displaced;
+            DOUBLES_EQUAL(25.0 * std::cos(bearing), dx, 0.0011);  // both sides rounded to 1 mm
+            DOUBLES_EQUAL(25.0 * std::sin(bearing), dy, 0.0011);
+        } else {
+            DOUBLES_EQUAL(0.0, dx, 0.0);
+            DOUBLES_EQUAL(0.0, dy, 0.0);
+        }
+    }
+    LONGS_EQUAL(2, displaced);
+    // The heading field is untouched (the same noise draw on both).
+    const std::vector<CanFrame> ya = a->withId(0x6A4);
+    const std::vector<CanFrame> yb = b->withId(0x6A4);
+    for (std::size_t i = 0; i < ya.size(); ++i) {
+        LONGS_EQUAL(hal::le::getI16(&ya[i].data[4]), hal::le::getI16(&yb[i].data[4]));
+    }
+    delete a;
+    delete b;
+}
+
+TEST(SimRover, AnInvalidOutlierIsCountedAsUnhandled) {
+    Rig* rig = new Rig(openGround());
+    rig->tick(0);
+    rig->sim.positionFixOutlier(0.0, 0.0, 1);
+    rig->sim.positionFixOutlier(5.0, 0.0, 0);
+    rig->sim.positionFixOutlier(NAN, 0.0, 1);
+    rig->sim.positionFixOutlier(5.0, INFINITY, 1);
+    LONGS_EQUAL(4, rig->sim.stats().faultsUnhandled);
+    LONGS_EQUAL(0, rig->sim.stats().faultsApplied);
+    LONGS_EQUAL(0, rig->sim.positionFix().outliersPending());
+    rig->sim.positionFixOutlier(5.0, 0.0, 4);
+    rig->sim.positionFixOutlier(5.0, 0.0, 2);  // replaces the pending one
+    LONGS_EQUAL(2, rig->sim.positionFix().outliersPending());
+    LONGS_EQUAL(2, rig->sim.stats().faultsApplied);
     delete rig;
 }

@@ -279,8 +279,8 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
          "inline.toml: faults[0].cob_id: must be an 11-bit CAN id 0..0x7FF (got 2048)"},
         {kBase + "\n[[faults]]\ntype = \"meteor\"\nat_s = 1\n",
          "inline.toml: faults[0].type: unknown fault type \"meteor\" (expected motor_degradation, motor_failure, "
-         "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault or "
-         "babbling_node)"},
+         "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
+         "babbling_node or position_fix_outlier)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = -1\nwheel = 1\ncurrent_factor = 2\n",
          "inline.toml: faults[0].at_s: must be in [0, 1e+07] (got -1)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = 1\nwheel = 1\n",
@@ -295,4 +295,109 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
 TEST(SimScenario, TomlSyntaxErrorsGiveTheLineAndColumn) {
     const std::string got = errorOf("seed = 1\n[map\n");
     CHECK_TEXT(got.rfind("inline.toml:2:", 0) == 0, got.c_str());
+}
+
+TEST(SimScenario, TheEstimatorBenchmarkScenarioLoadsAndItsSeedCanBeSet) {
+    Scenario s;
+    std::string error;
+    CHECK_TRUE_TEXT(tryLoadScenarioFile("sim_stub/scenarios/estimator_drive.toml", &s, &error), error.c_str());
+    STRCMP_EQUAL("estimator_drive", s.name.c_str());
+    LONGS_EQUAL(1, s.seed);
+    DOUBLES_EQUAL(300.0, s.durationS, 0.0);
+    DOUBLES_EQUAL(-150.0, s.map.xMin, 0.0);
+    DOUBLES_EQUAL(150.0, s.map.xMax, 0.0);
+    DOUBLES_EQUAL(-150.0, s.map.yMin, 0.0);
+    DOUBLES_EQUAL(150.0, s.map.yMax, 0.0);
+    LONGS_EQUAL(0, s.obstacles.size());
+    LONGS_EQUAL(0, s.faults.size());
+    DOUBLES_EQUAL(0.0, s.start.x, 0.0);
+    DOUBLES_EQUAL(0.0, s.start.y, 0.0);
+    DOUBLES_EQUAL(0.0, s.start.theta, 0.0);
+    DOUBLES_EQUAL(0.05, s.rover.slipSigma, 0.0);
+    DOUBLES_EQUAL(0.002, s.devices.imu.noiseSigmaRadS, 0.0);
+    DOUBLES_EQUAL(0.003, s.devices.imu.biasRadS, 0.0);
+    DOUBLES_EQUAL(0.05, s.devices.positionFix.sigmaM, 0.0);
+    DOUBLES_EQUAL(0.005, s.devices.positionFix.headingSigmaRad, 0.0);
+    DOUBLES_EQUAL(0.02, s.drives.currentSigmaA, 0.0);
+    DOUBLES_EQUAL(0.0, s.drives.velocitySigmaRadS, 0.0);
+    s.seed = 1234;  // what the benchmark does per run: a plain member
+    LONGS_EQUAL(1234, s.worldConfig().seed);
+}
+
+TEST(SimScenario, DriveNoiseKeysParseAndDefaultToZero) {
+    const Scenario none = parseScenario(kBase, "min.toml");
+    DOUBLES_EQUAL(0.0, none.drives.currentSigmaA, 0.0);
+    DOUBLES_EQUAL(0.0, none.drives.velocitySigmaRadS, 0.0);
+    const Scenario s =
+        parseScenario(kBase + "\n[drives]\ncurrent_sigma_a = 0.02\nvelocity_sigma_rad_s = 1\n", "drives.toml");
+    DOUBLES_EQUAL(0.02, s.drives.currentSigmaA, 0.0);
+    DOUBLES_EQUAL(1.0, s.drives.velocitySigmaRadS, 0.0);
+    const Scenario zero = parseScenario(kBase + "\n[drives]\ncurrent_sigma_a = 0\n", "drives.toml");
+    DOUBLES_EQUAL(0.0, zero.drives.currentSigmaA, 0.0);
+}
+
+TEST(SimScenario, PositionFixOutliersParseWithDefaults) {
+    const Scenario s = parseScenario(kBase + R"(
+[[faults]]
+type = "position_fix_outlier"
+at_s = 12.5
+offset_m = 20
+[[faults]]
+type = "position_fix_outlier"
+at_s = 30
+offset_m = 0.75
+count = 1000
+bearing_deg = -90
+)",
+                                     "outliers.toml");
+    LONGS_EQUAL(2, s.faults.size());
+    CHECK(FaultType::kPositionFixOutlier == s.faults[0].type);
+    STRCMP_EQUAL("position_fix_outlier", toString(s.faults[0].type));
+    CHECK_EQUAL(12500 * core::kNsPerMs, s.faults[0].at);
+    DOUBLES_EQUAL(20.0, s.faults[0].value, 0.0);
+    LONGS_EQUAL(1, s.faults[0].count);
+    DOUBLES_EQUAL(0.0, s.faults[0].bearingRad, 0.0);
+    CHECK_EQUAL(kNever, s.faults[0].until);
+    DOUBLES_EQUAL(0.75, s.faults[1].value, 0.0);
+    LONGS_EQUAL(1000, s.faults[1].count);
+    DOUBLES_EQUAL(-kPi / 2.0, s.faults[1].bearingRad, 1e-12);
+}
+
+TEST(SimScenario, BadDriveNoiseAndOutlierKeysAreRejectedWithTheKeyPath) {
+    struct Case {
+        std::string text;
+        const char* message;
+    };
+    const std::string outlier = "\n[[faults]]\ntype = \"position_fix_outlier\"\nat_s = 1\n";
+    const std::vector<Case> cases = {
+        {kBase + "\n[drives]\ncurrent_sigma_a = 1.5\n",
+         "inline.toml: drives.current_sigma_a: must be in [0, 1] (got 1.5)"},
+        {kBase + "\n[drives]\ncurrent_sigma_a = -0.01\n",
+         "inline.toml: drives.current_sigma_a: must be in [0, 1] (got -0.01)"},
+        {kBase + "\n[drives]\nvelocity_sigma_rad_s = 2\n",
+         "inline.toml: drives.velocity_sigma_rad_s: must be in [0, 1] (got 2)"},
+        {kBase + "\n[drives]\ncurrent_sigma_a = \"low\"\n",
+         "inline.toml: drives.current_sigma_a: must be a number (got a string)"},
+        {kBase + "\n[drives]\ncurrent_sigma_ma = 20\n", "inline.toml: drives.current_sigma_ma: unknown key"},
+        {"drives = 3\n" + kBase, "inline.toml: drives: must be a table (got an integer)"},
+        {kBase + outlier, "inline.toml: faults[0].offset_m: missing (required)"},
+        {kBase + outlier + "offset_m = 0\n", "inline.toml: faults[0].offset_m: must be in (0, 1000] (got 0)"},
+        {kBase + outlier + "offset_m = 1000.5\n",
+         "inline.toml: faults[0].offset_m: must be in (0, 1000] (got 1000.5)"},
+        {kBase + outlier + "offset_m = 5\ncount = 0\n", "inline.toml: faults[0].count: must be 1..1000 (got 0)"},
+        {kBase + outlier + "offset_m = 5\ncount = 1001\n",
+         "inline.toml: faults[0].count: must be 1..1000 (got 1001)"},
+        {kBase + outlier + "offset_m = 5\ncount = 2.5\n",
+         "inline.toml: faults[0].count: must be an integer (got a floating-point number)"},
+        {kBase + outlier + "offset_m = 5\nbearing_deg = 400\n",
+         "inline.toml: faults[0].bearing_deg: must be in [-360, 360] (got 400)"},
+        {kBase + outlier + "offset_m = 5\ndevice = \"position_fix\"\n",
+         "inline.toml: faults[0].device: unknown key for fault type position_fix_outlier"},
+        {kBase + outlier + "offset_m = 5\nduration_s = 1\n",
+         "inline.toml: faults[0].duration_s: unknown key for fault type position_fix_outlier"},
+    };
+    for (const Case& c : cases) {
+        const std::string got = errorOf(c.text);
+        STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
+    }
 }

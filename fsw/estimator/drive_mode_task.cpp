@@ -1,0 +1,119 @@
+#include "fsw/estimator/drive_mode_task.hpp"
+
+#include "fsw/estimator/drive_mode_events.hpp"
+
+namespace rse::estimator {
+
+namespace {
+
+core::Severity severityOf(msg::DriveMode declared) {
+    switch (declared) {
+        case msg::DriveMode::kNominal:
+            return core::Severity::kInfo;
+        case msg::DriveMode::kDegraded:
+            return core::Severity::kWarning;
+        default:
+            return core::Severity::kError;
+    }
+}
+
+}  // namespace
+
+DriveModeTask::DriveModeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
+    : bus_(bus), events_(events), tables_(tables) {
+    fillLatest(0);
+}
+
+core::Status DriveModeTask::init() {
+    core::Status status = bus_.createPipe("drive_modes", kDriveModePipeDepth, &pipe_);
+    if (core::isOk(status)) {
+        status = bus_.subscribe(pipe_, msg::ids::kDriveStatus);
+    }
+    if (!core::isOk(status)) {
+        events_.report(events::kDriveModeInitFailed, core::Severity::kError,
+                       "drive_modes: start-up failed: pipe or subscription refused (%s)", core::toString(status));
+        return status;
+    }
+    initialised_ = true;
+    return status;
+}
+
+msg::DriveMode DriveModeTask::declared(std::size_t wheel) const {
+    return wheel < msg::kWheelCount ? latest_.drives[wheel].declared : msg::DriveMode::kUnknown;
+}
+
+void DriveModeTask::run(const core::FrameContext& frame) {
+    if (!initialised_) {
+        return;
+    }
+    const DriveHealthModel& model = tables_.driveHealthModel();
+    take(model);
+    ++runs_;
+    if (runs_ % kDriveModeUpdateRuns == 0) {
+        update(frame, model);
+    }
+}
+
+void DriveModeTask::take(const DriveHealthModel& model) {
+    // Nothing is published between our receives, so the pipe depth bounds the drain.
+    for (std::uint16_t n = 0; n < kDriveModePipeDepth && core::isOk(bus_.receive(pipe_, &inbox_)); ++n) {
+        msg::DriveStatusMsg status;
+        if (!core::isOk(inbox_.decode(&status))) {
+            rejectInput("does not decode");
+        } else if (!core::isOk(estimator_.addStatus(status, model))) {
+            rejectInput("non-finite value or bad health");
+        } else {
+            ++taken_;
+        }
+    }
+}
+
+void DriveModeTask::rejectInput(const char* why) {
+    ++malformed_;
+    if (core::isReportableOccurrence(malformed_)) {
+        events_.report(events::kDriveModeMalformedInput, core::Severity::kError,
+                       "drive_modes: drive status 0x%04x ignored: %s (%u so far)",
+                       static_cast<unsigned>(inbox_.header.id), why, static_cast<unsigned>(malformed_));
+    }
+}
+
+void DriveModeTask::update(const core::FrameContext& frame, const DriveHealthModel& model) {
+    if (estimator_.framesInWindow() == 0) {
+        ++emptyWindows_;
+        if (core::isReportableOccurrence(emptyWindows_)) {
+            events_.report(events::kDriveModeNoDriveStatus, core::Severity::kWarning,
+                           "drive_modes: no drive status in an update window, no evidence (%u so far)",
+                           static_cast<unsigned>(emptyWindows_));
+        }
+    }
+    ModeChange changes[msg::kWheelCount];
+    estimator_.update(model, changes);
+    fillLatest(frame.actualStart);
+    (void)bus_.publish(latest_);
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const ModeChange& c = changes[w];
+        if (!c.changed) {
+            continue;
+        }
+        ++modeChanges_;
+        events_.report(events::declaredModeEventId(c.to), severityOf(c.to),
+                       "drive_modes: %s %s -> %s (p=%.3f, power x%.2f)", driveWheelName(w), driveModeName(c.from),
+                       driveModeName(c.to), c.probability, estimator_.drive(w).powerFactor());
+    }
+}
+
+void DriveModeTask::fillLatest(core::TimeNs time) {
+    latest_.timeNs = time;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const DriveModeFilter& filter = estimator_.drive(w);
+        msg::DriveModeBelief& belief = latest_.drives[w];
+        for (std::size_t m = 0; m < msg::kDriveModeCount; ++m) {
+            belief.probability[m] = static_cast<float>(filter.probability(static_cast<msg::DriveMode>(m)));
+        }
+        belief.powerFactor = static_cast<float>(filter.powerFactor());
+        belief.declared = filter.declared();
+    }
+    latest_.updates = estimator_.updates();
+}
+
+}  // namespace rse::estimator

@@ -1,0 +1,230 @@
+#include "fsw/estimator/health_monitor.hpp"
+
+#include <cmath>
+
+#include "fsw/estimator/health_events.hpp"
+
+namespace rse::estimator {
+
+namespace {
+
+const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
+const char* const kDeviceNames[msg::kDeviceNodeCount] = {"IMU", "power", "hazard", "position fix"};
+
+long long toMs(core::TimeNs t) { return static_cast<long long>(t / core::kNsPerMs); }
+
+}  // namespace
+
+HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise) {
+    HealthLimits l;
+    l.persist = static_cast<core::TimeNs>(faults.fault_persist_ms) * core::kNsPerMs;
+    l.driveOvercurrentA = static_cast<double>(faults.drive_overcurrent_a);
+    l.busOvercurrentA = static_cast<double>(faults.overcurrent_a);
+    l.batteryLowV = static_cast<double>(faults.battery_low_v);
+    l.batteryClearV = static_cast<double>(faults.battery_clear_v);
+    l.taskStallPeriods = faults.task_stall_periods;
+    l.poseFaultSigmaM = static_cast<double>(noise.pose_fault_sigma_m);
+    l.poseClearSigmaM = static_cast<double>(noise.pose_clear_sigma_m);
+    l.firstFixWait = static_cast<core::TimeNs>(noise.first_fix_wait_ms) * core::kNsPerMs;
+    return l;
+}
+
+void HealthMonitor::start(core::TimeNs now) {
+    if (!started_) {
+        started_ = true;
+        start_ = now;
+    }
+}
+
+void HealthMonitor::rejectValue(const char* input, const char* field) {
+    ++nonFinite_;
+    if (core::isReportableOccurrence(nonFinite_)) {
+        events_.report(events::kHealthInputRejected, core::Severity::kWarning,
+                       "health: %s %s not finite or out of range, ignored (%u so far)", input, field,
+                       static_cast<unsigned>(nonFinite_));
+    }
+}
+
+void HealthMonitor::setHeartbeat(std::uint8_t id, bool lost, const msg::NodeStatusMsg& status, std::size_t node,
+                                 core::TimeNs now) {
+    const core::TimeNs since = faults_.changedAt(id);
+    if (!faults_.set(id, lost, now)) {
+        return;
+    }
+    const bool drive = node < msg::kWheelCount;
+    const char* name = drive ? kWheelNames[node] : kDeviceNames[node - msg::kWheelCount];
+    const char* kind = drive ? "drive" : "device";
+    if (lost) {
+        const msg::NodeLiveness& n = status.nodes[node];
+        events_.report(drive ? events::kHealthDriveHeartbeatLost : events::kHealthDeviceHeartbeatLost,
+                       core::Severity::kError, "health: fault %u: %s %s (node %u) heartbeat lost, silent %lld ms",
+                       static_cast<unsigned>(id), kind, name, static_cast<unsigned>(n.nodeId),
+                       toMs(status.timeNs - n.lastSeenNs));
+    } else {
+        events_.report(drive ? events::kHealthDriveHeartbeatRestored : events::kHealthDeviceHeartbeatRestored,
+                       core::Severity::kInfo, "health: fault %u cleared: %s %s heartbeat back after %lld ms lost",
+                       static_cast<unsigned>(id), kind, name, toMs(now - since));
+    }
+}
+
+void HealthMonitor::onNodeStatus(const msg::NodeStatusMsg& status, core::TimeNs now) {
+    for (std::size_t i = 0; i < msg::kMonitoredNodeCount; ++i) {
+        const std::uint8_t id = static_cast<std::uint8_t>(
+            i < msg::kWheelCount ? msg::fault::kDriveHeartbeatLost + i
+                                 : msg::fault::kDeviceHeartbeatLost + (i - msg::kWheelCount));
+        setHeartbeat(id, status.nodes[i].lost != 0, status, i, now);
+    }
+}
+
+void HealthMonitor::onDriveStatus(const msg::DriveStatusMsg& status, const HealthLimits& limits, core::TimeNs now) {
+    const double raiseA = limits.driveOvercurrentA;
+    const double clearA = kOvercurrentClearFraction * limits.driveOvercurrentA;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const double current = status.wheels[w].currentA;
+        if (!std::isfinite(current)) {
+            rejectValue(kWheelNames[w], "drive currentA");
+            continue;
+        }
+        const double magnitude = std::fabs(current);
+        PersistenceFilter& filter = driveCurrent_[w];
+        const core::TimeNs since = filter.pendingSince();
+        const PersistenceFilter::Edge edge =
+            filter.update(status.timeNs, magnitude > raiseA, magnitude < clearA, limits.persist);
+        if (edge == PersistenceFilter::Edge::kNone) {
+            continue;
+        }
+        const auto id = static_cast<std::uint8_t>(msg::fault::kDriveOvercurrent + w);
+        const bool raised = edge == PersistenceFilter::Edge::kRaised;
+        (void)faults_.set(id, raised, now);
+        if (raised) {
+            events_.report(events::kHealthDriveOvercurrent, core::Severity::kError,
+                           "health: fault %u: drive %s over-current %.2f A > %.2f A for %lld ms",
+                           static_cast<unsigned>(id), kWheelNames[w], current, raiseA,
+                           toMs(status.timeNs - since));
+        } else {
+            events_.report(events::kHealthDriveOvercurrentCleared, core::Severity::kInfo,
+                           "health: fault %u cleared: drive %s current %.2f A < %.2f A for %lld ms",
+                           static_cast<unsigned>(id), kWheelNames[w], current, clearA,
+                           toMs(status.timeNs - since));
+        }
+    }
+}
+
+void HealthMonitor::onPower(const msg::PowerMsg& power, const HealthLimits& limits, core::TimeNs now) {
+    if (!std::isfinite(power.busVoltageV)) {
+        rejectValue("power", "busVoltageV");
+    } else {
+        const core::TimeNs since = batteryLow_.pendingSince();
+        const PersistenceFilter::Edge edge =
+            batteryLow_.update(power.timeNs, power.busVoltageV < limits.batteryLowV,
+                               power.busVoltageV > limits.batteryClearV, limits.persist);
+        if (edge == PersistenceFilter::Edge::kRaised) {
+            (void)faults_.set(msg::fault::kBatteryLow, true, now);
+            events_.report(events::kHealthBatteryLow, core::Severity::kCritical,
+                           "health: fault %u: battery low, bus %.2f V < %.2f V for %lld ms",
+                           static_cast<unsigned>(msg::fault::kBatteryLow), power.busVoltageV, limits.batteryLowV,
+                           toMs(power.timeNs - since));
+        } else if (edge == PersistenceFilter::Edge::kCleared) {
+            (void)faults_.set(msg::fault::kBatteryLow, false, now);
+            events_.report(events::kHealthBatteryLowCleared, core::Severity::kInfo,
+                           "health: fault %u cleared: bus %.2f V > %.2f V for %lld ms",
+                           static_cast<unsigned>(msg::fault::kBatteryLow), power.busVoltageV,
+                           limits.batteryClearV, toMs(power.timeNs - since));
+        }
+    }
+    if (!std::isfinite(power.busCurrentA)) {
+        rejectValue("power", "busCurrentA");
+        return;
+    }
+    const double clearA = kOvercurrentClearFraction * limits.busOvercurrentA;
+    const core::TimeNs since = busCurrent_.pendingSince();
+    const PersistenceFilter::Edge edge = busCurrent_.update(
+        power.timeNs, power.busCurrentA > limits.busOvercurrentA, power.busCurrentA < clearA, limits.persist);
+    if (edge == PersistenceFilter::Edge::kRaised) {
+        (void)faults_.set(msg::fault::kBusOvercurrent, true, now);
+        events_.report(events::kHealthBusOvercurrent, core::Severity::kError,
+                       "health: fault %u: bus over-current %.2f A > %.2f A for %lld ms",
+                       static_cast<unsigned>(msg::fault::kBusOvercurrent), power.busCurrentA,
+                       limits.busOvercurrentA, toMs(power.timeNs - since));
+    } else if (edge == PersistenceFilter::Edge::kCleared) {
+        (void)faults_.set(msg::fault::kBusOvercurrent, false, now);
+        events_.report(events::kHealthBusOvercurrentCleared, core::Severity::kInfo,
+                       "health: fault %u cleared: bus current %.2f A < %.2f A for %lld ms",
+                       static_cast<unsigned>(msg::fault::kBusOvercurrent), power.busCurrentA, clearA,
+                       toMs(power.timeNs - since));
+    }
+}
+
+void HealthMonitor::onPose(const msg::PoseEstimateMsg& pose) {
+    if (!std::isfinite(pose.positionSigmaM) || pose.positionSigmaM < 0.0) {
+        rejectValue("pose", "positionSigmaM");
+        return;
+    }
+    poseSeen_ = true;
+    poseInitialised_ = pose.initialised != 0;
+    poseSigmaM_ = pose.positionSigmaM;
+}
+
+void HealthMonitor::checkPose(const HealthLimits& limits, core::TimeNs now) {
+    // Until an estimate says otherwise, no absolute position is known: no pose
+    // message at all counts as not initialised.
+    const bool initialised = poseSeen_ && poseInitialised_;
+    const bool noFixInTime = !initialised && now - start_ > limits.firstFixWait;
+    const bool tooUncertain = initialised && poseSigmaM_ > limits.poseFaultSigmaM;
+    const bool certain = initialised && poseSigmaM_ < limits.poseClearSigmaM;
+    const PersistenceFilter::Edge edge = pose_.update(now, noFixInTime || tooUncertain, certain, 0);
+    if (edge == PersistenceFilter::Edge::kRaised) {
+        (void)faults_.set(msg::fault::kPoseUncertain, true, now);
+        if (noFixInTime) {
+            events_.report(events::kHealthPoseUncertain, core::Severity::kError,
+                           "health: fault %u: pose uncertain, no position fix %lld ms after start (wait %lld ms)",
+                           static_cast<unsigned>(msg::fault::kPoseUncertain), toMs(now - start_),
+                           toMs(limits.firstFixWait));
+        } else {
+            events_.report(events::kHealthPoseUncertain, core::Severity::kError,
+                           "health: fault %u: pose uncertain, position sigma %.2f m > %.2f m",
+                           static_cast<unsigned>(msg::fault::kPoseUncertain), poseSigmaM_, limits.poseFaultSigmaM);
+        }
+    } else if (edge == PersistenceFilter::Edge::kCleared) {
+        (void)faults_.set(msg::fault::kPoseUncertain, false, now);
+        events_.report(events::kHealthPoseUncertainCleared, core::Severity::kInfo,
+                       "health: fault %u cleared: position sigma %.2f m < %.2f m",
+                       static_cast<unsigned>(msg::fault::kPoseUncertain), poseSigmaM_, limits.poseClearSigmaM);
+    }
+}
+
+void HealthMonitor::checkTasks(const core::Executive& executive, const core::Task* self, const HealthLimits& limits,
+                               core::TimeNs now) {
+    const std::size_t rows = executive.taskCount() < kWatchedTaskRows ? executive.taskCount() : kWatchedTaskRows;
+    for (std::size_t i = 0; i < rows; ++i) {
+        const core::RateGroupEntry* entry = executive.entry(i);
+        const core::TaskLiveness* liveness = executive.taskLiveness(i);
+        // The health task cannot see itself stall (it would have to run to notice);
+        // that is the hardware watchdog's job, fed from the executive loop.
+        if (entry == nullptr || liveness == nullptr || entry->task == self) {
+            continue;
+        }
+        const core::TimeNs period = static_cast<core::TimeNs>(entry->rateDivisor) * executive.config().minorFramePeriod;
+        const core::TimeNs limit = static_cast<core::TimeNs>(limits.taskStallPeriods) * period;
+        // lastRunEnd 0 means never ran: it has had since our first run to do so.
+        const core::TimeNs reference = liveness->lastRunEnd != 0 ? liveness->lastRunEnd : start_;
+        const core::TimeNs silent = now - reference;
+        const auto id = static_cast<std::uint8_t>(msg::fault::kTaskStalled + i);
+        const core::TimeNs since = faults_.changedAt(id);
+        if (!faults_.set(id, silent > limit, now)) {
+            continue;
+        }
+        if (silent > limit) {
+            events_.report(events::kHealthTaskStalled, core::Severity::kError,
+                           "health: fault %u: task %s stalled, not run for %lld ms (limit %lld ms)%s",
+                           static_cast<unsigned>(id), entry->name, toMs(silent), toMs(limit),
+                           liveness->enabled ? "" : ", disabled");
+        } else {
+            events_.report(events::kHealthTaskStalledCleared, core::Severity::kInfo,
+                           "health: fault %u cleared: task %s running again after %lld ms stalled",
+                           static_cast<unsigned>(id), entry->name, toMs(now - since));
+        }
+    }
+}
+
+}  // namespace rse::estimator

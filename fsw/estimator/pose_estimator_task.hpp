@@ -1,0 +1,123 @@
+// The pose estimator task (every 10 ms minor frame, right after CAN I/O so it
+// sees this frame's inputs): feeds the pose EKF (pose_ekf.hpp) and publishes
+// PoseEstimateMsg every run.
+//
+// Each run, with now = the frame's actual start:
+//  1. Drains its pipe (at most kEstimatorPipeDepth messages): keeps the latest
+//     DriveStatusMsg, the latest IMU sample that is valid with a finite rate,
+//     and the latest PositionFixMsg (an older one in the same run is counted as
+//     superseded). A message that does not decode, a non-finite value and an
+//     invalid IMU sample are counted and evented (throttled), never used.
+//  2. Once initialised, predicts from the previous prediction time to now:
+//     - speed v = r (meanLeft + meanRight) / 2 over the wheels with fresh
+//       feedback (feedbackCount > 0 and feedbackTimeNs at most
+//       kWheelFeedbackMaxAgeNs old). Wheels 0-2 are the left side, 3-5 the
+//       right. A side without a fresh wheel takes the other side's mean; with
+//       no fresh wheel at all v = 0 (odometry stale: counted, event 705).
+//       A failed (locked) wheel reports 0 and stays in its side's mean: the
+//       rover really is slower. Wheels are excluded only for staleness.
+//     - yaw rate from the latest IMU sample when it is at most imu_timeout_ms
+//       old (bias-corrected in the filter), otherwise from the wheels:
+//       r (meanRight - meanLeft) / (skid_factor track_width) with the wheel
+//       noise density (counted per prediction; events 703/704 on each switch).
+//  3. Applies a pending fix at now (the fix carries its CAN receive time, in
+//     this frame): sigmaXY = max(fix sigma, position_fix_sigma_floor_m),
+//     heading sigma fix_heading_sigma_rad. The first valid fix initialises
+//     the filter (bias 0 +- initial_gyro_bias_sigma_rad_s, event 700); later
+//     ones pass the fix_gate_chi2 Mahalanobis gate or are rejected (event
+//     701), never moving the estimate.
+//  4. Publishes PoseEstimateMsg (before initialisation: initialised = 0, zero
+//     pose, 1e6 on the covariance diagonal).
+// The estimator noise and rover geometry tables are read every run.
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/estimator/pose_ekf.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/sensor_msgs.hpp"
+#include "fsw/tables/table_service.hpp"
+
+namespace rse::estimator {
+
+constexpr std::uint16_t kEstimatorPipeDepth = 8;
+constexpr core::TimeNs kWheelFeedbackMaxAgeNs = 50 * core::kNsPerMs;
+// Published while no fix has initialised the filter: "no idea where we are".
+constexpr double kUninitialisedVariance = 1e6;
+
+struct PoseEstimatorCounters {
+    std::uint32_t runs = 0;
+    std::uint32_t predictions = 0;
+    std::uint32_t predictionsRefused = 0;  // time went backwards, or the filter refused the inputs
+    std::uint32_t fixesAccepted = 0;       // the initialising fix included
+    std::uint32_t fixesRejected = 0;       // by the Mahalanobis gate
+    std::uint32_t fixesInvalid = 0;        // non-finite, sigma <= 0, or refused by the filter
+    std::uint32_t fixesSuperseded = 0;     // a newer fix came in the same run
+    std::uint32_t imuStale = 0;            // predictions that used the wheel yaw rate
+    std::uint32_t yawSourceSwitches = 0;
+    std::uint32_t odometryStale = 0;       // predictions without any fresh wheel (v = 0)
+    std::uint32_t malformed = 0;           // bus messages that did not decode
+    std::uint32_t notFinite = 0;           // non-finite wheel velocities or IMU rates ignored
+    std::uint32_t imuInvalid = 0;          // IMU samples flagged invalid
+};
+
+class PoseEstimatorTask final : public core::Task {
+public:
+    PoseEstimatorTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
+        : bus_(bus), events_(events), tables_(tables) {}
+
+    // Creates the pipe "estimator" and subscribes DriveStatusMsg, ImuMsg and PositionFixMsg.
+    core::Status init();
+    void run(const core::FrameContext& frame) override;
+
+    const PoseEkf& filter() const { return filter_; }
+    const msg::PoseEstimateMsg& latest() const { return latest_; }
+    const PoseEstimatorCounters& counters() const { return counters_; }
+    bool yawFromImu() const { return yawFromImu_; }
+
+private:
+    struct Odometry {
+        double speedMS = 0.0;
+        double wheelYawRateRadS = 0.0;
+        bool stale = true;  // no wheel with fresh feedback
+    };
+
+    void drainPipe();
+    void takeDriveStatus(const msg::DriveStatusMsg& status);
+    void takeImu(const msg::ImuMsg& sample);
+    void takeFix(const msg::PositionFixMsg& fix);
+    Odometry odometry(core::TimeNs now) const;
+    void predictTo(core::TimeNs now);
+    void applyFix();
+    void publish(core::TimeNs now);
+    void countNotFinite(const char* what);
+
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    const tables::TableService& tables_;
+    core::PipeId pipe_ = 0;
+    core::Message inbox_{};
+    PoseEkf filter_;
+
+    msg::DriveStatusMsg drive_{};
+    bool haveDrive_ = false;
+    msg::ImuMsg imu_{};
+    bool haveImu_ = false;
+    msg::PositionFixMsg fix_{};
+    bool fixPending_ = false;
+
+    core::TimeNs lastPredictNs_ = 0;
+    bool haveTime_ = false;
+    bool yawFromImu_ = true;  // assumed until the first prediction says otherwise
+    double speedMS_ = 0.0;    // inputs of the last prediction, published
+    double yawRateRadS_ = 0.0;
+
+    PoseEstimatorCounters counters_;
+    msg::PoseEstimateMsg latest_{};
+};
+
+}  // namespace rse::estimator
