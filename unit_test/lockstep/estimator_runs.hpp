@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fsw/msg/health_msgs.hpp"
@@ -143,7 +144,12 @@ struct NominalRun {
     std::uint32_t faultsRaised = 0;
     std::uint32_t fixesRejected = 0;
     double distanceM = 0.0;
+    // Host CPU per run of the estimator, drive_modes and health tasks (ns).
+    core::TimeNs cpuMean[3] = {};
+    core::TimeNs cpuMax[3] = {};
 };
+
+constexpr const char* kEstimatorTaskNames[3] = {"estimator", "drive_modes", "health"};
 
 inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, double durationS) {
     sim::Scenario scenario = base;
@@ -189,6 +195,15 @@ inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, doub
     out.faultsRaised = rig->fsw().health().status().raisedTotal;
     out.fixesRejected = rig->fsw().poseEstimator().latest().fixesRejected;
     out.distanceM = rig->rover().truth().distanceM;
+    const core::Executive& exec = rig->fsw().executive();
+    for (std::size_t i = 0; i < exec.taskCount(); ++i) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (std::string(exec.entry(i)->name) == kEstimatorTaskNames[k]) {
+                out.cpuMean[k] = exec.taskStats(i)->hostMean();
+                out.cpuMax[k] = exec.taskStats(i)->hostMax;
+            }
+        }
+    }
     return out;
 }
 
