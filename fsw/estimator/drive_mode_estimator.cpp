@@ -190,7 +190,7 @@ ModeChange DriveModeFilter::update(const DriveObservation& observation, const Dr
         p /= floored;
     }
 
-    if (observation.current != CurrentReading::kNone && std::isfinite(observation.currentRatio)) {
+    if (observation.ratioMeasured && std::isfinite(observation.currentRatio)) {
         powerFactor_ += static_cast<double>(model.power_factor_gain) * (observation.currentRatio - powerFactor_);
     }
 
@@ -357,6 +357,7 @@ void DriveModeEstimator::observe(const DriveHealthModel& model) {
             o.meanCurrentA = ownSum / static_cast<double>(counted);
             if (reference >= kMinReferenceCurrentA) {
                 o.currentRatio = o.meanCurrentA / reference;
+                o.ratioMeasured = true;
                 o.current = o.currentRatio > ratioHigh ? CurrentReading::kHigh : CurrentReading::kNormal;
             }
         }

@@ -19,16 +19,25 @@
 //  o_current none     : fewer than kMinCurrentFrames frames with references
 //                       (below; one frame's noise is several % of the draw), or
 //                       the references' current below kMinReferenceCurrentA
-//            high     : ratio > current_ratio_high, normal otherwise. The
-//                       references of a frame are the OTHER wheels active in it
-//                       whose o_track is "tracking"; a frame where this wheel is
-//                       active and has at least kMinReferenceWheels of them
-//                       counts, with their median current. ratio = this wheel's
-//                       mean |current| / the mean of those medians, over the
-//                       counted frames. All wheels share the load torque, so a
-//                       healthy drive draws about the median; comparing frame by
-//                       frame keeps a load change inside the window (a turn
-//                       starting) from reading as a ratio.
+//            high     : ratio > current_ratio_high, normal otherwise, where
+//                       ratio = this wheel's mean |current| / the mean of the
+//                       references' median current, over the counted frames. A
+//                       frame counts when this wheel is active or settling in it
+//                       and has at least kMinReferenceWheels references: other
+//                       operational wheels that turn as it does. Settled, they
+//                       must be settled too and have read "tracking" over the
+//                       window. Settling, they must have taken the same step at
+//                       the same time (same target, same settling end: the
+//                       wheels of one side, or all six on a straight start) and
+//                       not read "stall", so their acceleration current matches
+//                       and a degradation shows from the first frames of a start.
+//                       All wheels share the load torque, so a healthy drive
+//                       draws about the median; comparing frame by frame keeps a
+//                       load change inside the window (a turn starting) from
+//                       reading as a ratio.
+//            high also when the drive reported an over-current fault (EMCY
+//                       0x23xx) in the window: its own measurement, and the
+//                       surest one when the trip leaves too few frames to compare.
 //  o_fault   yes      : the drive reported CiA 402 fault (health kFaulted or kFailed)
 //                       in any frame of the window
 //            no       : otherwise, if a frame showed it starting, enabling or operational
@@ -60,8 +69,8 @@
 // The most probable mode is declared once its probability reaches
 // declare_probability; below that the declared mode stays as it was. The power
 // factor (estimated current draw relative to a nominal drive) is a low-pass, gain
-// power_factor_gain per update, of the current ratio on updates where o_current
-// is not none; it starts at 1.
+// power_factor_gain per update, of the current ratio on updates where the
+// comparison gave one (not from an over-current trip alone); it starts at 1.
 //
 // Time bounds with the default table (unit_test/drive_modes proves them on a
 // drive model with the simulator's lag and current law):
@@ -111,7 +120,8 @@ struct DriveObservation {
     std::uint16_t currentFrames = 0;     // frames whose current was compared
     double meanTrackingErrorRadS = 0.0;  // over the active frames (0 if none)
     double meanCurrentA = 0.0;           // over the compared frames (0 if fewer than kMinCurrentFrames)
-    double currentRatio = 0.0;           // from the comparison; 0 when there was none
+    double currentRatio = 0.0;           // from the comparison, when ratioMeasured
+    bool ratioMeasured = false;
 };
 
 struct ModeChange {

@@ -52,6 +52,7 @@ public:
     }
     void jam(std::size_t wheel, double extraLoadNm) { jamLoadNm_[wheel] = extraLoadNm; }
     void setHealth(std::size_t wheel, msg::DriveHealth health) { forcedHealth_[wheel] = health; forced_[wheel] = true; }
+    void setEmcy(std::size_t wheel, std::uint16_t code) { emcy_[wheel] = code; }
     bool interlockTripped() const { return tripped_; }
     core::TimeNs now() const { return now_; }
 
@@ -97,6 +98,7 @@ public:
             ws.feedbackTimeNs = now_ - kFrame;
             ws.feedbackCount = ++feedbackCount_;
             ws.health = healthOf(w);
+            ws.lastEmcyCode = failed_[w] ? 0x5000 : emcy_[w];
             if (ws.health == msg::DriveHealth::kFaulted || ws.health == msg::DriveHealth::kFailed) {
                 if (faultSeenAt_ < 0) {
                     faultSeenAt_ = now_;
@@ -135,6 +137,7 @@ private:
     msg::DriveHealth health_[msg::kWheelCount];
     msg::DriveHealth forcedHealth_[msg::kWheelCount] = {};
     bool forced_[msg::kWheelCount] = {};
+    std::uint16_t emcy_[msg::kWheelCount] = {};
     core::TimeNs faultSeenAt_ = -1;
     bool tripped_ = false;
     std::uint32_t feedbackCount_ = 0;

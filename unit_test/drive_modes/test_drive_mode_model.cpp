@@ -40,6 +40,7 @@ DriveObservation observation(TrackReading track, CurrentReading current, FaultRe
     o.current = current;
     o.fault = fault;
     o.currentRatio = ratio;
+    o.ratioMeasured = current != CurrentReading::kNone;
     return o;
 }
 

@@ -145,9 +145,6 @@ TEST(DriveModeTask, ThirtyMinutesOfNominalDrivingRaiseNoAlarm) {
             CHECK(o.track != TrackReading::kStall);
             currentReadings += o.current != CurrentReading::kNone ? 1U : 0U;
             idleReadings += o.track == TrackReading::kNone ? 1U : 0U;
-            if (o.current != CurrentReading::kNone && std::fabs(o.currentRatio - 1.0) > 0.1 && getenv("DBG")) {
-                printf("t=%.2f w=%zu ratio=%.3f mean=%.3f err=%.3f n=%u\n", rig.drives.now() * 1e-9, w, o.currentRatio, o.meanCurrentA, o.meanTrackingErrorRadS, o.activeFrames);
-            }
             maxNotNominal = std::fmax(maxNotNominal, 1.0 - rig.task.latest().drives[w].probability[0]);
             minFactor = std::fmin(minFactor, rig.task.latest().drives[w].powerFactor);
             maxFactor = std::fmax(maxFactor, rig.task.latest().drives[w].powerFactor);
@@ -157,7 +154,6 @@ TEST(DriveModeTask, ThirtyMinutesOfNominalDrivingRaiseNoAlarm) {
     LONGS_EQUAL(0, modeEvents(drain(rig.events)).size());
     LONGS_EQUAL(0, rig.task.modeChanges());
     CHECK(maxNotNominal < 0.5);
-    printf("\nfactor %.4f..%.4f maxNotNominal %.3g\n", minFactor, maxFactor, maxNotNominal);
     CHECK(minFactor > 0.96);
     CHECK(maxFactor < 1.04);
     // The run really gave evidence (and some idle time): the test could fail.
@@ -351,6 +347,55 @@ TEST(DriveModeTask, OneSideIdleWhileTheOtherDrivesAndStepsDoNotReadAsStalls) {
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         CHECK(rig.task.estimator().drive(w).probability(DriveMode::kNominal) > 0.99);
     }
+}
+
+TEST(DriveModeTask, AccelerationCurrentIsComparedOnlyBetweenWheelsTakingTheSameStep) {
+    DriveModeRig rig(650);
+    CHECK_TRUE(rig.init());
+    rig.runFor(1 * kSec);
+    rig.drives.degrade(4, 1.5);  // while stopped: no evidence yet
+    rig.runFor(1 * kSec);
+    LONGS_EQUAL(0, rig.task.modeChanges());
+    // From standstill into a turn: the right side accelerates three times as hard
+    // as the left, so its acceleration current is far above the left side's.
+    rig.drives.command(1.0, 3.0);
+    rig.runFor(100 * kMs);
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const estimator::DriveObservation& o = rig.task.estimator().lastObservation(w);
+        CHECK(TrackReading::kNone == o.track);  // all settling: no tracking evidence
+        CHECK(o.currentFrames >= 3);
+        if (w == 4) {
+            CHECK(CurrentReading::kHigh == o.current);
+            DOUBLES_EQUAL(1.5, o.currentRatio, 0.1);
+        } else if (w < 3) {
+            CHECK(CurrentReading::kNormal == o.current);
+            DOUBLES_EQUAL(1.0, o.currentRatio, 0.08);
+        } else {
+            // Two references, one the degraded wheel: their median is their mean,
+            // 1.25 x a healthy draw, so these read low, which is no alarm.
+            CHECK(CurrentReading::kNormal == o.current);
+            DOUBLES_EQUAL(0.8, o.currentRatio, 0.08);
+        }
+    }
+}
+
+TEST(DriveModeTask, ADrivesOwnOverCurrentTripReadsAsHighCurrent) {
+    DriveModeRig rig(660);
+    CHECK_TRUE(rig.init());
+    rig.runFor(100 * kMs);
+    rig.drives.setHealth(1, msg::DriveHealth::kFaulted);
+    rig.drives.setEmcy(1, 0x2310);
+    rig.drives.setHealth(2, msg::DriveHealth::kFaulted);
+    rig.drives.setEmcy(2, 0x4310);  // over-temperature: a fault, not a current reading
+    rig.runFor(100 * kMs);
+    const estimator::DriveObservation& tripped = rig.task.estimator().lastObservation(1);
+    CHECK(FaultReading::kYes == tripped.fault);
+    CHECK(CurrentReading::kHigh == tripped.current);
+    CHECK_FALSE(tripped.ratioMeasured);  // idle: nothing compared, so no power-factor update
+    DOUBLES_EQUAL(1.0, rig.task.estimator().drive(1).powerFactor(), 0.0);
+    CHECK(FaultReading::kYes == rig.task.estimator().lastObservation(2).fault);
+    CHECK(CurrentReading::kNone == rig.task.estimator().lastObservation(2).current);
+    CHECK(CurrentReading::kNone == rig.task.estimator().lastObservation(0).current);
 }
 
 TEST(DriveModeTask, EveryDeclaredChangeIsEventedWithItsIdAndSeverity) {
