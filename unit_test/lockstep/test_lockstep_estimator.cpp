@@ -2,6 +2,7 @@
 // whole flight software against the simulated rover. Faults are injected in
 // the simulator only; the flight software learns of them over CAN.
 // Detection bounds asserted here are the ones docs/estimator.md documents.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -127,6 +128,24 @@ TEST(LockstepEstimator, ImuLossRaisesItsHeartbeatFaultAndTheEstimatorFallsBackTo
     rig->rover().restartDevice(sim::SimDevice::kImu);
     CHECK_TRUE(rig->runUntil([&] { return !rig->fsw().health().active(fault); }, 2 * kNsPerSec));
     CHECK_TRUE(rig->runUntil([&] { return rig->fsw().poseEstimator().latest().yawFromImu == 1; }, 2 * kNsPerSec));
+}
+
+TEST(LockstepEstimator, OutlyingPositionFixesAreGatedOutCountedAndDoNotMoveTheEstimate) {
+    startDriving(*rig);
+    rig->runFor(5 * kNsPerSec);
+    const std::uint32_t rejectedBefore = rig->fsw().poseEstimator().latest().fixesRejected;
+    rig->rover().positionFixOutlier(3.0, 0.5 * M_PI, 3);  // the next three fixes 3 m north
+    double worst = 0.0;
+    for (int i = 0; i < 400; ++i) {  // 4 s: the three outliers and a good fix
+        rig->runFor(app::kMinorFramePeriod);
+        const msg::PoseEstimateMsg& est = rig->fsw().poseEstimator().latest();
+        const sim::Pose2& truth = rig->rover().truth().pose;
+        worst = std::max(worst, std::hypot(truth.x - est.xM, truth.y - est.yM));
+    }
+    LONGS_EQUAL(rejectedBefore + 3, rig->fsw().poseEstimator().latest().fixesRejected);
+    CHECK_TEXT(worst < 0.1, "an outlier moved the estimate");
+    rig->runFor(100 * kNsPerMs);
+    CHECK(rig->consoleCount("EVT 701 ") >= 1);  // evented (rate limited: 1st, 2nd, 4th ...)
 }
 
 // A short version of the benchmark (make bench runs 100 x 5 min): the estimate
