@@ -14,6 +14,8 @@ constexpr double kMsPerNs = 1e-6;
 
 double toSeconds(core::TimeNs ns) { return static_cast<double>(ns) * kSecPerNs; }
 
+}  // namespace
+
 PoseProcessNoise processNoiseFrom(const tables::EstimatorNoiseTable& t) {
     PoseProcessNoise noise;
     noise.speedNoiseDensity = static_cast<double>(t.speed_noise_density);
@@ -23,8 +25,6 @@ PoseProcessNoise processNoiseFrom(const tables::EstimatorNoiseTable& t) {
     noise.gyroBiasWalk = static_cast<double>(t.gyro_bias_walk_rad_s2);
     return noise;
 }
-
-}  // namespace
 
 core::Status PoseEstimatorTask::init() {
     core::Status status = bus_.createPipe("estimator", kEstimatorPipeDepth, &pipe_);

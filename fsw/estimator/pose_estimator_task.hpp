@@ -49,6 +49,9 @@ constexpr core::TimeNs kWheelFeedbackMaxAgeNs = 50 * core::kNsPerMs;
 // Published while no fix has initialised the filter: "no idea where we are".
 constexpr double kUninitialisedVariance = 1e6;
 
+// The EKF's process noise as the ESTIMATOR_NOISE table gives it.
+PoseProcessNoise processNoiseFrom(const tables::EstimatorNoiseTable& table);
+
 struct PoseEstimatorCounters {
     std::uint32_t runs = 0;
     std::uint32_t predictions = 0;

@@ -8,6 +8,9 @@
 
 #include "fsw/estimator/pose_ekf.hpp"
 
+#include "unit_test/pose_estimator/default_noise.hpp"
+#include "unit_test/pose_estimator/gaussian.hpp"
+
 #include "CppUTest/TestHarness.h"
 
 using rse::core::Status;
@@ -15,15 +18,9 @@ using namespace rse::estimator;
 
 namespace {
 
-// The default ESTIMATOR_NOISE table (tables/estimator_noise.toml).
 PoseProcessNoise tableNoise() {
-    PoseProcessNoise n;
-    n.speedNoiseDensity = 0.003;
-    n.speedNoiseFracDensity = 0.016;
-    n.imuYawRateNoiseDensity = 0.0002;
-    n.wheelYawRateNoiseDensity = 0.02;
-    n.gyroBiasWalk = 0.00001;
-    return n;
+    static const PoseProcessNoise noise = rse::test::defaultTableNoise();
+    return noise;
 }
 
 PoseState stateOf(double x, double y, double theta, double bias) {
@@ -38,19 +35,7 @@ void checkSymmetricPsd(const PoseCovariance& p) {
     CHECK_TRUE(eig.eigenvalues().minCoeff() >= -1e-15 * (1.0 + eig.eigenvalues().maxCoeff()));
 }
 
-class Gaussian {
-public:
-    explicit Gaussian(std::uint64_t seed) : rng_(seed) {}
-    double operator()() {
-        // Box-Muller on our own, so the stream is the same on every libstdc++ and arch.
-        const double u1 = (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53;
-        const double u2 = static_cast<double>(rng_() >> 11) * 0x1.0p-53;
-        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-    }
-
-private:
-    std::mt19937_64 rng_;
-};
+using rse::test::Gaussian;
 
 }  // namespace
 

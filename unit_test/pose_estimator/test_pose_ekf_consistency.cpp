@@ -16,6 +16,9 @@
 
 #include "fsw/estimator/pose_ekf.hpp"
 
+#include "unit_test/pose_estimator/default_noise.hpp"
+#include "unit_test/pose_estimator/gaussian.hpp"
+
 #include "CppUTest/TestHarness.h"
 
 using rse::core::Status;
@@ -36,13 +39,8 @@ constexpr int kSampleSteps[] = {2550, 5950, 6000};
 constexpr int kSampleCount = 3;
 
 PoseProcessNoise tableNoise() {
-    PoseProcessNoise n;
-    n.speedNoiseDensity = 0.003;
-    n.speedNoiseFracDensity = 0.016;
-    n.imuYawRateNoiseDensity = 0.0002;
-    n.wheelYawRateNoiseDensity = 0.02;
-    n.gyroBiasWalk = 0.00001;
-    return n;
+    static const PoseProcessNoise noise = rse::test::defaultTableNoise();
+    return noise;
 }
 
 PoseProcessNoise scaled(const PoseProcessNoise& n, double k) {
@@ -55,19 +53,7 @@ PoseProcessNoise scaled(const PoseProcessNoise& n, double k) {
     return out;
 }
 
-class Gaussian {
-public:
-    explicit Gaussian(std::uint64_t seed) : rng_(seed) {}
-    double operator()() {
-        const double u1 = (static_cast<double>(rng_() >> 11) + 0.5) * 0x1.0p-53;
-        const double u2 = static_cast<double>(rng_() >> 11) * 0x1.0p-53;
-        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-    }
-    double uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
-
-private:
-    std::mt19937_64 rng_;
-};
+using rse::test::Gaussian;
 
 double nees(const PoseState& truth, const PoseEkf& ekf) {
     const Eigen::Vector3d e(truth(kPoseX) - ekf.x(), truth(kPoseY) - ekf.y(),
