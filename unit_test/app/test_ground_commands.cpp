@@ -9,6 +9,7 @@
 
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
+#include "fsw/msg/health_msgs.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/link/memory_packet_link.hpp"
@@ -330,4 +331,27 @@ TEST(GroundCommands, MalformedBusMessagesAreCountedNotSilentlyDropped) {
     CHECK_FALSE(fsw.canIo().estopHeld());
     LONGS_EQUAL(1, fsw.telemetry().malformed());
     LONGS_EQUAL(2, fsw.manualDrive().malformed());  // both ids reach the manual-drive pipe
+}
+
+// No CAN devices here: no position fix ever comes, so the estimate stays
+// uninitialised and the health monitor raises pose-uncertain once the first-fix
+// wait (3 s) is over; HEALTH goes down when it changes and at 1 Hz.
+TEST(GroundCommands, RoverStateAndHealthReportTheEstimatorAndFaults) {
+    runFrames(250);
+    const Packet& early = last("HEALTH");
+    LONGS_EQUAL(0, static_cast<long>(field(early, "active_faults")));
+    LONGS_EQUAL(0, static_cast<long>(field(last("ROVER_STATE"), "estimate_valid")));
+    const std::size_t before = countOf("HEALTH");
+    runFrames(100);  // past 3 s
+    CHECK(countOf("HEALTH") >= before + 1);
+    const Packet& health = last("HEALTH");
+    const auto poseBit = static_cast<double>(std::uint64_t{1} << msg::fault::kPoseUncertain);
+    DOUBLES_EQUAL(poseBit, field(health, "active_faults"), 0.0);
+    LONGS_EQUAL(msg::fault::kPoseUncertain, static_cast<long>(field(health, "last_fault_id")));
+    LONGS_EQUAL(1, static_cast<long>(field(health, "last_fault_raised")));
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        LONGS_EQUAL(0, static_cast<long>(field(health, "drive_mode", w)));  // nominal
+        DOUBLES_EQUAL(1.0, field(health, "power_factor", w), 1e-6);
+    }
+    DOUBLES_EQUAL(1000.0, field(last("ROVER_STATE"), "position_sigma"), 1e-3);
 }
