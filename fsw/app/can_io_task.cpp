@@ -15,7 +15,6 @@ static_assert(static_cast<int>(msg::DriveHealth::kWaitingBootUp) == static_cast<
               "msg::DriveHealth must mirror hal::DriveState");
 
 namespace {
-const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
 constexpr double kMrad = 1e-3;
 }  // namespace
 
@@ -27,12 +26,12 @@ CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareB
       tables_(tables),
       master_(can, events),
       link_(can, events, "rover"),
-      drives_{{can, events, master_.heartbeats(), kDriveNodeIds[0], kWheelNames[0]},
-              {can, events, master_.heartbeats(), kDriveNodeIds[1], kWheelNames[1]},
-              {can, events, master_.heartbeats(), kDriveNodeIds[2], kWheelNames[2]},
-              {can, events, master_.heartbeats(), kDriveNodeIds[3], kWheelNames[3]},
-              {can, events, master_.heartbeats(), kDriveNodeIds[4], kWheelNames[4]},
-              {can, events, master_.heartbeats(), kDriveNodeIds[5], kWheelNames[5]}},
+      drives_{{can, events, master_.heartbeats(), kDriveNodeIds[0], msg::wheelName(0)},
+              {can, events, master_.heartbeats(), kDriveNodeIds[1], msg::wheelName(1)},
+              {can, events, master_.heartbeats(), kDriveNodeIds[2], msg::wheelName(2)},
+              {can, events, master_.heartbeats(), kDriveNodeIds[3], msg::wheelName(3)},
+              {can, events, master_.heartbeats(), kDriveNodeIds[4], msg::wheelName(4)},
+              {can, events, master_.heartbeats(), kDriveNodeIds[5], msg::wheelName(5)}},
       imu_(events),
       power_(events),
       hazard_(events),

@@ -13,8 +13,6 @@ constexpr std::size_t kUnknown = static_cast<std::size_t>(msg::DriveMode::kUnkno
 
 constexpr double kUninformative = 0.5;  // unknown: every value of a binary reading alike
 
-const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
-
 // One row of the transition matrix: the leaving probabilities as given, what is
 // left stays; a row whose leaving probabilities sum beyond 1 (each may be 0.5) is
 // scaled down so it still sums to 1.
@@ -89,7 +87,7 @@ bool couldReportFault(msg::DriveHealth h) {
 bool drivesOrFaulted(msg::DriveHealth h) { return h == msg::DriveHealth::kOperational || reportsFault(h); }
 
 // How long the lag needs to bring a target step of `step` rad/s down to the
-// settled residual, from the frame the new target is sent.
+// settled residual, from the frame the changed target is sent.
 core::TimeNs settleTimeFor(double step) {
     const double lagS = kDriveLagTimeConstantS * std::log(std::fmax(step, kSettledResidualRadS) / kSettledResidualRadS);
     const core::TimeNs settle = kCommandDelayNs + static_cast<core::TimeNs>(lagS * static_cast<double>(core::kNsPerSec));
@@ -393,6 +391,5 @@ const char* driveModeName(msg::DriveMode mode) {
     return "?";
 }
 
-const char* driveWheelName(std::size_t wheel) { return wheel < msg::kWheelCount ? kWheelNames[wheel] : "?"; }
 
 }  // namespace rse::estimator

@@ -212,6 +212,5 @@ private:
 };
 
 const char* driveModeName(msg::DriveMode mode);  // "nominal", ... "?" for a value that is no mode
-const char* driveWheelName(std::size_t wheel);    // FL ML RL FR MR RR, "?" beyond
 
 }  // namespace rse::estimator

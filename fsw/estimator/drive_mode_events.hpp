@@ -8,7 +8,7 @@
 namespace rse::estimator::events {
 
 // A wheel's declared mode changed: "drive_modes: FL nominal -> degraded (p=0.97,
-// power x1.48)". One id per new mode (760 + DriveMode), so the ground can filter
+// power x1.48)". One id per declared mode (760 + DriveMode), so the ground can filter
 // on it. Edges, not rate limited: the declare threshold keeps them rare.
 constexpr core::EventId kDriveModeDeclaredNominal = 760;   // INFO: back to nominal
 constexpr core::EventId kDriveModeDeclaredDegraded = 761;  // WARN

@@ -97,7 +97,7 @@ void DriveModeTask::update(const core::FrameContext& frame, const DriveHealthMod
         }
         ++modeChanges_;
         events_.report(events::declaredModeEventId(c.to), severityOf(c.to),
-                       "drive_modes: %s %s -> %s (p=%.3f, power x%.2f)", driveWheelName(w), driveModeName(c.from),
+                       "drive_modes: %s %s -> %s (p=%.3f, power x%.2f)", msg::wheelName(w), driveModeName(c.from),
                        driveModeName(c.to), c.probability, estimator_.drive(w).powerFactor());
     }
 }

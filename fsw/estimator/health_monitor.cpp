@@ -8,7 +8,6 @@ namespace rse::estimator {
 
 namespace {
 
-const char* const kWheelNames[msg::kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
 const char* const kDeviceNames[msg::kDeviceNodeCount] = {"IMU", "power", "hazard", "position fix"};
 
 long long toMs(core::TimeNs t) { return static_cast<long long>(t / core::kNsPerMs); }
@@ -52,7 +51,7 @@ void HealthMonitor::setHeartbeat(std::uint8_t id, bool lost, const msg::NodeStat
         return;
     }
     const bool drive = node < msg::kWheelCount;
-    const char* name = drive ? kWheelNames[node] : kDeviceNames[node - msg::kWheelCount];
+    const char* name = drive ? msg::wheelName(node) : kDeviceNames[node - msg::kWheelCount];
     const char* kind = drive ? "drive" : "device";
     if (lost) {
         const msg::NodeLiveness& n = status.nodes[node];
@@ -82,7 +81,7 @@ void HealthMonitor::onDriveStatus(const msg::DriveStatusMsg& status, const Healt
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         const double current = status.wheels[w].currentA;
         if (!std::isfinite(current)) {
-            rejectValue(kWheelNames[w], "drive currentA");
+            rejectValue(msg::wheelName(w), "drive currentA");
             continue;
         }
         const double magnitude = std::fabs(current);
@@ -99,12 +98,12 @@ void HealthMonitor::onDriveStatus(const msg::DriveStatusMsg& status, const Healt
         if (raised) {
             events_.report(events::kHealthDriveOvercurrent, core::Severity::kError,
                            "health: fault %u: drive %s over-current %.2f A > %.2f A for %lld ms",
-                           static_cast<unsigned>(id), kWheelNames[w], current, raiseA,
+                           static_cast<unsigned>(id), msg::wheelName(w), current, raiseA,
                            toMs(status.timeNs - since));
         } else {
             events_.report(events::kHealthDriveOvercurrentCleared, core::Severity::kInfo,
                            "health: fault %u cleared: drive %s current %.2f A < %.2f A for %lld ms",
-                           static_cast<unsigned>(id), kWheelNames[w], current, clearA,
+                           static_cast<unsigned>(id), msg::wheelName(w), current, clearA,
                            toMs(status.timeNs - since));
         }
     }

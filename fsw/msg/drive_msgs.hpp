@@ -10,6 +10,12 @@ namespace rse::msg {
 
 constexpr std::size_t kWheelCount = 6;  // 0 FL, 1 ML, 2 RL, 3 FR, 4 MR, 5 RR (docs/icd.md §1.1)
 
+// The wheel's short name in event texts: FL ML RL FR MR RR, "?" beyond.
+inline const char* wheelName(std::size_t wheel) {
+    static const char* const kNames[kWheelCount] = {"FL", "ML", "RL", "FR", "MR", "RR"};
+    return wheel < kWheelCount ? kNames[wheel] : "?";
+}
+
 // Mirrors hal::DriveState; numeric values are part of the telemetry format.
 enum class DriveHealth : std::uint8_t {
     kWaitingBootUp = 0,

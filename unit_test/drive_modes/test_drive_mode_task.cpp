@@ -195,7 +195,7 @@ TEST(DriveModeTask, DegradationIsDeclaredWithinTheBoundAndThePowerFactorFollows)
         LONGS_EQUAL(1, events.size());
         LONGS_EQUAL(estimator::events::kDriveModeDeclaredDegraded, events[0].id);
         CHECK(core::Severity::kWarning == events[0].severity);
-        const std::string expected = std::string("drive_modes: ") + estimator::driveWheelName(wheel) +
+        const std::string expected = std::string("drive_modes: ") + msg::wheelName(wheel) +
                                      " nominal -> degraded";
         CHECK(contains(events[0].text, expected.c_str()));
     }
@@ -224,7 +224,7 @@ TEST(DriveModeTask, FailureIsDeclaredWithinTheBoundAndTheOthersStayNominal) {
         LONGS_EQUAL(1, events.size());  // straight to failed, nothing in between
         LONGS_EQUAL(estimator::events::kDriveModeDeclaredFailed, events[0].id);
         CHECK(core::Severity::kError == events[0].severity);
-        const std::string expected = std::string(estimator::driveWheelName(wheel)) + " nominal -> failed";
+        const std::string expected = std::string(msg::wheelName(wheel)) + " nominal -> failed";
         CHECK(contains(events[0].text, expected.c_str()));
     }
 }
