@@ -243,7 +243,22 @@ $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OB
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
-bench: $(BENCH_BINS)
+# The RRT* benchmark runs OMPL's RRT* beside ours as the reference. OMPL (and
+# Boost under it) is a host-only benchmark dependency: never linked into flight
+# code or the unit tests, so `make test` does not install it.
+BENCH_PACKAGES := libompl-dev
+OMPL_CPPFLAGS := -isystem /usr/include/ompl-1.5
+.PHONY: bench-deps
+bench-deps: deps
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(BENCH_PACKAGES)"
+$(BUILD)/obj/unit_test/bench/bench_rrt_star.o: unit_test/bench/bench_rrt_star.cpp | bench-deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(OMPL_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
+$(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
+
+bench: bench-deps $(BENCH_BINS)
 	@set -e; for b in $(filter-out %/bench_socketcan,$(BENCH_BINS)); do echo "### $$b"; $$b; echo; done
 	@echo "### $(BUILD)/bin/bench_socketcan (inside the vcan VM)"
 	@RSE_BIN_DIR=$(BUILD)/bin unit_test/bench/vm_bench.sh

@@ -26,6 +26,14 @@ constexpr core::MsgId kPoseEstimate = 0x0150;  // PoseEstimateMsg, 100 Hz, estim
 constexpr core::MsgId kFaultStatus = 0x0151;   // FaultStatusMsg, on change and 1 Hz, health -> executive, telemetry
 constexpr core::MsgId kDriveModes = 0x0152;    // DriveModesMsg, 10 Hz, drive_modes -> habitual, deliberative, telemetry
 
+// deliberative <-> habitual (habitual_msgs.hpp)
+constexpr core::MsgId kLegCommand = 0x0160;    // LegCommandMsg, per leg, deliberative -> habitual
+constexpr core::MsgId kLegReport = 0x0161;     // LegReportMsg, on change and 1 Hz, habitual -> deliberative, telemetry
+
+// habitual <-> reflexive (trajectory_msgs.hpp)
+constexpr core::MsgId kTrajectory = 0x0170;      // TrajectoryMsg, per plan or repair, habitual -> reflexive
+constexpr core::MsgId kFollowerStatus = 0x0171;  // FollowerStatusMsg, on change and 10 Hz, reflexive -> habitual, telemetry
+
 // commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
 constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers
 constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive

@@ -1,5 +1,7 @@
 #include "fsw/tables/table_image.hpp"
 
+#include "fsw/tables/coarse_map_check.hpp"
+
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -233,6 +235,9 @@ TableCheck checkTablePayload(const TableDesc& table, const std::uint8_t* payload
             readFieldValue(table, payload, length, rule.upper, 0, &upper) && !(lower < upper)) {
             return fault(TableReject::kInconsistent, rule.lower, true);
         }
+    }
+    if (table.id == TableId::kCoarseMap) {
+        return checkCoarseMapPayload(table, payload, length);
     }
     return TableCheck{};
 }

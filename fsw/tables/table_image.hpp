@@ -32,8 +32,9 @@ constexpr std::size_t kTableHeaderSize = 20;
 constexpr std::size_t kTableCrcOffset = 16;  // the CRC field, also the length of header it covers
 constexpr std::size_t kMaxTableImageSize = kTableHeaderSize + kMaxTablePayloadSize;
 // Each table keeps an inactive buffer of this size; the bound keeps uploads a
-// few ISO-TP messages and the service's memory small.
-static_assert(kMaxTableImageSize <= 512, "a table image must fit in 512 bytes");
+// few dozen load chunks and the service's memory small (the coarse map, 16
+// polygons of 8 vertices, is the largest table at 1077 bytes).
+static_assert(kMaxTableImageSize <= 2048, "a table image must fit in 2048 bytes");
 
 // An image somewhere in memory (a default image, an upload).
 struct TableImageRef {

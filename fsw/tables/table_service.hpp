@@ -98,6 +98,8 @@ public:
     const CanNodeMapTable& canNodeMap() const { return activeCanNodeMap_; }
     const FaultResponseTable& faultResponse() const { return activeFaultResponse_; }
     const DriveHealthModelTable& driveHealthModel() const { return activeDriveHealthModel_; }
+    const FollowerTable& follower() const { return activeFollower_; }
+    const CoarseMapTable& coarseMap() const { return activeCoarseMap_; }
 
     TableStatus status(TableId id) const;  // all zero for an unknown id
     std::uint32_t activations() const { return activations_; }
@@ -139,6 +141,6 @@ private:
 };
 
 // One accessor per table above: a table added to the .def needs one too.
-static_assert(kTableCount == 7, "add an accessor to TableService for every table");
+static_assert(kTableCount == 9, "add an accessor to TableService for every table");
 
 }  // namespace rse::tables

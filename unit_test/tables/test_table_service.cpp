@@ -129,8 +129,8 @@ TEST(TableService, StartUpFailsNamingAMissingTable) {
     CHECK_TRUE(Status::kInvalidArgument == fresh.init(kDefaultTableImages, kDefaultTableImageCount - 1));
     const auto d = drainEvents(log, events::kTableMissing);
     LONGS_EQUAL(1, d.count);
-    CHECK_TRUE(d.text.find("DRIVE_HEALTH_MODEL") != std::string::npos);
-    CHECK_FALSE(fresh.status(TableId::kDriveHealthModel).active);
+    CHECK_TRUE(d.text.find("COARSE_MAP") != std::string::npos);
+    CHECK_FALSE(fresh.status(TableId::kCoarseMap).active);
     CHECK_TRUE(fresh.status(TableId::kRoverGeometry).active);
 }
 
@@ -297,12 +297,12 @@ TEST(TableService, WrongLengthsAreRejectedAndTheActiveTableStays) {
     CHECK_TRUE(TableBufferState::kLoading == service.status(TableId::kRoverGeometry).inactiveState);
     CHECK_TRUE(TableReject::kBadLength == service.validate(TableId::kRoverGeometry).reason);
     LONGS_EQUAL(1, drainEventsWithId(events, events::kRejectBadLength));
-    // Extended: DRIVE_HEALTH_MODEL is the largest table, so its buffer refuses the
+    // Extended: COARSE_MAP is the largest table, so its buffer refuses the
     // extra byte; a smaller table's buffer takes it and validation refuses it.
-    bad = defaultImage(TableId::kDriveHealthModel);
+    bad = defaultImage(TableId::kCoarseMap);
     LONGS_EQUAL(kMaxTableImageSize, bad.size());
     bad.push_back(0xAA);
-    CHECK_TRUE(TableReject::kTooLarge == load(TableId::kDriveHealthModel, bad).reason);
+    CHECK_TRUE(TableReject::kTooLarge == load(TableId::kCoarseMap, bad).reason);
     LONGS_EQUAL(1, drainEventsWithId(events, events::kRejectTooLarge));
     std::vector<std::uint8_t> longMap = defaultImage(TableId::kCanNodeMap);
     longMap.push_back(0xAA);

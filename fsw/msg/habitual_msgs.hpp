@@ -1,0 +1,63 @@
+// The deliberative <-> habitual boundary: one leg at a time, with the
+// constraints the deliberative layer planned it under, and the habitual layer's
+// report back (achieved, or failed up with the violated constraint and by how much).
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/msg/msg_ids.hpp"
+
+namespace rse::msg {
+
+// Drive to (goalXM, goalYM) within the bounds. legId 0 cancels: stop safely and wait.
+struct LegCommandMsg {
+    static constexpr core::MsgId kMsgId = ids::kLegCommand;
+    std::int64_t timeNs;
+    std::uint32_t legId;       // nonzero and new for every leg; 0: cancel the current leg
+    std::uint8_t finalLeg;     // 1: the last leg of the plan (arrive and stay)
+    std::uint8_t pad[3];
+    double goalXM;
+    double goalYM;
+    double maxPathLengthM;     // not to exceed: path length of the local plan
+    double maxEnergyJ;         // not to exceed: energy the drives may draw on this leg
+};
+
+enum class HabitualState : std::uint8_t {
+    kIdle = 0,        // waiting for a leg
+    kPlanning = 1,    // RRT* running for a new leg
+    kDriving = 2,     // trajectory sent, the reflexive layer follows it
+    kRepairing = 3,   // a constraint was predicted violated, or the path blocked: planning again
+    kFailedUp = 4,    // repair failed: rover stopped, waiting for the deliberative layer
+    kAchieved = 5,    // waypoint reached: waiting for the next leg
+};
+
+// Which constraint a fail-up is about.
+enum class LegConstraint : std::uint8_t {
+    kNone = 0,
+    kPathLength = 1,   // predicted path length above the allowed length
+    kEnergy = 2,       // predicted drive energy above the allowed energy
+    kNoPath = 3,       // no collision-free path to the waypoint found within the budget
+    kCannotFollow = 4, // the reflexive layer could not follow the trajectory
+    kBadLeg = 5,       // the leg command was refused (non-finite, non-positive bound, off the map)
+};
+
+// Published on every state change and at 1 Hz.
+struct LegReportMsg {
+    static constexpr core::MsgId kMsgId = ids::kLegReport;
+    std::int64_t timeNs;
+    std::uint32_t legId;            // the leg this is about (0: none yet)
+    HabitualState state;
+    LegConstraint violated;         // kNone unless state is kFailedUp
+    std::uint8_t pad[2];
+    double predictedLengthM;        // of the best local plan (0 if none)
+    double allowedLengthM;          // maxPathLengthM less the table's distance margin
+    double predictedEnergyJ;        // of the best local plan with the drives' estimated power factors
+    double allowedEnergyJ;          // maxEnergyJ less the table's power margin
+    double excess;                  // by how much the violated constraint is exceeded (m or J; 0 otherwise)
+    std::uint32_t legsAchieved;
+    std::uint32_t failUps;
+    std::uint32_t replans;          // local replans (new obstacle on the path, or repair)
+    std::uint32_t minorAnomalies;   // replans that kept the constraints: logged, not failed up
+};
+
+}  // namespace rse::msg
