@@ -16,5 +16,6 @@ constexpr core::EventId kGoalsChanged = 208;    // GOTO, ADD_TARGET, CLEAR_GOALS
 constexpr core::EventId kWheelCommandHeld = 209; // wheel commands ignored while the e-stop holds (throttled)
 constexpr core::EventId kGroundLinkOpened = 210; // start-up: which ground links carry commands and telemetry
 constexpr core::EventId kBusMessageMalformed = 211; // a bus message that does not decode as its id's type (throttled)
+constexpr core::EventId kWheelsStoppedOnModeChange = 212; // the rover mode changed while a wheel was commanded: all to zero
 
 }  // namespace rse::app::events

@@ -88,6 +88,15 @@ void CanIoTask::refuse(const char* why) {
     }
 }
 
+bool CanIoTask::anyWheelCommanded() const {
+    for (double c : commanded_) {
+        if (c != 0.0) {
+            return true;
+        }
+    }
+    return false;
+}
+
 void CanIoTask::takeCommands() {
     const double maxSpeed = static_cast<double>(tables_.roverGeometry().max_wheel_speed_rad_s);
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
@@ -98,7 +107,16 @@ void CanIoTask::takeCommands() {
                 continue;
             }
             estop_ = mode.estop != 0;
-            if (estop_) {
+            // A mode change takes driving authority from the layer that had it
+            // (manual drive, the trajectory follower), so wheels left turning by
+            // it are stopped here, where no task can forget to.
+            const bool modeChanged = mode.mode != mode_;
+            mode_ = mode.mode;
+            if (modeChanged && anyWheelCommanded()) {
+                events_.report(events::kWheelsStoppedOnModeChange, core::Severity::kInfo,
+                               "app: mode changed to %u: every wheel commanded to zero", static_cast<unsigned>(mode_));
+            }
+            if (estop_ || modeChanged) {
                 for (double& c : commanded_) {
                     c = 0.0;
                 }

@@ -6,7 +6,9 @@
 //        ModeMsg: while the software e-stop is set every drive is commanded to
 //        zero (in the frame the e-stop arrives) and wheel commands are ignored,
 //        counted and evented, until it is cleared; the drives then stay at zero
-//        until the next command arrives.
+//        until the next command arrives. A change of rover mode also commands
+//        every drive to zero (event 212 if one was turning): the new mode's
+//        layer commands afresh.
 //   out: DriveStatusMsg and NodeStatusMsg (heartbeat liveness of every node) every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
@@ -57,6 +59,7 @@ public:
 
 private:
     void takeCommands();
+    bool anyWheelCommanded() const;
     void refuse(const char* why);  // counts and events a bus input that was not applied
     void publishStatus(core::TimeNs now);
     void publishNodes(core::TimeNs now);
@@ -79,6 +82,7 @@ private:
     double commanded_[msg::kWheelCount] = {};
     std::uint32_t commandsRejected_ = 0;
     bool estop_ = false;
+    std::uint8_t mode_ = 0;  // SAFE until the first ModeMsg
     std::uint32_t heldByEstop_ = 0;
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
     core::Message inbox_{};

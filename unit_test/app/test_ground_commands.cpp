@@ -235,6 +235,28 @@ TEST(GroundCommands, EstopZeroesTheDrivesAndHoldsOffCommands) {
     LONGS_EQUAL(0, fsw.canIo().drive(0).targetVelocityMradS());  // stays at zero until commanded
 }
 
+TEST(GroundCommands, AModeChangeStopsTheWheelsTheLayerLeftTurning) {
+    core::EventLog::Cursor events;  // the telemetry task pops events; read them beside it
+    send("SET_MODE", {3});
+    send("DRIVE", f32s({0.25F, 0.0F, 5.0F}));
+    runFrames(3);
+    CHECK(fsw.canIo().drive(0).targetVelocityMradS() != 0);
+    send("SET_MODE", {1});  // STANDBY: manual drive loses authority mid-drive
+    runFrames(2);           // executed in one frame, applied by CAN I/O in the next
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        LONGS_EQUAL(0, fsw.canIo().drive(w).targetVelocityMradS());
+    }
+    // Evented once, and not again for a mode change with nothing turning.
+    send("SET_MODE", {0});
+    runFrames(2);
+    unsigned stops = 0;
+    core::Event e;
+    while (core::isOk(fsw.events().read(&events, &e))) {
+        stops += e.id == 212 ? 1U : 0U;
+    }
+    LONGS_EQUAL(1, stops);
+}
+
 TEST(GroundCommands, TableActivationThroughCommandsLandsAtTheNextFrameBoundary) {
     tables::RoverGeometryTable g = fsw.tables().roverGeometry();
     const float before = g.max_wheel_speed_rad_s;
