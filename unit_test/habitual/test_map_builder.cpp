@@ -1,0 +1,207 @@
+// The map builder: coarse-map polygons into the local map, hazard sightings
+// into site-frame discs, known-obstacle suppression, the fixed table's
+// replacement rule (fsw/habitual/map_builder.hpp).
+#include <cmath>
+#include <limits>
+
+#include "fsw/habitual/map_builder.hpp"
+#include "fsw/tables/default_tables.hpp"
+#include "fsw/tables/table_image.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using habitual::LocalMap;
+using habitual::MapBuilder;
+using habitual::Point2;
+using habitual::SightingOutcome;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The default coarse map (tables/coarse_map.toml): site x -5..30, y -10..10,
+// rock 0 the square x 5..6.5, y 1.8..3.2, and three more.
+tables::CoarseMapTable defaultCoarseMap() {
+    tables::CoarseMapTable t{};
+    for (std::size_t i = 0; i < tables::kDefaultTableImageCount; ++i) {
+        const tables::TableImageRef& ref = tables::kDefaultTableImages[i];
+        if (tables::decodeTable(ref.data, ref.length, &t).ok()) {
+            return t;
+        }
+    }
+    FAIL("no default coarse map image");
+    return t;
+}
+
+msg::HazardSightingTlm sighting(std::uint8_t id, double range, double bearing, double halfWidth) {
+    msg::HazardSightingTlm s{};
+    s.obstacleId = id;
+    s.rangeM = range;
+    s.bearingRad = bearing;
+    s.halfWidthM = halfWidth;
+    return s;
+}
+
+const habitual::RememberedHazard* findId(const MapBuilder& b, std::uint8_t id) {
+    for (std::size_t i = 0; i < habitual::kMaxMapDiscs; ++i) {
+        if (b.slot(i).used && b.slot(i).obstacleId == id) {
+            return &b.slot(i);
+        }
+    }
+    return nullptr;
+}
+
+}  // namespace
+
+TEST_GROUP(MapBuilder) {
+    tables::CoarseMapTable coarse = defaultCoarseMap();
+    MapBuilder builder;
+    LocalMap map;
+};
+
+TEST(MapBuilder, CoarsePolygonsAndBoundsGoIntoTheMapInflatedByTheClearance) {
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    LONGS_EQUAL(coarse.obstacle_count, map.polygonCount());
+    LONGS_EQUAL(0, map.discCount());
+    DOUBLES_EQUAL(-5.0, map.min().x, 1e-6);
+    DOUBLES_EQUAL(30.0, map.max().x, 1e-6);
+    DOUBLES_EQUAL(-10.0, map.min().y, 1e-6);
+    DOUBLES_EQUAL(10.0, map.max().y, 1e-6);
+    DOUBLES_EQUAL(0.6, map.clearance(), 1e-12);
+    CHECK_FALSE(map.pointFree(Point2{5.75, 2.5}));  // inside rock 0
+    CHECK_FALSE(map.pointFree(Point2{5.75, 1.3}));  // 0.5 m south of it: inside the inflation
+    CHECK_TRUE(map.pointFree(Point2{5.75, 1.1}));   // 0.7 m south: free
+    CHECK_TRUE(map.pointFree(Point2{0.0, 0.0}));
+    CHECK_FALSE(map.pointFree(Point2{31.0, 0.0}));  // off the site
+    // The triangle (rock 1) is there too: its top vertex is (10.2, -1.6).
+    CHECK_FALSE(map.pointFree(Point2{10.2, -1.1}));
+    CHECK_TRUE(map.pointFree(Point2{10.2, -0.9}));
+}
+
+TEST(MapBuilder, SightingBecomesADiscInTheSiteFrame) {
+    // Rover at (2, 1) facing north; an obstacle 2 m away on its right (east),
+    // 0.5 m half width: centre 2.5 m east of the rover.
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{2.0, 1.0}, kPi / 2.0, sighting(7, 2.0, -kPi / 2.0, 0.5)));
+    const habitual::RememberedHazard* h = findId(builder, 7);
+    CHECK(h != nullptr);
+    DOUBLES_EQUAL(4.5, h->centre.x, 1e-9);
+    DOUBLES_EQUAL(1.0, h->centre.y, 1e-9);
+    DOUBLES_EQUAL(0.5, h->radiusM, 1e-12);
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    LONGS_EQUAL(1, map.discCount());
+    CHECK_FALSE(map.pointFree(Point2{4.5, 1.0}));
+    CHECK_FALSE(map.pointFree(Point2{4.5 + 1.05, 1.0}));  // within radius + clearance 1.1
+    CHECK_TRUE(map.pointFree(Point2{4.5 - 1.15, 1.0}));
+    // The segment the rover would drive east now crosses it.
+    CHECK_FALSE(map.segmentFree(Point2{2.0, 1.0}, Point2{8.0, 1.0}));
+}
+
+TEST(MapBuilder, ZeroHalfWidthGetsTheRadiusFloor) {
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, -5.0}, 0.0, sighting(3, 1.0, 0.0, 0.0)));
+    const habitual::RememberedHazard* h = findId(builder, 3);
+    CHECK(h != nullptr);
+    DOUBLES_EQUAL(habitual::kMinHazardRadiusM, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(1.0, h->centre.x, 1e-12);
+}
+
+TEST(MapBuilder, ResightingsOfAnIdGrowItsDiscToEncloseEveryView) {
+    // From (0, 0) facing east: a disc at (3.2, 0), radius 0.3.
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(9, 2.9, 0.0, 0.3)));
+    std::uint32_t revision = builder.revision();
+    // The same view again (within the disc): nothing changes, not even the revision.
+    CHECK(SightingOutcome::kUnchanged == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(9, 3.0, 0.0, 0.15)));
+    LONGS_EQUAL(revision, builder.revision());
+    // Another part of it, seen from further on: the disc round both views.
+    CHECK(SightingOutcome::kUpdated == builder.remember(coarse, Point2{2.0, -1.0}, kPi / 2.0, sighting(9, 1.2, 0.0, 0.2)));
+    CHECK(builder.revision() != revision);
+    LONGS_EQUAL(1, builder.rememberedCount());
+    const habitual::RememberedHazard* h = findId(builder, 9);
+    // Views: (3.2, 0) r 0.3 and (2.0, 0.4) r 0.2; enclosing radius (d + 0.3 + 0.2) / 2.
+    const double d = std::hypot(1.2, 0.4);
+    DOUBLES_EQUAL(0.5 * (d + 0.5), h->radiusM, 1e-9);
+    CHECK(std::hypot(h->centre.x - 3.2, h->centre.y - 0.0) + 0.3 <= h->radiusM + 1e-9);
+    CHECK(std::hypot(h->centre.x - 2.0, h->centre.y - 0.4) + 0.2 <= h->radiusM + 1e-9);
+    // A view enclosing the remembered disc replaces it.
+    revision = builder.revision();
+    CHECK(SightingOutcome::kUpdated == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(9, 1.0, 0.0, 1.9)));
+    DOUBLES_EQUAL(2.9, findId(builder, 9)->centre.x, 1e-9);
+    DOUBLES_EQUAL(1.9, findId(builder, 9)->radiusM, 1e-9);
+    LONGS_EQUAL(2, builder.updated());
+    LONGS_EQUAL(1, builder.unchanged());
+    LONGS_EQUAL(1, builder.added());
+}
+
+TEST(MapBuilder, AnIdSeenFarFromItsDiscIsAnotherObstacle) {
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(5, 2.0, 0.0, 0.5)));
+    // 10 m away: the disc round both would exceed kMaxMergedRadiusM, so the new view replaces it.
+    CHECK(SightingOutcome::kUpdated == builder.remember(coarse, Point2{10.0, -6.0}, 0.0, sighting(5, 2.0, 0.0, 0.5)));
+    const habitual::RememberedHazard* h = findId(builder, 5);
+    DOUBLES_EQUAL(12.5, h->centre.x, 1e-9);
+    DOUBLES_EQUAL(-6.0, h->centre.y, 1e-9);
+    DOUBLES_EQUAL(0.5, h->radiusM, 1e-12);
+}
+
+TEST(MapBuilder, SightingOnOrNearACoarsePolygonIsAKnownObstacle) {
+    // Rock 0 spans y 1.8..3.2 at x 5..6.5. From (5.75, 0) facing north:
+    // centre inside the rock.
+    CHECK(SightingOutcome::kKnownObstacle ==
+          builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.8, 0.0, 0.7)));
+    // Centre 0.25 m south of the rock's edge: within the 0.3 m margin.
+    CHECK(SightingOutcome::kKnownObstacle ==
+          builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.45, 0.0, 0.1)));
+    LONGS_EQUAL(0, builder.rememberedCount());
+    LONGS_EQUAL(2, builder.knownObstacles());
+    // 0.35 m away is something else: added.
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.35, 0.0, 0.1)));
+    LONGS_EQUAL(1, builder.rememberedCount());
+    DOUBLES_EQUAL(0.35, MapBuilder::distanceToCoarseMap(coarse, findId(builder, 1)->centre), 1e-6);
+}
+
+TEST(MapBuilder, FullTableReplacesTheSightingSeenLongestAgo) {
+    for (std::uint8_t id = 1; id <= habitual::kMaxMapDiscs; ++id) {
+        // A row of small obstacles south of the rocks, 0.5 m apart.
+        const SightingOutcome o =
+            builder.remember(coarse, Point2{-4.0 + 0.5 * id, -8.0}, kPi / 2.0, sighting(id, 0.5, 0.0, 0.1));
+        CHECK(SightingOutcome::kAdded == o);
+    }
+    LONGS_EQUAL(habitual::kMaxMapDiscs, builder.rememberedCount());
+    // id 1 is seen again, so id 2 becomes the oldest.
+    CHECK(SightingOutcome::kUnchanged == builder.remember(coarse, Point2{-3.5, -8.0}, kPi / 2.0, sighting(1, 0.5, 0.0, 0.1)));
+    CHECK(SightingOutcome::kReplacedOldest ==
+          builder.remember(coarse, Point2{20.0, -8.0}, kPi / 2.0, sighting(200, 0.5, 0.0, 0.1)));
+    LONGS_EQUAL(habitual::kMaxMapDiscs, builder.rememberedCount());
+    LONGS_EQUAL(1, builder.replacedOldest());
+    CHECK(findId(builder, 2) == nullptr);
+    CHECK(findId(builder, 1) != nullptr);
+    CHECK(findId(builder, 200) != nullptr);
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    LONGS_EQUAL(habitual::kMaxMapDiscs, map.discCount());
+}
+
+TEST(MapBuilder, ImplausibleSightingsAreRejectedAndChangeNothing) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::uint32_t revision = builder.revision();
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(1, nan, 0.0, 0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(1, 1.0, nan, 0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(1, -0.1, 0.0, 0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(1, 1.0, 0.0, -0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(1, 60.0, 0.0, 0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(0, 1.0, 0.0, 0.3)));
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{nan, 0}, 0.0, sighting(1, 1.0, 0.0, 0.3)));
+    LONGS_EQUAL(7, builder.rejected());
+    LONGS_EQUAL(0, builder.rememberedCount());
+    LONGS_EQUAL(revision, builder.revision());
+}
+
+TEST(MapBuilder, ForgetAllEmptiesTheMemory) {
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0, 0}, 0.0, sighting(4, 1.0, 0.0, 0.3)));
+    builder.forgetAll();
+    LONGS_EQUAL(0, builder.rememberedCount());
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    LONGS_EQUAL(0, map.discCount());
+}
+
+TEST(MapBuilder, BuildRefusesANullMap) {
+    CHECK(core::Status::kInvalidArgument == builder.build(coarse, 0.6, nullptr));
+}
