@@ -39,7 +39,9 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       telemetry_(bus_, events_, telemetryOutput_,
                  TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
       manualDrive_(clock, bus_, events_, tables_),
-      console_(bus_, events_) {
+      follower_(clock, bus_, events_, tables_),
+      console_(bus_, events_),
+      habitual_(bus_, events_, tables_) {
     handler_.attach(&commands_, &telemetry_);
 }
 
@@ -87,6 +89,12 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(manualDrive_.init(), "manual drive init");
     }
     if (core::isOk(status)) {
+        status = initStep(follower_.init(), "trajectory follower init");
+    }
+    if (core::isOk(status)) {
+        status = initStep(habitual_.init(), "habitual layer init");
+    }
+    if (core::isOk(status)) {
         status = initStep(handler_.init(), "command handlers init");
     }
     if (!core::isOk(status)) {
@@ -103,8 +111,10 @@ core::Status FswApp::init(std::FILE* console) {
     // are the longest acceptable run. Tables come first, so an activation lands
     // between frames and every task of a frame sees the same values. The
     // estimator, drive modes and health come right after the CAN I/O task, so
-    // what they publish describes this frame's CAN inputs. Keep
-    // docs/architecture.md in step.
+    // what they publish describes this frame's CAN inputs; the follower comes
+    // after them so it steers from this frame's pose. The habitual layer runs at
+    // 10 Hz on its own offset, so its planning slice does not share a frame with
+    // housekeeping or the console. Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
         {"tables", &tables_, 1, 0, 200},
@@ -112,11 +122,13 @@ core::Status FswApp::init(std::FILE* console) {
         {"estimator", &poseEstimator_, 1, 0, 300},
         {"drive_modes", &driveModes_, 1, 0, 200},
         {"health", &health_, 1, 0, 200},
+        {"follower", &follower_, 1, 0, 200},
         {"commands", &commands_, 1, 0, 1000},
         {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},
         {"telemetry", &telemetry_, 1, 0, 2000},
         {"console", &console_, 10, 1, 2000},
+        {"habitual", &habitual_, 10, 5, 4000},
     };
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
     status = executive_.init(config, table, sizeof table / sizeof table[0]);

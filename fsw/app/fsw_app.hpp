@@ -22,7 +22,9 @@
 #include "fsw/estimator/drive_mode_task.hpp"
 #include "fsw/estimator/health_task.hpp"
 #include "fsw/estimator/pose_estimator_task.hpp"
+#include "fsw/habitual/habitual_task.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
+#include "fsw/reflexive/trajectory_task.hpp"
 #include "fsw/tables/table_service.hpp"
 #include "hal/link/packet_link.hpp"
 
@@ -71,6 +73,8 @@ public:
     const estimator::PoseEstimatorTask& poseEstimator() const { return poseEstimator_; }
     const estimator::DriveModeTask& driveModes() const { return driveModes_; }
     const estimator::HealthTask& health() const { return health_; }
+    const reflexive::TrajectoryTask& follower() const { return follower_; }
+    const habitual::HabitualTask& habitual() const { return habitual_; }
 
 private:
     core::Status initStep(core::Status status, const char* what);
@@ -91,7 +95,10 @@ private:
     cmdtlm::HousekeepingTask housekeeping_;
     TelemetryTask telemetry_;
     reflexive::ManualDrive manualDrive_;
+    reflexive::TrajectoryTask follower_;
     ConsoleTask console_;
+    // About 1 MB (the RRT* node pool): an FswApp belongs in static storage.
+    habitual::HabitualTask habitual_;
 };
 
 }  // namespace rse::app

@@ -35,14 +35,23 @@ void wheelLoadTorques(const RoverParams& rover, const WheelArray& w, double yawR
                       WheelArray* torquesNm) {
     const double normal = rover.wheelNormalLoadN();
     const double r = rover.wheelRadiusM;
+    // The ground under each side moves at the side's mean wheel speed (the
+    // kinematics above); a stopped wheel slides only if its side moves.
+    const double left = (w[0] + w[1] + w[2]) / 3.0;
+    const double right = (w[3] + w[4] + w[5]) / 3.0;
     std::size_t turning = 0;
-    for (double speed : w) {
-        turning += std::fabs(speed) > kStoppedWheelRadS ? 1U : 0U;
+    std::size_t dragged = 0;
+    for (std::size_t i = 0; i < kWheelCount; ++i) {
+        const double side = i < kWheelCount / 2 ? left : right;
+        if (std::fabs(w[i]) > kStoppedWheelRadS) {
+            ++turning;
+        } else if (std::fabs(side) > kStoppedWheelRadS) {
+            ++dragged;
+        }
     }
-    const std::size_t locked = kWheelCount - turning;
     double perWheel = rover.rollingCoefficient * normal * r + rover.turnTorquePerRadS * std::fabs(yawRateRadS);
     if (turning > 0) {
-        perWheel += static_cast<double>(locked) * rover.slideFriction * normal * r / static_cast<double>(turning);
+        perWheel += static_cast<double>(dragged) * rover.slideFriction * normal * r / static_cast<double>(turning);
     }
     if (blocked) {
         perWheel += rover.slideFriction * normal * r;

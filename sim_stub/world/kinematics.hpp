@@ -68,9 +68,12 @@ Pose2 integrateUnicycle(const Pose2& pose, double speedMS, double yawRateRadS, d
 // produce it to hold speed). For a turning wheel:
 //   tau = sign(w) * ( C_rr * N * r                       rolling resistance
 //                   + k_turn * |omega|                   skid-steer scrubbing
-//                   + n_locked * mu_slide * N * r / n_turning   dragging locked wheels
+//                   + n_dragged * mu_slide * N * r / n_turning  dragging stopped wheels
 //                   + (blocked ? mu_slide * N * r : 0) )        pushing against an obstacle
-// with N = m g / 6. A wheel that is not turning gets 0.
+// with N = m g / 6. A wheel that is not turning gets 0. A stopped wheel is
+// dragged only when the ground under its side moves (the side's mean wheel
+// speed is not stopped): a locked wheel beside two turning ones is, but in a
+// pivot turn about a stopped side nothing slides along the wheels' direction.
 void wheelLoadTorques(const RoverParams& rover, const WheelArray& wheelSpeedsRadS, double yawRateRadS,
                       bool blocked, WheelArray* torquesNm);
 

@@ -33,7 +33,7 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(10, hk.taskCount);
+    LONGS_EQUAL(12, hk.taskCount);
     const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",
                                  "commands", "manual_drive", "housekeeping", "telemetry",   "console"};
     for (std::size_t i = 0; i < 10; ++i) {
@@ -68,7 +68,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 10 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 12 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 

@@ -155,7 +155,7 @@ TEST(GroundCommands, SetModeIsAcknowledgedAndShownInHousekeeping) {
     LONGS_EQUAL(1, static_cast<long>(field(hk, "mode")));
     LONGS_EQUAL(2, static_cast<long>(field(hk, "cmd_accepted")));
     LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_required")));
-    LONGS_EQUAL(10, static_cast<long>(field(hk, "task_count")));
+    LONGS_EQUAL(12, static_cast<long>(field(hk, "task_count")));
     LONGS_EQUAL(0, countOf("TASK_TIMING"));
     runFrames(20);
     LONGS_EQUAL(10, countOf("TASK_TIMING"));  // one per task, in minor frames 10..19

@@ -131,6 +131,12 @@ public:
         return n;
     }
 
+    // Everything the console has written so far (for a failing test to print).
+    const char* consoleText() {
+        std::fflush(console_);
+        return consoleText_;
+    }
+
     core::VirtualClock& clock() { return clock_; }
     app::FswApp& fsw() { return fsw_; }
     sim::RoverSim& rover() { return rover_; }

@@ -148,6 +148,26 @@ TEST(SimWorld, LoadTorqueIsRollingResistancePlusATurningTerm) {
     DOUBLES_EQUAL(rolling + r.slideFriction * r.wheelNormalLoadN() * r.wheelRadiusM, t[3], 1e-12);
 }
 
+TEST(SimWorld, APivotAboutAStoppedSideDragsNothingButALockedWheelBesideTurningOnesIsDragged) {
+    const RoverParams r;
+    const double rolling = r.rollingCoefficient * r.wheelNormalLoadN() * r.wheelRadiusM;
+    const double slide = r.slideFriction * r.wheelNormalLoadN() * r.wheelRadiusM;
+    WheelArray t{};
+    // Left side stopped, right side driving: the ground under the left wheels
+    // does not move along them, so the right wheels carry no drag.
+    wheelLoadTorques(r, sides(0.0, 2.0), 0.4, false, &t);
+    DOUBLES_EQUAL(rolling + r.turnTorquePerRadS * 0.4, t[4], 1e-12);
+    DOUBLES_EQUAL(0.0, t[0], 0.0);
+    // One left wheel stopped between two turning ones is dragged by its side;
+    // the five turning wheels share it.
+    WheelArray w = sides(2.0, 2.0);
+    w[1] = 0.0;
+    wheelLoadTorques(r, w, 0.0, false, &t);
+    DOUBLES_EQUAL(rolling + slide / 5.0, t[0], 1e-12);
+    DOUBLES_EQUAL(rolling + slide / 5.0, t[5], 1e-12);
+    DOUBLES_EQUAL(0.0, t[1], 0.0);
+}
+
 TEST(SimWorld, DrivingIntoABoxCountsOneCollisionAndStopsTheRoverAtContact) {
     WorldConfig c = openGround();
     c.obstacles.push_back(box(4, 3.0, -1.0, 4.0, 1.0));
