@@ -1,5 +1,7 @@
 #include "fsw/app/can_io_task.hpp"
 
+#include <cmath>
+
 #include "fsw/app/app_events.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "hal/devices/rse_device_ids.hpp"
@@ -106,7 +108,13 @@ void CanIoTask::takeCommands() {
                 refuse("malformed mode message (e-stop state unchanged)");
                 continue;
             }
+            if (mode.estop != 0 && !estop_) {
+                estopWatching_ = true;
+                estopOverrunReported_ = false;
+                estopSince_ = -1;
+            }
             estop_ = mode.estop != 0;
+            estopWatching_ = estopWatching_ && estop_;
             // A mode change takes driving authority from the layer that had it
             // (manual drive, the trajectory follower), so wheels left turning by
             // it are stopped here, where no task can forget to.
@@ -168,7 +176,43 @@ void CanIoTask::run(const core::FrameContext& frame) {
     link_.check();
     hazard_.expire(now);
     publishStatus(now);
+    watchEstopStop(now);
     publishSensors(frame);
+}
+
+void CanIoTask::watchEstopStop(core::TimeNs now) {
+    if (!estopWatching_) {
+        return;
+    }
+    if (estopSince_ < 0) {
+        estopSince_ = now;
+    }
+    bool stopped = true;
+    double fastest = 0.0;
+    for (const msg::WheelStatus& w : status_.wheels) {
+        const double speed = std::fabs(w.velocityRadS);
+        stopped = stopped && speed < kEstopStoppedRadS;
+        fastest = speed > fastest ? speed : fastest;
+    }
+    const core::TimeNs elapsed = now - estopSince_;
+    if (stopped) {
+        estopWatching_ = false;
+        lastEstopStopTime_ = elapsed;
+        events_.report(events::kEstopWheelsStopped, core::Severity::kInfo,
+                       "app: e-stop: every wheel below %.2f rad/s %lld ms after it was taken", kEstopStoppedRadS,
+                       static_cast<long long>(elapsed / core::kNsPerMs));
+        return;
+    }
+    const core::TimeNs allowed =
+        static_cast<core::TimeNs>(tables_.faultResponse().estop_stop_time_ms) * core::kNsPerMs;
+    if (elapsed > allowed && !estopOverrunReported_) {
+        estopOverrunReported_ = true;
+        ++estopOverruns_;
+        events_.report(events::kEstopStopOverrun, core::Severity::kCritical,
+                       "app: e-stop overrun: a wheel still turns at %.2f rad/s %lld ms after it was taken (limit %u ms)",
+                       fastest, static_cast<long long>(elapsed / core::kNsPerMs),
+                       static_cast<unsigned>(tables_.faultResponse().estop_stop_time_ms));
+    }
 }
 
 void CanIoTask::publishStatus(core::TimeNs now) {

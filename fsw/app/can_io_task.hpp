@@ -39,6 +39,9 @@ namespace rse::app {
 // Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
 constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
 
+// Below this reported speed a wheel counts as stopped for the e-stop watch.
+constexpr double kEstopStoppedRadS = 0.05;
+
 class CanIoTask final : public core::Task {
 public:
     CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
@@ -56,6 +59,12 @@ public:
     std::uint32_t commandsRejected() const { return commandsRejected_; }
     bool estopHeld() const { return estop_; }
     std::uint32_t commandsHeldByEstop() const { return heldByEstop_; }
+    // The e-stop watch: from the frame an e-stop is taken until every drive
+    // reports below kEstopStoppedRadS. The time it took (event 213), or an
+    // overrun of FAULT_RESPONSE.estop_stop_time_ms (event 214, critical, once per
+    // e-stop) while a wheel still turns.
+    core::TimeNs lastEstopStopTime() const { return lastEstopStopTime_; }
+    std::uint32_t estopOverruns() const { return estopOverruns_; }
 
 private:
     void takeCommands();
@@ -64,6 +73,7 @@ private:
     void publishStatus(core::TimeNs now);
     void publishNodes(core::TimeNs now);
     void publishSensors(const core::FrameContext& frame);
+    void watchEstopStop(core::TimeNs now);
 
     hal::CanBus& can_;
     core::SoftwareBus& bus_;
@@ -84,6 +94,11 @@ private:
     bool estop_ = false;
     std::uint8_t mode_ = 0;  // SAFE until the first ModeMsg
     std::uint32_t heldByEstop_ = 0;
+    bool estopWatching_ = false;        // an e-stop is set and some wheel has not yet stopped
+    bool estopOverrunReported_ = false;
+    core::TimeNs estopSince_ = -1;      // -1: set this frame, timed from this run
+    core::TimeNs lastEstopStopTime_ = -1;
+    std::uint32_t estopOverruns_ = 0;
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};
