@@ -34,16 +34,17 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
     }
     LONGS_EQUAL(4, seen);
     LONGS_EQUAL(12, hk.taskCount);
-    const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",
-                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console"};
-    for (std::size_t i = 0; i < 10; ++i) {
+    const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",  "follower",
+                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console", "habitual"};
+    for (std::size_t i = 0; i < 12; ++i) {
         STRCMP_EQUAL(names[i], hk.tasks[i].name);
     }
     LONGS_EQUAL(301, hk.tasks[1].runs);    // every frame, this one included
     LONGS_EQUAL(301, hk.tasks[4].runs);    // health: every frame, before housekeeping in the table
-    LONGS_EQUAL(3, hk.tasks[7].runs);      // runs before the 4th collection
-    LONGS_EQUAL(300, hk.tasks[8].runs);    // every frame, but after housekeeping in the table
-    LONGS_EQUAL(30, hk.tasks[9].runs);     // 10 Hz console, offset 1
+    LONGS_EQUAL(3, hk.tasks[8].runs);      // runs before the 4th collection
+    LONGS_EQUAL(300, hk.tasks[9].runs);    // every frame, but after housekeeping in the table
+    LONGS_EQUAL(30, hk.tasks[10].runs);    // 10 Hz console, offset 1
+    LONGS_EQUAL(30, hk.tasks[11].runs);    // 10 Hz habitual layer, offset 5
     LONGS_EQUAL(0, hk.frameOverruns);
     CHECK(hk.eventsTotal >= 2);            // app and executive start-up events
 }
