@@ -11,8 +11,9 @@
 //         (clock read after each), then in chunks of 32; the best cost is read
 //         at 10, 50 and 200 ms, and the path there is copied and shortcut after
 //         the run (extra column, not timed with the planner). Ours runs twice:
-//         with k <= 64 (the table's largest cap, closest to OMPL's uncapped k:
-//         the compared configuration) and with the table's default k <= 12.
+//         with k <= 64 (HABITUAL.rrt_k_cap's default and largest value, closest
+//         to OMPL's uncapped k: the compared configuration) and with k <= 12
+//         (cheaper per iteration; shown to justify the table's default).
 //         A query whose pool fills with nothing left to prune stops early and
 //         keeps its cost.
 //   OMPL  one solve(200 ms) after setup(); the first solution and every
@@ -395,10 +396,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: bench_rrt_star [seeds >= 1]\n");
         return 2;
     }
-    // The comparison runs ours with the largest cap the table allows (closest to
-    // OMPL's uncapped k); the table's default cap is shown beside it.
+    // The comparison runs ours with the largest cap the table allows (its
+    // default, closest to OMPL's uncapped k); a small cap is shown beside it.
     constexpr std::uint16_t kCapCompared = rse::habitual::kMaxRrtNeighbours;
-    constexpr std::uint16_t kCapTableDefault = 12;
+    constexpr std::uint16_t kCapSmall = 12;
     constexpr double kOmplRewireFactor = 1.1;  // OMPL's default
     ompl::msg::setLogLevel(ompl::msg::LOG_NONE);
     ompl::RNG::setSeed(20240601);
@@ -440,7 +441,7 @@ int main(int argc, char** argv) {
         std::vector<Run> ompl;
         for (int s = 0; s < seeds; ++s) {
             ours.push_back(runOurs(map, m, kCapCompared, static_cast<std::uint64_t>(s + 1)));
-            oursTable.push_back(runOurs(map, m, kCapTableDefault, static_cast<std::uint64_t>(s + 1)));
+            oursTable.push_back(runOurs(map, m, kCapSmall, static_cast<std::uint64_t>(s + 1)));
         }
         const OmplProblem problem = makeOmplProblem(map);
         for (int s = 0; s < seeds; ++s) {
@@ -461,7 +462,7 @@ int main(int argc, char** argv) {
     std::printf("  median time to first solution <= 0.5 x OMPL's:  %s\n", verdict.first ? "MET" : "NOT MET");
     std::printf("  median cost at 10, 50 and 200 ms <= OMPL's:     %s\n", verdict.cost ? "MET" : "NOT MET");
     std::printf("  zero heap allocations per query:                %s\n", verdict.heap ? "MET" : "NOT MET");
-    std::printf("with the table's default cap k <= 12: first solution %s, cost %s, heap %s\n",
+    std::printf("with a small cap k <= 12: first solution %s, cost %s, heap %s (why the table's default is 64)\n",
                 tableVerdict.first ? "MET" : "NOT MET", tableVerdict.cost ? "MET" : "NOT MET",
                 tableVerdict.heap ? "MET" : "NOT MET");
     std::printf("bench time %.1f s\n", msSince(begin) / 1000.0);
