@@ -30,18 +30,21 @@ inline double distance(Point2 a, Point2 b) { return std::sqrt(distanceSquared(a,
 
 inline bool isFinite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
-// Squared distance from p to the closed segment [a, b] (a point when a == b).
-inline double pointSegmentDistanceSquared(Point2 p, Point2 a, Point2 b) {
+// The point of the closed segment [a, b] nearest p (a when a == b).
+inline Point2 closestOnSegment(Point2 p, Point2 a, Point2 b) {
     const Point2 ab = b - a;
-    const Point2 ap = p - a;
     const double len2 = dot(ab, ab);
     if (len2 <= 0.0) {
-        return dot(ap, ap);
+        return a;
     }
-    double t = dot(ap, ab) / len2;
+    double t = dot(p - a, ab) / len2;
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    const Point2 closest = a + t * ab;
-    return distanceSquared(p, closest);
+    return a + t * ab;
+}
+
+// Squared distance from p to the closed segment [a, b] (a point when a == b).
+inline double pointSegmentDistanceSquared(Point2 p, Point2 a, Point2 b) {
+    return distanceSquared(p, closestOnSegment(p, a, b));
 }
 
 // True when the open interiors cross at a single point (a proper crossing).

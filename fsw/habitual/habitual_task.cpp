@@ -74,18 +74,6 @@ const char* followReasonName(msg::FollowReason reason) {
     return "?";
 }
 
-// The point of segment [a, b] nearest p.
-Point2 projectOnSegment(Point2 p, Point2 a, Point2 b) {
-    const Point2 ab = b - a;
-    const double len2 = dot(ab, ab);
-    if (len2 <= 0.0) {
-        return a;
-    }
-    double t = dot(p - a, ab) / len2;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    return a + t * ab;
-}
-
 }  // namespace
 
 HabitualTask::HabitualTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
@@ -777,7 +765,7 @@ std::size_t HabitualTask::remainingPath(Point2* out) {
     for (std::size_t i = best; i + 1 < count; ++i) {
         const Point2 a{trajectory_.points[i].xM, trajectory_.points[i].yM};
         const Point2 b{trajectory_.points[i + 1].xM, trajectory_.points[i + 1].yM};
-        const Point2 q = projectOnSegment(here, a, b);
+        const Point2 q = closestOnSegment(here, a, b);
         const double d2 = distanceSquared(here, q);
         if (d2 < bestD2) {
             bestD2 = d2;
