@@ -32,11 +32,11 @@ struct TrajectoryMsg {
 };
 
 enum class FollowerState : std::uint8_t {
-    kIdle = 0,          // nothing to follow (start-up, after a stop trajectory, outside AUTONOMOUS)
+    kIdle = 0,          // nothing to follow (start-up, a stop completed, outside AUTONOMOUS)
     kFollowing = 1,
-    kReached = 2,       // within the arrival tolerance of the last point, wheels commanded to zero
-    kCannotFollow = 3,  // gave up on the trajectory (reason says why); wheels commanded to zero
-    kStopping = 4,      // decelerating after a stop trajectory or giving up
+    kReached = 2,       // within the arrival tolerance of the last point; decelerating to zero
+    kCannotFollow = 3,  // gave up on the trajectory (reason says why); wheels commanded to zero at once
+    kStopping = 4,      // decelerating after a stop trajectory (count 0), within the acceleration limits
 };
 
 enum class FollowReason : std::uint8_t {
