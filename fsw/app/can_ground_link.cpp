@@ -24,6 +24,9 @@ hal::IsoTpConfig CanGroundLink::config() {
     // Longer uploads are refused with FC OVERFLOW; it also bounds what receive()
     // may have to drop to sizeof discard_.
     c.maxRxLength = static_cast<std::uint16_t>(cmdtlm::kMaxCommandPacket);
+    // A ground tool that was not listening when our FF went out is heard when it
+    // commands: the FF goes again at once instead of after N_Bs.
+    c.resendFirstFrameOnPeerMessage = true;
     return c;
 }
 
@@ -57,22 +60,28 @@ Status CanGroundLink::receive(std::uint8_t* out, std::size_t capacity, std::size
 }
 
 Status CanGroundLink::send(const std::uint8_t* data, std::size_t length) {
+    return sendWithPriority(data, length, hal::TxPriority::kRoutine);
+}
+
+Status CanGroundLink::sendWithPriority(const std::uint8_t* data, std::size_t length, hal::TxPriority priority) {
     if (!channel_.configValid()) {
         ++stats_.txDropped;
         return Status::kUnavailable;
     }
-    const Status s = txQueue_.push(data, length);
+    const std::size_t p = index(priority);
+    const Status s = txQueues_[p].push(data, length);
     if (core::isOk(s)) {
         ++stats_.txPackets;
         return s;
     }
     ++stats_.txDropped;
     if (s == Status::kFull) {
-        ++txFull_;
-        if (core::isReportableOccurrence(txFull_)) {
+        ++txFull_[p];
+        if (core::isReportableOccurrence(txFull_[p])) {
             events_.report(hal::events::kLinkTxFull, Severity::kWarning,
-                           "can-isotp: transmit queue full (%zu packets), %zu-byte packet dropped (%u times)",
-                           kGroundLinkTxQueueDepth, length, u(txFull_));
+                           "can-isotp: %s queue full (%zu packets), %zu-byte packet dropped (%u times)",
+                           hal::toString(static_cast<hal::TxPriority>(p)), kGroundLinkTxQueueDepth, length,
+                           u(txFull_[p]));
         }
     } else {
         ++txInvalid_;
@@ -83,6 +92,32 @@ Status CanGroundLink::send(const std::uint8_t* data, std::size_t length) {
         }
     }
     return s;
+}
+
+std::size_t CanGroundLink::txQueued() const {
+    std::size_t n = 0;
+    for (const TxQueue& q : txQueues_) {
+        n += q.size();
+    }
+    return n;
+}
+
+// The queue whose oldest packet goes next (nullptr: all empty): acknowledgements
+// first, then events, then routine telemetry, with routine taking every
+// kGroundLinkRoutineShare-th turn while it waits behind events.
+CanGroundLink::TxQueue* CanGroundLink::nextQueue() {
+    TxQueue& acks = txQueues_[index(hal::TxPriority::kAck)];
+    TxQueue& events = txQueues_[index(hal::TxPriority::kEvent)];
+    TxQueue& routine = txQueues_[index(hal::TxPriority::kRoutine)];
+    if (!acks.empty()) {
+        return &acks;
+    }
+    if (!events.empty() && (routine.empty() || eventsInARow_ + 1 < kGroundLinkRoutineShare)) {
+        eventsInARow_ = routine.empty() ? 0 : eventsInARow_ + 1;
+        return &events;
+    }
+    eventsInARow_ = 0;
+    return routine.empty() ? nullptr : &routine;
 }
 
 void CanGroundLink::finishTransmission() {
@@ -100,17 +135,19 @@ void CanGroundLink::service() {
     channel_.poll();
     // Each pass finishes the packet in flight and starts the next one; a single
     // frame packet finishes at once, so several can go in one frame. Bounded: the
-    // queue holds kGroundLinkTxQueueDepth packets, one more pass sees the last finish.
-    for (std::size_t pass = 0; pass <= kGroundLinkTxQueueDepth; ++pass) {
+    // queues hold kTxPriorityCount * kGroundLinkTxQueueDepth packets, one more
+    // pass sees the last finish.
+    for (std::size_t pass = 0; pass <= hal::kTxPriorityCount * kGroundLinkTxQueueDepth; ++pass) {
         if (channel_.txBusy()) {
             break;
         }
         finishTransmission();
-        std::size_t length = 0;
-        const std::uint8_t* packet = txQueue_.front(&length);
-        if (packet == nullptr) {
+        TxQueue* queue = nextQueue();
+        if (queue == nullptr) {
             break;
         }
+        std::size_t length = 0;
+        const std::uint8_t* packet = queue->front(&length);
         // Cannot be kBusy (idle transmitter) nor kInvalidArgument (1..512 bytes
         // queued); kNotInitialized is refused in send(). Counted all the same.
         if (core::isOk(channel_.send(packet, length))) {
@@ -118,7 +155,7 @@ void CanGroundLink::service() {
         } else {
             ++txAborted_;
         }
-        txQueue_.pop();
+        queue->pop();
     }
     refreshStats();
 }

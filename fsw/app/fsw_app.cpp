@@ -175,9 +175,27 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned>(b.dropped), static_cast<unsigned>(b.rejectedTooLarge),
                  static_cast<unsigned>(b.noSubscribers));
     const cmdtlm::CommandCounters& c = commands_.counters();
-    std::fprintf(out, "  commands: %u accepted, %u rejected; telemetry: %u packets sent, %u dropped\n",
+    std::fprintf(out,
+                 "  commands: %u accepted, %u rejected; telemetry: %u packets sent, %u dropped "
+                 "(%u acknowledgements, %u events, %u routine)\n",
                  static_cast<unsigned>(c.accepted), static_cast<unsigned>(c.rejected),
-                 static_cast<unsigned>(telemetryOutput_.sent()), static_cast<unsigned>(telemetryOutput_.dropped()));
+                 static_cast<unsigned>(telemetryOutput_.sent()), static_cast<unsigned>(telemetryOutput_.dropped()),
+                 static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kAck)),
+                 static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kEvent)),
+                 static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kRoutine)));
+    const CanGroundLink& can = canIo_.groundLink();
+    if (can.downlinkActive()) {
+        std::fprintf(out,
+                     "  can-isotp downlink: %u packets completed, %u abandoned (%u without flow control), "
+                     "%u first frames sent again\n",
+                     static_cast<unsigned>(can.txCompleted()), static_cast<unsigned>(can.txAborted()),
+                     static_cast<unsigned>(can.channel().stats().timeoutBs),
+                     static_cast<unsigned>(can.channel().stats().ffResent));
+    }
+    if (console_.eventsMissed() > 0) {
+        std::fprintf(out, "  console: %u events overwritten before it printed them\n",
+                     static_cast<unsigned>(console_.eventsMissed()));
+    }
     if (console_.malformed() > 0) {
         std::fprintf(out, "  console: %u malformed housekeeping messages ignored\n",
                      static_cast<unsigned>(console_.malformed()));

@@ -12,21 +12,25 @@ void TelemetryOutput::sendPayload(std::uint16_t apid, const std::uint8_t* payloa
         return;
     }
     sequence_[apid & kMaxApid] = static_cast<std::uint16_t>((sequence_[apid & kMaxApid] + 1) & kSequenceCountMask);
+    const hal::TxPriority priority = telemetryPriority(apid);
+    std::uint32_t& droppedHere = droppedBy_[static_cast<std::size_t>(priority)];
     for (std::size_t i = 0; i < links_.size(); ++i) {
         hal::PacketLink* link = links_.at(i);
         if (!link->downlinkActive()) {
             continue;
         }
-        const core::Status status = link->send(packet_, size);
+        const core::Status status = link->sendWithPriority(packet_, size, priority);
         if (core::isOk(status)) {
             ++sent_;
             continue;
         }
         ++dropped_;
-        if (core::isReportableOccurrence(dropped_)) {
+        ++droppedHere;
+        if (core::isReportableOccurrence(droppedHere)) {
             events_.report(events::kTelemetryDropped, core::Severity::kWarning,
-                           "tlm: link %s refused APID 0x%03x (%s), %u dropped", link->name(),
-                           static_cast<unsigned>(apid), core::toString(status), static_cast<unsigned>(dropped_));
+                           "tlm: link %s refused APID 0x%03x (%s): %u %s packets dropped", link->name(),
+                           static_cast<unsigned>(apid), core::toString(status), static_cast<unsigned>(droppedHere),
+                           hal::toString(priority));
         }
     }
 }
@@ -43,6 +47,9 @@ void TelemetryOutput::reportTooLarge(std::uint16_t apid, std::size_t length) {
 void TelemetryOutput::resetCounters() {
     sent_ = 0;
     dropped_ = 0;
+    for (std::uint32_t& d : droppedBy_) {
+        d = 0;
+    }
     tooLarge_ = 0;
 }
 

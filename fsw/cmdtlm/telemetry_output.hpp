@@ -1,6 +1,13 @@
 // Telemetry output: encodes a dictionary telemetry struct, wraps it in a CCSDS
 // packet (per-APID sequence count, MET time) and hands it to every ground link.
 // Single-threaded like everything in the executive: any task may send.
+//
+// Each packet goes with a downlink priority (hal::TxPriority, telemetryPriority()):
+// CMD_ACK first, EVENT next, everything else routine. A link that queues (ISO-TP
+// on CAN) keeps them apart, so a congested downlink refuses routine telemetry
+// before it refuses an event, and never because of routine telemetry refuses an
+// acknowledgement. A refusal is counted (dropped(), per priority, and in HK
+// tlm_dropped) and evented (507, the 1st, 2nd, 4th ... of each priority).
 #pragma once
 
 #include <cstddef>
@@ -12,8 +19,15 @@
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
+#include "hal/link/packet_link.hpp"
 
 namespace rse::cmdtlm {
+
+constexpr hal::TxPriority telemetryPriority(std::uint16_t apid) {
+    return apid == CMD_ACK_Tlm::kApid ? hal::TxPriority::kAck
+           : apid == EVENT_Tlm::kApid ? hal::TxPriority::kEvent
+                                      : hal::TxPriority::kRoutine;
+}
 
 class TelemetryOutput {
 public:
@@ -34,6 +48,10 @@ public:
 
     std::uint32_t sent() const { return sent_; }        // packets accepted by a link (counted per link)
     std::uint32_t dropped() const { return dropped_; }  // packets a link refused
+    std::uint32_t dropped(hal::TxPriority priority) const {
+        const auto i = static_cast<std::size_t>(priority);
+        return i < hal::kTxPriorityCount ? droppedBy_[i] : 0;
+    }
     void resetCounters();
 
 private:
@@ -47,6 +65,7 @@ private:
     std::uint8_t packet_[kMaxTelemetryPacket] = {};
     std::uint32_t sent_ = 0;
     std::uint32_t dropped_ = 0;
+    std::uint32_t droppedBy_[hal::kTxPriorityCount] = {};  // indexed by hal::TxPriority
     std::uint32_t tooLarge_ = 0;
 };
 

@@ -116,6 +116,7 @@ Status IsoTpChannel::send(const std::uint8_t* data, std::size_t length) {
     txWaits_ = 0;
     txNextCfAt_ = 0;
     txAsArmed_ = false;
+    peerStartedMessage_ = false;  // heard before this message began: no reason to send its FF twice
     txState_ = length <= kSfMaxData ? TxState::kSendSf : TxState::kSendFf;
     txResult_ = IsoTpTxResult::kInProgress;
     const TimeNs now = clock_.now();
@@ -170,6 +171,23 @@ bool IsoTpChannel::transmitFirstFrame() {
     b[1] = static_cast<std::uint8_t>(txLength_ & 0xFF);
     std::memcpy(&b[2], txBuf_, kFfData);
     return transmit(b, kCanMaxDlc);
+}
+
+// After our FF, before the peer answered it with any FC.
+bool IsoTpChannel::awaitingFirstFc() const {
+    return txState_ == TxState::kWaitFc && !txHaveFcParams_ && txWaits_ == 0 && txOffset_ == kFfData;
+}
+
+void IsoTpChannel::resendFirstFrame(TimeNs now) {
+    ++stats_.ffResent;
+    txState_ = TxState::kSendFf;
+    txOffset_ = 0;
+    txAsArmed_ = false;
+    if (!transmitFirstFrame()) {
+        armAs(now);  // retried by pollTx() until N_As
+        return;
+    }
+    firstFrameSent(now);
 }
 
 void IsoTpChannel::armAs(TimeNs now) {
@@ -395,6 +413,7 @@ void IsoTpChannel::handleSingle(const CanFrame& frame) {
         malformed("SF shorter than its SF_DL", frame);
         return;
     }
+    peerStartedMessage_ = true;
     if (rxState_ == RxState::kReceiving) {
         abortReceptionForNew("SF");
     }
@@ -418,6 +437,7 @@ void IsoTpChannel::handleFirst(const CanFrame& frame, TimeNs now) {
             malformed("escape FF with FF_DL <= 4095", frame);
             return;
         }
+        peerStartedMessage_ = true;
         if (rxState_ == RxState::kReceiving) {
             abortReceptionForNew("FF");
         }
@@ -434,6 +454,7 @@ void IsoTpChannel::handleFirst(const CanFrame& frame, TimeNs now) {
         }
         return;
     }
+    peerStartedMessage_ = true;
     if (rxState_ == RxState::kReceiving) {
         abortReceptionForNew("FF");
     }
@@ -565,6 +586,12 @@ void IsoTpChannel::poll() {
     }
     const TimeNs now = clock_.now();
     pollRx(now);
+    if (peerStartedMessage_) {
+        peerStartedMessage_ = false;
+        if (config_.resendFirstFrameOnPeerMessage && awaitingFirstFc()) {
+            resendFirstFrame(now);
+        }
+    }
     pollTx(now);
 }
 

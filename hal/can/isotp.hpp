@@ -37,6 +37,17 @@
 //     short commands, wait there until receive() takes them. A message that
 //     completes when the FIFO has no room is dropped (the newer one; what is queued
 //     is kept), counted in rxOverruns and evented.
+//   - A peer that was not listening: with resendFirstFrameOnPeerMessage, when the
+//     peer starts a message of its own (a valid SF or FF) while our FF still waits
+//     for its first FC (no FC.CTS or FC.WAIT yet), poll() sends the FF again and
+//     N_Bs restarts, instead of waiting out N_Bs and dropping the message. A
+//     listening peer answers an FF at once, so an FF still unanswered when the
+//     peer is heard went out before it listened (a ground tool that comes and
+//     goes). Checked in poll(), after the owner has handed over every frame of the
+//     cycle, so an FC that arrived with the peer's message counts first; a peer
+//     message heard before send() began ours does not count for it. Should both
+//     FCs still come (the peer did get the first FF), the second is an unexpected
+//     FC, ignored. Counted in ffResent.
 //   - Padding: with padFrames every frame we send has DLC 8, filled with padByte
 //     (0xCC by default, as can-isotp); without it every frame has its natural DLC
 //     (FC = 3). Received frames are accepted padded or not, whatever padFrames says.
@@ -91,6 +102,7 @@ struct IsoTpConfig {
     core::TimeNs nCr = kIsoTpDefaultTimeout;  // receiver: next CF expected within this
     std::uint8_t maxWaitFrames = kIsoTpDefaultMaxWaitFrames;  // consecutive FC.WAIT accepted (sender side)
     std::uint16_t maxRxLength = kIsoTpMaxMessage;  // longest message we accept (8..4095); longer: FC OVERFLOW
+    bool resendFirstFrameOnPeerMessage = false;    // see "A peer that was not listening" above
 };
 
 // A configuration the channel can run with: ids <= 0x7FF and different, STmin not
@@ -121,6 +133,7 @@ struct IsoTpStats {
     std::uint32_t rxFrames = 0;       // frames handed to onFrame with our rxId
     std::uint32_t txRefused = 0;      // bus refused a frame; retried next poll (N_As / N_Ar running)
     std::uint32_t waitsReceived = 0;  // FC.WAIT frames accepted
+    std::uint32_t ffResent = 0;       // unanswered FFs sent again when the peer was heard
     std::uint32_t foreignFrames = 0;  // onFrame with another id, extended or remote frame: ignored
     // Error reasons: one event id each (can_events.hpp).
     std::uint32_t wrongSequence = 0;      // CF with the wrong SN: reception aborted
@@ -183,6 +196,8 @@ private:
 
     bool transmit(const std::uint8_t* bytes, std::size_t count);
     bool transmitFirstFrame();
+    bool awaitingFirstFc() const;
+    void resendFirstFrame(core::TimeNs now);
     void firstFrameSent(core::TimeNs now);
     void armAs(core::TimeNs now);
     void pollTx(core::TimeNs now);
@@ -227,6 +242,7 @@ private:
     core::TimeNs txBsDeadline_ = 0;
     bool txAsArmed_ = false;         // a frame was refused: N_As running
     core::TimeNs txAsDeadline_ = 0;
+    bool peerStartedMessage_ = false;  // a valid SF or FF arrived since the last poll()
     std::uint8_t txBuf_[kIsoTpMaxMessage] = {};
 
     // Receive direction.

@@ -11,6 +11,26 @@
 
 namespace rse::hal {
 
+// How urgent a downlink packet is; telemetry output decides by packet type
+// (fsw/cmdtlm/telemetry_output.hpp). A link that queues its downlink (ISO-TP on
+// CAN) keeps a queue per priority, so routine telemetry can never take the room
+// an acknowledgement needs, and sends the more urgent first. A link that sends at
+// once (UDP, in-memory) treats them all alike.
+enum class TxPriority : std::uint8_t {
+    kRoutine = 0,  // scheduled and requested telemetry (HK, TASK_TIMING, DRIVES, TABLE_DUMP ...)
+    kEvent = 1,    // EVENT packets
+    kAck = 2,      // CMD_ACK: a ground is waiting for it
+};
+constexpr std::size_t kTxPriorityCount = 3;
+inline const char* toString(TxPriority priority) {
+    switch (priority) {
+        case TxPriority::kRoutine: return "routine";
+        case TxPriority::kEvent: return "event";
+        case TxPriority::kAck: return "acknowledgement";
+    }
+    return "?";
+}
+
 struct PacketLinkStats {
     std::uint32_t rxPackets = 0;   // handed to the caller
     std::uint32_t rxDropped = 0;   // lost before the caller read them (queue full, too large, truncated)
@@ -27,6 +47,12 @@ public:
     // Queues or sends one packet: kOk, kFull (queue full, counted), kTooLarge,
     // kUnavailable (link not open or down). Never blocks.
     virtual core::Status send(const std::uint8_t* data, std::size_t length) = 0;
+    // send() with a priority (see TxPriority); the same results. send() is
+    // sendWithPriority(..., kRoutine) on a link that distinguishes them.
+    virtual core::Status sendWithPriority(const std::uint8_t* data, std::size_t length, TxPriority priority) {
+        (void)priority;
+        return send(data, length);
+    }
     // Advances the transport once per minor frame (segmentation, retries).
     virtual void service() {}
     // Whether telemetry should be offered now. A link whose transport needs a

@@ -664,3 +664,155 @@ TEST(IsoTpErrors, InvalidConfigLeavesTheChannelInert) {
     LONGS_EQUAL(0, a->pendingMessages());
     CHECK(isValidIsoTpConfig(makeConfig(kRoverTx, kRoverRx)));
 }
+
+// --- A peer that was not listening (resendFirstFrameOnPeerMessage) ---------------
+
+namespace {
+
+IsoTpConfig resendingConfig() {
+    IsoTpConfig c = makeConfig(kRoverTx, kRoverRx);
+    c.resendFirstFrameOnPeerMessage = true;
+    return c;
+}
+
+}  // namespace
+
+TEST(IsoTpErrors, AnUnansweredFirstFrameGoesAgainWhenThePeerStartsAMessage) {
+    build(resendingConfig());
+    fillPattern(payload, 20, 1);
+    CHECK(Status::kOk == a->send(payload, 20));
+    CanFrame f;
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x10, f.data[0]);  // the FF, heard by nobody
+    stepA(600 * kMs);
+    CHECK(!fromA(&f));
+    inject({0x02, 0xA1, 0xA2});  // the peer is there now: a message of its own
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x10, f.data[0]);  // the same FF again
+    LONGS_EQUAL(0x14, f.data[1]);
+    MEMCMP_EQUAL(payload, &f.data[2], 6);
+    CHECK(!fromA(&f));
+    LONGS_EQUAL(1, a->stats().ffResent);
+    // N_Bs runs from the second FF: 1.6 s after the first, still waiting.
+    stepA(999 * kMs);
+    CHECK(a->txBusy());
+    LONGS_EQUAL(0, a->stats().timeoutBs);
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x21, f.data[0]);
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x22, f.data[0]);
+    CHECK(!fromA(&f));
+    std::size_t got = 0;
+    CHECK(Status::kOk == a->receive(received, sizeof received, &got));  // the peer's message too
+    LONGS_EQUAL(2, got);
+    LONGS_EQUAL(0, eventsWithId(events::kIsoTpTimeoutBs));
+    checkCleanTransfers();
+}
+
+TEST(IsoTpErrors, APeerFirstFrameIsAnsweredAndOurUnansweredFirstFrameGoesAgain) {
+    build(resendingConfig());
+    fillPattern(payload, 20, 1);
+    CHECK(Status::kOk == a->send(payload, 20));
+    drain(*evil);
+    inject({0x10, 0x0A, 50, 51, 52, 53, 54, 55});  // the peer starts a 10-byte message
+    expectFlowControl(0x0);                         // answered first, from onFrame
+    CanFrame f;
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x10, f.data[0]);  // then our FF again, from poll
+    LONGS_EQUAL(1, a->stats().ffResent);
+    inject({0x21, 56, 57, 58, 59});
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    std::size_t got = 0;
+    CHECK(Status::kOk == a->receive(received, sizeof received, &got));
+    LONGS_EQUAL(10, got);
+    checkCleanTransfers();
+}
+
+TEST(IsoTpErrors, OnlyAFirstFrameNobodyAnsweredGoesAgain) {
+    CanFrame f;
+    std::size_t got = 0;
+    // Not configured (the default): the FF waits out N_Bs as before.
+    fillPattern(payload, 20, 1);
+    CHECK(Status::kOk == a->send(payload, 20));
+    drain(*evil);
+    inject({0x02, 0xA1, 0xA2});
+    CHECK(!fromA(&f));
+    LONGS_EQUAL(0, a->stats().ffResent);
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+
+    build(resendingConfig());
+    drain(*evil);
+    // The peer asked us to wait: it is listening.
+    CHECK(Status::kOk == a->send(payload, 20));
+    inject({0x31, 0x00, 0x00});
+    drain(*evil);
+    inject({0x02, 0xA1, 0xA2});
+    CHECK(!fromA(&f));
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    // Waiting for the FC after a block: the peer answered the FF.
+    drain(*evil);
+    fillPattern(payload, 6 + 7 * 4, 2);
+    CHECK(Status::kOk == a->send(payload, 6 + 7 * 4));
+    inject({0x30, 0x02, 0x00});  // BS 2: two CFs, then wait
+    drain(*evil);
+    inject({0x02, 0xA1, 0xA2});
+    CHECK(!fromA(&f));
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    // The FC arrives in the same cycle as the peer's message: it counts first.
+    drain(*evil);
+    CHECK(Status::kOk == a->send(payload, 20));
+    drain(*evil);
+    f.id = kRoverRx;
+    f.dlc = 3;
+    f.data[0] = 0x02;
+    f.data[1] = 0xA1;
+    f.data[2] = 0xA2;
+    CHECK(Status::kOk == evil->send(f));
+    f.data[0] = 0x30;
+    f.data[1] = 0x00;
+    f.data[2] = 0x00;
+    CHECK(Status::kOk == evil->send(f));
+    stepA();
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    CHECK(fromA(&f));
+    LONGS_EQUAL(0x21, f.data[0]);  // CFs, no second FF
+    LONGS_EQUAL(0, a->stats().ffResent);
+    LONGS_EQUAL(0, a->stats().unexpectedFc);
+    for (int i = 0; i < 3; ++i) {  // the peer's three messages since build()
+        CHECK(Status::kOk == a->receive(received, sizeof received, &got));
+    }
+    CHECK(Status::kEmpty == a->receive(received, sizeof received, &got));
+    checkCleanTransfers();
+}
+
+TEST(IsoTpErrors, APeerHeardBeforeOurMessageBeganDoesNotMakeItsFirstFrameGoTwice) {
+    build(resendingConfig());
+    drain(*evil);
+    CanFrame f;
+    f.id = kRoverRx;
+    f.dlc = 3;
+    f.data[0] = 0x02;
+    f.data[1] = 0xA1;
+    f.data[2] = 0xA2;
+    CHECK(Status::kOk == evil->send(f));
+    clock.advance(kMs);
+    dispatch(busA, a);  // the owner hands over the peer's SF ...
+    fillPattern(payload, 20, 1);
+    CHECK(Status::kOk == a->send(payload, 20));  // ... starts a message before its poll() ...
+    a->poll();
+    std::size_t ffs = 0;
+    while (fromA(&f)) {
+        ffs += (f.data[0] >> 4) == 1 ? 1U : 0U;
+    }
+    LONGS_EQUAL(1, ffs);  // ... and the FF goes once
+    LONGS_EQUAL(0, a->stats().ffResent);
+    inject({0x30, 0x00, 0x00});
+    CHECK(IsoTpTxResult::kDone == a->txResult());
+    checkCleanTransfers();
+}

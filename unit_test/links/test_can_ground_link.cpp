@@ -1,6 +1,7 @@
 // The ISO-TP ground link as a PacketLink, against a peer IsoTpChannel on the same
 // in-memory CAN bus: commands in through receive(), telemetry out through the
-// transmit queue that service() drains in order, every refusal counted, and no
+// transmit queues that service() drains by priority and in order, every refusal
+// counted, a ground that was not listening served as soon as it is heard, and no
 // heap in the frame loop.
 #include <cstdint>
 #include <cstring>
@@ -236,6 +237,117 @@ TEST(CanGroundLink, ATransmissionTheGroundNeverAnswersIsCountedAndTheNextPacketG
     frame();
     LONGS_EQUAL(1, link.txCompleted());  // the single-frame packet needs no answer
     LONGS_EQUAL(0, link.txQueued());
+}
+
+TEST(CanGroundLink, AnAcknowledgementNeverWaitsBehindRoutineTelemetry) {
+    fill(sent, 100, 7);
+    for (std::size_t i = 0; i < app::kGroundLinkTxQueueDepth; ++i) {
+        CHECK(Status::kOk == link.send(sent, 100));
+    }
+    CHECK(Status::kFull == link.send(sent, 100));  // routine telemetry has filled its queue ...
+    fill(sent, 34, 8);
+    CHECK(Status::kOk == link.sendWithPriority(sent, 34, hal::TxPriority::kAck));  // ... not the ack's
+    fill(sent, 123, 9);
+    CHECK(Status::kOk == link.sendWithPriority(sent, 123, hal::TxPriority::kEvent));
+    LONGS_EQUAL(1, link.txFull(hal::TxPriority::kRoutine));
+    LONGS_EQUAL(0, link.txFull(hal::TxPriority::kEvent));
+    LONGS_EQUAL(0, link.txFull(hal::TxPriority::kAck));
+    LONGS_EQUAL(1, link.stats().txDropped);
+    LONGS_EQUAL(app::kGroundLinkTxQueueDepth + 2, link.txQueued());
+    LONGS_EQUAL(1, rse::test::drainEventsWithId(events, hal::events::kLinkTxFull));
+    // The acknowledgement goes first, then the event, then routine telemetry in order.
+    LONGS_EQUAL(34, downlinked());
+    fill(want, 34, 8);
+    MEMCMP_EQUAL(want, got, 34);
+    LONGS_EQUAL(123, downlinked());
+    fill(want, 123, 9);
+    MEMCMP_EQUAL(want, got, 123);
+    fill(want, 100, 7);
+    for (std::size_t i = 0; i < app::kGroundLinkTxQueueDepth; ++i) {
+        LONGS_EQUAL(100, downlinked());
+        MEMCMP_EQUAL(want, got, 100);
+    }
+    frame();
+    LONGS_EQUAL(app::kGroundLinkTxQueueDepth + 2, link.txCompleted());
+    // A full queue of one priority refuses only that priority, and says which.
+    for (std::size_t i = 0; i < app::kGroundLinkTxQueueDepth; ++i) {
+        CHECK(Status::kOk == link.sendWithPriority(sent, 34, hal::TxPriority::kAck));
+    }
+    CHECK(Status::kFull == link.sendWithPriority(sent, 34, hal::TxPriority::kAck));
+    CHECK(Status::kOk == link.send(sent, 100));
+    LONGS_EQUAL(1, link.txFull(hal::TxPriority::kAck));
+    core::Event e;
+    CHECK(core::isOk(events.pop(&e)));
+    LONGS_EQUAL(hal::events::kLinkTxFull, e.id);
+    STRCMP_CONTAINS("acknowledgement queue full", e.text);
+}
+
+TEST(CanGroundLink, WhileRoutinePacketsWaitEveryFourthPacketIsRoutine) {
+    // Events e1..e8 and routine r1..r3 queued before the first service.
+    for (std::uint8_t i = 1; i <= 8; ++i) {
+        fill(sent, 20, i);
+        CHECK(Status::kOk == link.sendWithPriority(sent, 20, hal::TxPriority::kEvent));
+    }
+    for (std::uint8_t i = 101; i <= 103; ++i) {
+        fill(sent, 20, i);
+        CHECK(Status::kOk == link.send(sent, 20));
+    }
+    static_assert(app::kGroundLinkRoutineShare == 4, "the order below assumes 1 routine packet in 4");
+    const std::uint8_t order[] = {1, 2, 3, 101, 4, 5, 6, 102, 7, 8, 103};
+    for (std::uint8_t tag : order) {
+        LONGS_EQUAL(20, downlinked());
+        fill(want, 20, tag);
+        MEMCMP_EQUAL(want, got, 20);
+    }
+    // With no routine packet waiting, events go back to back.
+    for (std::uint8_t i = 1; i <= 5; ++i) {
+        fill(sent, 20, i);
+        CHECK(Status::kOk == link.sendWithPriority(sent, 20, hal::TxPriority::kEvent));
+    }
+    for (std::uint8_t i = 1; i <= 5; ++i) {
+        LONGS_EQUAL(20, downlinked());
+        fill(want, 20, i);
+        MEMCMP_EQUAL(want, got, 20);
+    }
+}
+
+TEST(CanGroundLink, AGroundThatWasNotListeningGetsTheWaitingPacketAsSoonAsItCommands) {
+    // A ground tool that exits after its ack: the rover's next packet finds nobody.
+    groundListens = false;
+    fill(sent, 100, 10);
+    CHECK(Status::kOk == link.send(sent, 100));
+    for (int i = 0; i < 30; ++i) {  // 300 ms: the FF is out, nobody answers
+        frame();
+    }
+    CHECK_TRUE(link.channel().txBusy());
+    // The next ground tool starts: what was on the wire before is not its to see.
+    hal::CanFrame f;
+    while (core::isOk(groundCan->receive(&f))) {  // bounded by the endpoint's queue
+    }
+    groundListens = true;
+    fill(sent, 30, 11);
+    CHECK(Status::kOk == ground.send(sent, 30));  // its command
+    int frames = 0;
+    for (; frames < kMaxFrames && !core::isOk(ground.receive(got, sizeof got, &length)); ++frames) {
+        frame();
+    }
+    LONGS_EQUAL(100, length);  // the packet that waited, sent again at once ...
+    CHECK(frames <= 5);        // ... not after N_Bs (1 s, 100 frames)
+    fill(want, 100, 10);
+    MEMCMP_EQUAL(want, got, 100);
+    LONGS_EQUAL(1, link.channel().stats().ffResent);
+    LONGS_EQUAL(0, link.channel().stats().timeoutBs);
+    CHECK(Status::kOk == link.receive(got, 256, &length));  // and the command arrived
+    LONGS_EQUAL(30, length);
+    // Its acknowledgement follows straight away.
+    fill(sent, 34, 12);
+    CHECK(Status::kOk == link.sendWithPriority(sent, 34, hal::TxPriority::kAck));
+    CHECK(downlinked() == 34);
+    fill(want, 34, 12);
+    MEMCMP_EQUAL(want, got, 34);
+    frame();
+    LONGS_EQUAL(2, link.txCompleted());
+    LONGS_EQUAL(0, link.txAborted());
 }
 
 TEST(CanGroundLink, FramesOfTrafficBothWaysAllocateNothing) {
