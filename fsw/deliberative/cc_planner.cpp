@@ -1,0 +1,972 @@
+#include "fsw/deliberative/cc_planner.hpp"
+
+#include <cmath>
+
+#include "fsw/deliberative/gaussian.hpp"
+
+namespace rse::deliberative {
+
+namespace {
+
+constexpr std::uint8_t kUnassigned = 0xFF;
+// The seed inflates the obstacles by this much beyond their margin at the
+// variant's step (the LP then puts the path at the exact margins), and lets a
+// visibility edge touch an inflated obstacle up to kSeedTouchM.
+constexpr double kSeedInflateM = 1e-4;
+constexpr double kSeedTouchM = 1e-6;
+// Risk allocation: a slack end keeps this share of its old delta (the rest
+// moves towards its need), and no delta goes below evenDelta * kIraFloor.
+constexpr double kIraKeep = 0.3;
+constexpr double kIraFloor = 1e-6;
+constexpr double kRiskSafety = 1e-12;  // Delta' = Delta (1 - kRiskSafety)
+// Work units (LpSolver::work() scale) charged for the planner's own
+// arithmetic: one face score, one margin or risk (a quantile or erfc).
+constexpr std::uint64_t kScoreWork = 20;
+constexpr std::uint64_t kMarginWork = 200;
+// With optimised allocation the search stops at this share of the work
+// budget, leaving the rest to the allocation rounds.
+constexpr std::uint64_t kSearchSharePercent = 85;
+// Seed variants: obstacles inflated by the margin at step N * k / 2; the
+// segments shared among the legs by length, or one per leg and the rest
+// parked at the goal ("front-loaded": the path passes the obstacles early,
+// while the margins are small).
+constexpr std::size_t kSeedStepsNumerator[] = {2, 1, 0, 0};
+constexpr bool kSeedFrontLoaded[] = {false, false, false, true};
+
+double euclidean(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
+
+}  // namespace
+
+core::Status checkPlan(const CcProblem& p, const CcPlan& plan) {
+    const core::Status bad = core::Status::kInvalidArgument;
+    if (checkProblem(p) != core::Status::kOk || plan.steps != p.steps) {
+        return bad;
+    }
+    const std::size_t n = p.steps;
+    if (plan.meanX[0] != p.startX || plan.meanY[0] != p.startY || plan.meanX[n] != p.goalX ||
+        plan.meanY[n] != p.goalY) {
+        return bad;
+    }
+    for (std::size_t tau = 1; tau < n; ++tau) {
+        const double x = plan.meanX[tau];
+        const double y = plan.meanY[tau];
+        if (!std::isfinite(x) || !std::isfinite(y) || x < p.xMin || x > p.xMax || y < p.yMin || y > p.yMax) {
+            return bad;
+        }
+    }
+    double sum = 0.0;
+    for (std::size_t t = 0; t < n; ++t) {
+        for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+            const PlanObstacle& o = p.obstacles[i];
+            const std::size_t j = plan.face[t][i];
+            if (j >= o.faceCount) {
+                return bad;
+            }
+            for (std::size_t e = 0; e < 2; ++e) {
+                const double delta = plan.delta[t][i][e];
+                if (!(delta > 0.0) || !(delta < 0.5)) {
+                    return bad;
+                }
+                const double margin = faceMargin(p, i, j, t + e, delta);
+                if (!std::isfinite(margin) || endSlack(o, j, plan.meanX[t + e], plan.meanY[t + e], margin) < 0.0) {
+                    return bad;
+                }
+                sum += delta;
+            }
+        }
+    }
+    if (!(sum <= p.riskBound) || !(plan.riskUsed <= p.riskBound) || !std::isfinite(plan.cost)) {
+        return bad;
+    }
+    return core::Status::kOk;
+}
+
+core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& params) {
+    best_ = CcPlan{};
+    best_.status = CcStatus::kNoPlan;
+    phase_ = Phase::kDone;
+    nodes_ = 0;
+    seedSolves_ = 0;
+    incumbents_ = 0;
+    lastIncumbentNode_ = 0;
+    maxDepth_ = 0;
+    depth_ = 0;
+    exhausted_ = false;
+    incomplete_ = false;
+    unresolvedBound_ = INFINITY;
+    evenCost_ = INFINITY;
+    seedCost_ = INFINITY;
+    seedFound_ = false;
+    iraDone_ = 0;
+    iraReady_ = false;
+    const bool paramsOk = params.nodeBudget > 0 && params.iterationBudget > 0 && params.perLpIterations > 0 &&
+                          params.relativeGap >= 0.0 && params.relativeGap < 0.5 && params.iraRounds <= 50;
+    if (!paramsOk || checkProblem(problem) != core::Status::kOk) {
+        best_.status = CcStatus::kBadProblem;
+        return core::Status::kInvalidArgument;
+    }
+    problem_ = problem;
+    params_ = params;
+    steps_ = problem_.steps;
+    obstacles_ = problem_.obstacleCount;
+    best_.steps = problem_.steps;
+    riskBudget_ = problem_.riskBound * (1.0 - kRiskSafety);
+    evenDelta_ = obstacles_ > 0 ? riskBudget_ / static_cast<double>(2 * steps_ * obstacles_) : 0.0;
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            for (std::size_t tau = 0; tau <= steps_; ++tau) {
+                margin_[tau][i][j] = faceMargin(problem_, i, j, tau, evenDelta_);
+            }
+        }
+    }
+    for (std::size_t t = 0; t < kMaxPlanSteps; ++t) {
+        for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
+            assigned_[t][i] = kUnassigned;
+        }
+    }
+    if (lp_.setup(problem_) != core::Status::kOk) {
+        best_.status = CcStatus::kBadProblem;
+        return core::Status::kInvalidArgument;
+    }
+    factorSize_ = LpSolver::factorDoubles(lp_.variables());
+    factorSlots_ = kFactorPoolDoubles / factorSize_;
+    factorSlots_ = factorSlots_ < kMaxFactorSlots ? factorSlots_ : kMaxFactorSlots;
+    for (std::size_t k = 0; k < kMaxFactorSlots; ++k) {
+        slotOwner_[k] = kMaxPairs;
+    }
+    factorRestores_ = 0;
+    geometryWork_ = 0;
+    seedVariant_ = 0;
+    guideValid_ = false;
+    guideDistance_ = HUGE_VAL;
+    phase_ = (params_.seed && obstacles_ > 0) ? Phase::kSeed : Phase::kRoot;
+    return core::Status::kOk;
+}
+
+CcStatus CcPlanner::solve(const CcProblem& problem, const CcPlannerParams& params, CcPlan* out) {
+    (void)start(problem, params);
+    // Each call does at least one unit until the phases run out: bounded by
+    // the node budget, the seed's and the allocation's solves.
+    const std::uint64_t guard = static_cast<std::uint64_t>(params.nodeBudget) + 4U * kMaxPairs + 64U;
+    for (std::uint64_t k = 0; k < guard && !finished(); ++k) {
+        (void)step(1000);
+    }
+    if (!finished()) {
+        finish();
+    }
+    if (out != nullptr) {
+        *out = best_;
+    }
+    return best_.status;
+}
+
+bool CcPlanner::step(std::uint32_t maxNodes) {
+    std::uint32_t units = 0;
+    // Each pass does one unit or moves to a later phase (at most 5 moves).
+    const std::uint64_t guard = static_cast<std::uint64_t>(maxNodes) + 8U;
+    for (std::uint64_t pass = 0; pass < guard && units < maxNodes && phase_ != Phase::kDone; ++pass) {
+        switch (phase_) {
+            case Phase::kSeed:
+                if (budgetLeft()) {
+                    runSeed();
+                } else {
+                    phase_ = Phase::kRoot;
+                }
+                ++units;
+                break;
+            case Phase::kRoot:
+                rootStep();
+                ++units;
+                break;
+            case Phase::kSearch:
+                if (nodes_ >= params_.nodeBudget || !budgetLeft()) {
+                    incomplete_ = true;
+                    phase_ = Phase::kAllocate;
+                } else if (searchStep()) {
+                    ++units;
+                } else {
+                    exhausted_ = !incomplete_;
+                    phase_ = Phase::kAllocate;
+                }
+                break;
+            case Phase::kAllocate:
+                allocateStep();
+                ++units;
+                break;
+            case Phase::kIdle:
+            case Phase::kDone:
+                phase_ = Phase::kDone;
+                break;
+        }
+    }
+    if (phase_ != Phase::kDone && best_.status == CcStatus::kOptimal) {
+        best_.status = CcStatus::kFeasible;
+    }
+    return finished();
+}
+
+bool CcPlanner::budgetLeft() const {
+    if (lpIterations() >= params_.iterationBudget) {
+        return false;
+    }
+    const std::uint64_t share = problem_.allocation == RiskAllocation::kOptimised ? kSearchSharePercent : 100U;
+    return params_.workBudget == 0 || work() < 10ULL * share * params_.workBudget;
+}
+
+std::uint32_t CcPlanner::lpCap() const {
+    const std::uint32_t used = lpIterations();
+    const std::uint32_t left = used < params_.iterationBudget ? params_.iterationBudget - used : 0U;
+    return left < params_.perLpIterations ? left : params_.perLpIterations;
+}
+
+double CcPlanner::pruneThreshold() const {
+    if (!std::isfinite(evenCost_)) {
+        return INFINITY;
+    }
+    return evenCost_ * (1.0 - params_.relativeGap) - 1e-9;
+}
+
+double CcPlanner::lowerBound() const {
+    double lb = std::isfinite(evenCost_) ? evenCost_ * (1.0 - params_.relativeGap) : HUGE_VAL;
+    if (exhausted_) {
+        return lb;
+    }
+    for (std::size_t d = 0; d < depth_; ++d) {
+        if (level_[d].next < level_[d].count && level_[d].bound < lb) {
+            lb = level_[d].bound;
+        }
+    }
+    return unresolvedBound_ < lb ? unresolvedBound_ : lb;
+}
+
+// min over the pair's two ends of its slack on face j; an end the LP holds
+// (not the fixed start or goal) is scored against the LP's row, i.e. less
+// kSafetyM and with the LP's tolerance, so that a score >= 0 means the end
+// meets its margin exactly.
+double CcPlanner::pairScore(std::size_t t, std::size_t i, std::size_t j, const double* mx, const double* my) const {
+    const PlanObstacle& o = problem_.obstacles[i];
+    double worst = INFINITY;
+    for (std::size_t e = 0; e < 2; ++e) {
+        const std::size_t tau = t + e;
+        double s = endSlack(o, j, mx[tau], my[tau], margin_[tau][i][j]);
+        if (tau != 0 && tau != steps_) {
+            s -= kSafetyM - 2.0 * LpSolver::kPrimalTol;
+        }
+        worst = s < worst ? s : worst;
+    }
+    return worst;
+}
+
+void CcPlanner::chooseFacesAt(const double* mx, const double* my,
+                              std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) const {
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            double best = -INFINITY;
+            std::uint8_t bestFace = 0;
+            for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
+                const double s = pairScore(t, i, j, mx, my);
+                if (s > best) {
+                    best = s;
+                    bestFace = static_cast<std::uint8_t>(j);
+                }
+            }
+            face[t][i] = bestFace;
+        }
+    }
+}
+
+// The plan at the LP's optimum with these faces, even split; kept when it
+// verifies and beats the best.
+void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) {
+    CcPlan& c = candidate_;
+    c = CcPlan{};
+    c.status = CcStatus::kFeasible;
+    c.steps = problem_.steps;
+    for (std::size_t tau = 0; tau <= steps_; ++tau) {
+        c.meanX[tau] = lp_.meanX(tau);
+        c.meanY[tau] = lp_.meanY(tau);
+    }
+    double risk = 0.0;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            c.face[t][i] = face[t][i];
+            c.delta[t][i][0] = evenDelta_;
+            c.delta[t][i][1] = evenDelta_;
+            risk += 2.0 * evenDelta_;
+        }
+    }
+    c.riskUsed = risk;
+    double cost = 0.0;
+    double euclid = 0.0;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        const double dx = c.meanX[t + 1] - c.meanX[t];
+        const double dy = c.meanY[t + 1] - c.meanY[t];
+        cost += polygonLength(dx, dy);
+        euclid += euclidean(dx, dy);
+    }
+    c.cost = cost;
+    c.euclideanLengthM = euclid;
+    geometryWork_ += kMarginWork * 2U * steps_ * obstacles_;
+    if (checkPlan(problem_, c) != core::Status::kOk) {
+        return;
+    }
+    if (cost < evenCost_) {
+        best_ = c;
+        evenCost_ = cost;
+        ++incumbents_;
+        lastIncumbentNode_ = nodes_;
+    }
+}
+
+bool CcPlanner::solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost) {
+    (void)lp_.popPairs(0);
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const std::size_t j = face[t][i];
+            bool feasible = false;
+            if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
+                !feasible) {
+                return false;
+            }
+        }
+    }
+    ++seedSolves_;
+    if (lp_.solve(lpCap()) != LpStatus::kOptimal) {
+        return false;
+    }
+    *cost = lp_.cost();
+    return true;
+}
+
+// ---------------------------------------------------------------------------
+// Seed.
+
+bool CcPlanner::segmentBlocked(double px, double py, double qx, double qy) {
+    geometryWork_ += 10U * kMaxObstacleFaces * obstacles_;
+    const double dx = qx - px;
+    const double dy = qy - py;
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        double lo = 0.0;
+        double hi = 1.0;
+        bool outside = false;
+        for (std::size_t j = 0; j < o.faceCount && !outside; ++j) {
+            // Inside the (touch-shrunk) inflated obstacle: f0 + s fd < 0.
+            const double f0 = o.normalX[j] * px + o.normalY[j] * py - (inflated_[i][j] - kSeedTouchM);
+            const double fd = o.normalX[j] * dx + o.normalY[j] * dy;
+            if (std::fabs(fd) < 1e-15) {
+                outside = f0 >= 0.0;
+            } else if (fd > 0.0) {
+                const double s = -f0 / fd;
+                hi = s < hi ? s : hi;
+            } else {
+                const double s = -f0 / fd;
+                lo = s > lo ? s : lo;
+            }
+            outside = outside || !(lo < hi);
+        }
+        if (!outside && lo < hi) {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool CcPlanner::seedPath(std::size_t* legs) {
+    const CcProblem& p = problem_;
+    auto insideInflated = [&](std::size_t i, double x, double y, double tol) {
+        const PlanObstacle& o = p.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            if (o.normalX[j] * x + o.normalY[j] * y >= inflated_[i][j] - tol) {
+                return false;
+            }
+        }
+        return true;
+    };
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        if (insideInflated(i, p.startX, p.startY, kSeedTouchM) || insideInflated(i, p.goalX, p.goalY, kSeedTouchM)) {
+            return false;
+        }
+    }
+    vx_[0] = p.startX;
+    vy_[0] = p.startY;
+    vx_[1] = p.goalX;
+    vy_[1] = p.goalY;
+    vertexCount_ = 2;
+    // The free space's corners, where a shortest path can bend: the
+    // intersections of two lines among the inflated faces and the site's four
+    // sides that lie on the boundary of each obstacle they come from, inside
+    // the site and inside no obstacle. Two faces of one obstacle: its
+    // vertices; faces of two obstacles: where overlapping obstacles meet; a
+    // face and a side: where an obstacle leaves the site.
+    const std::size_t sides = 4;
+    std::size_t lineCount = 0;
+    std::uint8_t lineObstacle[kMaxPlanObstacles * kMaxObstacleFaces + 4];
+    double lineX[kMaxPlanObstacles * kMaxObstacleFaces + 4];
+    double lineY[kMaxPlanObstacles * kMaxObstacleFaces + 4];
+    double lineB[kMaxPlanObstacles * kMaxObstacleFaces + 4];
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = p.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            lineObstacle[lineCount] = static_cast<std::uint8_t>(i);
+            lineX[lineCount] = o.normalX[j];
+            lineY[lineCount] = o.normalY[j];
+            lineB[lineCount] = inflated_[i][j];
+            ++lineCount;
+        }
+    }
+    const double sideX[sides] = {1.0, 1.0, 0.0, 0.0};
+    const double sideY[sides] = {0.0, 0.0, 1.0, 1.0};
+    const double sideB[sides] = {p.xMin, p.xMax, p.yMin, p.yMax};
+    for (std::size_t k = 0; k < sides; ++k) {
+        lineObstacle[lineCount] = kUnassigned;
+        lineX[lineCount] = sideX[k];
+        lineY[lineCount] = sideY[k];
+        lineB[lineCount] = sideB[k];
+        ++lineCount;
+    }
+    auto onBoundaryOf = [&](std::size_t i, double x, double y) {
+        const PlanObstacle& o = p.obstacles[i];
+        for (std::size_t l = 0; l < o.faceCount; ++l) {
+            if (o.normalX[l] * x + o.normalY[l] * y > inflated_[i][l] + 1e-7) {
+                return false;
+            }
+        }
+        return true;
+    };
+    for (std::size_t a = 0; a < lineCount; ++a) {
+        for (std::size_t b = a + 1; b < lineCount; ++b) {
+            if (lineObstacle[a] == kUnassigned && lineObstacle[b] == kUnassigned) {
+                continue;  // a corner of the site: never a bend of a shortest path
+            }
+            geometryWork_ += 2U * kMaxObstacleFaces * obstacles_;
+            const double det = lineX[a] * lineY[b] - lineY[a] * lineX[b];
+            if (std::fabs(det) < 1e-9) {
+                continue;
+            }
+            const double x = (lineB[a] * lineY[b] - lineY[a] * lineB[b]) / det;
+            const double y = (lineX[a] * lineB[b] - lineB[a] * lineX[b]) / det;
+            if (!(x >= p.xMin && x <= p.xMax && y >= p.yMin && y <= p.yMax)) {
+                continue;
+            }
+            bool valid = (lineObstacle[a] == kUnassigned || onBoundaryOf(lineObstacle[a], x, y)) &&
+                         (lineObstacle[b] == kUnassigned || onBoundaryOf(lineObstacle[b], x, y));
+            for (std::size_t i = 0; i < obstacles_ && valid; ++i) {
+                valid = !insideInflated(i, x, y, kSeedTouchM);
+            }
+            for (std::size_t v = 2; v < vertexCount_ && valid; ++v) {
+                valid = std::fabs(vx_[v] - x) + std::fabs(vy_[v] - y) > 1e-9;
+            }
+            if (valid && vertexCount_ < kMaxSeedVertices) {
+                vx_[vertexCount_] = x;
+                vy_[vertexCount_] = y;
+                ++vertexCount_;
+            }
+        }
+    }
+    // Dijkstra from the start; the (costly) visibility test only for edges
+    // that would improve a distance.
+    for (std::size_t v = 0; v < vertexCount_; ++v) {
+        dist_[v] = INFINITY;
+        settled_[v] = false;
+        prev_[v] = 0;
+    }
+    dist_[0] = 0.0;
+    for (std::size_t round = 0; round < vertexCount_; ++round) {
+        std::size_t u = vertexCount_;
+        double du = INFINITY;
+        for (std::size_t v = 0; v < vertexCount_; ++v) {
+            if (!settled_[v] && dist_[v] < du) {
+                du = dist_[v];
+                u = v;
+            }
+        }
+        if (u == vertexCount_ || u == 1) {
+            break;
+        }
+        settled_[u] = true;
+        for (std::size_t v = 0; v < vertexCount_; ++v) {
+            if (settled_[v]) {
+                continue;
+            }
+            const double d = du + polygonLength(vx_[v] - vx_[u], vy_[v] - vy_[u]);
+            if (d < dist_[v] && !segmentBlocked(vx_[u], vy_[u], vx_[v], vy_[v])) {
+                dist_[v] = d;
+                prev_[v] = static_cast<std::uint8_t>(u);
+            }
+        }
+    }
+    if (!std::isfinite(dist_[1])) {
+        return false;
+    }
+    // The path, goal back to start, then reversed into legPoint_.
+    std::size_t count = 0;
+    std::size_t v = 1;
+    for (std::size_t guard = 0; guard <= vertexCount_; ++guard) {
+        legPoint_[count++] = static_cast<std::uint8_t>(v);
+        if (v == 0) {
+            break;
+        }
+        v = prev_[v];
+    }
+    if (legPoint_[count - 1] != 0) {
+        return false;
+    }
+    for (std::size_t a = 0, b = count - 1; a < b; ++a, --b) {
+        const std::uint8_t tmp = legPoint_[a];
+        legPoint_[a] = legPoint_[b];
+        legPoint_[b] = tmp;
+    }
+    *legs = count - 1;
+    return *legs >= 1 && *legs <= steps_;
+}
+
+void CcPlanner::runSeed() {
+    // Variant v inflates every face by its margin at step kSeedSteps[v] of N
+    // (margins grow with the step: N is the conservative inflation, 0 the
+    // optimistic one that keeps gaps open for the early steps).
+    const std::size_t variant = seedVariant_++;
+    if (seedVariant_ >= kSeedVariants) {
+        phase_ = Phase::kRoot;
+    }
+    const std::size_t tauInflate = steps_ * kSeedStepsNumerator[variant] / 2U;
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            inflated_[i][j] = o.offset[j] + margin_[tauInflate][i][j] + kSeedInflateM;
+        }
+    }
+    std::size_t legs = 0;
+    if (!seedPath(&legs)) {
+        return;
+    }
+    // Segments per leg: one each, the rest one at a time to the leg with the
+    // longest segments.
+    std::size_t share[kMaxPlanSteps];  // legs <= steps (seedPath)
+    double length[kMaxPlanSteps];
+    for (std::size_t l = 0; l < legs; ++l) {
+        share[l] = 1;
+        length[l] = euclidean(vx_[legPoint_[l + 1]] - vx_[legPoint_[l]], vy_[legPoint_[l + 1]] - vy_[legPoint_[l]]);
+    }
+    for (std::size_t extra = legs; extra < steps_ && !kSeedFrontLoaded[variant]; ++extra) {
+        std::size_t best = 0;
+        for (std::size_t l = 1; l < legs; ++l) {
+            if (length[l] / static_cast<double>(share[l]) > length[best] / static_cast<double>(share[best])) {
+                best = l;
+            }
+        }
+        ++share[best];
+    }
+    std::size_t tau = 0;
+    for (std::size_t l = 0; l < legs; ++l) {
+        const double ax = vx_[legPoint_[l]];
+        const double ay = vy_[legPoint_[l]];
+        const double bx = vx_[legPoint_[l + 1]];
+        const double by = vy_[legPoint_[l + 1]];
+        for (std::size_t k = 0; k < share[l]; ++k, ++tau) {
+            const double f = static_cast<double>(k) / static_cast<double>(share[l]);
+            scratchX_[tau] = ax + f * (bx - ax);
+            scratchY_[tau] = ay + f * (by - ay);
+        }
+    }
+    for (; tau <= steps_; ++tau) {
+        scratchX_[tau] = problem_.goalX;
+        scratchY_[tau] = problem_.goalY;
+    }
+    chooseFacesAt(scratchX_, scratchY_, faceScratch_);
+    if (dist_[1] < guideDistance_) {
+        // The search tries these faces first (see evaluateNode): the shortest
+        // visibility path's, even when its own LP turns out infeasible (the
+        // margins grow along the path; the search's dives then find the
+        // waypoints that fit, near that path).
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                guideFace_[t][i] = faceScratch_[t][i];
+            }
+        }
+        guideDistance_ = dist_[1];
+        guideValid_ = true;
+    }
+    // The fixed-face LP, then polish rounds (each one LP).
+    for (std::size_t round = 0; round <= kPolishRounds; ++round) {
+        double cost = 0.0;
+        if (!solveAssignment(faceScratch_, &cost)) {
+            return;
+        }
+        offerIncumbentFromLp(faceScratch_);
+        if (std::isfinite(evenCost_)) {
+            seedFound_ = true;
+            seedCost_ = evenCost_;
+        }
+        for (std::size_t k = 0; k <= steps_; ++k) {
+            scratchX_[k] = lp_.meanX(k);
+            scratchY_[k] = lp_.meanY(k);
+        }
+        bool changed = false;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                const std::uint8_t old = faceScratch_[t][i];
+                double best = pairScore(t, i, old, scratchX_, scratchY_);
+                for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
+                    const double s = pairScore(t, i, j, scratchX_, scratchY_);
+                    if (s > best + 1e-9) {
+                        best = s;
+                        faceScratch_[t][i] = static_cast<std::uint8_t>(j);
+                    }
+                }
+                changed = changed || faceScratch_[t][i] != old;
+            }
+        }
+        if (!changed) {
+            return;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Search.
+
+void CcPlanner::rootStep() {
+    phase_ = Phase::kSearch;
+    (void)lp_.popPairs(0);
+    depth_ = 0;
+    rootPairs_ = 0;
+    // Presolve: a pair of the first or last segment has an end at the fixed
+    // start or goal, which rules out the faces it misses. A pair with no face
+    // left proves there is no plan; a pair with one is fixed at the root.
+    for (std::size_t t = 0; t < steps_; t += (steps_ > 1 ? steps_ - 1 : 1)) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const PlanObstacle& o = problem_.obstacles[i];
+            std::size_t count = 0;
+            std::size_t only = 0;
+            for (std::size_t j = 0; j < o.faceCount; ++j) {
+                const bool startOk =
+                    t != 0 || endSlack(o, j, problem_.startX, problem_.startY, margin_[0][i][j]) >= 0.0;
+                const bool goalOk =
+                    t + 1 != steps_ || endSlack(o, j, problem_.goalX, problem_.goalY, margin_[steps_][i][j]) >= 0.0;
+                if (startOk && goalOk) {
+                    ++count;
+                    only = j;
+                }
+            }
+            if (count == 0) {
+                return;  // depth 0: the search ends at once, exhausted, with no plan
+            }
+            if (count == 1) {
+                bool feasible = false;
+                if (lp_.addPair(t, i, only, margin_[t][i][only], margin_[t + 1][i][only], &feasible) ==
+                        core::Status::kOk &&
+                    feasible) {
+                    assigned_[t][i] = static_cast<std::uint8_t>(only);
+                    ++rootPairs_;
+                }
+            }
+        }
+    }
+    const LpStatus st = lp_.solve(lpCap());
+    ++nodes_;
+    if (st == LpStatus::kOptimal) {
+        evaluateNode();
+    } else if (st != LpStatus::kInfeasible) {
+        incomplete_ = true;
+        unresolvedBound_ = 0.0;
+    }
+}
+
+void CcPlanner::evaluateNode() {
+    const double cost = lp_.cost();
+    if (cost >= pruneThreshold()) {
+        return;
+    }
+    for (std::size_t tau = 0; tau <= steps_; ++tau) {
+        scratchX_[tau] = lp_.meanX(tau);
+        scratchY_[tau] = lp_.meanY(tau);
+    }
+    geometryWork_ += kScoreWork * steps_ * obstacles_ * kMaxObstacleFaces;
+    double worst = 0.0;
+    std::size_t wt = kMaxPlanSteps;
+    std::size_t wi = 0;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            if (assigned_[t][i] != kUnassigned) {
+                faceScratch_[t][i] = assigned_[t][i];
+                continue;
+            }
+            double best = -INFINITY;
+            std::uint8_t bestFace = 0;
+            for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
+                const double s = pairScore(t, i, j, scratchX_, scratchY_);
+                if (s > best) {
+                    best = s;
+                    bestFace = static_cast<std::uint8_t>(j);
+                }
+            }
+            faceScratch_[t][i] = bestFace;
+            if (best < worst) {
+                worst = best;
+                wt = t;
+                wi = i;
+            }
+        }
+    }
+    if (wt == kMaxPlanSteps) {
+        offerIncumbentFromLp(faceScratch_);
+        return;
+    }
+    if (rootPairs_ + depth_ >= kMaxPairs) {
+        incomplete_ = true;  // cannot happen: every level assigns a new pair
+        return;
+    }
+    Level& l = level_[depth_];
+    l.t = static_cast<std::uint8_t>(wt);
+    l.obstacle = static_cast<std::uint8_t>(wi);
+    l.next = 0;
+    l.bound = cost;
+    const PlanObstacle& o = problem_.obstacles[wi];
+    double score[kMaxObstacleFaces];
+    l.count = 0;
+    for (std::size_t j = 0; j < o.faceCount; ++j) {
+        score[j] = pairScore(wt, wi, j, scratchX_, scratchY_);
+        if (guideValid_ && guideFace_[wt][wi] == j) {
+            score[j] = HUGE_VAL;  // the guide's face first
+        }
+        // Insertion by descending score: least violated face first.
+        std::size_t pos = l.count;
+        while (pos > 0 && score[l.order[pos - 1]] < score[j]) {
+            l.order[pos] = l.order[pos - 1];
+            --pos;
+        }
+        l.order[pos] = static_cast<std::uint8_t>(j);
+        ++l.count;
+    }
+    saveLevelFactor(depth_);
+    ++depth_;
+    maxDepth_ = depth_ > maxDepth_ ? depth_ : maxDepth_;
+}
+
+void CcPlanner::saveLevelFactor(std::size_t d) {
+    Level& l = level_[d];
+    if (factorSlots_ == 0) {
+        lp_.solver().saveBasis(&l.basis);
+        return;
+    }
+    const std::size_t slot = d % factorSlots_;
+    if (lp_.solver().saveFactor(&l.basis, &factorPool_[slot * factorSize_], factorSize_) == core::Status::kOk) {
+        slotOwner_[slot] = d;
+    } else {
+        lp_.solver().saveBasis(&l.basis);
+    }
+}
+
+void CcPlanner::restoreLevel(std::size_t d) {
+    Level& l = level_[d];
+    if (factorSlots_ > 0) {
+        const std::size_t slot = d % factorSlots_;
+        if (slotOwner_[slot] == d &&
+            lp_.solver().restoreFactor(l.basis, &factorPool_[slot * factorSize_], factorSize_) == core::Status::kOk) {
+            ++factorRestores_;
+            return;
+        }
+    }
+    (void)lp_.solver().restoreBasis(l.basis);
+    // The slot is free again once the levels above d are gone.
+    if (lp_.solver().basisValid()) {
+        saveLevelFactor(d);
+    }
+}
+
+bool CcPlanner::searchStep() {
+    // Each pass consumes one child (or pops a level), so kMaxPairs levels of
+    // at most kMaxObstacleFaces children bound it.
+    const std::size_t guard = kMaxPairs * (kMaxObstacleFaces + 1) + 1;
+    for (std::size_t pass = 0; pass < guard && depth_ > 0; ++pass) {
+        Level& l = level_[depth_ - 1];
+        if (l.next >= l.count || l.bound >= pruneThreshold()) {
+            assigned_[l.t][l.obstacle] = kUnassigned;
+            --depth_;
+            continue;
+        }
+        const std::uint8_t face = l.order[l.next++];
+        (void)lp_.popPairs(rootPairs_ + depth_ - 1);
+        if (!lp_.solver().basisValid()) {
+            restoreLevel(depth_ - 1);
+        }
+        assigned_[l.t][l.obstacle] = face;
+        bool feasible = false;
+        if (lp_.addPair(l.t, l.obstacle, face, margin_[l.t][l.obstacle][face], margin_[l.t + 1][l.obstacle][face],
+                        &feasible) != core::Status::kOk ||
+            !feasible) {
+            continue;
+        }
+        const LpStatus st = lp_.solve(lpCap(), pruneThreshold());
+        ++nodes_;
+        if (st == LpStatus::kOptimal) {
+            evaluateNode();
+        } else if (st != LpStatus::kInfeasible && st != LpStatus::kCutoff) {
+            incomplete_ = true;
+            unresolvedBound_ = l.bound < unresolvedBound_ ? l.bound : unresolvedBound_;
+        }
+        return true;
+    }
+    return false;
+}
+
+// ---------------------------------------------------------------------------
+// Risk allocation.
+
+void CcPlanner::allocateStep() {
+    const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    if (best_.status == CcStatus::kNoPlan || obstacles_ == 0 ||
+        problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || !workLeft) {
+        finish();
+        return;
+    }
+    if (!iraReady_) {
+        // The best plan's faces, all pairs, its (even) deltas.
+        (void)lp_.popPairs(0);
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                const std::size_t j = best_.face[t][i];
+                delta_[t][i][0] = best_.delta[t][i][0];
+                delta_[t][i][1] = best_.delta[t][i][1];
+                bool feasible = false;
+                if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
+                    !feasible) {
+                    finish();
+                    return;
+                }
+            }
+        }
+        if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
+            finish();
+            return;
+        }
+        iraReady_ = true;
+        return;
+    }
+    ++iraDone_;
+    geometryWork_ += 3U * kMarginWork * 2U * steps_ * obstacles_;  // risks, margins, the check
+    // New deltas at the current solution.
+    const double floor = evenDelta_ * kIraFloor;
+    double fixedSum = 0.0;
+    double activeSum = 0.0;
+    std::size_t activeCount = 0;
+    bool active[kMaxPlanSteps][kMaxPlanObstacles][2];
+    std::size_t k = 0;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i, ++k) {
+            const PlanObstacle& o = problem_.obstacles[i];
+            const std::size_t j = best_.face[t][i];
+            for (std::size_t e = 0; e < 2; ++e) {
+                const std::size_t tau = t + e;
+                active[t][i][e] = lp_.pairActive(k, e);
+                if (active[t][i][e]) {
+                    activeSum += delta_[t][i][e];
+                    ++activeCount;
+                    continue;
+                }
+                const double raw = endSlack(o, j, lp_.meanX(tau), lp_.meanY(tau), 0.0) - 2.0 * kSafetyM;
+                const double variance =
+                    faceVariance(o.normalX[j], o.normalY[j], problem_.startCov, problem_.processSigmaM,
+                                 static_cast<unsigned>(tau));
+                double need = endRisk(raw, variance);
+                need = need > floor ? need : floor;
+                double next = kIraKeep * delta_[t][i][e] + (1.0 - kIraKeep) * need;
+                next = next < delta_[t][i][e] ? next : delta_[t][i][e];
+                delta_[t][i][e] = next;
+                fixedSum += next;
+            }
+        }
+    }
+    if (activeCount == 0) {
+        finish();
+        return;
+    }
+    const double residual = riskBudget_ - fixedSum - activeSum;
+    if (!(residual > 0.0)) {
+        finish();
+        return;
+    }
+    double add = residual / static_cast<double>(activeCount);
+    // Sum in plan order; shave the share until it fits (rounding only).
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        double sum = 0.0;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                for (std::size_t e = 0; e < 2; ++e) {
+                    sum += active[t][i][e] ? delta_[t][i][e] + add : delta_[t][i][e];
+                }
+            }
+        }
+        if (sum <= riskBudget_) {
+            break;
+        }
+        add *= 1.0 - 1e-9 * static_cast<double>(attempt + 1);
+        if (attempt == 7) {
+            add = 0.0;
+        }
+    }
+    k = 0;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i, ++k) {
+            const std::size_t j = best_.face[t][i];
+            for (std::size_t e = 0; e < 2; ++e) {
+                if (active[t][i][e]) {
+                    double d = delta_[t][i][e] + add;
+                    d = d < 0.49 ? d : 0.49;
+                    delta_[t][i][e] = d;
+                }
+            }
+            (void)lp_.setPairMargins(k, faceMargin(problem_, i, j, t, delta_[t][i][0]),
+                                     faceMargin(problem_, i, j, t + 1, delta_[t][i][1]));
+        }
+    }
+    if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
+        finish();
+        return;
+    }
+    // The candidate: this LP's path with these deltas.
+    CcPlan& c = candidate_;
+    c = best_;
+    c.status = CcStatus::kFeasible;
+    double cost = 0.0;
+    double euclid = 0.0;
+    double risk = 0.0;
+    for (std::size_t tau = 0; tau <= steps_; ++tau) {
+        c.meanX[tau] = lp_.meanX(tau);
+        c.meanY[tau] = lp_.meanY(tau);
+    }
+    for (std::size_t t = 0; t < steps_; ++t) {
+        const double dx = c.meanX[t + 1] - c.meanX[t];
+        const double dy = c.meanY[t + 1] - c.meanY[t];
+        cost += polygonLength(dx, dy);
+        euclid += euclidean(dx, dy);
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            for (std::size_t e = 0; e < 2; ++e) {
+                c.delta[t][i][e] = delta_[t][i][e];
+                risk += delta_[t][i][e];
+            }
+        }
+    }
+    c.cost = cost;
+    c.euclideanLengthM = euclid;
+    c.riskUsed = risk;
+    const double previous = best_.cost;
+    if (cost < previous && checkPlan(problem_, c) == core::Status::kOk) {
+        best_ = c;
+    }
+    if (!(cost < previous - 1e-9 * (1.0 + previous)) && iraDone_ > 2) {
+        finish();
+    }
+}
+
+void CcPlanner::finish() {
+    phase_ = Phase::kDone;
+    if (best_.status == CcStatus::kNoPlan || best_.status == CcStatus::kBadProblem) {
+        return;
+    }
+    best_.status = (exhausted_ && !incomplete_) ? CcStatus::kOptimal : CcStatus::kFeasible;
+}
+
+}  // namespace rse::deliberative

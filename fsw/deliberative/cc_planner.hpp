@@ -1,0 +1,251 @@
+// The deliberative layer's chance-constrained path planner (cc_problem.hpp,
+// docs/deliberative.md): a bounded, anytime branch and bound over face
+// assignments, seeded from visibility graphs, then risk allocation.
+//
+// Search. A node assigns faces to some (segment, obstacle) pairs; its bound is
+// the LP (cc_lp.hpp) with only those pairs' rows, the even-split margins and
+// the rest of the disjunctions dropped, warm-started from its parent's basis
+// (LpSolver's dual simplex: a child only adds two rows) and cut off as soon
+// as its dual bound reaches the prune threshold. At a node's optimum every
+// unassigned pair is scored by max_j min(slack of its two ends on face j):
+// when no pair is violated the node's path is a plan (its faces are the
+// assigned ones plus, for each other pair, its best face) and, as the bound
+// of its subtree, the best there. Otherwise the search branches on the most
+// violated pair, one child per face, least violated face first (the
+// guide's face before them, see Seed), depth first. A node whose bound reaches
+// incumbent (1 - relativeGap) is pruned, so kOptimal means optimal within
+// relativeGap (default 0.2 %) for the even split. Going back to a level
+// restores its parent's A_B^-1 from a ring of saved factors (the deepest
+// levels; older ones are refactorised from their saved basis).
+//
+// Presolve. The pairs of the first and last segments have an end at the
+// fixed start or goal; the faces that end misses are out. A pair with no face
+// left proves that there is no plan (kNoPlan, at once); a pair with one face
+// left is fixed at the root.
+//
+// Seed. Before the search, one unit per variant (kSeedVariants): the
+// obstacles inflated by their margin at step N, N / 2 or 0 (margins grow with
+// the step: the first is conservative, the last keeps gaps open that early
+// steps can use); the shortest path (16-gon length) from start to goal in the
+// visibility graph of the free space's corners (the inflated obstacles'
+// vertices, where overlapping obstacles meet, where an obstacle leaves the
+// site; Dijkstra, edges tested lazily); that path cut into N segments, either
+// shared among its legs by length or, "front-loaded", one per leg and the
+// rest parked at the goal (the path passes the obstacles while the margins
+// are small); every pair given the face its two ends clear best, and the
+// fixed-face LP solved; then "polish": each pair moves to the face its ends
+// at the LP optimum clear best (the path stays feasible, so the cost cannot
+// rise) and the LP is solved again, kPolishRounds (1) times. The best seed
+// is the first incumbent. The faces of the shortest visibility path (even if
+// its LP was infeasible) are the search's guide: at every branching the
+// guide's face is tried first.
+//
+// Risk allocation. kEvenSplit: delta = Delta' / (2 N M) at every end, with
+// Delta' = Delta (1 - 1e-12) so that the sum of the 2 N M deltas, added in any
+// order in double precision, stays <= Delta. kOptimised: iterative risk
+// allocation (Ono & Williams 2008) on the best plan's faces: every end whose
+// constraint is slack moves 70 % of the way from its delta to the risk it has
+// at the plan (computed 2 kSafetyM inside its slack, so the plan stays
+// feasible), the risk freed is shared equally by the active ends, and the LP
+// is solved again (warm: only right-hand sides change); a round's plan is
+// kept when it verifies and is shorter; at most iraRounds rounds, stopping
+// early when a round gains nothing. Never worse than the even split's plan;
+// the deltas' sum is checked <= Delta' every round.
+//
+// Status. kOptimal: the search was exhausted (optimal within relativeGap for
+// the even split; with kOptimised the allocation then shortened that plan, and
+// the proof is about the even split's faces). kFeasible: a verified plan, the
+// budget ran out first. kNoPlan: none found; proven when searchExhausted().
+// Every plan handed out is verified first (checkPlan): means inside the site,
+// mu_0 = start, mu_N = goal, every end on its face's side by its margin
+// exactly (no tolerance), deltas in (0, 0.5), their sum <= Delta.
+//
+// Bounded and sliceable. No clock is read here: work is counted. start() does
+// no LP work; step(maxNodes) runs at most maxNodes units (a unit is one LP
+// solve: a search node or an allocation round; or one seed variant, i.e. a
+// visibility graph and up to 1 + kPolishRounds LPs), each LP capped at
+// perLpIterations pivots. A plan stops searching when nodeBudget nodes,
+// iterationBudget pivots or workBudget thousand work units are spent (with
+// kOptimised the search gets 85 % of the work budget and the allocation the
+// rest). work() is LpSolver::work() plus the planner's own scoring, margins
+// and geometry, weighted by measured costs: 0.45 - 0.9 ns per unit on the
+// x86-64 development host (most for small N, and with another process on the
+// other core). The default 20 000 (20 M units) is 10 - 20 ms there; the
+// time of a plan is then bounded by the budget plus one unit (in the search,
+// one LP of <= perLpIterations pivots; between seed variants, one variant).
+// Measured with the defaults (unit_test/deliberative's random instances,
+// x86-64 host, wall clock, another process on the other core):
+// N = 10, M = 4 median 15 ms, max 19 ms (50 instances: ~900 nodes, cost
+// within 0.44 % of the proven optimum, median 0 %); N = 20, M = 8 median
+// 12 ms, max 13 ms (~180 nodes: the seeds take half the budget there);
+// N = 24, M = 8 median 11 ms, max 12 ms; 400 random problems N = 1 .. 24,
+// M = 0 .. 8: max 16 ms.
+//
+// Memory: sizeof(CcPlanner) = 450 712 B (x86-64 and aarch64): one CcLp
+// (216 KiB), the factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack
+// (192 levels with a basis each, 32 KiB), the margin table, two plans and the
+// problem. Static storage (a task member), never a stack.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/core/status.hpp"
+#include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/deliberative/cc_problem.hpp"
+#include "fsw/deliberative/lp_solver.hpp"
+
+namespace rse::deliberative {
+
+struct CcPlannerParams {
+    std::uint32_t nodeBudget = 100000;         // search nodes (LP solves) per plan
+    std::uint32_t iterationBudget = 1000000;   // simplex pivots per plan (seed + search)
+    std::uint32_t perLpIterations = 2000;      // pivots per LP solve
+    std::uint32_t workBudget = 20000;          // thousands of work units (see work()); 0: none
+    double relativeGap = 0.002;                // prune bound >= incumbent (1 - gap); [0, 0.5)
+    std::uint8_t iraRounds = 12;               // risk allocation rounds (kOptimised), 0..50
+    bool seed = true;                          // the visibility-graph seed
+};
+
+// Checks a plan against its problem exactly (see above). kInvalidArgument
+// names nothing: the plan is simply not to be used.
+core::Status checkPlan(const CcProblem& problem, const CcPlan& plan);
+
+class CcPlanner {
+public:
+    static constexpr std::size_t kPolishRounds = 1;
+    static constexpr std::size_t kSeedVariants = 4;
+    // Factors (A_B^-1) of the deepest search levels, for going back to a
+    // level without refactorising: a ring of slots over the stack.
+    static constexpr std::size_t kFactorPoolDoubles = 4 * LpSolver::factorDoubles(kLpMaxVariables);
+    static constexpr std::size_t kMaxFactorSlots = 64;
+    static constexpr std::size_t kMaxSeedVertices = 192;  // start, goal and free-space corners
+
+    // Copies the problem and starts a plan. kInvalidArgument (and a plan of
+    // status kBadProblem, finished) when checkProblem() or the parameters fail.
+    core::Status start(const CcProblem& problem, const CcPlannerParams& params);
+
+    // Up to maxNodes units of work; true when the plan is finished.
+    bool step(std::uint32_t maxNodes);
+    bool finished() const { return phase_ == Phase::kDone; }
+
+    // The best plan so far (status kNoPlan until one exists; kFeasible while
+    // running); its final status once finished().
+    const CcPlan& plan() const { return best_; }
+
+    // start() and step() to the end; the plan's status.
+    CcStatus solve(const CcProblem& problem, const CcPlannerParams& params, CcPlan* out);
+
+    // Work of the current plan.
+    std::uint32_t nodes() const { return nodes_; }                  // search LPs
+    std::uint32_t seedSolves() const { return seedSolves_; }        // seed and polish LPs
+    std::uint32_t allocationRounds() const { return iraDone_; }
+    std::uint32_t lpIterations() const { return lp_.solver().iterations(); }
+    // Work of the plan so far in LpSolver::work() units plus the seed's
+    // geometry: proportional to time (see the calibration above).
+    std::uint64_t work() const { return lp_.solver().work() + geometryWork_; }
+    std::uint32_t refactorizations() const { return lp_.solver().refactorizations(); }
+    std::uint32_t factorRestores() const { return factorRestores_; }
+    std::uint32_t incumbents() const { return incumbents_; }        // improvements of the plan
+    std::uint32_t nodeOfLastIncumbent() const { return lastIncumbentNode_; }
+    std::size_t maxDepth() const { return maxDepth_; }
+    bool seedFound() const { return seedFound_; }
+    double seedCost() const { return seedCost_; }                   // INFINITY without a seed
+    double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
+    bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
+    // A lower bound on the even split's optimum (valid when the search ran):
+    // the least bound of the open nodes, or the incumbent when exhausted.
+    double lowerBound() const;
+
+private:
+    enum class Phase : std::uint8_t { kIdle, kSeed, kRoot, kSearch, kAllocate, kDone };
+
+    struct Level {
+        std::uint8_t t;
+        std::uint8_t obstacle;
+        std::uint8_t count;
+        std::uint8_t next;
+        std::uint8_t order[kMaxObstacleFaces];
+        double bound;
+        LpBasis basis;
+    };
+
+    void saveLevelFactor(std::size_t d);
+    void restoreLevel(std::size_t d);
+    void runSeed();
+    bool seedPath(std::size_t* legs);
+    bool solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost);
+    void chooseFacesAt(const double* mx, const double* my,
+                       std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) const;
+    void offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]);
+    void rootStep();
+    bool searchStep();
+    void evaluateNode();
+    void allocateStep();
+    void finish();
+    double pruneThreshold() const;
+    double pairScore(std::size_t t, std::size_t i, std::size_t j, const double* mx, const double* my) const;
+    std::uint32_t lpCap() const;
+    bool budgetLeft() const;
+    bool segmentBlocked(double px, double py, double qx, double qy);
+
+    CcProblem problem_{};
+    CcPlannerParams params_{};
+    Phase phase_ = Phase::kIdle;
+    CcLp lp_;
+    std::size_t steps_ = 0;
+    std::size_t obstacles_ = 0;
+    double evenDelta_ = 0.0;
+    double riskBudget_ = 0.0;  // Delta (1 - 1e-12)
+    double margin_[kMaxPlanSteps + 1][kMaxPlanObstacles][kMaxObstacleFaces] = {};
+    double inflated_[kMaxPlanObstacles][kMaxObstacleFaces] = {};  // b_j + largest margin
+
+    // Search state.
+    Level level_[kMaxPairs];
+    std::size_t depth_ = 0;
+    std::size_t rootPairs_ = 0;  // pairs fixed at the root by the presolve
+    double factorPool_[kFactorPoolDoubles] = {};
+    std::size_t factorSize_ = 0;
+    std::size_t factorSlots_ = 0;
+    std::size_t slotOwner_[kMaxFactorSlots] = {};  // the level whose factor the slot holds
+    std::uint32_t factorRestores_ = 0;
+    std::uint64_t geometryWork_ = 0;
+    std::uint8_t assigned_[kMaxPlanSteps][kMaxPlanObstacles] = {};
+    std::uint8_t faceScratch_[kMaxPlanSteps][kMaxPlanObstacles] = {};
+    double scratchX_[kMaxPlanSteps + 1] = {};
+    double scratchY_[kMaxPlanSteps + 1] = {};
+    bool exhausted_ = false;
+    bool incomplete_ = false;      // a node was left unresolved (LP budget)
+    double unresolvedBound_ = 0.0; // least parent bound of such nodes
+
+    // Seed scratch: visibility graph nodes.
+    double vx_[kMaxSeedVertices] = {};
+    double vy_[kMaxSeedVertices] = {};
+    double dist_[kMaxSeedVertices] = {};
+    std::uint8_t prev_[kMaxSeedVertices] = {};
+    bool settled_[kMaxSeedVertices] = {};
+    std::size_t vertexCount_ = 0;
+    std::size_t seedVariant_ = 0;
+    std::uint8_t guideFace_[kMaxPlanSteps][kMaxPlanObstacles] = {};
+    bool guideValid_ = false;
+    double guideDistance_ = 0.0;
+    std::uint8_t legPoint_[kMaxSeedVertices + 1] = {};
+
+    // Allocation state.
+    double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
+    std::uint32_t iraDone_ = 0;
+    bool iraReady_ = false;
+
+    CcPlan best_{};
+    CcPlan candidate_{};
+    double evenCost_ = 0.0;
+    double seedCost_ = 0.0;
+    bool seedFound_ = false;
+    std::uint32_t nodes_ = 0;
+    std::uint32_t seedSolves_ = 0;
+    std::uint32_t incumbents_ = 0;
+    std::uint32_t lastIncumbentNode_ = 0;
+    std::size_t maxDepth_ = 0;
+};
+
+}  // namespace rse::deliberative
