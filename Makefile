@@ -27,10 +27,16 @@ RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COM
 # ---------------------------------------------------------------------------
 # Debian packages: exactly what the build, tests, cross-tests and the vcan VM
 # test need (the VM test also downloads Debian's kernel package into build/).
+# COIN-OR CBC: the exact MILP reference of the chance-constrained planner
+# (unit_test/bench/cc_reference_milp.*), linked into the host build of the
+# cc_reference suite and into bench_cc_reference only; never into flight code,
+# rse-fsw or any aarch64 binary (the suite's CBC tests are host only).
+CBC_PACKAGES := coinor-libcbc-dev
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
                 g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64 \
                 qemu-system-x86 busybox-static can-utils \
-                libmbedtls-dev libmbedtls-dev:arm64 tshark clang libclang-rt-14-dev
+                libmbedtls-dev libmbedtls-dev:arm64 tshark clang libclang-rt-14-dev \
+                $(CBC_PACKAGES)
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
 .PHONY: deps
@@ -182,11 +188,27 @@ SUITES := $(sort $(filter-out support integration bench fuzz,\
             $(patsubst unit_test/%/,%,$(dir $(wildcard unit_test/*/*.cpp)))))
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
+# A suite may add objects (SUITE_OBJS_<suite>) and libraries (SUITE_LIBS_<suite>),
+# and leave test files out of the aarch64 build (SUITE_HOST_ONLY_<suite>).
 define suite_rule
-$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/$(1)/*.cpp)) $(SUPPORT_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(filter-out $(if $(CROSS_COMPILE),$(SUITE_HOST_ONLY_$(1))),$(wildcard unit_test/$(1)/*.cpp))) $(SUITE_OBJS_$(1)) $(SUPPORT_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $$(@D)
-	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST)
+	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST) $(SUITE_LIBS_$(1))
 endef
+# Chance-constrained planning reference (host-only benchmark code in
+# unit_test/bench/): instance generator, Monte Carlo checker and shared checks
+# build for both architectures; the CBC MILP reference for the host only.
+CC_BENCH_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,unit_test/bench/cc_common.cpp \
+                   unit_test/bench/cc_instances.cpp unit_test/bench/cc_monte_carlo.cpp)
+CC_MILP_OBJ := $(BUILD)/obj/unit_test/bench/cc_reference_milp.o
+CBC_CPPFLAGS := -isystem /usr/include/coin
+CBC_LDLIBS := -lCbcSolver -lCbc -lOsiClp -lClp -lOsi -lCoinUtils
+$(CC_MILP_OBJ): unit_test/bench/cc_reference_milp.cpp | deps
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CBC_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
+SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp)
+SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
+SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
 TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # Script suites drive the built executables (RSE_BIN_DIR, under RSE_RUNNER).
@@ -237,8 +259,9 @@ DEMO_SECONDS ?= 10
 demo: $(FSW_BIN)
 	$(FSW_BIN) --lockstep --duration $(DEMO_SECONDS)
 
-# Each program in unit_test/bench/ is one benchmark; make bench runs them all.
-BENCH_BINS := $(patsubst unit_test/bench/%.cpp,$(BUILD)/bin/%,$(wildcard unit_test/bench/*.cpp))
+# Each program unit_test/bench/bench_*.cpp is one benchmark; make bench runs them
+# all (the other .cpp files there are code the benchmarks share).
+BENCH_BINS := $(patsubst unit_test/bench/%.cpp,$(BUILD)/bin/%,$(wildcard unit_test/bench/bench_*.cpp))
 $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
@@ -246,7 +269,7 @@ $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OB
 # The RRT* benchmark runs OMPL's RRT* beside ours as the reference. OMPL (and
 # Boost under it) is a host-only benchmark dependency: never linked into flight
 # code or the unit tests, so `make test` does not install it.
-BENCH_PACKAGES := libompl-dev
+BENCH_PACKAGES := libompl-dev $(CBC_PACKAGES)
 OMPL_CPPFLAGS := -isystem /usr/include/ompl-1.5
 .PHONY: bench-deps
 bench-deps: deps
@@ -257,6 +280,11 @@ $(BUILD)/obj/unit_test/bench/bench_rrt_star.o: unit_test/bench/bench_rrt_star.cp
 $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
+
+# The chance-constrained reference benchmark: CBC's exact MILP (host only).
+$(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) $(CBC_LDLIBS)
 
 bench: bench-deps $(BENCH_BINS)
 	@set -e; for b in $(filter-out %/bench_socketcan,$(BENCH_BINS)); do echo "### $$b"; $$b; echo; done

@@ -1,0 +1,114 @@
+// Host-only helpers shared by the chance-constrained planning benchmark: the
+// instance generator (cc_instances), the exact MILP reference
+// (cc_reference_milp) and the Monte Carlo checker (cc_monte_carlo), and usable
+// by any test that wants to check a plan against fsw/deliberative/cc_problem.hpp
+// independently of the planner that made it.
+//
+// Everything follows the problem definition in cc_problem.hpp:
+//   Sigma_t = Sigma_0 + t sigma^2 I,
+//   margin(t, a, delta) = PhiInv(1 - delta) sqrt(a' Sigma_t a),
+//   segment t, obstacle i, face j holds when
+//     a_j . mu_t     >= b_j + margin(t,     a_j, delta[t][i][0]) and
+//     a_j . mu_{t+1} >= b_j + margin(t + 1, a_j, delta[t][i][1]),
+//   cost = sum_t max_k c_k . (mu_{t+1} - mu_t), c_k = (cos 2 pi k / K, sin 2 pi k / K).
+// No CBC here: this compiles for the host and for aarch64.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fsw/deliberative/cc_problem.hpp"
+
+namespace rse::test::cc {
+
+using deliberative::CcPlan;
+using deliberative::CcProblem;
+using deliberative::kMaxObstacleFaces;
+using deliberative::kMaxPlanObstacles;
+using deliberative::kMaxPlanSteps;
+using deliberative::kPolygonNormSides;
+using deliberative::PlanObstacle;
+
+// ---- Gaussian
+double normalCdf(double x);
+// Phi^-1(p) for p in (0, 1) (Acklam's approximation + one Halley step on erfc:
+// relative error ~1e-15). Returns -inf / +inf at 0 / 1 and NaN outside [0, 1].
+double normalQuantile(double p);
+// Phi^-1(1 - delta), computed as -Phi^-1(delta) so that tiny deltas keep their digits.
+double normalUpperQuantile(double delta);
+
+// ---- the problem's covariance and margins
+// Sigma_t = Sigma_0 + t sigma^2 I (row major).
+void stepCovariance(const CcProblem& problem, std::size_t t, double cov[4]);
+// PhiInv(1 - delta) sqrt(a' Sigma_t a) for the unit normal a = (ax, ay).
+double faceMargin(const CcProblem& problem, std::size_t t, double ax, double ay, double delta);
+
+// One delta per (segment t, obstacle i, end e): e = 0 the segment's start
+// (mu_t), e = 1 its end (mu_{t+1}). Entries beyond N x M are unused (0).
+struct RiskSplit {
+    double delta[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
+    double total(const CcProblem& problem) const;
+};
+// Delta / (2 N M) everywhere (the RSE paper's split); all zero when M = 0.
+RiskSplit evenSplit(const CcProblem& problem);
+// The deltas a plan reports (CcPlan::delta).
+RiskSplit splitOf(const CcPlan& plan);
+
+// ---- path length
+double kgonLength(const double* meanX, const double* meanY, std::size_t steps);
+double euclideanLength(const double* meanX, const double* meanY, std::size_t steps);
+
+// ---- polygon geometry (obstacle = {x : a_j . x < b_j for all j}, an open set)
+struct Point {
+    double x = 0.0;
+    double y = 0.0;
+};
+// max_j (a_j . p - b_j): > 0 outside (p is in the safe half-plane of some face),
+// < 0 strictly inside (minus the depth to the nearest face line).
+double obstacleSlack(const PlanObstacle& obstacle, double x, double y);
+bool pointInObstacle(const PlanObstacle& obstacle, double x, double y);
+// Exact: does the closed segment p0 -> p1 meet the open polygon? (Clips the
+// segment's parameter interval against every face; touching a face or a
+// vertex from outside is not a collision.)
+bool segmentIntersectsObstacle(const PlanObstacle& obstacle, double x0, double y0, double x1,
+                               double y1);
+// The polygon's vertices in the order of its faces (vertex k = face k - 1
+// meets face k, so face k is the edge vertex k -> vertex k + 1), or an empty vector when the faces are not a closed convex
+// polygon listed counter-clockwise with every face an edge of positive length.
+std::vector<Point> obstacleVertices(const PlanObstacle& obstacle);
+// The obstacle whose faces are the edges of this convex polygon (vertices
+// counter-clockwise, 3 .. kMaxObstacleFaces of them; face k is the edge
+// vertex k -> vertex k + 1, so obstacleVertices gives the vertices back).
+PlanObstacle obstacleFromVertices(const std::vector<Point>& ccwVertices, std::uint8_t id);
+// Axis-aligned box [x0, x1] x [y0, y1]; faces bottom, right, top, left.
+PlanObstacle boxObstacle(double x0, double y0, double x1, double y1, std::uint8_t id);
+
+// ---- checks
+// Empty when the problem is well formed (sizes, finiteness, unit normals,
+// closed convex CCW obstacles, PSD Sigma_0, sigma >= 0, Delta in (0, 0.5),
+// start and goal inside the site); otherwise what is wrong.
+std::string validateProblem(const CcProblem& problem);
+
+// The segment constraints of a path for a given risk split, face free: for
+// each (t, i) the best face's min over both ends of (a . mu - b - margin),
+// then the minimum of that over all (t, i). >= -tolerance means the path meets
+// every segment constraint with some face; +inf when M = 0. (*worstT, *worstI)
+// get the binding pair when non-null.
+double segmentConstraintSlack(const CcProblem& problem, const double* meanX, const double* meanY,
+                              const RiskSplit& split, std::size_t* worstT = nullptr,
+                              std::size_t* worstI = nullptr);
+// The same with the faces and deltas the plan reports (CcPlan::face, delta).
+double planReportedSlack(const CcProblem& problem, const CcPlan& plan);
+// Waypoints only: for waypoint w and obstacle i the best face's
+// a . mu_w - b - margin(w, a, delta_w) with delta_w the smallest delta of the
+// segment ends at w. The constraint the waypoint-only reference enforces.
+double waypointConstraintSlack(const CcProblem& problem, const double* meanX, const double* meanY,
+                               const RiskSplit& split);
+// Largest violation of the site bounds by mu_1 .. mu_{N-1} (<= 0 when inside).
+double siteBoundViolation(const CcProblem& problem, const double* meanX, const double* meanY);
+// Do any of the mean segments meet any obstacle (the deterministic path)?
+bool meanPathHitsObstacle(const CcProblem& problem, const double* meanX, const double* meanY);
+
+}  // namespace rse::test::cc
