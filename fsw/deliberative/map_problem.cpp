@@ -1,0 +1,186 @@
+#include "fsw/deliberative/map_problem.hpp"
+
+#include <cmath>
+#include <cstddef>
+
+#include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/habitual/map_builder.hpp"
+
+namespace rse::deliberative {
+
+namespace {
+
+using habitual::Point2;
+using habitual::kCoarseMapSlots;
+using habitual::kCoarseMapVerticesPerSlot;
+
+Point2 vertexOf(const tables::CoarseMapTable& map, std::size_t slot, std::size_t vertex) {
+    const std::size_t i = slot * kCoarseMapVerticesPerSlot + vertex;
+    return Point2{static_cast<double>(map.vertex_x_m[i]), static_cast<double>(map.vertex_y_m[i])};
+}
+
+// Slot grown by radius: faces with outward unit normals. False for a polygon
+// that is not strictly convex (a zero-length edge, a reflex or straight corner).
+bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, double radius,
+                   PlanObstacle* out) {
+    double twiceArea = 0.0;
+    for (std::size_t v = 0; v < count; ++v) {
+        twiceArea += habitual::cross(vertexOf(map, slot, v), vertexOf(map, slot, (v + 1) % count));
+    }
+    if (!(std::fabs(twiceArea) > 0.0)) {
+        return false;
+    }
+    const double winding = twiceArea > 0.0 ? 1.0 : -1.0;  // +1 counter-clockwise
+    out->id = static_cast<std::uint8_t>(slot);
+    out->faceCount = static_cast<std::uint8_t>(count);
+    for (std::size_t v = 0; v < count; ++v) {
+        const Point2 a = vertexOf(map, slot, v);
+        const Point2 b = vertexOf(map, slot, (v + 1) % count);
+        const Point2 c = vertexOf(map, slot, (v + 2) % count);
+        if (winding * habitual::cross(b - a, c - b) <= 0.0) {
+            return false;
+        }
+        const Point2 e = b - a;
+        const double length = std::sqrt(habitual::dot(e, e));
+        // Outward normal: the edge turned clockwise for a counter-clockwise polygon.
+        const double nx = winding * e.y / length;
+        const double ny = -winding * e.x / length;
+        out->normalX[v] = nx;
+        out->normalY[v] = ny;
+        out->offset[v] = nx * a.x + ny * a.y + radius;
+    }
+    return true;
+}
+
+// Inside the open grown polygon: below every face.
+bool inside(const PlanObstacle& o, double x, double y) {
+    for (std::size_t j = 0; j < o.faceCount; ++j) {
+        if (o.normalX[j] * x + o.normalY[j] * y >= o.offset[j]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Distance from the segment start-goal to the polygon's vertices and the
+// polygon's vertices' segments: a ranking, not a clearance (0 when they meet).
+double rankDistance(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, Point2 s, Point2 g) {
+    double best = INFINITY;
+    for (std::size_t v = 0; v < count; ++v) {
+        const double d = habitual::segmentSegmentDistanceSquared(s, g, vertexOf(map, slot, v),
+                                                                  vertexOf(map, slot, (v + 1) % count));
+        best = d < best ? d : best;
+    }
+    return best;
+}
+
+bool finite(const PlanRequest& r) {
+    bool ok = std::isfinite(r.startX) && std::isfinite(r.startY) && std::isfinite(r.goalX) &&
+              std::isfinite(r.goalY) && std::isfinite(r.riskBound);
+    for (double c : r.startCov) {
+        ok = ok && std::isfinite(c);
+    }
+    return ok;
+}
+
+}  // namespace
+
+const char* toString(MapProblemError error) {
+    switch (error) {
+        case MapProblemError::kNone: return "none";
+        case MapProblemError::kBadRequest: return "bad request";
+        case MapProblemError::kStartOffSite: return "start off the site";
+        case MapProblemError::kGoalOffSite: return "goal off the site";
+        case MapProblemError::kGoalInObstacle: return "goal inside an obstacle";
+        case MapProblemError::kBadMap: return "coarse map polygon not convex";
+        case MapProblemError::kBadProblem: return "planner table out of range";
+    }
+    return "?";
+}
+
+core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
+                             const tables::RoverGeometryTable& geometry, const PlanRequest& request,
+                             CcProblem* out, MapProblemReport* report) {
+    *report = MapProblemReport{};
+    const auto fail = [report](MapProblemError error) {
+        report->error = error;
+        return core::Status::kInvalidArgument;
+    };
+    if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5)) {
+        return fail(MapProblemError::kBadRequest);
+    }
+    const double radius = static_cast<double>(geometry.footprint_radius_m);
+    CcProblem p{};
+    p.steps = static_cast<std::uint8_t>(planner.horizon_steps <= kMaxPlanSteps ? planner.horizon_steps : 0);
+    p.startX = request.startX;
+    p.startY = request.startY;
+    for (std::size_t k = 0; k < 4; ++k) {
+        p.startCov[k] = request.startCov[k];
+    }
+    // The estimator's covariance is symmetric up to rounding; the planner wants it exactly.
+    p.startCov[1] = p.startCov[2] = 0.5 * (request.startCov[1] + request.startCov[2]);
+    p.processSigmaM = static_cast<double>(planner.process_noise_sigma_m);
+    p.goalX = request.goalX;
+    p.goalY = request.goalY;
+    p.xMin = static_cast<double>(map.x_min_m) + radius;
+    p.xMax = static_cast<double>(map.x_max_m) - radius;
+    p.yMin = static_cast<double>(map.y_min_m) + radius;
+    p.yMax = static_cast<double>(map.y_max_m) - radius;
+    p.riskBound = request.riskBound;
+    p.allocation = planner.risk_allocation == 1 ? RiskAllocation::kOptimised : RiskAllocation::kEvenSplit;
+    const auto onSite = [&p](double x, double y) { return x >= p.xMin && x <= p.xMax && y >= p.yMin && y <= p.yMax; };
+    if (!onSite(p.startX, p.startY)) {
+        return fail(MapProblemError::kStartOffSite);
+    }
+    if (!onSite(p.goalX, p.goalY)) {
+        return fail(MapProblemError::kGoalOffSite);
+    }
+
+    // Grow every polygon in use; rank by distance to the straight line.
+    PlanObstacle grown[kCoarseMapSlots];
+    double rank[kCoarseMapSlots] = {};
+    std::size_t count = 0;
+    const std::size_t slots = map.obstacle_count <= kCoarseMapSlots ? map.obstacle_count : kCoarseMapSlots;
+    const Point2 s{p.startX, p.startY};
+    const Point2 g{p.goalX, p.goalY};
+    for (std::size_t slot = 0; slot < slots; ++slot) {
+        const std::size_t n = map.vertex_count[slot];
+        if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &grown[count])) {
+            return fail(MapProblemError::kBadMap);
+        }
+        if (inside(grown[count], p.goalX, p.goalY)) {
+            return fail(MapProblemError::kGoalInObstacle);
+        }
+        report->startInObstacle = report->startInObstacle || inside(grown[count], p.startX, p.startY);
+        rank[count] = rankDistance(map, slot, n, s, g);
+        ++count;
+    }
+    report->obstaclesOnMap = static_cast<std::uint8_t>(count);
+    // Keep the kMaxPlanObstacles nearest (selection, ties to the lower slot).
+    bool taken[kCoarseMapSlots] = {};
+    const std::size_t keep = count < kMaxPlanObstacles ? count : kMaxPlanObstacles;
+    for (std::size_t k = 0; k < keep; ++k) {
+        std::size_t pick = count;
+        for (std::size_t i = 0; i < count; ++i) {
+            if (!taken[i] && (pick == count || rank[i] < rank[pick])) {
+                pick = i;
+            }
+        }
+        taken[pick] = true;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        if (taken[i]) {
+            p.obstacles[p.obstacleCount++] = grown[i];
+        }
+    }
+    report->obstaclesUsed = p.obstacleCount;
+    report->obstaclesDropped = static_cast<std::uint8_t>(count - p.obstacleCount);
+    if (!core::isOk(checkProblem(p))) {
+        return fail(MapProblemError::kBadProblem);
+    }
+    *out = p;
+    return core::Status::kOk;
+}
+
+}  // namespace rse::deliberative
