@@ -6,6 +6,7 @@
 #   make host-test   host suites only (quick edit-test loop)
 #   make cross-test  aarch64 suites only, under qemu-aarch64
 #   make demo        the lockstep mission demo
+#   make plan-picture  the demo map planned at Delta = 1e-2 and 1e-6, drawn to build/plan_picture.svg
 #   make bench       benchmarks; they print their figures (see docs/performance.md)
 #   make clean
 # Every target that builds depends on deps, so a fresh clone needs no manual step.
@@ -141,7 +142,7 @@ $(BUILD)/obj/ground/%.o: ground/%.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(SIM_CXXFLAGS) -c $< -o $@
 
-GROUND_MAINS := ground/rse_isotp.cpp ground/rse_ground.cpp
+GROUND_MAINS := ground/rse_isotp.cpp ground/rse_ground.cpp ground/plan_picture.cpp
 GROUND_SRCS := $(filter-out $(GROUND_MAINS),$(sort $(wildcard ground/*.cpp)))
 GROUND_LIB := $(BUILD)/lib/librse_ground.a
 $(GROUND_LIB): $(GROUND_SRCS:%.cpp=$(BUILD)/obj/%.o)
@@ -155,6 +156,12 @@ $(ISOTP_BIN): $(BUILD)/obj/ground/rse_isotp.o $(FLIGHT_LIB)
 
 GROUND_BIN := $(BUILD)/bin/rse-ground
 $(GROUND_BIN): $(BUILD)/obj/ground/rse_ground.o $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
+# rse-plan-picture: the default tables' map planned at two risk bounds, one SVG.
+PLAN_PICTURE_BIN := $(BUILD)/bin/rse-plan-picture
+$(PLAN_PICTURE_BIN): $(BUILD)/obj/ground/plan_picture.o $(DEFAULT_TABLES_OBJ) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
@@ -176,7 +183,7 @@ $(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
 
 # A cross build makes what runs on the rover; a host build adds the simulator
 # and the ground tools.
-HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN) $(GROUND_BIN)
+HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN)
 .PHONY: all
 all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
@@ -253,11 +260,18 @@ test: deps
 	@unit_test/summarize.sh $(RESULTS)
 
 # ---------------------------------------------------------------------------
-# Demo and benchmarks (host).
+# Demo, plan picture and benchmarks (host).
 DEMO_SECONDS ?= 10
-.PHONY: demo bench
+.PHONY: demo bench plan-picture
 demo: $(FSW_BIN)
 	$(FSW_BIN) --lockstep --duration $(DEMO_SECONDS)
+
+# The demo map planned at Delta = 1e-2 and 1e-6 (docs/deliberative.md, "Picture").
+HOST_PLAN_PICTURE_BIN := build/$(shell uname -m)/bin/rse-plan-picture
+PLAN_PICTURE_SVG := build/plan_picture.svg
+plan-picture: deps
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_PLAN_PICTURE_BIN)
+	$(HOST_PLAN_PICTURE_BIN) -o $(PLAN_PICTURE_SVG)
 
 # Each program unit_test/bench/bench_*.cpp is one benchmark; make bench runs them
 # all (the other .cpp files there are code the benchmarks share).

@@ -19,5 +19,6 @@ constexpr core::EventId kBusMessageMalformed = 211; // a bus message that does n
 constexpr core::EventId kWheelsStoppedOnModeChange = 212; // the rover mode changed while a wheel was commanded: all to zero
 constexpr core::EventId kEstopWheelsStopped = 213; // e-stop: every drive reports stopped, and how long it took
 constexpr core::EventId kEstopStopOverrun = 214;   // e-stop: a wheel still turns after FAULT_RESPONSE.estop_stop_time_ms
+constexpr core::EventId kSafedOnRequest = 215;     // an onboard layer called home: mode -> SAFE (who, why)
 
 }  // namespace rse::app::events

@@ -2,6 +2,7 @@
 
 #include "fsw/app/app_events.hpp"
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 
 namespace rse::app {
@@ -25,11 +26,40 @@ CommandOutcome failed(std::int16_t detail) { return CommandOutcome{false, detail
 
 AppCommandHandler::AppCommandHandler(const Parts& parts) : parts_(parts), goals_(1e-3) {}
 
+namespace {
+constexpr std::uint16_t kRequestPipeDepth = 4;
+}  // namespace
+
 core::Status AppCommandHandler::init() {
+    core::Status status = parts_.bus.createPipe("mode_requests", kRequestPipeDepth, &requestPipe_);
+    if (core::isOk(status)) {
+        status = parts_.bus.subscribe(requestPipe_, msg::ids::kSafeRequest);
+    }
+    if (!core::isOk(status)) {
+        return status;
+    }
+    requestsReady_ = true;
     goals_.setRiskBound(parts_.tables.planner().default_risk_bound);
     publishMode();
     publishGoals();
     return core::Status::kOk;
+}
+
+void AppCommandHandler::serviceOnboardRequests() {
+    for (std::uint16_t i = 0; requestsReady_ && i < kRequestPipeDepth && core::isOk(parts_.bus.receive(requestPipe_, &inbox_));
+         ++i) {
+        msg::SafeRequestMsg request{};
+        if (!core::isOk(inbox_.decode(&request))) {
+            continue;  // the bus only routes kSafeRequest here; a wrong size is the publisher's bug
+        }
+        ++safeRequests_;
+        parts_.events.report(events::kSafedOnRequest, core::Severity::kWarning,
+                             "app: deliberative layer called home (reason %u): mode %s -> SAFE",
+                             static_cast<unsigned>(request.reason), cmdtlm::toString(mode_));
+        if (mode_ != cmdtlm::Mode::kSafe) {
+            setMode(cmdtlm::Mode::kSafe);
+        }
+    }
 }
 
 CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict) {

@@ -2,7 +2,8 @@
 // (fsw/cmdtlm/command_task.hpp). Owns the rover mode and the software e-stop
 // flag and announces both on the bus (ModeMsg); mission goals go to the goal
 // list (GoalListMsg), manual drives to the manual-drive task, table commands to
-// the table service, counter resets to everything that counts.
+// the table service, counter resets to everything that counts. Onboard layers
+// may ask for SAFE (SafeRequestMsg, pipe "mode_requests").
 #pragma once
 
 #include "fsw/app/telemetry_task.hpp"
@@ -42,6 +43,9 @@ public:
 
     cmdtlm::Mode mode() const override { return mode_; }
     cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
+    // A SafeRequestMsg (the deliberative layer's call home) puts the rover in SAFE.
+    void serviceOnboardRequests() override;
+    std::uint32_t safeRequests() const { return safeRequests_; }
 
     bool estop() const { return estop_; }
     const deliberative::GoalList& goals() const { return goals_; }
@@ -59,6 +63,10 @@ private:
     cmdtlm::Mode mode_ = kBootMode;
     bool estop_ = false;
     deliberative::GoalList goals_;
+    core::PipeId requestPipe_ = 0;
+    bool requestsReady_ = false;
+    std::uint32_t safeRequests_ = 0;
+    core::Message inbox_{};
 };
 
 }  // namespace rse::app

@@ -41,7 +41,8 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       manualDrive_(clock, bus_, events_, tables_),
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
-      habitual_(bus_, events_, tables_) {
+      habitual_(bus_, events_, tables_),
+      deliberative_(bus_, events_, tables_) {
     handler_.attach(&commands_, &telemetry_);
 }
 
@@ -95,6 +96,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(habitual_.init(), "habitual layer init");
     }
     if (core::isOk(status)) {
+        status = initStep(deliberative_.init(), "deliberative layer init");
+    }
+    if (core::isOk(status)) {
         status = initStep(handler_.init(), "command handlers init");
     }
     if (!core::isOk(status)) {
@@ -114,7 +118,8 @@ core::Status FswApp::init(std::FILE* console) {
     // what they publish describes this frame's CAN inputs; the follower comes
     // after them so it steers from this frame's pose. The habitual layer runs at
     // 10 Hz on its own offset, so its planning slice does not share a frame with
-    // housekeeping or the console. Keep docs/architecture.md in step.
+    // housekeeping or the console; the deliberative layer likewise on offset 7,
+    // its planner sliced to about kSliceWork per run. Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
         {"tables", &tables_, 1, 0, 200},
@@ -129,6 +134,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"telemetry", &telemetry_, 1, 0, 2000},
         {"console", &console_, 10, 1, 2000},
         {"habitual", &habitual_, 10, 5, 4000},
+        {"deliberative", &deliberative_, 10, 7, 5000},
     };
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
     status = executive_.init(config, table, sizeof table / sizeof table[0]);

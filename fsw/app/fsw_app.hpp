@@ -19,6 +19,7 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/deliberative/deliberative_task.hpp"
 #include "fsw/estimator/drive_mode_task.hpp"
 #include "fsw/estimator/health_task.hpp"
 #include "fsw/estimator/pose_estimator_task.hpp"
@@ -75,6 +76,7 @@ public:
     const estimator::HealthTask& health() const { return health_; }
     const reflexive::TrajectoryTask& follower() const { return follower_; }
     const habitual::HabitualTask& habitual() const { return habitual_; }
+    const deliberative::DeliberativeTask& deliberative() const { return deliberative_; }
 
 private:
     core::Status initStep(core::Status status, const char* what);
@@ -97,8 +99,10 @@ private:
     reflexive::ManualDrive manualDrive_;
     reflexive::TrajectoryTask follower_;
     ConsoleTask console_;
-    // About 1 MB (the RRT* node pool): an FswApp belongs in static storage.
+    // About 1 MB (the RRT* node pool) and 0.5 MB (the chance-constrained
+    // planner): an FswApp belongs in static storage.
     habitual::HabitualTask habitual_;
+    deliberative::DeliberativeTask deliberative_;
 };
 
 }  // namespace rse::app

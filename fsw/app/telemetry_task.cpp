@@ -13,7 +13,7 @@ core::Status TelemetryTask::init() {
     core::Status status = bus_.createPipe("telemetry", 8, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
-                               msg::ids::kGoalList};
+                               msg::ids::kGoalList, msg::ids::kPlanStatus};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -79,6 +79,18 @@ void TelemetryTask::takeBusMessages() {
                 status = inbox_.decode(&goals_);
                 planChanged_ = planChanged_ || core::isOk(status);
                 break;
+            case msg::ids::kPlanStatus: {
+                // Published at 1 Hz and on change; PLAN goes out when what it shows changes.
+                const msg::PlanStatusMsg before = planStatus_;
+                status = inbox_.decode(&planStatus_);
+                planChanged_ = planChanged_ ||
+                               (core::isOk(status) &&
+                                (planStatus_.state != before.state || planStatus_.legIndex != before.legIndex ||
+                                 planStatus_.plansMade != before.plansMade || planStatus_.callHomes != before.callHomes ||
+                                 planStatus_.currentLegId != before.currentLegId ||
+                                 planStatus_.riskInForce != before.riskInForce));
+                break;
+            }
             default: break;
         }
         if (!core::isOk(status)) {
@@ -228,15 +240,35 @@ void TelemetryTask::sendHealth() {
 
 void TelemetryTask::sendPlan() {
     plan_ = cmdtlm::PLAN_Tlm{};
-    plan_.waypoint_count = goals_.count;
-    plan_.status = goals_.count > 0 ? 1 : 0;  // goals pending; the planner will report the rest
+    const msg::PlanStatusMsg& p = planStatus_;
+    plan_.status = static_cast<std::uint8_t>(p.state);
+    plan_.plan_status = p.planStatus;
+    plan_.call_home = static_cast<std::uint8_t>(p.callHome);
+    plan_.goal_count = goals_.count;
+    plan_.goal_index = p.goalIndex;
+    plan_.leg_count = p.legCount;
+    plan_.leg_index = p.legIndex;
+    plan_.waypoint_count = p.shownLegs;
     plan_.risk_bound = goals_.riskBound;
+    plan_.risk_in_force = p.riskInForce;
+    plan_.risk_used = p.riskUsed;
+    plan_.plan_length = static_cast<float>(p.planLengthM);
+    plan_.current_leg_id = p.currentLegId;
+    plan_.replans = p.replans;
+    plan_.risk_relaxations = p.riskRelaxations;
+    plan_.bound_relaxations = p.boundRelaxations;
+    plan_.call_homes = p.callHomes;
     for (std::size_t i = 0; i < goals_.count && i < msg::kMaxGoals; ++i) {
-        plan_.waypoint_x[i] = static_cast<float>(goals_.goals[i].xM);
-        plan_.waypoint_y[i] = static_cast<float>(goals_.goals[i].yM);
-        // The paper's even split until the planner allocates risk itself.
-        plan_.leg_risk[i] = static_cast<float>(goals_.riskBound / static_cast<double>(goals_.count));
+        plan_.goal_x[i] = static_cast<float>(goals_.goals[i].xM);
+        plan_.goal_y[i] = static_cast<float>(goals_.goals[i].yM);
         plan_.priority[i] = goals_.goals[i].priority;
+    }
+    for (std::size_t i = 0; i < p.shownLegs && i < msg::kPlanStatusLegs; ++i) {
+        plan_.waypoint_x[i] = static_cast<float>(p.legs[i].xM);
+        plan_.waypoint_y[i] = static_cast<float>(p.legs[i].yM);
+        plan_.leg_risk[i] = static_cast<float>(p.legs[i].risk);
+        plan_.leg_length_bound[i] = static_cast<float>(p.legs[i].lengthM);
+        plan_.leg_energy_bound[i] = static_cast<float>(p.legs[i].energyJ / 3600.0);
     }
     output_.send(plan_);
 }

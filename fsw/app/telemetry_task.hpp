@@ -11,6 +11,7 @@
 #pragma once
 
 #include "fsw/app/can_io_task.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/cmdtlm/command_task.hpp"
 #include "fsw/cmdtlm/housekeeping_task.hpp"
 #include "fsw/cmdtlm/telemetry_output.hpp"
@@ -93,6 +94,7 @@ private:
     bool healthChanged_ = false;
     msg::ModeMsg mode_{};
     msg::GoalListMsg goals_{};
+    msg::PlanStatusMsg planStatus_{};
     // Packet structs kept out of the task's stack.
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};

@@ -21,6 +21,9 @@ public:
     virtual Mode mode() const = 0;
     // verdict.reason is kAccepted; verdict.command and verdict.args are set.
     virtual CommandOutcome execute(const CommandVerdict& verdict) = 0;
+    // Once per command-task run, before the commands: requests the onboard
+    // layers make of what the application owns (e.g. a call home asking for SAFE).
+    virtual void serviceOnboardRequests() {}
 
 protected:
     ~CommandHandler() = default;

@@ -36,6 +36,7 @@ core::Status CommandTask::init() {
 }
 
 void CommandTask::run(const core::FrameContext&) {
+    handler_.serviceOnboardRequests();
     ingest();
     for (std::size_t i = 0; i < kCommandsPerFrame && count_ > 0; ++i) {
         dispatchOne();

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/deliberative/gaussian.hpp"
+#include "fsw/deliberative/plan_tauten.hpp"
 
 namespace rse::deliberative {
 
@@ -88,6 +89,7 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     nodes_ = 0;
     seedSolves_ = 0;
     incumbents_ = 0;
+    tautenRefused_ = 0;
     lastIncumbentNode_ = 0;
     maxDepth_ = 0;
     depth_ = 0;
@@ -967,6 +969,14 @@ void CcPlanner::finish() {
         return;
     }
     best_.status = (exhausted_ && !incomplete_) ? CcStatus::kOptimal : CcStatus::kFeasible;
+    // Pull the path taut (plan_tauten.hpp); kept only if it verifies and costs no more.
+    candidate_ = best_;
+    geometryWork_ += kTautWorkPerTry * tautenPlan(problem_, &candidate_);
+    if (checkPlan(problem_, candidate_) == core::Status::kOk && candidate_.cost <= best_.cost) {
+        best_ = candidate_;
+    } else {
+        ++tautenRefused_;
+    }
 }
 
 }  // namespace rse::deliberative

@@ -120,6 +120,8 @@ public:
     static constexpr std::size_t kFactorPoolDoubles = 4 * LpSolver::factorDoubles(kLpMaxVariables);
     static constexpr std::size_t kMaxFactorSlots = 64;
     static constexpr std::size_t kMaxSeedVertices = 192;  // start, goal and free-space corners
+    // Work units charged per position tautening tries (2 M face checks).
+    static constexpr std::uint64_t kTautWorkPerTry = 64;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
@@ -147,6 +149,8 @@ public:
     std::uint32_t refactorizations() const { return lp_.solver().refactorizations(); }
     std::uint32_t factorRestores() const { return factorRestores_; }
     std::uint32_t incumbents() const { return incumbents_; }        // improvements of the plan
+    // Final plans whose tautened path (plan_tauten.hpp) failed checkPlan or cost more: kept as planned.
+    std::uint32_t tautenRefused() const { return tautenRefused_; }
     std::uint32_t nodeOfLastIncumbent() const { return lastIncumbentNode_; }
     std::size_t maxDepth() const { return maxDepth_; }
     bool seedFound() const { return seedFound_; }
@@ -244,6 +248,7 @@ private:
     std::uint32_t nodes_ = 0;
     std::uint32_t seedSolves_ = 0;
     std::uint32_t incumbents_ = 0;
+    std::uint32_t tautenRefused_ = 0;
     std::uint32_t lastIncumbentNode_ = 0;
     std::size_t maxDepth_ = 0;
 };

@@ -21,7 +21,8 @@ Point2 vertexOf(const tables::CoarseMapTable& map, std::size_t slot, std::size_t
 }
 
 // Slot grown by radius: faces with outward unit normals. False for a polygon
-// that is not strictly convex (a zero-length edge, a reflex or straight corner).
+// that is not strictly convex (a zero-length edge, a reflex or straight corner,
+// a boundary that winds more than once).
 bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, double radius,
                    PlanObstacle* out) {
     double twiceArea = 0.0;
@@ -40,6 +41,15 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
         const Point2 c = vertexOf(map, slot, (v + 2) % count);
         if (winding * habitual::cross(b - a, c - b) <= 0.0) {
             return false;
+        }
+        // Every other vertex strictly inside this edge: turns of one sign
+        // alone let a polygon that winds twice through (a pentagram), whose
+        // faces bound only its inner pentagon.
+        for (std::size_t w = 0; w < count; ++w) {
+            const bool onEdge = w == v || w == (v + 1) % count;
+            if (!onEdge && winding * habitual::cross(b - a, vertexOf(map, slot, w) - a) <= 0.0) {
+                return false;
+            }
         }
         const Point2 e = b - a;
         const double length = std::sqrt(habitual::dot(e, e));

@@ -72,7 +72,7 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
         ++known_;
         return SightingOutcome::kKnownObstacle;
     }
-    const double radius = std::fmax(sighting.halfWidthM, kMinHazardRadiusM);
+    const double radius = std::fmax(kSightingRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
 
     // The id's own slot, else a free one, else the one seen longest ago.
     std::size_t chosen = kMaxMapDiscs;

@@ -4,9 +4,17 @@
 // A hazard sighting (HazardMsg, rover frame: range to the nearest point, bearing,
 // half width across the line of sight) becomes a disc in the site frame:
 //   centre = rover + (range + halfWidth) * (cos(heading + bearing), sin(heading + bearing))
-//   radius = max(halfWidth, kMinHazardRadiusM)
-// i.e. the disc of the sighted half width whose near edge is the nearest point
-// seen. Discs are remembered in a fixed table of kMaxMapDiscs slots keyed by the
+//   radius = max(kSightingRadiusFactor * halfWidth, kMinHazardRadiusM)
+// The sighting says how wide the rock is across the line of sight (2 halfWidth)
+// but not where that width lies about the nearest point (anywhere from all on
+// one side to centred), nor how deep the rock is. With radius = halfWidth the
+// union of views still left a corner of the demo's hidden rock 0.28 m outside
+// its disc, and the three-layer lockstep mission (unit_test/lockstep/
+// test_lockstep_deliberative.cpp) drove into it. A disc enclosing every rock
+// those figures allow (no deeper than wide: sqrt(5) halfWidth) blocked the
+// rover's own position on close sightings and stalled the habitual lockstep
+// leg. kSightingRadiusFactor = 1.5 is the measured compromise: both lockstep
+// missions pass without contact. It is not a guarantee for every rock shape. Discs are remembered in a fixed table of kMaxMapDiscs slots keyed by the
 // detector's obstacle id. A new sighting of an id is merged with its disc: the
 // remembered disc becomes the smallest disc enclosing both (unchanged when it
 // already encloses the new one). One sighting sees only the part of an obstacle
@@ -48,6 +56,8 @@ namespace rse::habitual {
 // Below this a sighted obstacle is still given some size: a zero half width is
 // a post or an edge seen end-on, not a point.
 constexpr double kMinHazardRadiusM = 0.1;
+// Disc radius per sighted half width: see the file comment.
+constexpr double kSightingRadiusFactor = 1.5;
 // A sighting this close to a known polygon is that polygon seen again (the
 // detector's range and bearing noise and the pose error are a few centimetres;
 // the disc centre estimate of a large rock lands inside or near it).

@@ -39,4 +39,8 @@ constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command ha
 constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive
 constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> deliberative, telemetry
 
+// deliberative -> telemetry, command handlers (deliberative_msgs.hpp)
+constexpr core::MsgId kPlanStatus = 0x0141;    // PlanStatusMsg, on change and 1 Hz, deliberative -> telemetry
+constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home, deliberative -> command handlers (mode owner)
+
 }  // namespace rse::msg::ids

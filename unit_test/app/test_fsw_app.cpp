@@ -3,7 +3,9 @@
 
 #include "fsw/app/fsw_app.hpp"
 #include "hal/can/memory_can_bus.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/housekeeping_msg.hpp"
+#include "fsw/msg/mode_msgs.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -33,10 +35,11 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(12, hk.taskCount);
+    LONGS_EQUAL(13, hk.taskCount);
     const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",  "follower",
-                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console", "habitual"};
-    for (std::size_t i = 0; i < 12; ++i) {
+                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console", "habitual",
+                                 "deliberative"};
+    for (std::size_t i = 0; i < 13; ++i) {
         STRCMP_EQUAL(names[i], hk.tasks[i].name);
     }
     LONGS_EQUAL(301, hk.tasks[1].runs);    // every frame, this one included
@@ -69,7 +72,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 12 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 13 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 
@@ -84,4 +87,28 @@ TEST(FswApp, MalformedHousekeepingIsCountedNotPrinted) {
     LONGS_EQUAL(1, fsw.console().malformed());
     LONGS_EQUAL(1, fsw.console().housekeepingSeen());  // the real one from frame 0
     POINTERS_EQUAL(nullptr, std::strstr(text, "HK  #0"));
+}
+
+// A call home (the deliberative layer's SafeRequestMsg) is taken by the command
+// handlers (the mode owner) on their next run and counted; from SAFE (the boot
+// mode) no mode change is announced. AUTONOMOUS -> SAFE on a call home:
+// unit_test/lockstep/test_lockstep_deliberative.cpp.
+TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
+    CHECK(core::Status::kOk == fsw.init(nullptr));
+    core::PipeId probe;
+    CHECK(core::Status::kOk == fsw.bus().createPipe("probe", 8, &probe));
+    CHECK(core::Status::kOk == fsw.bus().subscribe(probe, msg::ids::kMode));
+    msg::SafeRequestMsg request{};
+    request.reason = msg::CallHomeReason::kMobilityLost;
+    CHECK(core::isOk(fsw.bus().publish(request)));
+    fsw.run(nullptr, 2);
+    LONGS_EQUAL(1, fsw.commandHandler().safeRequests());
+    CHECK(cmdtlm::Mode::kSafe == fsw.commandHandler().mode());
+    // Already SAFE (the boot mode): counted and evented, no mode change announced.
+    core::Message m;
+    unsigned modes = 0;
+    while (core::isOk(fsw.bus().receive(probe, &m))) {
+        ++modes;
+    }
+    LONGS_EQUAL(0, modes);
 }

@@ -155,10 +155,10 @@ TEST(GroundCommands, SetModeIsAcknowledgedAndShownInHousekeeping) {
     LONGS_EQUAL(1, static_cast<long>(field(hk, "mode")));
     LONGS_EQUAL(2, static_cast<long>(field(hk, "cmd_accepted")));
     LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_required")));
-    LONGS_EQUAL(12, static_cast<long>(field(hk, "task_count")));
+    LONGS_EQUAL(13, static_cast<long>(field(hk, "task_count")));
     LONGS_EQUAL(0, countOf("TASK_TIMING"));
     runFrames(20);
-    LONGS_EQUAL(12, countOf("TASK_TIMING"));  // one per task, in minor frames 10..21
+    LONGS_EQUAL(13, countOf("TASK_TIMING"));  // one per task, in minor frames 10..21
     CHECK(countOf("EVENT") > 5);             // the start-up events came down
 }
 
@@ -184,10 +184,17 @@ TEST(GroundCommands, GoalsAndRiskBoundShowInThePlanPacket) {
     runFrames(3);
     expectAccepted("GOTO");
     const Packet& plan = last("PLAN");
-    LONGS_EQUAL(1, static_cast<long>(field(plan, "waypoint_count")));
-    DOUBLES_EQUAL(12.5, field(plan, "waypoint_x"), 1e-6);
-    DOUBLES_EQUAL(-3.0, field(plan, "waypoint_y"), 1e-6);
+    LONGS_EQUAL(1, static_cast<long>(field(plan, "goal_count")));
+    DOUBLES_EQUAL(12.5, field(plan, "goal_x"), 1e-6);
+    DOUBLES_EQUAL(-3.0, field(plan, "goal_y"), 1e-6);
     DOUBLES_EQUAL(1e-6, field(plan, "risk_bound"), 1e-15);
+    // STANDBY: the deliberative layer (10 Hz) takes the goal and waits for
+    // AUTONOMOUS; PLAN is sent again when its state changes. No legs yet.
+    runFrames(10);
+    const Packet& waiting = last("PLAN");
+    LONGS_EQUAL(1, static_cast<long>(field(waiting, "status")));
+    LONGS_EQUAL(1, static_cast<long>(field(waiting, "goal_count")));
+    LONGS_EQUAL(0, static_cast<long>(field(waiting, "waypoint_count")));
 }
 
 TEST(GroundCommands, ManualDriveTurnsIntoSkidSteerWheelSpeedsAndStops) {

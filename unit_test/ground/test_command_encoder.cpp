@@ -160,7 +160,7 @@ TEST(GroundCommandEncoder, UnknownCommandIsRefusedByName) {
 
 TEST(GroundCommandEncoder, MissingArgumentIsNamedWithItsRange) {
     const std::string e = errorOf("GOTO", {"x=1", "y=2"});
-    CHECK_TRUE(contains(e, "GOTO: missing argument 'risk' <f64, 1e-09..0.5>"));
+    CHECK_TRUE(contains(e, "GOTO: missing argument 'risk' <f64, 1e-09..0.49>"));
     CHECK_TRUE(contains(e, "usage: GOTO x=<f64 m, -10000..10000>"));
 }
 
@@ -177,7 +177,7 @@ TEST(GroundCommandEncoder, DuplicateAndMalformedAssignmentsAreRefused) {
 
 TEST(GroundCommandEncoder, OutOfRangeShowsTheValidRange) {
     const std::string e = errorOf("GOTO", {"x=1", "y=2", "risk=0.6"});
-    CHECK_TRUE(contains(e, "GOTO: risk=0.6 is out of range 1e-09..0.5"));
+    CHECK_TRUE(contains(e, "GOTO: risk=0.6 is out of range 1e-09..0.49"));
     CHECK_TRUE(contains(errorOf("DRIVE", {"v=1.01", "omega=0", "duration=1"}), "v=1.01 is out of range -1..1 m/s"));
     CHECK_TRUE(contains(errorOf("ADD_TARGET", {"x=0", "y=0", "priority=0"}), "priority=0 is out of range 1..10"));
     CHECK_TRUE(contains(errorOf("SET_MODE", {"mode=-1"}), "mode=-1 is out of range 0..3"));

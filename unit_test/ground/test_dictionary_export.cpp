@@ -101,7 +101,7 @@ TEST(GroundDictionaryExport, EveryCommandArgumentPacketFieldAndReasonIsExported)
     }
     CHECK_TRUE(contains(md, "| 3 | MANUAL |"));
     CHECK_TRUE(contains(json, "{\"value\": 2, \"name\": \"AUTONOMOUS\"}"));
-    CHECK_TRUE(contains(json, "{\"name\": \"risk\", \"type\": \"f64\", \"units\": \"\", \"min\": 1e-09, \"max\": 0.5"));
+    CHECK_TRUE(contains(json, "{\"name\": \"risk\", \"type\": \"f64\", \"units\": \"\", \"min\": 1e-09, \"max\": 0.49"));
 }
 
 TEST(GroundDictionaryExport, JsonIsBalancedAndHasNoTrailingCommas) {

@@ -134,7 +134,7 @@ TEST(GroundCli, BadCommandsAndArgumentsExitTwoBeforeAnyLinkIsOpened) {
     CHECK_TRUE(contains(r.err, "unknown command 'WARP'"));
     r = cli({"--state-dir", dir.path(), "send", "GOTO", "x=1", "y=2", "risk=2"});
     CHECK_EQUAL(2, r.rc);
-    CHECK_TRUE(contains(r.err, "GOTO: risk=2 is out of range 1e-09..0.5"));
+    CHECK_TRUE(contains(r.err, "GOTO: risk=2 is out of range 1e-09..0.49"));
     r = cli({"--state-dir", dir.path(), "send", "GOTO", "x=1", "y=2"});
     CHECK_EQUAL(2, r.rc);
     CHECK_TRUE(contains(r.err, "missing argument 'risk'"));

@@ -248,7 +248,7 @@ TEST(GroundScriptRun, ABadLineStopsTheScriptBeforeAnythingIsSent) {
     Rig rig;
     const int rc = rig.run("send NOOP\nsend GOTO x=1 y=2 risk=5\n");
     CHECK_EQUAL(1, rc);
-    CHECK_TRUE(contains(rig.err.str(), "test.rsc: line 2: GOTO: risk=5 is out of range 1e-09..0.5"));
+    CHECK_TRUE(contains(rig.err.str(), "test.rsc: line 2: GOTO: risk=5 is out of range 1e-09..0.49"));
     CHECK_TRUE(contains(rig.err.str(), "nothing was sent"));
     CHECK_EQUAL(0U, rig.link.sent.size());
 }

@@ -23,8 +23,8 @@
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/tables/default_tables.hpp"
-#include "fsw/tables/table_image.hpp"
 #include "fsw/tables/table_service.hpp"
+#include "unit_test/support/table_loader.hpp"
 
 namespace rse::test {
 
@@ -138,16 +138,9 @@ public:
     // ---- tables -----------------------------------------------------------------
     template <typename Table>
     bool loadTable(tables::TableId id, const Table& table, std::uint32_t version) {
-        std::uint8_t image[tables::kMaxTableImageSize];
-        const std::size_t length = tables::encodeTable(table, version, image, sizeof image);
-        if (length == 0 || !tables.loadChunk(id, 0, image, length).ok() || !tables.validate(id).ok() ||
-            !tables.activate(id).ok()) {
-            return false;
-        }
-        core::FrameContext frame{};
-        tables.run(frame);
+        const bool ok = activateTable(tables, id, table, version);
         drainAllEvents();
-        return true;
+        return ok;
     }
 
     // ---- observations -------------------------------------------------------------

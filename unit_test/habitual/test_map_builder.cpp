@@ -87,12 +87,13 @@ TEST(MapBuilder, SightingBecomesADiscInTheSiteFrame) {
     CHECK(h != nullptr);
     DOUBLES_EQUAL(4.5, h->centre.x, 1e-9);
     DOUBLES_EQUAL(1.0, h->centre.y, 1e-9);
-    DOUBLES_EQUAL(0.5, h->radiusM, 1e-12);
+    const double radius = habitual::kSightingRadiusFactor * 0.5;
+    DOUBLES_EQUAL(radius, h->radiusM, 1e-12);
     CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
     LONGS_EQUAL(1, map.discCount());
     CHECK_FALSE(map.pointFree(Point2{4.5, 1.0}));
-    CHECK_FALSE(map.pointFree(Point2{4.5 + 1.05, 1.0}));  // within radius + clearance 1.1
-    CHECK_TRUE(map.pointFree(Point2{4.5 - 1.15, 1.0}));
+    CHECK_FALSE(map.pointFree(Point2{4.5 + radius + 0.55, 1.0}));  // within radius + clearance 0.6
+    CHECK_TRUE(map.pointFree(Point2{4.5 - radius - 0.65, 1.0}));
     // The segment the rover would drive east now crosses it.
     CHECK_FALSE(map.segmentFree(Point2{2.0, 1.0}, Point2{8.0, 1.0}));
 }
@@ -117,16 +118,18 @@ TEST(MapBuilder, ResightingsOfAnIdGrowItsDiscToEncloseEveryView) {
     CHECK(builder.revision() != revision);
     LONGS_EQUAL(1, builder.rememberedCount());
     const habitual::RememberedHazard* h = findId(builder, 9);
-    // Views: (3.2, 0) r 0.3 and (2.0, 0.4) r 0.2; enclosing radius (d + 0.3 + 0.2) / 2.
+    // Views: (3.2, 0) r 0.3 F and (2.0, 0.4) r 0.2 F (F = kSightingRadiusFactor);
+    // enclosing radius (d + 0.3 F + 0.2 F) / 2.
+    const double f = habitual::kSightingRadiusFactor;
     const double d = std::hypot(1.2, 0.4);
-    DOUBLES_EQUAL(0.5 * (d + 0.5), h->radiusM, 1e-9);
-    CHECK(std::hypot(h->centre.x - 3.2, h->centre.y - 0.0) + 0.3 <= h->radiusM + 1e-9);
-    CHECK(std::hypot(h->centre.x - 2.0, h->centre.y - 0.4) + 0.2 <= h->radiusM + 1e-9);
+    DOUBLES_EQUAL(0.5 * (d + 0.5 * f), h->radiusM, 1e-9);
+    CHECK(std::hypot(h->centre.x - 3.2, h->centre.y - 0.0) + 0.3 * f <= h->radiusM + 1e-9);
+    CHECK(std::hypot(h->centre.x - 2.0, h->centre.y - 0.4) + 0.2 * f <= h->radiusM + 1e-9);
     // A view enclosing the remembered disc replaces it.
     revision = builder.revision();
     CHECK(SightingOutcome::kUpdated == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(9, 1.0, 0.0, 1.9)));
     DOUBLES_EQUAL(2.9, findId(builder, 9)->centre.x, 1e-9);
-    DOUBLES_EQUAL(1.9, findId(builder, 9)->radiusM, 1e-9);
+    DOUBLES_EQUAL(1.9 * f, findId(builder, 9)->radiusM, 1e-9);
     LONGS_EQUAL(2, builder.updated());
     LONGS_EQUAL(1, builder.unchanged());
     LONGS_EQUAL(1, builder.added());
@@ -139,7 +142,7 @@ TEST(MapBuilder, AnIdSeenFarFromItsDiscIsAnotherObstacle) {
     const habitual::RememberedHazard* h = findId(builder, 5);
     DOUBLES_EQUAL(12.5, h->centre.x, 1e-9);
     DOUBLES_EQUAL(-6.0, h->centre.y, 1e-9);
-    DOUBLES_EQUAL(0.5, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(habitual::kSightingRadiusFactor * 0.5, h->radiusM, 1e-12);
 }
 
 TEST(MapBuilder, SightingOnOrNearACoarsePolygonIsAKnownObstacle) {

@@ -1,0 +1,29 @@
+// Event ids raised by the deliberative layer (range 900-929). Texts start with
+// "deliberative: ". Documented in docs/deliberative.md.
+#pragma once
+
+#include "fsw/core/event_log.hpp"
+
+namespace rse::deliberative::events {
+
+constexpr core::EventId kGoalsChanged = 900;      // INFO: goal list revision, count, risk bound: planning restarts
+constexpr core::EventId kPlanStarted = 901;       // INFO: goal, start, risk in force, steps, obstacles used / dropped
+constexpr core::EventId kPlanFound = 902;         // INFO: status, length, risk used, legs, nodes, work, slices
+constexpr core::EventId kNoPlan = 903;            // WARN: no plan within the risk in force (proven or budget)
+constexpr core::EventId kRiskRelaxed = 904;       // WARN: the risk bound relaxed to a larger value (factor)
+constexpr core::EventId kLegSent = 905;           // INFO: leg id, index, goal, length and energy bounds
+constexpr core::EventId kLegAchieved = 906;       // INFO: leg id reached
+constexpr core::EventId kGoalReached = 907;       // INFO: goal index reached
+constexpr core::EventId kMissionComplete = 908;   // INFO: every goal reached
+constexpr core::EventId kFailUpReceived = 909;    // WARN: leg id, violated constraint, excess
+constexpr core::EventId kBoundRelaxed = 910;      // WARN: a leg's length or energy bound relaxed (factor): leg resent
+constexpr core::EventId kReplan = 911;            // WARN: replanning from the current state (n of the limit)
+constexpr core::EventId kCallHome = 912;          // CRITICAL: no plan within the bounds: rover safed, reason
+constexpr core::EventId kProblemRefused = 913;    // ERROR: the map problem could not be built (why)
+constexpr core::EventId kDroppedObstacles = 914;  // WARN: more coarse-map obstacles than the planner holds: n dropped (farthest)
+constexpr core::EventId kLeftAutonomous = 915;    // INFO: mode left AUTONOMOUS: plan dropped, legs cancelled
+constexpr core::EventId kMalformedInput = 916;    // ERROR: a bus message that does not decode or fails its checks (throttled)
+constexpr core::EventId kInitFailed = 917;        // ERROR: pipe creation or subscription refused at init
+constexpr core::EventId kPublishFailed = 918;     // ERROR: a leg, status or safe request the bus refused (throttled)
+
+}  // namespace rse::deliberative::events

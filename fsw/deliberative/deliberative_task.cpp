@@ -1,0 +1,574 @@
+#include "fsw/deliberative/deliberative_task.hpp"
+
+#include <cmath>
+
+#include "fsw/deliberative/deliberative_events.hpp"
+
+namespace rse::deliberative {
+
+namespace {
+
+constexpr std::uint8_t kModeAutonomous = 2;  // cmdtlm::Mode::kAutonomous
+constexpr std::uint8_t kLargestMode = 3;
+constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
+constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kBadLeg);
+
+const char* constraintName(msg::LegConstraint c) {
+    switch (c) {
+        case msg::LegConstraint::kNone: return "none";
+        case msg::LegConstraint::kPathLength: return "path length";
+        case msg::LegConstraint::kEnergy: return "energy";
+        case msg::LegConstraint::kNoPath: return "no path";
+        case msg::LegConstraint::kCannotFollow: return "cannot follow";
+        case msg::LegConstraint::kBadLeg: return "leg refused";
+    }
+    return "?";
+}
+
+const char* reasonName(msg::CallHomeReason r) {
+    switch (r) {
+        case msg::CallHomeReason::kNone: return "none";
+        case msg::CallHomeReason::kNoPlanWithinRisk: return "no plan within the risk limit";
+        case msg::CallHomeReason::kGoalUnreachable: return "goal unreachable";
+        case msg::CallHomeReason::kReplansExhausted: return "replans exhausted";
+        case msg::CallHomeReason::kInsufficientPower: return "insufficient power";
+        case msg::CallHomeReason::kMobilityLost: return "mobility lost";
+    }
+    return "?";
+}
+
+const char* statusName(CcStatus s) {
+    switch (s) {
+        case CcStatus::kOptimal: return "optimal";
+        case CcStatus::kFeasible: return "feasible (budget)";
+        case CcStatus::kNoPlan: return "no plan";
+        case CcStatus::kBadProblem: return "bad problem";
+    }
+    return "?";
+}
+
+bool goalListUsable(const msg::GoalListMsg& g) {
+    if (g.count > msg::kMaxGoals || !std::isfinite(g.riskBound) || !(g.riskBound > 0.0 && g.riskBound < 0.5)) {
+        return false;
+    }
+    for (std::size_t i = 0; i < g.count; ++i) {
+        if (!std::isfinite(g.goals[i].xM) || !std::isfinite(g.goals[i].yM)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
+DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
+    : bus_(bus), events_(events), tables_(tables) {}
+
+core::Status DeliberativeTask::init() {
+    core::Status status = bus_.createPipe("delib_fast", kFastPipeDepth, &fastPipe_);
+    if (core::isOk(status)) {
+        status = bus_.subscribe(fastPipe_, msg::ids::kPoseEstimate);
+    }
+    if (core::isOk(status)) {
+        status = bus_.subscribe(fastPipe_, msg::ids::kDriveStatus);
+    }
+    if (core::isOk(status)) {
+        status = bus_.createPipe("deliberative", kInputPipeDepth, &inputPipe_);
+    }
+    const core::MsgId inputs[] = {msg::ids::kGoalList, msg::ids::kLegReport, msg::ids::kDriveModes, msg::ids::kMode};
+    for (const core::MsgId id : inputs) {
+        if (core::isOk(status)) {
+            status = bus_.subscribe(inputPipe_, id);
+        }
+    }
+    if (!core::isOk(status)) {
+        events_.report(events::kInitFailed, core::Severity::kError, "deliberative: init failed (%s): task disabled",
+                       core::toString(status));
+        return status;
+    }
+    status_.riskBound = tables_.planner().default_risk_bound;
+    status_.riskInForce = status_.riskBound;
+    status_.planStatus = static_cast<std::uint8_t>(CcStatus::kNoPlan);
+    initialised_ = true;
+    return status;
+}
+
+void DeliberativeTask::run(const core::FrameContext& frame) {
+    if (!initialised_) {
+        return;
+    }
+    const core::TimeNs now = frame.actualStart;
+    drainFast();
+    drainInputs(now);
+    const msg::DeliberativeState s = status_.state;
+    const bool active = s == msg::DeliberativeState::kWaiting || s == msg::DeliberativeState::kPlanning ||
+                        s == msg::DeliberativeState::kExecuting;
+    if (active && autonomous_ && mobilityLost()) {
+        callHome(msg::CallHomeReason::kMobilityLost,
+                 interlockTripped_ ? "the drive interlock holds every drive" : "a drive is declared failed", now);
+    } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && goalIndex_ < goals_.count &&
+               poseUsable(now)) {
+        startPlan(now);
+    } else if (s == msg::DeliberativeState::kPlanning) {
+        stepPlanner(now);
+    }
+    ++runs_;
+    if (changed_ || runs_ % kStatusPeriodRuns == 0) {
+        publishStatus(now);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Inputs
+
+void DeliberativeTask::malformed(const char* what, core::MsgId id) {
+    ++counters_.malformedInputs;
+    if (core::isReportableOccurrence(counters_.malformedInputs)) {
+        events_.report(events::kMalformedInput, core::Severity::kError,
+                       "deliberative: malformed %s (msg 0x%04x) ignored (%u so far)", what, static_cast<unsigned>(id),
+                       static_cast<unsigned>(counters_.malformedInputs));
+    }
+}
+
+void DeliberativeTask::drainFast() {
+    for (std::uint16_t i = 0; i < kFastPipeDepth && core::isOk(bus_.receive(fastPipe_, &inbox_)); ++i) {
+        if (inbox_.header.id == msg::ids::kDriveStatus) {
+            msg::DriveStatusMsg drives{};
+            if (core::isOk(inbox_.decode(&drives))) {
+                interlockTripped_ = drives.interlockTripped != 0;
+            } else {
+                malformed("drive status", inbox_.header.id);
+            }
+            continue;
+        }
+        msg::PoseEstimateMsg pose{};
+        bool ok = core::isOk(inbox_.decode(&pose)) && std::isfinite(pose.xM) && std::isfinite(pose.yM) &&
+                  std::isfinite(pose.headingRad);
+        for (double c : pose.covariance) {
+            ok = ok && std::isfinite(c);
+        }
+        if (!ok) {
+            malformed("pose estimate", inbox_.header.id);
+            continue;
+        }
+        pose_ = pose;
+        poseSeen_ = true;
+    }
+}
+
+void DeliberativeTask::drainInputs(core::TimeNs now) {
+    for (std::uint16_t i = 0; i < kInputPipeDepth && core::isOk(bus_.receive(inputPipe_, &inbox_)); ++i) {
+        switch (inbox_.header.id) {
+            case msg::ids::kMode: {
+                msg::ModeMsg mode{};
+                if (core::isOk(inbox_.decode(&mode)) && mode.mode <= kLargestMode) {
+                    onMode(mode, now);
+                } else {
+                    malformed("mode", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kGoalList: {
+                msg::GoalListMsg goals{};
+                if (core::isOk(inbox_.decode(&goals)) && goalListUsable(goals)) {
+                    onGoals(goals, now);
+                } else {
+                    malformed("goal list", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kLegReport: {
+                msg::LegReportMsg report{};
+                if (core::isOk(inbox_.decode(&report)) &&
+                    static_cast<std::uint8_t>(report.state) <= kLargestHabitualState &&
+                    static_cast<std::uint8_t>(report.violated) <= kLargestConstraint) {
+                    onLegReport(report, now);
+                } else {
+                    malformed("leg report", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kDriveModes: {
+                msg::DriveModesMsg modes{};
+                if (core::isOk(inbox_.decode(&modes))) {
+                    modes_ = modes;
+                    modesSeen_ = true;
+                } else {
+                    malformed("drive modes", inbox_.header.id);
+                }
+                break;
+            }
+            default:
+                malformed("message", inbox_.header.id);
+                break;
+        }
+    }
+}
+
+bool DeliberativeTask::poseUsable(core::TimeNs now) const {
+    return poseSeen_ && pose_.initialised != 0 && now - pose_.timeNs <= kPoseMaxAgeNs;
+}
+
+double DeliberativeTask::meanFactor() const {
+    if (!modesSeen_) {
+        return 1.0;
+    }
+    return habitual::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
+}
+
+bool DeliberativeTask::mobilityLost() const {
+    if (interlockTripped_) {
+        return true;
+    }
+    if (!modesSeen_) {
+        return false;
+    }
+    for (const msg::DriveModeBelief& d : modes_.drives) {
+        if (d.declared == msg::DriveMode::kFailed) {
+            return true;
+        }
+    }
+    return false;
+}
+
+void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) {
+    if (goalsSeen_ && goals.revision == goals_.revision) {
+        return;
+    }
+    goals_ = goals;
+    goalsSeen_ = true;
+    goalIndex_ = 0;
+    riskFactor_ = 1.0;
+    goalReplans_ = 0;
+    ++counters_.goalListsAdopted;
+    cancelLeg(now);
+    status_.callHome = msg::CallHomeReason::kNone;
+    legs_ = LegPlan{};
+    legIndex_ = 0;
+    setState(goals.count == 0 ? msg::DeliberativeState::kIdle : msg::DeliberativeState::kWaiting);
+    events_.report(events::kGoalsChanged, core::Severity::kInfo,
+                   "deliberative: goal list rev %u: %u goal(s), risk bound %.3g: %s", static_cast<unsigned>(goals.revision),
+                   static_cast<unsigned>(goals.count), goals.riskBound,
+                   goals.count == 0 ? "idle" : (autonomous_ ? "planning" : "planning once AUTONOMOUS"));
+}
+
+void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
+    const bool was = autonomous_;
+    autonomous_ = mode.mode == kModeAutonomous;
+    if (!was || autonomous_) {
+        return;
+    }
+    const msg::DeliberativeState s = status_.state;
+    if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
+        cancelLeg(now);
+        setState(msg::DeliberativeState::kWaiting);
+        events_.report(events::kLeftAutonomous, core::Severity::kInfo,
+                       "deliberative: left AUTONOMOUS (mode %u): plan dropped, goal %u replanned when back",
+                       static_cast<unsigned>(mode.mode), static_cast<unsigned>(goalIndex_));
+    }
+}
+
+void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs now) {
+    if (status_.state != msg::DeliberativeState::kExecuting || leg_.legId == 0 || report.legId != leg_.legId) {
+        return;  // about an older leg, or the 1 Hz repeat of one already handled
+    }
+    if (report.state == msg::HabitualState::kAchieved) {
+        ++counters_.legsAchieved;
+        events_.report(events::kLegAchieved, core::Severity::kInfo, "deliberative: leg %u reached (%u of %u)",
+                       static_cast<unsigned>(leg_.legId), static_cast<unsigned>(legIndex_ + 1),
+                       static_cast<unsigned>(legs_.count));
+        leg_.legId = 0;
+        ++legIndex_;
+        legBoundFactor_ = 1.0;
+        changed_ = true;
+        if (legIndex_ < legs_.count) {
+            sendLeg(now);
+            return;
+        }
+        ++counters_.goalsReached;
+        events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
+                       static_cast<unsigned>(goalIndex_), goals_.goals[goalIndex_].xM, goals_.goals[goalIndex_].yM);
+        ++goalIndex_;
+        goalReplans_ = 0;
+        riskFactor_ = 1.0;
+        if (goalIndex_ < goals_.count) {
+            setState(msg::DeliberativeState::kWaiting);
+        } else {
+            setState(msg::DeliberativeState::kComplete);
+            events_.report(events::kMissionComplete, core::Severity::kInfo, "deliberative: every goal reached (%u)",
+                           static_cast<unsigned>(goals_.count));
+        }
+        return;
+    }
+    const bool refused = report.state == msg::HabitualState::kIdle && report.violated == msg::LegConstraint::kBadLeg;
+    if (report.state == msg::HabitualState::kFailedUp || refused) {
+        onFailUp(report, now);
+    }
+}
+
+void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs now) {
+    ++counters_.failUps;
+    events_.report(events::kFailUpReceived, core::Severity::kWarning,
+                   "deliberative: leg %u failed up: %s (predicted %.1f, allowed %.1f, excess %.1f)",
+                   static_cast<unsigned>(report.legId), constraintName(report.violated),
+                   report.violated == msg::LegConstraint::kEnergy ? report.predictedEnergyJ : report.predictedLengthM,
+                   report.violated == msg::LegConstraint::kEnergy ? report.allowedEnergyJ : report.allowedLengthM,
+                   report.excess);
+    const bool energy = report.violated == msg::LegConstraint::kEnergy;
+    if (energy || report.violated == msg::LegConstraint::kPathLength) {
+        const double predicted = energy ? report.predictedEnergyJ : report.predictedLengthM;
+        const double allowed = energy ? report.allowedEnergyJ : report.allowedLengthM;
+        const double needed = predicted / allowed * kBoundRelaxHeadroom;
+        const double grown = legBoundFactor_ * needed;
+        const double limit = static_cast<double>(tables_.planner().bound_relax_limit);
+        if (std::isfinite(needed) && allowed > 0.0 && needed > 1.0 && grown <= limit) {
+            msg::PlanLeg& leg = legs_.legs[legIndex_];
+            (energy ? leg.energyJ : leg.lengthM) *= needed;
+            legBoundFactor_ = grown;
+            ++counters_.boundRelaxations;
+            events_.report(events::kBoundRelaxed, core::Severity::kWarning,
+                           "deliberative: leg %u %s bound relaxed x%.3f (x%.3f of planned, limit x%.2f): resent",
+                           static_cast<unsigned>(leg_.legId), constraintName(report.violated), needed, grown, limit);
+            leg_.legId = 0;
+            sendLeg(now);
+            return;
+        }
+    }
+    replan(report.violated, now);
+}
+
+// ---------------------------------------------------------------------------
+// Planning
+
+void DeliberativeTask::startPlan(core::TimeNs now) {
+    const tables::PlannerTable& planner = tables_.planner();
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    PlanRequest request;
+    request.startX = pose_.xM;
+    request.startY = pose_.yM;
+    request.startCov[0] = pose_.covariance[0];
+    request.startCov[1] = pose_.covariance[1];
+    request.startCov[2] = pose_.covariance[3];
+    request.startCov[3] = pose_.covariance[4];
+    request.goalX = goal.xM;
+    request.goalY = goal.yM;
+    const double risk = goals_.riskBound * riskFactor_;
+    request.riskBound = risk < kMaxRiskInForce ? risk : kMaxRiskInForce;
+    MapProblemReport report;
+    if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,
+                                    &report))) {
+        ++counters_.problemsRefused;
+        events_.report(events::kProblemRefused, core::Severity::kError,
+                       "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s", static_cast<unsigned>(goalIndex_),
+                       goal.xM, goal.yM, pose_.xM, pose_.yM, toString(report.error));
+        callHome(msg::CallHomeReason::kGoalUnreachable, toString(report.error), now);
+        return;
+    }
+    if (report.obstaclesDropped > 0) {
+        ++counters_.obstaclesDropped;
+        events_.report(events::kDroppedObstacles, core::Severity::kWarning,
+                       "deliberative: %u of %u coarse-map obstacles left out (farthest from the line; the habitual "
+                       "layer still avoids them)",
+                       static_cast<unsigned>(report.obstaclesDropped), static_cast<unsigned>(report.obstaclesOnMap));
+    }
+    CcPlannerParams params;
+    params.nodeBudget = planner.node_budget;
+    params.workBudget = static_cast<std::uint32_t>(planner.time_budget_ms) * kWorkKUnitsPerMs;
+    if (!core::isOk(planner_.start(problem_, params))) {
+        ++counters_.problemsRefused;
+        events_.report(events::kProblemRefused, core::Severity::kError,
+                       "deliberative: planner refused the problem of goal %u", static_cast<unsigned>(goalIndex_));
+        callHome(msg::CallHomeReason::kGoalUnreachable, "planner refused the problem", now);
+        return;
+    }
+    ++counters_.plansStarted;
+    slices_ = 0;
+    status_.riskInForce = request.riskBound;
+    setState(msg::DeliberativeState::kPlanning);
+    events_.report(events::kPlanStarted, core::Severity::kInfo,
+                   "deliberative: planning goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u steps, %u obstacles%s",
+                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.xM, pose_.yM, request.riskBound,
+                   static_cast<unsigned>(problem_.steps), static_cast<unsigned>(problem_.obstacleCount),
+                   report.startInObstacle ? " (start inside a grown obstacle)" : "");
+}
+
+void DeliberativeTask::stepPlanner(core::TimeNs now) {
+    const std::uint64_t work0 = planner_.work();
+    std::uint32_t units = 0;
+    while (!planner_.finished() && units < kMaxUnitsPerRun && planner_.work() - work0 < kSliceWork) {
+        (void)planner_.step(1);
+        ++units;
+    }
+    const std::uint64_t work = planner_.work() - work0;
+    counters_.maxRunWork = work > counters_.maxRunWork ? work : counters_.maxRunWork;
+    counters_.maxRunUnits = units > counters_.maxRunUnits ? units : counters_.maxRunUnits;
+    ++counters_.planningRuns;
+    ++slices_;
+    if (planner_.finished()) {
+        onPlanFinished(now);
+    }
+}
+
+void DeliberativeTask::onPlanFinished(core::TimeNs now) {
+    plan_ = planner_.plan();
+    const bool hasPath = plan_.status == CcStatus::kOptimal || plan_.status == CcStatus::kFeasible;
+    if (hasPath) {
+        const tables::HabitualTable& habitual = tables_.habitual();
+        const tables::PlannerTable& planner = tables_.planner();
+        LegParams params;
+        params.spacingM = static_cast<double>(planner.waypoint_spacing_m);
+        params.slackFrac = static_cast<double>(planner.leg_slack_frac);
+        params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
+        params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
+        params.power = habitual::powerModelFrom(habitual);
+        params.meanPowerFactor = meanFactor();
+        params.headingRad = pose_.headingRad;
+        if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
+            ++counters_.plansFound;
+            events_.report(events::kPlanFound, core::Severity::kInfo,
+                           "deliberative: plan %s: %.2f m, risk used %.3g of %.3g, %u legs, %u nodes, %u slices",
+                           statusName(plan_.status), plan_.euclideanLengthM, plan_.riskUsed, problem_.riskBound,
+                           static_cast<unsigned>(legs_.count), static_cast<unsigned>(planner_.nodes()),
+                           static_cast<unsigned>(slices_));
+            legIndex_ = 0;
+            legBoundFactor_ = 1.0;
+            setState(msg::DeliberativeState::kExecuting);
+            sendLeg(now);
+            return;
+        }
+    }
+    ++counters_.noPlans;
+    events_.report(events::kNoPlan, core::Severity::kWarning,
+                   "deliberative: no plan for goal %u within risk %.3g (%s, %u nodes)",
+                   static_cast<unsigned>(goalIndex_), problem_.riskBound,
+                   planner_.searchExhausted() ? "proven" : "budget spent", static_cast<unsigned>(planner_.nodes()));
+    const double limit = static_cast<double>(tables_.planner().risk_relax_limit);
+    if (riskFactor_ < limit && problem_.riskBound < kMaxRiskInForce) {
+        const double next = riskFactor_ * kRiskRelaxStep;
+        riskFactor_ = next < limit ? next : limit;
+        ++counters_.riskRelaxations;
+        events_.report(events::kRiskRelaxed, core::Severity::kWarning,
+                       "deliberative: risk bound relaxed to %.3g (x%.3g of the operator's %.3g, limit x%.3g)",
+                       goals_.riskBound * riskFactor_, riskFactor_, goals_.riskBound, limit);
+        setState(msg::DeliberativeState::kWaiting);
+        return;
+    }
+    callHome(msg::CallHomeReason::kNoPlanWithinRisk, "no plan at the relaxed risk limit", now);
+}
+
+void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
+    leg_.legId = 0;
+    const std::uint32_t limit = tables_.planner().replan_limit;
+    if (goalReplans_ >= limit) {
+        callHome(why == msg::LegConstraint::kEnergy ? msg::CallHomeReason::kInsufficientPower
+                                                    : msg::CallHomeReason::kReplansExhausted,
+                 constraintName(why), now);
+        return;
+    }
+    ++goalReplans_;
+    ++counters_.replans;
+    events_.report(events::kReplan, core::Severity::kWarning,
+                   "deliberative: replanning goal %u from the current estimate after %s (%u of %u)",
+                   static_cast<unsigned>(goalIndex_), constraintName(why), static_cast<unsigned>(goalReplans_),
+                   static_cast<unsigned>(limit));
+    setState(msg::DeliberativeState::kWaiting);
+}
+
+// ---------------------------------------------------------------------------
+// Outputs
+
+void DeliberativeTask::sendLeg(core::TimeNs now) {
+    const msg::PlanLeg& leg = legs_.legs[legIndex_];
+    leg_ = msg::LegCommandMsg{};
+    leg_.timeNs = now;
+    leg_.legId = nextLegId_;
+    nextLegId_ = nextLegId_ == UINT32_MAX ? 1 : nextLegId_ + 1;
+    leg_.finalLeg = legIndex_ + 1 == legs_.count ? 1 : 0;
+    leg_.goalXM = leg.xM;
+    leg_.goalYM = leg.yM;
+    leg_.maxPathLengthM = leg.lengthM;
+    leg_.maxEnergyJ = leg.energyJ;
+    published(bus_.publish(leg_), "leg");
+    ++counters_.legsSent;
+    changed_ = true;
+    events_.report(events::kLegSent, core::Severity::kInfo,
+                   "deliberative: leg %u (%u of %u) to (%.2f, %.2f): <= %.2f m, <= %.0f J, risk %.3g",
+                   static_cast<unsigned>(leg_.legId), static_cast<unsigned>(legIndex_ + 1),
+                   static_cast<unsigned>(legs_.count), leg.xM, leg.yM, leg.lengthM, leg.energyJ, leg.risk);
+}
+
+void DeliberativeTask::cancelLeg(core::TimeNs now) {
+    if (leg_.legId == 0 && status_.state != msg::DeliberativeState::kExecuting) {
+        return;
+    }
+    msg::LegCommandMsg cancel{};
+    cancel.timeNs = now;
+    published(bus_.publish(cancel), "leg cancel");
+    leg_.legId = 0;
+}
+
+void DeliberativeTask::callHome(msg::CallHomeReason reason, const char* detail, core::TimeNs now) {
+    msg::LegCommandMsg cancel{};
+    cancel.timeNs = now;
+    published(bus_.publish(cancel), "leg cancel");
+    leg_.legId = 0;
+    msg::SafeRequestMsg safe{};
+    safe.timeNs = now;
+    safe.reason = reason;
+    published(bus_.publish(safe), "safe request");
+    ++counters_.callHomes;
+    status_.callHome = reason;
+    setState(msg::DeliberativeState::kCalledHome);
+    events_.report(events::kCallHome, core::Severity::kCritical,
+                   "deliberative: CALL HOME: %s (%s), goal %u of %u, risk bound %.3g: rover safed, waiting for goals",
+                   reasonName(reason), detail, static_cast<unsigned>(goalIndex_), static_cast<unsigned>(goals_.count),
+                   goals_.riskBound);
+}
+
+void DeliberativeTask::setState(msg::DeliberativeState state) {
+    if (status_.state != state) {
+        status_.state = state;
+        changed_ = true;
+    }
+}
+
+void DeliberativeTask::published(core::Status status, const char* what) {
+    if (core::isOk(status)) {
+        return;
+    }
+    ++counters_.publishFailures;
+    if (core::isReportableOccurrence(counters_.publishFailures)) {
+        events_.report(events::kPublishFailed, core::Severity::kError, "deliberative: %s not published (%s), %u so far",
+                       what, core::toString(status), static_cast<unsigned>(counters_.publishFailures));
+    }
+}
+
+void DeliberativeTask::publishStatus(core::TimeNs now) {
+    msg::PlanStatusMsg& s = status_;
+    s.timeNs = now;
+    s.planStatus = static_cast<std::uint8_t>(plan_.status);
+    s.goalIndex = goalIndex_;
+    s.goalCount = goals_.count;
+    s.legIndex = static_cast<std::uint8_t>(legIndex_);
+    s.legCount = static_cast<std::uint8_t>(legs_.count);
+    s.riskBound = goalsSeen_ ? goals_.riskBound : static_cast<double>(tables_.planner().default_risk_bound);
+    s.riskUsed = plan_.riskUsed;
+    s.planLengthM = plan_.euclideanLengthM;
+    s.plansMade = counters_.plansFound;
+    s.replans = counters_.replans;
+    s.riskRelaxations = counters_.riskRelaxations;
+    s.boundRelaxations = counters_.boundRelaxations;
+    s.callHomes = counters_.callHomes;
+    s.currentLegId = leg_.legId;
+    s.shownLegs = 0;
+    for (std::size_t k = legIndex_; k < legs_.count && s.shownLegs < msg::kPlanStatusLegs; ++k) {
+        s.legs[s.shownLegs++] = legs_.legs[k];
+    }
+    for (std::size_t k = s.shownLegs; k < msg::kPlanStatusLegs; ++k) {
+        s.legs[k] = msg::PlanLeg{};
+    }
+    published(bus_.publish(s), "plan status");
+    changed_ = false;
+}
+
+}  // namespace rse::deliberative

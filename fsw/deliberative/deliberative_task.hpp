@@ -1,0 +1,195 @@
+// The deliberative layer (10 Hz, its own frame offset): turns the operator's
+// goals into chance-constrained plans and hands them to the habitual layer one
+// leg at a time, taking exactly the risk the operator allows.
+//
+//   in:  GoalListMsg (goals and the risk bound: GOTO, ADD_TARGET, CLEAR_GOALS,
+//        SET_RISK_BOUND), PoseEstimateMsg (start mean and covariance),
+//        LegReportMsg, DriveModesMsg (power factors, failed drives),
+//        DriveStatusMsg (the drive interlock), ModeMsg
+//   out: LegCommandMsg, PlanStatusMsg (PLAN telemetry), SafeRequestMsg (call home)
+//
+// States (DeliberativeState, deliberative_msgs.hpp):
+//   any        --new goal list (revision)--> goals adopted, risk relaxation and replans
+//                                            reset, current leg cancelled; kWaiting (or
+//                                            kIdle when the list is empty)
+//   any        --mode left AUTONOMOUS------> plan dropped (leg cancelled): kWaiting
+//   kWaiting   --AUTONOMOUS, usable pose---> problem built from the pose (map_problem.hpp):
+//                                            kPlanning; refused (goal off site or inside an
+//                                            obstacle) -> call home kGoalUnreachable
+//   kPlanning  --planner sliced over runs--> a plan: legs cut (plan_legs.hpp), first leg
+//                                            sent, kExecuting
+//                                            no plan: risk bound relaxed x10, at most to
+//                                            Delta x PLANNER.risk_relax_limit (and < 0.5),
+//                                            plan again; at the limit -> call home
+//                                            kNoPlanWithinRisk
+//   kExecuting --leg achieved--------------> next leg; after the goal's last leg the next
+//                                            goal is planned from the pose (kWaiting), or
+//                                            kComplete after the last goal
+//              --fail-up (length / energy)-> the leg's violated bound grows by what the
+//                                            habitual layer predicted it needs (+5 %) and
+//                                            the leg is resent, while the growth stays
+//                                            within PLANNER.bound_relax_limit; else replan
+//              --fail-up (no path, cannot
+//                follow, bad leg)----------> replan from the current estimate
+//              replan: at most PLANNER.replan_limit per goal, then call home
+//                                            (kInsufficientPower when it was energy,
+//                                            kReplansExhausted otherwise)
+//   any active --a drive declared failed, --> call home kMobilityLost (the interlock holds
+//                or the interlock tripped    every drive on a drive fault and latches, so
+//                                            the rover cannot drive on five wheels, nor at
+//                                            all once it has tripped)
+//   call home: leg cancelled (legId 0: the habitual layer stops and holds),
+//   SafeRequestMsg (the mode owner goes to SAFE), CRITICAL event 912, PLAN
+//   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
+//
+// Time bound per run: at most kMaxUnitsPerRun planner units and stops after the
+// unit that takes the run's planner work past kSliceWork (one unit is one LP of
+// at most perLpIterations pivots or one seed variant: docs/deliberative.md), so
+// a run costs about kSliceWork work units plus one unit; a whole plan is bounded
+// by PLANNER.node_budget LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs
+// thousand work units. Inputs are bounded by the pipe depths. No heap: the
+// planner, problem, plan and legs are members (about 460 KB: make it static).
+#pragma once
+
+#include <cstdint>
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/map_problem.hpp"
+#include "fsw/deliberative/plan_legs.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/goal_msgs.hpp"
+#include "fsw/msg/habitual_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+#include "fsw/tables/table_service.hpp"
+
+namespace rse::deliberative {
+
+// Planner work per run and per millisecond of PLANNER.time_budget_ms, in the
+// planner's work units (CcPlanner::work()): 0.45 - 0.9 ns per unit on the
+// development host, so 1000 thousand units is 0.45 - 0.9 ms there and a slice
+// of 2.5 M units 1.1 - 2.3 ms. Recalibrate on the flight computer.
+constexpr std::uint32_t kWorkKUnitsPerMs = 1000;
+constexpr std::uint64_t kSliceWork = 2500000;
+constexpr std::uint32_t kMaxUnitsPerRun = 64;
+// Poses and drive status come at 100 Hz: 20 per run, 40 survive one skipped run.
+constexpr std::uint16_t kFastPipeDepth = 40;
+constexpr std::uint16_t kInputPipeDepth = 12;
+constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz
+constexpr core::TimeNs kPoseMaxAgeNs = 500 * core::kNsPerMs;
+constexpr double kRiskRelaxStep = 10.0;          // each relaxation multiplies the risk bound by this
+constexpr double kMaxRiskInForce = 0.49;         // the planner needs Delta < 0.5
+constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was predicted + 5 %
+
+struct DeliberativeCounters {
+    std::uint32_t goalListsAdopted = 0;
+    std::uint32_t plansStarted = 0;
+    std::uint32_t plansFound = 0;
+    std::uint32_t noPlans = 0;
+    std::uint32_t riskRelaxations = 0;
+    std::uint32_t legsSent = 0;
+    std::uint32_t legsAchieved = 0;
+    std::uint32_t goalsReached = 0;
+    std::uint32_t failUps = 0;
+    std::uint32_t boundRelaxations = 0;
+    std::uint32_t replans = 0;
+    std::uint32_t callHomes = 0;
+    std::uint32_t problemsRefused = 0;
+    std::uint32_t obstaclesDropped = 0;  // plans that left coarse-map obstacles out
+    std::uint32_t malformedInputs = 0;
+    std::uint32_t publishFailures = 0;
+    std::uint32_t planningRuns = 0;      // task runs that stepped the planner
+    std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
+    std::uint32_t maxRunUnits = 0;
+};
+
+class DeliberativeTask final : public core::Task {
+public:
+    DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
+
+    // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
+    // (kInputPipeDepth: goals, leg reports, drive modes, mode). A refusal is
+    // evented (917) and returned; run() then does nothing.
+    core::Status init();
+    void run(const core::FrameContext& frame) override;
+
+    msg::DeliberativeState state() const { return status_.state; }
+    const msg::PlanStatusMsg& status() const { return status_; }
+    const DeliberativeCounters& counters() const { return counters_; }
+    const CcPlanner& planner() const { return planner_; }
+    const CcProblem& problem() const { return problem_; }
+    const CcPlan& plan() const { return plan_; }
+    const LegPlan& legs() const { return legs_; }
+    const msg::LegCommandMsg& lastLeg() const { return leg_; }
+    std::uint32_t plannerSlices() const { return slices_; }
+
+private:
+    void drainFast();
+    void drainInputs(core::TimeNs now);
+    void malformed(const char* what, core::MsgId id);
+    bool poseUsable(core::TimeNs now) const;
+    double meanFactor() const;
+    bool mobilityLost() const;
+
+    void onGoals(const msg::GoalListMsg& goals, core::TimeNs now);
+    void onMode(const msg::ModeMsg& mode, core::TimeNs now);
+    void onLegReport(const msg::LegReportMsg& report, core::TimeNs now);
+    void onFailUp(const msg::LegReportMsg& report, core::TimeNs now);
+
+    void startPlan(core::TimeNs now);
+    void stepPlanner(core::TimeNs now);
+    void onPlanFinished(core::TimeNs now);
+    void sendLeg(core::TimeNs now);
+    void replan(msg::LegConstraint why, core::TimeNs now);
+    void callHome(msg::CallHomeReason reason, const char* detail, core::TimeNs now);
+    void cancelLeg(core::TimeNs now);
+
+    void setState(msg::DeliberativeState state);
+    void publishStatus(core::TimeNs now);
+    void published(core::Status status, const char* what);
+
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    const tables::TableService& tables_;
+    core::PipeId fastPipe_ = 0;
+    core::PipeId inputPipe_ = 0;
+    bool initialised_ = false;
+    core::Message inbox_{};
+
+    bool autonomous_ = false;
+    msg::PoseEstimateMsg pose_{};
+    bool poseSeen_ = false;
+    msg::DriveModesMsg modes_{};
+    bool modesSeen_ = false;
+    bool interlockTripped_ = false;
+
+    // Goals.
+    msg::GoalListMsg goals_{};
+    bool goalsSeen_ = false;
+    std::uint8_t goalIndex_ = 0;
+    double riskFactor_ = 1.0;        // risk in force = Delta x riskFactor_
+    std::uint32_t goalReplans_ = 0;  // replans of the current goal
+
+    // The plan and its legs.
+    CcProblem problem_{};
+    CcPlan plan_{};
+    LegPlan legs_{};
+    std::size_t legIndex_ = 0;
+    double legBoundFactor_ = 1.0;    // growth of the current leg's bounds by relaxation
+    msg::LegCommandMsg leg_{};       // the leg in force (legId 0: none)
+    std::uint32_t nextLegId_ = 1;
+    std::uint32_t slices_ = 0;       // runs the current plan has taken
+    bool changed_ = false;           // publish the status this run
+    std::uint32_t runs_ = 0;
+    msg::PlanStatusMsg status_{};
+    DeliberativeCounters counters_{};
+
+    CcPlanner planner_;
+};
+
+}  // namespace rse::deliberative

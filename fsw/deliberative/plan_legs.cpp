@@ -1,0 +1,104 @@
+#include "fsw/deliberative/plan_legs.hpp"
+
+#include <cmath>
+
+namespace rse::deliberative {
+
+namespace {
+
+using habitual::Point2;
+
+bool paramsUsable(const LegParams& p) {
+    return std::isfinite(p.spacingM) && p.spacingM > 0.0 && std::isfinite(p.slackFrac) && p.slackFrac >= 0.0 &&
+           std::isfinite(p.distanceMarginFrac) && p.distanceMarginFrac >= 0.0 && p.distanceMarginFrac < 1.0 &&
+           std::isfinite(p.powerMarginFrac) && p.powerMarginFrac >= 0.0 && p.powerMarginFrac < 1.0 &&
+           std::isfinite(p.meanPowerFactor) && p.meanPowerFactor >= 1.0 && std::isfinite(p.headingRad);
+}
+
+double segmentRisk(const CcPlan& plan, std::size_t t) {
+    double r = 0.0;
+    for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
+        r += plan.delta[t][i][0] + plan.delta[t][i][1];
+    }
+    return r;
+}
+
+double headingOf(Point2 from, Point2 to) { return std::atan2(to.y - from.y, to.x - from.x); }
+
+}  // namespace
+
+core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegPlan* out) {
+    *out = LegPlan{};
+    const bool hasPath = plan.status == CcStatus::kOptimal || plan.status == CcStatus::kFeasible;
+    if (!hasPath || plan.steps == 0 || plan.steps > kMaxPlanSteps || !paramsUsable(params)) {
+        return core::Status::kInvalidArgument;
+    }
+    // Corners: the distinct means where the path turns, with the risk of the
+    // plan segments that reach each one.
+    Point2 corner[kMaxPlanSteps + 1];
+    double risk[kMaxPlanSteps + 1] = {};
+    std::size_t corners = 1;
+    corner[0] = Point2{plan.meanX[0], plan.meanY[0]};
+    double pendingRisk = 0.0;
+    for (std::size_t t = 1; t <= plan.steps; ++t) {
+        const Point2 p{plan.meanX[t], plan.meanY[t]};
+        if (!habitual::isFinite(p)) {
+            return core::Status::kInvalidArgument;
+        }
+        pendingRisk += segmentRisk(plan, t - 1);
+        const bool last = t == plan.steps;
+        if (habitual::distance(p, corner[corners - 1]) < kMinLegM && !last) {
+            continue;  // coincident or too close: merged into the next corner
+        }
+        if (corners >= 2 && !last) {
+            // Straight on through the previous corner? Drop it (its risk moves on).
+            const double turn = habitual::wrapAngleRad(headingOf(corner[corners - 1], p) -
+                                                       headingOf(corner[corners - 2], corner[corners - 1]));
+            if (std::fabs(turn) < kCornerRad) {
+                pendingRisk += risk[corners - 1];
+                --corners;
+            }
+        }
+        if (last && corners >= 2 && habitual::distance(p, corner[corners - 1]) < kMinLegM) {
+            pendingRisk += risk[corners - 1];
+            --corners;  // the goal replaces a corner just before it
+        }
+        corner[corners] = p;
+        risk[corners] = pendingRisk;
+        pendingRisk = 0.0;
+        ++corners;
+    }
+    // Runs between corners, cut into pieces of at most spacingM.
+    const std::size_t runs = corners - 1;
+    double heading = params.headingRad;
+    for (std::size_t k = 1; k <= runs; ++k) {
+        const Point2 a = corner[k - 1];
+        const Point2 b = corner[k];
+        const double length = habitual::distance(a, b);
+        const std::size_t capacity = kMaxPlanLegs - out->count - (runs - k);  // one per later run kept
+        double wanted = std::ceil(length / params.spacingM);
+        wanted = wanted < 1.0 ? 1.0 : wanted;
+        const std::size_t pieces = wanted < static_cast<double>(capacity) ? static_cast<std::size_t>(wanted) : capacity;
+        const double runHeading = length > 0.0 ? headingOf(a, b) : heading;
+        for (std::size_t j = 1; j <= pieces; ++j) {
+            const double f = static_cast<double>(j) / static_cast<double>(pieces);
+            const double legLength = length / static_cast<double>(pieces);
+            const double turn = j == 1 ? std::fabs(habitual::wrapAngleRad(runHeading - heading)) : 0.0;
+            msg::PlanLeg& leg = out->legs[out->count];
+            leg.xM = j == pieces ? b.x : a.x + f * (b.x - a.x);
+            leg.yM = j == pieces ? b.y : a.y + f * (b.y - a.y);
+            leg.risk = risk[k] / static_cast<double>(pieces);
+            const double slack = 1.0 + params.slackFrac;
+            leg.lengthM = (legLength + kLengthAllowanceM) * slack / (1.0 - params.distanceMarginFrac);
+            leg.energyJ = habitual::motionEnergyJ(params.power, legLength + kLengthAllowanceM, turn + kTurnAllowanceRad,
+                                                  params.meanPowerFactor) *
+                          slack / (1.0 - params.powerMarginFrac);
+            out->plannedLengthM[out->count] = legLength;
+            ++out->count;
+        }
+        heading = runHeading;
+    }
+    return core::Status::kOk;
+}
+
+}  // namespace rse::deliberative

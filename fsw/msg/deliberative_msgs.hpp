@@ -1,0 +1,75 @@
+// What the deliberative layer tells the rest of the rover: the plan it is
+// executing (for telemetry: PLAN packet) and, when no plan within the risk
+// bound exists, the request to safe the rover (the "call home").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/msg/msg_ids.hpp"
+
+namespace rse::msg {
+
+constexpr std::size_t kPlanStatusLegs = 12;  // legs shown, from the current one (PLAN telemetry: it must fit 512 bytes)
+
+enum class DeliberativeState : std::uint8_t {
+    kIdle = 0,        // no goals, or not in AUTONOMOUS
+    kWaiting = 1,     // goals pending: waiting for a usable pose (or AUTONOMOUS)
+    kPlanning = 2,    // the chance-constrained planner is running (sliced)
+    kExecuting = 3,   // legs handed to the habitual layer one at a time
+    kCalledHome = 4,  // no plan within the bounds: rover safed, operator alerted; waits for new goals
+    kComplete = 5,    // every goal reached
+};
+
+// Why the rover called home (kNone otherwise).
+enum class CallHomeReason : std::uint8_t {
+    kNone = 0,
+    kNoPlanWithinRisk = 1,  // no plan even at the risk bound relaxed to PLANNER.risk_relax_limit
+    kGoalUnreachable = 2,   // the goal is off the site or inside an obstacle; or the start is off the site
+    kReplansExhausted = 3,  // PLANNER.replan_limit replans of one goal failed up again
+    kInsufficientPower = 4, // a leg's energy bound would pass PLANNER.bound_relax_limit, replans exhausted
+    kMobilityLost = 5,      // a drive declared failed: the rover cannot drive (the interlock holds every drive)
+};
+
+struct PlanLeg {
+    double xM;          // where the leg ends
+    double yM;
+    double lengthM;     // not-to-exceed length handed to the habitual layer
+    double energyJ;     // not-to-exceed energy
+    double risk;        // sum of the deltas of the plan segments in this leg
+};
+
+// Published on every change of state, plan or leg, and at 1 Hz.
+struct PlanStatusMsg {
+    static constexpr core::MsgId kMsgId = ids::kPlanStatus;
+    std::int64_t timeNs;
+    DeliberativeState state;
+    std::uint8_t planStatus;       // deliberative::CcStatus of the plan in force (2 kNoPlan when none)
+    CallHomeReason callHome;
+    std::uint8_t goalIndex;        // goal being planned for or driven to
+    std::uint8_t goalCount;
+    std::uint8_t legIndex;         // current leg within the plan
+    std::uint8_t legCount;         // legs of the plan
+    std::uint8_t shownLegs;        // legs[0..shownLegs) = legs legIndex.. of the plan
+    double riskBound;              // the operator's Delta
+    double riskInForce;            // Delta after relaxation (>= riskBound)
+    double riskUsed;               // sum of the plan's deltas
+    double planLengthM;            // Euclidean length of the plan's mean path
+    std::uint32_t plansMade;
+    std::uint32_t replans;         // plans made from the current state after a fail-up
+    std::uint32_t riskRelaxations;
+    std::uint32_t boundRelaxations;
+    std::uint32_t callHomes;
+    std::uint32_t currentLegId;    // legId of the leg in force (0: none)
+    PlanLeg legs[kPlanStatusLegs];
+};
+
+// Put the rover in SAFE and hold it there: sent once per call home.
+struct SafeRequestMsg {
+    static constexpr core::MsgId kMsgId = ids::kSafeRequest;
+    std::int64_t timeNs;
+    CallHomeReason reason;
+    std::uint8_t pad[7];
+};
+
+}  // namespace rse::msg

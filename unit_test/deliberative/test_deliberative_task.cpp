@@ -1,0 +1,386 @@
+// The deliberative task on the bus (deliberative_rig.hpp): goals to plans to
+// legs, fail-up handling (bound relaxation, replans), the call home in each of
+// its cases, mode changes, hostile inputs, sliced planning and no heap.
+#include <cmath>
+#include <cstring>
+
+#include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/deliberative/deliberative_events.hpp"
+#include "unit_test/deliberative/deliberative_rig.hpp"
+#include "unit_test/support/alloc_guard.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using deliberative::CcStatus;
+using msg::CallHomeReason;
+using msg::DeliberativeState;
+using msg::HabitualState;
+using msg::LegConstraint;
+using test::DeliberativeRig;
+
+namespace {
+
+// The demo mission's goal (sim_stub/scenarios/demo_mission.toml): 20 m east.
+constexpr double kGoalX = 20.0;
+constexpr double kGoalY = 0.0;
+constexpr double kRisk = 1e-3;
+constexpr int kPlanRuns = 200;  // 20 s: far more than the 20 ms budget needs
+
+double legsRisk(const deliberative::LegPlan& legs) {
+    double r = 0.0;
+    for (std::size_t k = 0; k < legs.count; ++k) {
+        r += legs.legs[k].risk;
+    }
+    return r;
+}
+
+}  // namespace
+
+TEST_GROUP(DeliberativeTask) {
+    DeliberativeRig* rig = nullptr;
+    void setup() override {
+        rig = new DeliberativeRig();
+        CHECK_TRUE(rig->init());
+        rig->sendDriveModes();
+    }
+    void teardown() override { delete rig; }
+
+    void autonomousToFirstLeg(double gx = kGoalX, double gy = kGoalY, double risk = kRisk) {
+        rig->setMode(DeliberativeRig::kAutonomous);
+        rig->sendGoal(gx, gy, risk);
+        CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+        CHECK(rig->legs >= 1);
+    }
+    // Fails up the leg in force until the layer calls home; the fail-ups it took.
+    unsigned failUpUntilCallHome(LegConstraint why, double predicted, double allowed) {
+        const std::uint32_t limit = rig->tables.planner().replan_limit;
+        unsigned n = 0;
+        while (n <= limit + 1 && rig->task.state() == DeliberativeState::kExecuting) {
+            rig->report(HabitualState::kFailedUp, why, predicted, allowed);
+            rig->run();
+            ++n;
+            if (rig->task.state() != DeliberativeState::kCalledHome) {
+                CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+            }
+        }
+        return n;
+    }
+};
+
+TEST(DeliberativeTask, GoalsWaitForAutonomousAndThenPlanFromTheEstimate) {
+    rig->setMode(DeliberativeRig::kStandby);
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    for (int i = 0; i < 20; ++i) {
+        rig->run();
+    }
+    CHECK(DeliberativeState::kWaiting == rig->task.state());
+    LONGS_EQUAL(0, rig->legs);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kGoalsChanged));
+    CHECK(DeliberativeState::kWaiting == rig->lastStatus.state);
+    LONGS_EQUAL(1, rig->lastStatus.goalCount);
+
+    rig->x = 1.0;
+    rig->y = -0.5;
+    rig->setMode(DeliberativeRig::kAutonomous);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    const deliberative::CcProblem& p = rig->task.problem();
+    DOUBLES_EQUAL(1.0, p.startX, 0.0);
+    DOUBLES_EQUAL(-0.5, p.startY, 0.0);
+    DOUBLES_EQUAL(rig->positionVariance, p.startCov[0], 0.0);
+    DOUBLES_EQUAL(kRisk, p.riskBound, 0.0);
+    const deliberative::CcPlan& plan = rig->task.plan();
+    CHECK(plan.status == CcStatus::kOptimal || plan.status == CcStatus::kFeasible);
+    CHECK(plan.riskUsed <= kRisk);
+    CHECK(core::isOk(deliberative::checkPlan(p, plan)));
+}
+
+TEST(DeliberativeTask, APlanBecomesLegsOfAtMostTheSpacingEndingAtTheGoalWithTheirRiskAndBounds) {
+    autonomousToFirstLeg();
+    const deliberative::LegPlan& legs = rig->task.legs();
+    const double spacing = static_cast<double>(rig->tables.planner().waypoint_spacing_m);
+    CHECK(legs.count >= static_cast<std::size_t>(std::ceil(kGoalX / spacing)));
+    DOUBLES_EQUAL(kGoalX, legs.legs[legs.count - 1].xM, 1e-9);
+    DOUBLES_EQUAL(kGoalY, legs.legs[legs.count - 1].yM, 1e-9);
+    for (std::size_t k = 0; k < legs.count; ++k) {
+        CHECK(legs.plannedLengthM[k] <= spacing + 1e-9);
+        CHECK(legs.legs[k].lengthM > legs.plannedLengthM[k]);
+        CHECK(legs.legs[k].energyJ > 0.0);
+    }
+    // Every segment's risk is in exactly one leg.
+    DOUBLES_EQUAL(rig->task.plan().riskUsed, legsRisk(legs), 1e-12);
+    // The first leg went out as a LegCommandMsg with those bounds, and PLAN shows it.
+    DOUBLES_EQUAL(legs.legs[0].xM, rig->lastLeg.goalXM, 0.0);
+    DOUBLES_EQUAL(legs.legs[0].lengthM, rig->lastLeg.maxPathLengthM, 0.0);
+    DOUBLES_EQUAL(legs.legs[0].energyJ, rig->lastLeg.maxEnergyJ, 0.0);
+    LONGS_EQUAL(legs.count == 1 ? 1 : 0, rig->lastLeg.finalLeg);
+    rig->run();
+    CHECK(DeliberativeState::kExecuting == rig->lastStatus.state);
+    LONGS_EQUAL(rig->lastLeg.legId, rig->lastStatus.currentLegId);
+    LONGS_EQUAL(legs.count, rig->lastStatus.legCount);
+    DOUBLES_EQUAL(legs.legs[0].xM, rig->lastStatus.legs[0].xM, 0.0);
+    DOUBLES_EQUAL(rig->task.plan().riskUsed, rig->lastStatus.riskUsed, 0.0);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kPlanFound));
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kLegSent));
+}
+
+TEST(DeliberativeTask, AchievedLegsAdvanceThroughEveryGoalToComplete) {
+    const double goals[2][2] = {{kGoalX, kGoalY}, {24.0, 6.0}};
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoals(goals, 2, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    unsigned achieved = 0;
+    for (int guard = 0; guard < 100 && rig->task.state() != DeliberativeState::kComplete; ++guard) {
+        if (rig->task.state() == DeliberativeState::kExecuting) {
+            const std::uint32_t before = rig->lastLeg.legId;
+            rig->achieveLeg();
+            ++achieved;
+            rig->run();
+            CHECK(rig->lastLeg.legId != before || rig->task.state() != DeliberativeState::kExecuting);
+        } else {
+            rig->run();
+        }
+    }
+    CHECK(DeliberativeState::kComplete == rig->task.state());
+    LONGS_EQUAL(achieved, rig->task.counters().legsAchieved);
+    LONGS_EQUAL(achieved, rig->legs);
+    LONGS_EQUAL(2, rig->task.counters().goalsReached);
+    LONGS_EQUAL(2, rig->task.counters().plansFound);  // the second goal planned from where the first ended
+    DOUBLES_EQUAL(kGoalX, rig->task.problem().startX, 1e-9);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kMissionComplete));
+    LONGS_EQUAL(0, rig->safeRequests);
+    // Late or repeated reports about an old leg change nothing.
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK(DeliberativeState::kComplete == rig->task.state());
+    LONGS_EQUAL(0, rig->task.counters().failUps);
+}
+
+TEST(DeliberativeTask, AnEnergyFailUpWithinTheRelaxLimitResendsTheLegWithTheBoundGrownByWhatIsNeeded) {
+    autonomousToFirstLeg();
+    const msg::LegCommandMsg first = rig->lastLeg;
+    // The habitual layer predicts 20 % more than it is allowed.
+    rig->report(HabitualState::kFailedUp, LegConstraint::kEnergy, 1200.0, 1000.0);
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().boundRelaxations);
+    LONGS_EQUAL(2, rig->legs);
+    CHECK(rig->lastLeg.legId != first.legId);
+    DOUBLES_EQUAL(first.goalXM, rig->lastLeg.goalXM, 0.0);
+    DOUBLES_EQUAL(first.maxEnergyJ * 1.2 * deliberative::kBoundRelaxHeadroom, rig->lastLeg.maxEnergyJ, 1e-6);
+    DOUBLES_EQUAL(first.maxPathLengthM, rig->lastLeg.maxPathLengthM, 0.0);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kBoundRelaxed));
+    LONGS_EQUAL(0, rig->task.counters().replans);
+    // A second fail-up that would take the bound past bound_relax_limit replans instead.
+    const double limit = static_cast<double>(rig->tables.planner().bound_relax_limit);
+    rig->report(HabitualState::kFailedUp, LegConstraint::kEnergy, 1000.0 * limit, 1000.0);
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().boundRelaxations);
+    LONGS_EQUAL(1, rig->task.counters().replans);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kReplan));
+}
+
+TEST(DeliberativeTask, ALengthFailUpRelaxesTheLengthBound) {
+    autonomousToFirstLeg();
+    const msg::LegCommandMsg first = rig->lastLeg;
+    rig->report(HabitualState::kFailedUp, LegConstraint::kPathLength, 7.0, 6.5);
+    rig->run();
+    DOUBLES_EQUAL(first.maxPathLengthM * 7.0 / 6.5 * deliberative::kBoundRelaxHeadroom, rig->lastLeg.maxPathLengthM,
+                  1e-9);
+    DOUBLES_EQUAL(first.maxEnergyJ, rig->lastLeg.maxEnergyJ, 0.0);
+}
+
+TEST(DeliberativeTask, NoPathFailUpsReplanFromTheCurrentEstimateUntilTheLimitThenCallHome) {
+    autonomousToFirstLeg();
+    rig->x = 3.0;  // the rover got this far
+    rig->y = 0.4;
+    const std::uint32_t limit = rig->tables.planner().replan_limit;
+    CHECK(limit >= 1);
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath, 0.0, 0.0);
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().replans);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(3.0, rig->task.problem().startX, 0.0);  // from the estimate, same goal
+    DOUBLES_EQUAL(0.4, rig->task.problem().startY, 0.0);
+    DOUBLES_EQUAL(kGoalX, rig->task.problem().goalX, 0.0);
+    // Each further fail-up replans until limit replans are spent; the next calls home.
+    LONGS_EQUAL(limit, failUpUntilCallHome(LegConstraint::kCannotFollow, 0.0, 0.0));
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    LONGS_EQUAL(limit, rig->task.counters().replans);
+    LONGS_EQUAL(1, rig->safeRequests);
+    CHECK(CallHomeReason::kReplansExhausted == rig->lastSafe.reason);
+    CHECK(rig->cancels >= 1);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kCallHome));
+    rig->run();
+    CHECK(CallHomeReason::kReplansExhausted == rig->lastStatus.callHome);
+    CHECK(DeliberativeState::kCalledHome == rig->lastStatus.state);
+    // It stays called home (no legs) until the operator sends goals again.
+    const unsigned legsBefore = rig->legs;
+    for (int i = 0; i < 20; ++i) {
+        rig->run();
+    }
+    LONGS_EQUAL(legsBefore, rig->legs);
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    CHECK(CallHomeReason::kNone == rig->task.status().callHome);
+}
+
+TEST(DeliberativeTask, EnergyFailUpsBeyondEveryRelaxationCallHomeForInsufficientPower) {
+    autonomousToFirstLeg();
+    const double limit = static_cast<double>(rig->tables.planner().bound_relax_limit);
+    LONGS_EQUAL(rig->tables.planner().replan_limit + 1,
+                failUpUntilCallHome(LegConstraint::kEnergy, 1000.0 * (limit + 1.0), 1000.0));
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    CHECK(CallHomeReason::kInsufficientPower == rig->lastSafe.reason);
+    LONGS_EQUAL(0, rig->task.counters().boundRelaxations);
+}
+
+TEST(DeliberativeTask, AGoalInsideAnObstacleCallsHomeAtOnce) {
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(5.75, 2.5, kRisk);  // inside coarse-map rock 0
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, 10));
+    CHECK(CallHomeReason::kGoalUnreachable == rig->lastSafe.reason);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kProblemRefused));
+    CHECK(std::strstr(rig->seenText(deliberative::events::kProblemRefused), "goal inside an obstacle") != nullptr);
+    LONGS_EQUAL(0, rig->legs);
+}
+
+TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome) {
+    // A goal 5 cm south of rock 0 grown by the footprint: the final mean's
+    // margin (its quantile times the final sigma, >= 0.2 m) cannot be met at any
+    // risk the limit allows, so no plan exists (proven by the planner).
+    const double radius = static_cast<double>(rig->tables.roverGeometry().footprint_radius_m);
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(5.75, 1.8 - radius - 0.05, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, kPlanRuns));
+    const double relaxLimit = static_cast<double>(rig->tables.planner().risk_relax_limit);
+    const unsigned relaxations =
+        static_cast<unsigned>(std::ceil(std::log(relaxLimit) / std::log(deliberative::kRiskRelaxStep) - 1e-9));
+    LONGS_EQUAL(relaxations, rig->task.counters().riskRelaxations);
+    LONGS_EQUAL(relaxations + 1, rig->task.counters().noPlans);
+    DOUBLES_EQUAL(kRisk * relaxLimit, rig->task.problem().riskBound, 1e-15);
+    CHECK(CallHomeReason::kNoPlanWithinRisk == rig->lastSafe.reason);
+    LONGS_EQUAL(0, rig->legs);
+    rig->run();
+    DOUBLES_EQUAL(kRisk * relaxLimit, rig->lastStatus.riskInForce, 1e-15);
+    DOUBLES_EQUAL(kRisk, rig->lastStatus.riskBound, 0.0);
+}
+
+TEST(DeliberativeTask, ADriveDeclaredFailedCallsHomeForLostMobility) {
+    autonomousToFirstLeg();
+    rig->sendDriveModes(msg::DriveMode::kFailed, 2, 4.5);
+    rig->run();
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
+    CHECK(rig->cancels >= 1);
+}
+
+TEST(DeliberativeTask, LeavingAutonomousCancelsTheLegAndReturningReplansFromThePose) {
+    autonomousToFirstLeg();
+    const unsigned cancels = rig->cancels;
+    rig->setMode(DeliberativeRig::kStandby);
+    rig->run();
+    CHECK(DeliberativeState::kWaiting == rig->task.state());
+    LONGS_EQUAL(cancels + 1, rig->cancels);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kLeftAutonomous));
+    rig->x = 2.0;
+    rig->setMode(DeliberativeRig::kAutonomous);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(2.0, rig->task.problem().startX, 0.0);
+    LONGS_EQUAL(2, rig->task.counters().plansFound);
+}
+
+TEST(DeliberativeTask, ANewGoalListCancelsTheLegInForceAndPlansForTheNewGoal) {
+    autonomousToFirstLeg();
+    const unsigned cancels = rig->cancels;
+    rig->sendGoal(10.0, -6.0, 1e-6);
+    rig->run();
+    LONGS_EQUAL(cancels + 1, rig->cancels);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(-6.0, rig->task.problem().goalY, 0.0);
+    DOUBLES_EQUAL(1e-6, rig->task.problem().riskBound, 0.0);
+    CHECK(rig->task.plan().riskUsed <= 1e-6);
+    // An empty list: idle, leg cancelled.
+    rig->sendGoals(nullptr, 0, 1e-3);
+    rig->run();
+    CHECK(DeliberativeState::kIdle == rig->task.state());
+    LONGS_EQUAL(cancels + 2, rig->cancels);
+}
+
+TEST(DeliberativeTask, MalformedInputsAreCountedEventedAndIgnored) {
+    rig->setMode(DeliberativeRig::kAutonomous);
+    msg::GoalListMsg bad{};
+    bad.riskBound = 0.7;  // outside (0, 0.5)
+    bad.count = 1;
+    bad.revision = 77;
+    CHECK(core::isOk(rig->bus.publish(bad)));
+    bad.riskBound = 1e-3;
+    bad.goals[0].xM = NAN;
+    CHECK(core::isOk(rig->bus.publish(bad)));
+    bad.goals[0].xM = 1.0;
+    bad.count = msg::kMaxGoals + 1;
+    CHECK(core::isOk(rig->bus.publish(bad)));
+    msg::LegReportMsg report{};
+    report.state = static_cast<HabitualState>(9);
+    CHECK(core::isOk(rig->bus.publish(report)));
+    msg::PoseEstimateMsg pose{};
+    pose.xM = INFINITY;
+    pose.initialised = 1;
+    CHECK(core::isOk(rig->bus.publish(pose)));
+    rig->publishPose = false;
+    rig->run();
+    LONGS_EQUAL(5, rig->task.counters().malformedInputs);
+    CHECK(rig->seenCount(deliberative::events::kMalformedInput) >= 3);  // throttled: 1st, 2nd, 4th
+    CHECK(DeliberativeState::kIdle == rig->task.state());
+    LONGS_EQUAL(0, rig->task.counters().goalListsAdopted);
+}
+
+TEST(DeliberativeTask, WithoutAFreshPoseNothingIsPlanned) {
+    rig->publishPose = false;
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    for (int i = 0; i < 30; ++i) {
+        rig->run();
+    }
+    CHECK(DeliberativeState::kWaiting == rig->task.state());
+    LONGS_EQUAL(0, rig->task.counters().plansStarted);
+}
+
+// Sliced and bounded: every run stops stepping the planner once its work passes
+// kSliceWork (so a run does at most kSliceWork plus one unit), at most
+// kMaxUnitsPerRun units; the whole plan stays within the table's node budget
+// and PLANNER.time_budget_ms x kWorkKUnitsPerMs thousand work units (plus one unit).
+TEST(DeliberativeTask, PlanningIsSlicedOverRunsWithinTheTableBudget) {
+    tables::PlannerTable planner = rig->tables.planner();
+    planner.time_budget_ms = 8;
+    CHECK_TRUE(rig->loadTable(tables::TableId::kPlanner, planner, 7));
+    autonomousToFirstLeg(kGoalX, kGoalY, 1e-6);
+    const deliberative::DeliberativeCounters& c = rig->task.counters();
+    const deliberative::CcPlanner& p = rig->task.planner();
+    CHECK(p.nodes() <= planner.node_budget);
+    CHECK(c.maxRunUnits <= deliberative::kMaxUnitsPerRun);
+    CHECK(c.maxRunUnits >= 1);
+    // Slices: at least the work divided by the most any run did.
+    CHECK(rig->task.plannerSlices() >= (p.work() + c.maxRunWork - 1) / c.maxRunWork);
+    CHECK(rig->task.plannerSlices() >= 2);
+    CHECK(p.work() <= static_cast<std::uint64_t>(planner.time_budget_ms) * deliberative::kWorkKUnitsPerMs * 1000 +
+                          c.maxRunWork);
+}
+
+// Must-show 4 at the task level: planning, cutting legs, sending them and
+// handling reports allocate nothing.
+TEST(DeliberativeTask, AWholeGoalFromPlanToArrivalAllocatesNothing) {
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->run();
+    test::AllocationWatch watch;
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    for (int guard = 0; guard < 50 && rig->task.state() == DeliberativeState::kExecuting; ++guard) {
+        rig->achieveLeg();
+        rig->run();
+    }
+    CHECK(DeliberativeState::kComplete == rig->task.state());
+    LONGS_EQUAL(0, watch.count());
+}

@@ -1,0 +1,481 @@
+// From the coarse map to the planning problem (map_problem.hpp): polygons of
+// either winding grown by exactly the footprint radius, the site shrunk by
+// it, the plant and allocation from the PLANNER table, the covariance copied
+// and symmetrised, every refusal named, the start inside an obstacle
+// flagged, the nearest kMaxPlanObstacles polygons kept; and on the default
+// tables (the demo mission's map, start and goal) a problem that plans within
+// its risk bound, with Delta = 1e-6 keeping more clearance than 1e-2.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+
+#include "fsw/core/clock.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/gaussian.hpp"
+#include "fsw/deliberative/map_problem.hpp"
+#include "fsw/tables/default_tables.hpp"
+#include "fsw/tables/table_service.hpp"
+#include "ground/plan_svg.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using rse::core::Status;
+using rse::deliberative::buildMapProblem;
+using rse::deliberative::CcPlan;
+using rse::deliberative::CcPlanner;
+using rse::deliberative::CcPlannerParams;
+using rse::deliberative::CcProblem;
+using rse::deliberative::CcStatus;
+using rse::deliberative::kMaxPlanObstacles;
+using rse::deliberative::MapProblemError;
+using rse::deliberative::MapProblemReport;
+using rse::deliberative::PlanObstacle;
+using rse::deliberative::PlanRequest;
+using rse::deliberative::RiskAllocation;
+using rse::tables::CoarseMapTable;
+using rse::tables::PlannerTable;
+using rse::tables::RoverGeometryTable;
+
+namespace {
+
+// ~440 KB: static storage, as in flight.
+CcPlanner planner;
+CcPlan planA;
+CcPlan planB;
+
+constexpr double kRadius = 0.5;  // exact in float, so the expected values are exact
+
+int errorOf(MapProblemError e) { return static_cast<int>(e); }
+
+// A 20 m x 20 m site around the origin, no obstacle yet.
+CoarseMapTable emptyMap() {
+    CoarseMapTable map{};
+    map.x_min_m = -10.0F;
+    map.x_max_m = 10.0F;
+    map.y_min_m = -10.0F;
+    map.y_max_m = 10.0F;
+    return map;
+}
+
+// Appends a polygon (vertices in the order given) in the next slot.
+void addPolygon(CoarseMapTable* map, std::initializer_list<std::initializer_list<float>> vertices) {
+    const std::size_t slot = map->obstacle_count;
+    std::size_t v = 0;
+    for (const auto& xy : vertices) {
+        map->vertex_x_m[slot * 8 + v] = *xy.begin();
+        map->vertex_y_m[slot * 8 + v] = *(xy.begin() + 1);
+        ++v;
+    }
+    map->vertex_count[slot] = static_cast<std::uint8_t>(v);
+    map->obstacle_count = static_cast<std::uint8_t>(slot + 1);
+}
+
+PlannerTable plannerTable(std::uint8_t allocation) {
+    PlannerTable t{};
+    t.default_risk_bound = 1e-3;
+    t.horizon_steps = 12;
+    t.node_budget = 20000;
+    t.time_budget_ms = 20;
+    t.risk_allocation = allocation;
+    t.process_noise_sigma_m = 0.125F;
+    return t;
+}
+
+RoverGeometryTable geometry() {
+    RoverGeometryTable g{};
+    g.footprint_radius_m = static_cast<float>(kRadius);
+    return g;
+}
+
+PlanRequest request(double sx, double sy, double gx, double gy, double risk) {
+    PlanRequest r;
+    r.startX = sx;
+    r.startY = sy;
+    r.goalX = gx;
+    r.goalY = gy;
+    r.startCov[0] = 0.04;
+    r.startCov[3] = 0.04;
+    r.riskBound = risk;
+    return r;
+}
+
+// The face of o with outward normal (nx, ny), exactly; -1 when none.
+int faceWithNormal(const PlanObstacle& o, double nx, double ny) {
+    for (std::size_t j = 0; j < o.faceCount; ++j) {
+        if (o.normalX[j] == nx && o.normalY[j] == ny) {
+            return static_cast<int>(j);
+        }
+    }
+    return -1;
+}
+
+// Builds and expects a refusal naming `why`.
+void expectRefused(const CoarseMapTable& map, const PlannerTable& table, const PlanRequest& r, MapProblemError why) {
+    CcProblem p;
+    p.steps = 77;  // left alone on refusal
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, table, geometry(), r, &p, &report) == Status::kInvalidArgument);
+    CHECK_EQUAL(errorOf(why), errorOf(report.error));
+    CHECK_EQUAL(77, p.steps);
+    STRCMP_EQUAL(rse::deliberative::toString(why), rse::deliberative::toString(report.error));
+}
+
+}  // namespace
+
+TEST_GROUP(MapProblem){};
+
+// The 2 m square [1, 3] x [1, 3] grown by 0.5 m is [0.5, 3.5]^2: four faces,
+// outward unit normals +-x and +-y, offsets 3.5 on the +x and +y faces and
+// -0.5 on the -x and -y faces (a . x = b: -x = -0.5). The same for either
+// winding; the face order follows the vertices.
+TEST(MapProblem, SquareOfEitherWindingGrowsByTheFootprintRadius) {
+    for (int clockwise = 0; clockwise < 2; ++clockwise) {
+        CoarseMapTable map = emptyMap();
+        if (clockwise == 0) {
+            addPolygon(&map, {{1, 1}, {3, 1}, {3, 3}, {1, 3}});
+        } else {
+            addPolygon(&map, {{1, 1}, {1, 3}, {3, 3}, {3, 1}});
+        }
+        CcProblem p;
+        MapProblemReport report;
+        CHECK(buildMapProblem(map, plannerTable(0), geometry(), request(-5, 0, 5, 0, 1e-3), &p, &report) ==
+              Status::kOk);
+        CHECK_EQUAL(errorOf(MapProblemError::kNone), errorOf(report.error));
+        CHECK_EQUAL(1, p.obstacleCount);
+        const PlanObstacle& o = p.obstacles[0];
+        CHECK_EQUAL(0, o.id);
+        CHECK_EQUAL(4, o.faceCount);
+        const struct {
+            double nx, ny, b;
+        } expected[4] = {{1.0, 0.0, 3.5}, {0.0, 1.0, 3.5}, {-1.0, 0.0, -0.5}, {0.0, -1.0, -0.5}};
+        for (const auto& e : expected) {
+            const int j = faceWithNormal(o, e.nx, e.ny);
+            CHECK_TEXT(j >= 0, "a face with this normal");
+            DOUBLES_EQUAL(e.b, o.offset[j], 1e-12);
+        }
+        // Order: the edge from vertex 0 to vertex 1 is face 0.
+        const int first = clockwise == 0 ? faceWithNormal(o, 0.0, -1.0) : faceWithNormal(o, -1.0, 0.0);
+        CHECK_EQUAL(0, first);
+        // The grown square's corners: (0.5, 0.5) and (3.5, 3.5) lie on two faces each.
+        for (const double c : {0.5, 3.5}) {
+            int onFaces = 0;
+            for (std::size_t j = 0; j < o.faceCount; ++j) {
+                onFaces += std::fabs(o.normalX[j] * c + o.normalY[j] * c - o.offset[j]) < 1e-12 ? 1 : 0;
+            }
+            CHECK_EQUAL(2, onFaces);
+        }
+    }
+}
+
+// A slanted face: the triangle (0, 0), (4, 0), (0, 3) has its hypotenuse's
+// normal (3, 4) / 5 and offset 12 / 5 (3x + 4y = 12), grown: 12 / 5 + 0.5.
+TEST(MapProblem, SlantedFaceGrowsAlongItsNormal) {
+    CoarseMapTable map = emptyMap();
+    addPolygon(&map, {{0, 0}, {4, 0}, {0, 3}});
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(0), geometry(), request(-5, -5, 5, 5, 1e-3), &p, &report) == Status::kOk);
+    const PlanObstacle& o = p.obstacles[0];
+    CHECK_EQUAL(3, o.faceCount);
+    DOUBLES_EQUAL(0.6, o.normalX[1], 1e-15);
+    DOUBLES_EQUAL(0.8, o.normalY[1], 1e-15);
+    DOUBLES_EQUAL(2.4 + kRadius, o.offset[1], 1e-12);
+}
+
+TEST(MapProblem, SitePlantCovarianceAndAllocationComeFromTablesAndRequest) {
+    CoarseMapTable map = emptyMap();
+    map.x_min_m = -4.0F;
+    map.x_max_m = 12.0F;
+    map.y_min_m = -6.0F;
+    map.y_max_m = 2.0F;
+    PlanRequest r = request(-1.25, -2.5, 9.0, 1.0, 0.02);
+    r.startCov[0] = 0.04;
+    r.startCov[1] = 0.01;
+    r.startCov[2] = 0.03;  // off by rounding in the estimator: symmetrised to the mean
+    r.startCov[3] = 0.09;
+    for (std::uint8_t allocation = 0; allocation < 2; ++allocation) {
+        CcProblem p;
+        MapProblemReport report;
+        CHECK(buildMapProblem(map, plannerTable(allocation), geometry(), r, &p, &report) == Status::kOk);
+        DOUBLES_EQUAL(-4.0 + kRadius, p.xMin, 0.0);
+        DOUBLES_EQUAL(12.0 - kRadius, p.xMax, 0.0);
+        DOUBLES_EQUAL(-6.0 + kRadius, p.yMin, 0.0);
+        DOUBLES_EQUAL(2.0 - kRadius, p.yMax, 0.0);
+        CHECK_EQUAL(12, p.steps);
+        DOUBLES_EQUAL(0.125, p.processSigmaM, 0.0);
+        DOUBLES_EQUAL(0.02, p.riskBound, 0.0);
+        DOUBLES_EQUAL(-1.25, p.startX, 0.0);
+        DOUBLES_EQUAL(-2.5, p.startY, 0.0);
+        DOUBLES_EQUAL(9.0, p.goalX, 0.0);
+        DOUBLES_EQUAL(1.0, p.goalY, 0.0);
+        DOUBLES_EQUAL(0.04, p.startCov[0], 0.0);
+        DOUBLES_EQUAL(0.02, p.startCov[1], 1e-17);
+        DOUBLES_EQUAL(p.startCov[1], p.startCov[2], 0.0);
+        DOUBLES_EQUAL(0.09, p.startCov[3], 0.0);
+        CHECK(p.allocation == (allocation == 1 ? RiskAllocation::kOptimised : RiskAllocation::kEvenSplit));
+        CHECK_EQUAL(0, p.obstacleCount);
+        CHECK_EQUAL(0, report.obstaclesOnMap);
+        CHECK_EQUAL(0, report.obstaclesDropped);
+        CHECK(rse::deliberative::checkProblem(p) == Status::kOk);
+    }
+}
+
+TEST(MapProblem, BadRequestsAreRefused) {
+    CoarseMapTable map = emptyMap();
+    addPolygon(&map, {{1, 1}, {3, 1}, {3, 3}, {1, 3}});
+    const PlanRequest good = request(-5, 0, 5, 0, 1e-2);
+    for (int k = 0; k < 9; ++k) {
+        PlanRequest r = good;
+        switch (k) {
+            case 0: r.startX = NAN; break;
+            case 1: r.goalY = INFINITY; break;
+            case 2: r.startCov[2] = NAN; break;
+            case 3: r.riskBound = 0.0; break;
+            case 4: r.riskBound = 0.5; break;
+            case 5: r.riskBound = -1e-3; break;
+            case 6: r.riskBound = NAN; break;
+            case 7: r.riskBound = INFINITY; break;
+            default: r.startCov[0] = -INFINITY; break;
+        }
+        expectRefused(map, plannerTable(1), r, MapProblemError::kBadRequest);
+    }
+    // Just inside the open interval is accepted.
+    CcProblem p;
+    MapProblemReport report;
+    PlanRequest r = good;
+    r.riskBound = 0.4999;
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), r, &p, &report) == Status::kOk);
+}
+
+// On the site but within the footprint radius of its edge: off the site the
+// means may use.
+TEST(MapProblem, StartOrGoalOffTheShrunkSiteIsRefused) {
+    const CoarseMapTable map = emptyMap();
+    expectRefused(map, plannerTable(1), request(-9.75, 0, 5, 0, 1e-2), MapProblemError::kStartOffSite);
+    expectRefused(map, plannerTable(1), request(0, 12, 5, 0, 1e-2), MapProblemError::kStartOffSite);
+    expectRefused(map, plannerTable(1), request(0, 0, 5, 9.8, 1e-2), MapProblemError::kGoalOffSite);
+    expectRefused(map, plannerTable(1), request(0, 0, 10.2, 0, 1e-2), MapProblemError::kGoalOffSite);
+    CcProblem p;
+    MapProblemReport report;  // exactly on the shrunk edge: still on the site
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), request(-9.5, 0, 9.5, 9.5, 1e-2), &p, &report) ==
+          Status::kOk);
+}
+
+// (2, 0.75) is off the rock [1, 3]^2 but inside it grown ([0.5, 3.5]^2); the
+// grown boundary itself (y = 0.5) is not inside.
+TEST(MapProblem, GoalInsideAGrownObstacleIsRefusedStartInsideIsFlagged) {
+    CoarseMapTable map = emptyMap();
+    addPolygon(&map, {{-8, -8}, {-7, -8}, {-7, -7}});
+    addPolygon(&map, {{1, 1}, {3, 1}, {3, 3}, {1, 3}});
+    expectRefused(map, plannerTable(1), request(-5, 0, 2, 0.75, 1e-2), MapProblemError::kGoalInObstacle);
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), request(-5, 0, 2, 0.5, 1e-2), &p, &report) == Status::kOk);
+    CHECK_FALSE(report.startInObstacle);
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), request(2, 0.75, -5, 0, 1e-2), &p, &report) ==
+          Status::kOk);
+    CHECK_TRUE(report.startInObstacle);
+    CHECK_EQUAL(2, p.obstacleCount);
+    CHECK(planner.solve(p, CcPlannerParams{}, &planA) == CcStatus::kNoPlan);  // as the report warns
+}
+
+// Polygons the faces cannot describe: a reflex corner, a straight corner, no
+// area, a zero-length edge, a pentagram (every turn the same way, but it winds
+// twice: its faces bound only the inner pentagon), too few vertices.
+TEST(MapProblem, NonConvexPolygonsAreABadMap) {
+    for (int k = 0; k < 6; ++k) {
+        CoarseMapTable map = emptyMap();
+        addPolygon(&map, {{-8, -8}, {-7, -8}, {-7, -7}});  // a good one first
+        switch (k) {
+            case 0: addPolygon(&map, {{0, 0}, {4, 0}, {4, 4}, {2, 1}, {0, 4}}); break;
+            case 1: addPolygon(&map, {{0, 0}, {2, 0}, {4, 0}, {4, 4}, {0, 4}}); break;
+            case 2: addPolygon(&map, {{0, 0}, {2, 2}, {4, 4}}); break;
+            case 3: addPolygon(&map, {{0, 0}, {4, 0}, {4, 0}, {0, 4}}); break;
+            case 4: {
+                // Pentagram: the vertices of a regular pentagon taken two at a time.
+                CoarseMapTable& m = map;
+                m.vertex_count[1] = 5;
+                for (std::size_t v = 0; v < 5; ++v) {
+                    const double a = M_PI / 2.0 + 2.0 * (2.0 * M_PI / 5.0) * static_cast<double>(v);
+                    m.vertex_x_m[8 + v] = static_cast<float>(3.0 * std::cos(a));
+                    m.vertex_y_m[8 + v] = static_cast<float>(3.0 * std::sin(a));
+                }
+                m.obstacle_count = 2;
+                break;
+            }
+            default: addPolygon(&map, {{0, 0}, {4, 0}}); break;
+        }
+        expectRefused(map, plannerTable(1), request(-5, -5, 5, -5, 1e-2), MapProblemError::kBadMap);
+    }
+}
+
+TEST(MapProblem, PlannerTableOutOfRangeIsABadProblem) {
+    PlannerTable table = plannerTable(1);
+    table.horizon_steps = 25;  // beyond kMaxPlanSteps
+    expectRefused(emptyMap(), table, request(-5, 0, 5, 0, 1e-2), MapProblemError::kBadProblem);
+    table.horizon_steps = 0;
+    expectRefused(emptyMap(), table, request(-5, 0, 5, 0, 1e-2), MapProblemError::kBadProblem);
+}
+
+// Ten 1 m squares along the line (-8, 0) - (8, 0), their near edges 1, 1.5,
+// ..., 5.5 m from it, north and south in turn, in a shuffled slot order: the
+// eight nearest are kept in slot order, the two farthest (5 m and 5.5 m, in
+// slots 2 and 6) dropped.
+TEST(MapProblem, TheEightNearestToTheLineAreKept) {
+    const double nearEdge[10] = {2.0, 1.5, 5.0, 1.0, 3.5, 2.5, 5.5, 3.0, 4.5, 4.0};
+    CoarseMapTable map = emptyMap();
+    for (std::size_t s = 0; s < 10; ++s) {
+        const float x0 = static_cast<float>(-7.5 + 1.5 * static_cast<double>(s));
+        const float sign = s % 2 == 0 ? 1.0F : -1.0F;
+        const float y0 = sign * static_cast<float>(nearEdge[s]);
+        const float y1 = sign * static_cast<float>(nearEdge[s] + 1.0);
+        addPolygon(&map, {{x0, y0}, {x0 + 1.0F, y0}, {x0 + 1.0F, y1}, {x0, y1}});
+    }
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), request(-8, 0, 8, 0, 1e-2), &p, &report) == Status::kOk);
+    CHECK_EQUAL(10, report.obstaclesOnMap);
+    CHECK_EQUAL(8, report.obstaclesUsed);
+    CHECK_EQUAL(2, report.obstaclesDropped);
+    CHECK_EQUAL(kMaxPlanObstacles, p.obstacleCount);
+    const std::uint8_t kept[8] = {0, 1, 3, 4, 5, 7, 8, 9};
+    for (std::size_t i = 0; i < 8; ++i) {
+        CHECK_EQUAL(kept[i], p.obstacles[i].id);
+        CHECK_EQUAL(4, p.obstacles[i].faceCount);
+    }
+    // At most eight: nothing dropped.
+    map.obstacle_count = 8;
+    map.vertex_count[8] = map.vertex_count[9] = 0;
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), request(-8, 0, 8, 0, 1e-2), &p, &report) == Status::kOk);
+    CHECK_EQUAL(8, report.obstaclesUsed);
+    CHECK_EQUAL(0, report.obstaclesDropped);
+    for (std::size_t i = 0; i < 8; ++i) {
+        CHECK_EQUAL(i, p.obstacles[i].id);
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The default tables: the demo mission's coarse map, start (0, 0) and goal
+// (20, 0) (sim_stub/scenarios/demo_mission.toml), and the start 1-sigma of
+// rse-plan-picture's default, 0.2 m (ground/plan_picture.cpp says why).
+
+namespace {
+
+constexpr double kDemoSigma0 = 0.2;
+
+struct DefaultTables {
+    rse::core::VirtualClock clock;
+    rse::core::EventLog events{clock};
+    rse::tables::TableService service{events};
+    DefaultTables() {
+        CHECK(rse::core::isOk(service.init(rse::tables::kDefaultTableImages, rse::tables::kDefaultTableImageCount)));
+    }
+};
+
+void planDemo(const DefaultTables& t, double risk, CcProblem* p, CcPlan* plan) {
+    PlanRequest r = request(0.0, 0.0, 20.0, 0.0, risk);
+    r.startCov[0] = r.startCov[3] = kDemoSigma0 * kDemoSigma0;
+    MapProblemReport report;
+    CHECK(buildMapProblem(t.service.coarseMap(), t.service.planner(), t.service.roverGeometry(), r, p, &report) ==
+          Status::kOk);
+    CHECK_EQUAL(4, report.obstaclesOnMap);
+    CHECK_EQUAL(0, report.obstaclesDropped);
+    CHECK_FALSE(report.startInObstacle);
+    const CcStatus s = planner.solve(*p, CcPlannerParams{}, plan);
+    CHECK(s == CcStatus::kOptimal || s == CcStatus::kFeasible);
+    CHECK(rse::deliberative::checkPlan(*p, *plan) == Status::kOk);
+    CHECK(plan->riskUsed <= risk);
+}
+
+double faceVar(const CcProblem& p, const PlanObstacle& o, std::size_t j, std::size_t t) {
+    return rse::deliberative::faceVariance(o.normalX[j], o.normalY[j], p.startCov, p.processSigmaM,
+                                           static_cast<unsigned>(t));
+}
+
+// The plan's least clearance in standard deviations: over every segment end
+// (t, obstacle i, end e), the slack of its assigned face a . mu - b divided by
+// the standard deviation of a . x there. Every end's risk is at most Delta,
+// so its margin is at least PhiInv(1 - Delta) sd: the least is >= that.
+// *activeZ: the least slack in sd over the ends whose constraint is active
+// (slack = margin within 1 um) and whose delta is at least the even split's
+// Delta / (2 N M); INFINITY when there is none.
+double leastSlackInSd(const CcProblem& p, const CcPlan& plan, double* activeZ) {
+    const double evenDelta = p.riskBound / (2.0 * p.steps * p.obstacleCount);
+    double least = INFINITY;
+    *activeZ = INFINITY;
+    for (std::size_t t = 0; t < p.steps; ++t) {
+        for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+            const PlanObstacle& o = p.obstacles[i];
+            const std::size_t j = plan.face[t][i];
+            for (std::size_t e = 0; e < 2; ++e) {
+                const double var = faceVar(p, o, j, t + e);
+                const double slack = rse::deliberative::endSlack(o, j, plan.meanX[t + e], plan.meanY[t + e], 0.0);
+                const double z = slack / std::sqrt(var);
+                least = std::fmin(least, z);
+                const double delta = plan.delta[t][i][e];
+                const bool active =
+                    std::fabs(slack - rse::deliberative::tighteningMargin(delta, var)) < 1e-6;
+                if (active && delta >= evenDelta * (1.0 - 1e-9)) {
+                    *activeZ = std::fmin(*activeZ, z);
+                }
+            }
+        }
+    }
+    return least;
+}
+
+}  // namespace
+
+TEST(MapProblem, DefaultTablesDemoMissionPlansWithinTheBound) {
+    DefaultTables t;
+    CcProblem p;
+    for (const double risk : {t.service.planner().default_risk_bound, 1e-2, 1e-6}) {
+        planDemo(t, risk, &p, &planA);
+        CHECK_EQUAL(t.service.planner().horizon_steps, p.steps);
+        DOUBLES_EQUAL(20.0, planA.meanX[p.steps], 0.0);
+        DOUBLES_EQUAL(0.0, planA.meanY[p.steps], 0.0);
+        // No mean-path segment touches a grown rock.
+        CHECK(rse::ground::pathClearance(p, planA) > 0.0);
+    }
+}
+
+// Delta = 1e-6 against 1e-2 on the demo. Quantiles (N = 20 steps, M = 4 rocks):
+// every end's delta is at most Delta, so at 1e-6 every end keeps at least
+// z6 = PhiInv(1 - 1e-6) = 4.753 sd from its face. At 1e-2 the plan is held by
+// its margins: an end is active (slack = margin) with a delta at least the
+// even split's 1e-2 / 160 (the allocation only moves risk to active ends), so
+// its slack is at most z2 = PhiInv(1 - 1e-2 / 160) = 3.836 sd. Hence the least
+// slack in sd rises by at least z6 - z2 = 0.92 sd. In metres (the Euclidean
+// distance from the mean path to the grown rocks, what the picture shows) the
+// sd is at least sigma0 = 0.2 m everywhere, so the expected gain is at least
+// (z6 - z2) sigma0 = 0.18 m: asserted as clearance(1e-6) > clearance(1e-2)
+// + (z6 - z2) sigma0. (At sigma0 = 0.05 m, the fix's, both plans are nearly
+// the straight line and the gain would be a few cm.)
+TEST(MapProblem, DefaultTablesSmallerRiskKeepsMoreClearance) {
+    DefaultTables t;
+    CcProblem p2;
+    CcProblem p6;
+    planDemo(t, 1e-2, &p2, &planA);
+    planDemo(t, 1e-6, &p6, &planB);
+    const double z6 = rse::deliberative::upperQuantile(1e-6);
+    const double z2 = rse::deliberative::upperQuantile(1e-2 / (2.0 * p2.steps * p2.obstacleCount));
+    double active2 = INFINITY;
+    double active6 = INFINITY;
+    const double least2 = leastSlackInSd(p2, planA, &active2);
+    const double least6 = leastSlackInSd(p6, planB, &active6);
+    // The guarantees: every end's slack at least PhiInv(1 - Delta) sd.
+    CHECK(least2 >= rse::deliberative::upperQuantile(1e-2) - 1e-9);
+    CHECK(least6 >= z6 - 1e-9);
+    // The 1e-2 plan is held by an active end, at most z2 sd from its face.
+    CHECK(std::isfinite(active2));
+    CHECK(active2 <= z2 + 1e-9);
+    CHECK(least6 - least2 >= z6 - z2 - 1e-9);
+    // In metres.
+    const double c2 = rse::ground::pathClearance(p2, planA);
+    const double c6 = rse::ground::pathClearance(p6, planB);
+    CHECK(c6 >= z6 * kDemoSigma0 - 1e-9);
+    CHECK_TEXT(c6 > c2 + (z6 - z2) * kDemoSigma0, "1e-6 keeps visibly farther from the rocks");
+}

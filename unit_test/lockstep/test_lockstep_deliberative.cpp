@@ -1,0 +1,185 @@
+// Lockstep: all three layers drive the simulated rover from a ground GOTO. The
+// test is the operator: authenticated CCSDS commands through the in-memory
+// ground link (GOTO, SET_MODE); it reads what the flight software publishes
+// (PlanStatusMsg, ModeMsg) and the simulator's truth only to judge the outcome.
+//
+// Scenario: sim_stub/scenarios/demo_mission.toml. The known rocks are in the
+// COARSE_MAP table (the deliberative plan avoids them); rock 3 is hidden on the
+// straight line and only the habitual layer, through the hazard detector,
+// finds it. Test 1 clears the scenario's faults; test 2 keeps them (a motor
+// wears at 30 s, another fails at 75 s).
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+#include "fsw/core/byte_codec.hpp"
+#include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "unit_test/lockstep/memory_ground.hpp"
+#include "unit_test/support/alloc_guard.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using core::kNsPerSec;
+using msg::CallHomeReason;
+using msg::DeliberativeState;
+
+namespace {
+
+constexpr double kGoalX = 20.0;  // the demo mission's goal
+constexpr double kGoalY = 0.0;
+
+struct Watch {
+    test::MemoryGround* ground = nullptr;
+    core::PipeId pipe = 0;
+    core::Message inbox{};
+    msg::PlanStatusMsg plan{};
+    msg::ModeMsg mode{};
+};
+Watch g_watch;
+
+void watchFrame(test::LockstepRig& rig) {
+    g_watch.ground->drainDownlink();
+    while (core::isOk(rig.fsw().bus().receive(g_watch.pipe, &g_watch.inbox))) {
+        msg::PlanStatusMsg p{};
+        msg::ModeMsg m{};
+        if (g_watch.inbox.header.id == msg::ids::kPlanStatus && core::isOk(g_watch.inbox.decode(&p))) {
+            g_watch.plan = p;
+        } else if (g_watch.inbox.header.id == msg::ids::kMode && core::isOk(g_watch.inbox.decode(&m))) {
+            g_watch.mode = m;
+        }
+    }
+}
+
+}  // namespace
+
+TEST_GROUP(LockstepDeliberative) {
+    test::LockstepRig* rig = nullptr;
+    test::MemoryGround* ground = nullptr;
+
+    void start(const sim::Scenario& scenario) {
+        rig = new test::LockstepRig(scenario);
+        ground = new test::MemoryGround;
+        CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
+        CHECK(core::Status::kOk == rig->init());
+        g_watch = Watch{};
+        g_watch.ground = ground;
+        core::SoftwareBus& bus = rig->fsw().bus();
+        CHECK(core::isOk(bus.createPipe("delib-test", 16, &g_watch.pipe)));
+        CHECK(core::isOk(bus.subscribe(g_watch.pipe, msg::ids::kPlanStatus)));
+        CHECK(core::isOk(bus.subscribe(g_watch.pipe, msg::ids::kMode)));
+        rig->setOnFrame(watchFrame);
+        CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 3 * kNsPerSec));
+    }
+    void teardown() override {
+        delete rig;
+        delete ground;
+    }
+    void gotoGoal(double x, double y, double risk) {
+        std::uint8_t args[24];
+        core::BeWriter w(args, sizeof args);
+        w.f64(x);
+        w.f64(y);
+        w.f64(risk);
+        CHECK_TRUE(ground->setMode(2));  // AUTONOMOUS (GOTO is refused in SAFE)
+        CHECK_TRUE(rig->runUntil([&] { return g_watch.mode.mode == 2; }, kNsPerSec));
+        CHECK_TRUE(ground->send("GOTO", args, sizeof args));
+    }
+    void printTiming() {
+        const core::Executive& exec = rig->fsw().executive();
+        for (std::size_t i = 0; i < exec.taskCount(); ++i) {
+            const char* name = exec.entry(i)->name;
+            if (std::strcmp(name, "deliberative") == 0 || std::strcmp(name, "habitual") == 0) {
+                std::printf("  %s: host CPU per run mean %lld us, max %lld us, over budget %u (timing goals: make bench)\n",
+                            name, static_cast<long long>(exec.taskStats(i)->hostMean() / 1000),
+                            static_cast<long long>(exec.taskStats(i)->hostMax / 1000),
+                            static_cast<unsigned>(exec.taskStats(i)->overBudget));
+            }
+        }
+    }
+};
+
+// The whole chain from one GOTO: a chance-constrained plan round the known
+// rocks, legs handed down one at a time, the hidden rock avoided locally, the
+// goal reached without contact, and no heap allocation anywhere in the
+// flight software or the simulator for the whole mission.
+TEST(LockstepDeliberative, AGotoIsPlannedCutIntoLegsAndDrivenToTheGoalWithoutContactOrHeap) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/demo_mission.toml");
+    s.faults.clear();
+    start(s);
+    const deliberative::DeliberativeTask& delib = rig->fsw().deliberative();
+    CHECK_TRUE(ground->send("NOOP"));  // the ground's HMAC context allocates once, on first use
+    rig->runFor(100 * core::kNsPerMs);
+    {
+        test::AllocationWatch watch;
+        gotoGoal(kGoalX, kGoalY, 1e-3);
+        const bool ended = rig->runUntil([&] { return delib.state() == DeliberativeState::kComplete ||
+                                                      delib.state() == DeliberativeState::kCalledHome; },
+                                         240 * kNsPerSec);
+        if (!ended) {
+            std::printf("%s\n", rig->consoleText());
+        }
+        CHECK_TRUE(ended);
+        LONGS_EQUAL(0, watch.count());
+    }
+    rig->runFor(kNsPerSec);  // the console task writes events at 10 Hz
+    const sim::TruthRecord& truth = rig->rover().truth();
+    const deliberative::DeliberativeCounters& c = delib.counters();
+    std::printf("\n  mission: %.1f s, plan %.2f m risk %.3g, %u legs sent, %u achieved, %u fail-ups, %u bound "
+                "relaxations, %u replans, habitual replans %u; end (%.2f, %.2f), driven %.2f m, collisions %u\n",
+                static_cast<double>(rig->clock().now()) * 1e-9, delib.plan().euclideanLengthM, delib.plan().riskUsed,
+                c.legsSent, c.legsAchieved, c.failUps, c.boundRelaxations, c.replans,
+                rig->fsw().habitual().counters().replans, truth.pose.x, truth.pose.y, truth.distanceM,
+                static_cast<unsigned>(truth.collisions));
+    printTiming();
+    if (delib.state() != DeliberativeState::kComplete || std::getenv("RSE_PRINT_CONSOLE") != nullptr) {
+        std::printf("%s\n", rig->consoleText());
+    }
+    CHECK(DeliberativeState::kComplete == delib.state());
+    LONGS_EQUAL(0, c.callHomes);
+    CHECK(c.legsSent >= 2);
+    LONGS_EQUAL(c.legsSent, c.legsAchieved + c.failUps);  // every leg sent ends achieved or failed up
+    CHECK(delib.plan().riskUsed <= 1e-3);
+    LONGS_EQUAL(0, truth.collisions);
+    CHECK(std::hypot(truth.pose.x - kGoalX, truth.pose.y - kGoalY) < 0.6);
+    CHECK(rig->consoleCount("EVT 908 INFO  deliberative: every goal reached") == 1);
+    CHECK(DeliberativeState::kComplete == g_watch.plan.state);
+}
+
+// The demo's own faults: the middle-left motor wears at 30 s (1.8x the
+// current for the same torque); on the next turn it passes its over-current
+// limit, the drive faults and the reflexive interlock holds every drive (and
+// latches), before the middle-right motor's failure at 75 s even comes. No plan
+// can move the rover, so the deliberative layer safes it and calls home: leg
+// cancelled, mode SAFE, CRITICAL event, PLAN showing why. It stays stopped.
+TEST(LockstepDeliberative, ADriveFaultThatHoldsTheWheelsSafesTheRoverAndCallsHome) {
+    start(sim::loadScenarioFile("sim_stub/scenarios/demo_mission.toml"));
+    const deliberative::DeliberativeTask& delib = rig->fsw().deliberative();
+    gotoGoal(kGoalX, kGoalY, 1e-3);
+    CHECK_TRUE(rig->runUntil([&] { return delib.state() == DeliberativeState::kCalledHome; }, 150 * kNsPerSec));
+    std::printf("\n  call home at %.1f s: reason %u, legs achieved %u, rover at (%.2f, %.2f)\n",
+                static_cast<double>(rig->clock().now()) * 1e-9, static_cast<unsigned>(delib.status().callHome),
+                delib.counters().legsAchieved, rig->rover().truth().pose.x, rig->rover().truth().pose.y);
+    rig->runFor(kNsPerSec);  // the console task writes events at 10 Hz
+    if (CallHomeReason::kMobilityLost != delib.status().callHome ||
+        rig->consoleCount("EVT 912 CRIT  deliberative: CALL HOME: mobility lost") != 1) {
+        std::printf("%s\n", rig->consoleText());
+    }
+    CHECK(CallHomeReason::kMobilityLost == delib.status().callHome);
+    CHECK(rig->clock().now() > 30 * kNsPerSec);  // not before the motor wore
+    CHECK(rig->fsw().canIo().interlock().tripped());
+    CHECK(g_watch.mode.mode == 0);  // SAFE
+    LONGS_EQUAL(1, rig->consoleCount("EVT 912 CRIT  deliberative: CALL HOME: mobility lost (the drive interlock holds every drive)"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 215 WARN  app: deliberative layer called home"));
+    const double x0 = rig->rover().truth().pose.x;
+    const double y0 = rig->rover().truth().pose.y;
+    rig->runFor(5 * kNsPerSec);
+    CHECK(std::hypot(rig->rover().truth().pose.x - x0, rig->rover().truth().pose.y - y0) < 0.05);
+    CHECK(DeliberativeState::kCalledHome == g_watch.plan.state);
+    CHECK(CallHomeReason::kMobilityLost == g_watch.plan.callHome);
+    LONGS_EQUAL(0, rig->rover().truth().collisions);
+}
