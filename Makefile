@@ -5,7 +5,9 @@
 #                    ends with one line "N passed, N failed" (total over all suites)
 #   make host-test   host suites only (quick edit-test loop)
 #   make cross-test  aarch64 suites only, under qemu-aarch64
-#   make demo        the lockstep mission demo
+#   make demo        the autonomous mission demo (rse-demo: rse-fsw and rse-sim in lockstep, GOTO
+#                    from the ground, console streamed, mission summary);
+#                    make demo DEMO_SECONDS=300 DEMO_ARGS="--no-faults"
 #   make plan-picture  the demo map planned at Delta = 1e-2 and 1e-6, drawn to build/plan_picture.svg
 #   make bench       benchmarks; they print their figures (see docs/performance.md)
 #   make clean
@@ -119,7 +121,12 @@ $(FLIGHT_LIB): $(FLIGHT_OBJS)
 	@mkdir -p $(@D)
 	rm -f $@ && $(AR) rcs $@ $^
 
-SIM_SRCS := $(filter-out sim_stub/main.cpp,$(sort $(wildcard sim_stub/*.cpp sim_stub/*/*.cpp)))
+# The simulator library: the world, the device and drive emulators, the
+# scenarios and the lockstep rig (sim_stub/lockstep/: FswApp + RoverSim on one
+# virtual clock, the in-memory ground, the mission runner). The rig needs the
+# flight and ground libraries: link them after it. rse-fsw never links it.
+SIM_MAINS := sim_stub/main.cpp sim_stub/mission_demo.cpp
+SIM_SRCS := $(filter-out $(SIM_MAINS),$(sort $(wildcard sim_stub/*.cpp sim_stub/*/*.cpp)))
 SIM_OBJS := $(SIM_SRCS:%.cpp=$(BUILD)/obj/%.o)
 SIM_LIB := $(BUILD)/lib/librse_sim.a
 
@@ -165,6 +172,13 @@ $(PLAN_PICTURE_BIN): $(BUILD)/obj/ground/plan_picture.o $(DEFAULT_TABLES_OBJ) $(
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
+# rse-demo: the mission in lockstep (host only, like rse-sim): the
+# simulator library with the ground library (the GOTO encoder) and the flight library.
+DEMO_BIN := $(BUILD)/bin/rse-demo
+$(DEMO_BIN): $(BUILD)/obj/sim_stub/mission_demo.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
 # The default table images (DEFAULT_TABLES_SRC above). A cross build first
 # makes the host rse-ground in a make run of its own.
 ifeq ($(CROSS_COMPILE),)
@@ -183,7 +197,7 @@ $(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
 
 # A cross build makes what runs on the rover; a host build adds the simulator
 # and the ground tools.
-HOST_TOOLS := $(SIM_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN)
+HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN)
 .PHONY: all
 all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
@@ -261,10 +275,16 @@ test: deps
 
 # ---------------------------------------------------------------------------
 # Demo, plan picture and benchmarks (host).
-DEMO_SECONDS ?= 10
+# make demo: rse-demo with the demo scenario (sim_stub/scenarios/demo_mission.toml):
+# DEMO_SECONDS simulated seconds at most, DEMO_ARGS more options (rse-demo --help),
+# e.g. DEMO_ARGS="--no-faults" or DEMO_ARGS="--goto 12,3,1e-2".
+DEMO_SECONDS ?= 180
+DEMO_ARGS ?=
+HOST_DEMO_BIN := build/$(shell uname -m)/bin/rse-demo
 .PHONY: demo bench plan-picture
-demo: $(FSW_BIN)
-	$(FSW_BIN) --lockstep --duration $(DEMO_SECONDS)
+demo: deps
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_DEMO_BIN)
+	$(HOST_DEMO_BIN) --duration $(DEMO_SECONDS) $(DEMO_ARGS)
 
 # The demo map planned at Delta = 1e-2 and 1e-6 (docs/deliberative.md, "Picture").
 HOST_PLAN_PICTURE_BIN := build/$(shell uname -m)/bin/rse-plan-picture

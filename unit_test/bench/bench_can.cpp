@@ -11,7 +11,7 @@
 // bench_socketcan (make bench runs it there).
 #include <cstdio>
 
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 
 #include "fsw/app/can_io_task.hpp"
 #include "fsw/core/clock.hpp"
@@ -84,7 +84,7 @@ int main() {
         return 1;
     }
 
-    static test::LockstepRig rig("sim_stub/scenarios/straight_10m.toml");
+    static sim::LockstepRig rig("sim_stub/scenarios/straight_10m.toml");
     if (!core::isOk(rig.init())) {
         return 1;
     }

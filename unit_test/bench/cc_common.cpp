@@ -426,4 +426,18 @@ bool meanPathHitsObstacle(const CcProblem& problem, const double* meanX, const d
     return false;
 }
 
+double quantile(std::vector<double> values, double q) {
+    if (values.empty()) {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    std::sort(values.begin(), values.end());
+    const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1);
+    const std::size_t lo = static_cast<std::size_t>(pos);
+    const double frac = pos - static_cast<double>(lo);
+    if (frac == 0.0) {
+        return values[lo];  // exact, also when the values hold infinities
+    }
+    return values[lo] + frac * (values[lo + 1] - values[lo]);
+}
+
 }  // namespace rse::test::cc

@@ -111,4 +111,11 @@ double siteBoundViolation(const CcProblem& problem, const double* meanX, const d
 // Do any of the mean segments meet any obstacle (the deterministic path)?
 bool meanPathHitsObstacle(const CcProblem& problem, const double* meanX, const double* meanY);
 
+// ---- statistics (the benchmark's summaries)
+// The q-quantile of the values, q in [0, 1], interpolated linearly between the
+// order statistics (q = 0.5 the median, 0 the least, 1 the largest; q outside
+// [0, 1] is clamped); NaN when there are no values. An order statistic hit
+// exactly is returned as it is (so +inf among the values is fine).
+double quantile(std::vector<double> values, double q);
+
 }  // namespace rse::test::cc

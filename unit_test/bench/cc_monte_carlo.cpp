@@ -195,4 +195,22 @@ McResult monteCarloCollision(const CcProblem& problem, const CcPlan& plan, const
     return monteCarloCollision(problem, plan.meanX, plan.meanY, options);
 }
 
+std::size_t monteCarloSamples(double riskBound, std::size_t minimum) {
+    if (!(riskBound > 0.0)) {
+        return minimum;
+    }
+    return std::max(minimum, static_cast<std::size_t>(std::ceil(500.0 / riskBound)));
+}
+
+Conservatism conservatism(double riskBound, const McResult& result) {
+    Conservatism c;
+    if (result.collisions > 0) {
+        c.ratio = riskBound / result.rate;
+    } else {
+        c.ratio = riskBound / result.upperClopperPearson;
+        c.lowerBound = true;
+    }
+    return c;
+}
+
 }  // namespace rse::test::cc

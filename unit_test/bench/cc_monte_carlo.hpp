@@ -41,6 +41,21 @@ McResult monteCarloCollision(const CcProblem& problem, const double* meanX, cons
 McResult monteCarloCollision(const CcProblem& problem, const CcPlan& plan,
                              const McOptions& options = McOptions{});
 
+// How many trajectories to sample for a plan with risk bound Delta: at least
+// `minimum` and at least 500 / Delta, so that a plan 100x inside Delta still
+// shows about 5 collisions (1e5 at Delta = 0.05, 5e5 at 1e-3).
+std::size_t monteCarloSamples(double riskBound, std::size_t minimum = 100000);
+
+// The conservatism of a plan's risk bound, Delta / (empirical collision rate).
+// With no collision in the sample the rate says nothing; then the ratio is
+// Delta / (the Clopper-Pearson upper bound), a lower bound on the conservatism
+// (at that confidence), and lowerBound is true.
+struct Conservatism {
+    double ratio = 0.0;
+    bool lowerBound = false;
+};
+Conservatism conservatism(double riskBound, const McResult& result);
+
 // One-sided upper confidence bounds on a binomial proportion after k
 // successes in n trials. Clopper-Pearson: the p with P(Bin(n, p) <= k) =
 // 1 - confidence (1 when k = n), exact (regularised incomplete beta, bisected).

@@ -222,3 +222,20 @@ TEST(CcCommon, ValidateProblemNamesWhatIsWrong) {
     bad.goalX = 30.0;
     CHECK(validateProblem(bad).find("goal outside") != std::string::npos);
 }
+
+TEST(CcCommon, QuantileInterpolatesBetweenOrderStatistics) {
+    CHECK(std::isnan(quantile({}, 0.5)));
+    DOUBLES_EQUAL(7.0, quantile({7.0}, 0.9), 0.0);
+    const std::vector<double> v = {4.0, 1.0, 3.0, 2.0};  // unsorted on purpose
+    DOUBLES_EQUAL(1.0, quantile(v, 0.0), 0.0);
+    DOUBLES_EQUAL(4.0, quantile(v, 1.0), 0.0);
+    DOUBLES_EQUAL(2.5, quantile(v, 0.5), 1e-15);    // median of an even count: the midpoint
+    DOUBLES_EQUAL(1.75, quantile(v, 0.25), 1e-15);  // position 0.75 between 1 and 2
+    DOUBLES_EQUAL(3.0, quantile({5.0, 3.0, 1.0}, 0.5), 0.0);
+    DOUBLES_EQUAL(1.0, quantile(v, -1.0), 0.0);     // clamped
+    DOUBLES_EQUAL(4.0, quantile(v, 2.0), 0.0);
+    // An infinite value does not spoil the order statistics below it.
+    const std::vector<double> w = {1.0, 2.0, INFINITY};
+    DOUBLES_EQUAL(2.0, quantile(w, 0.5), 0.0);
+    CHECK(std::isinf(quantile(w, 1.0)));
+}

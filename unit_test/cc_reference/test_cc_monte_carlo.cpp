@@ -47,6 +47,15 @@ void straightMeans(std::size_t steps, double* x, double* y) {
 // A wall y >= d across the whole path (a box far larger than the path).
 PlanObstacle wall(double d) { return boxObstacle(-100.0, d, 100.0, 150.0, 1); }
 
+// One noisy step (sd 0.3 m at the start, 0.3 m per step) along y = 0 with the
+// wall y >= d beside it.
+CcProblem oneStepBesideWall(double d) {
+    CcProblem p = straightProblem(1, 0.3, 0.3);
+    p.obstacleCount = 1;
+    p.obstacles[0] = wall(d);
+    return p;
+}
+
 double phi(double x) { return std::exp(-0.5 * x * x) / std::sqrt(2.0 * 3.14159265358979323846); }
 
 // P(max_t y_t > d) for y_0 ~ N(0, s0^2), y_{t+1} = y_t + N(0, sigma^2), t < steps:
@@ -194,9 +203,7 @@ TEST(CcMonteCarlo, SeveralStepsBesideAWallMatchTheDensityRecursion) {
 TEST(CcMonteCarlo, SeededAndRepeatable) {
     double x[2], y[2];
     straightMeans(1, x, y);
-    CcProblem p = straightProblem(1, 0.3, 0.3);
-    p.obstacleCount = 1;
-    p.obstacles[0] = wall(0.6);
+    CcProblem p = oneStepBesideWall(0.6);
     McOptions a;
     a.seed = 7;
     McOptions b = a;
@@ -228,4 +235,31 @@ TEST(CcMonteCarlo, BinomialUpperBounds) {
     // Wilson with k = 0: z^2 / (n + z^2).
     const double z = normalQuantile(0.95);
     DOUBLES_EQUAL(z * z / (1000.0 + z * z), wilsonUpper(0, 1000), 1e-12);
+}
+
+TEST(CcMonteCarlo, SampleCountGrowsAsTheRiskBoundShrinks) {
+    LONGS_EQUAL(100000, monteCarloSamples(0.05));
+    LONGS_EQUAL(500000, monteCarloSamples(1e-3));
+    LONGS_EQUAL(5000000, monteCarloSamples(1e-4, 1000));
+    LONGS_EQUAL(2500, monteCarloSamples(0.2, 1000));
+    LONGS_EQUAL(123, monteCarloSamples(0.0, 123));  // no bound to resolve: the minimum
+}
+
+TEST(CcMonteCarlo, ConservatismIsDeltaOverTheRateOrALowerBoundWithoutHits) {
+    double x[2], y[2];
+    straightMeans(1, x, y);
+    CcProblem p = oneStepBesideWall(0.6);
+    McOptions options;
+    options.samples = 20000;
+    const McResult hits = monteCarloCollision(p, x, y, options);
+    CHECK(hits.collisions > 0);
+    const Conservatism c = conservatism(0.5, hits);
+    CHECK_FALSE(c.lowerBound);
+    DOUBLES_EQUAL(0.5 * 20000.0 / static_cast<double>(hits.collisions), c.ratio, 1e-9);
+    p = oneStepBesideWall(50.0);  // far away: no trajectory reaches it
+    const McResult none = monteCarloCollision(p, x, y, options);
+    LONGS_EQUAL(0, none.collisions);
+    const Conservatism lower = conservatism(0.01, none);
+    CHECK(lower.lowerBound);
+    DOUBLES_EQUAL(0.01 / clopperPearsonUpper(0, 20000), lower.ratio, 1e-12);
 }

@@ -25,7 +25,7 @@
 #include "fsw/habitual/power_model.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -53,7 +53,7 @@ struct Meter {
     double lastTheta = 0.0;
     double turnedRad = 0.0;  // sum of |heading change| since reset()
 
-    void reset(test::LockstepRig& rig) {
+    void reset(sim::LockstepRig& rig) {
         flightJ = 0.0;
         truthJ = 0.0;
         turnedRad = 0.0;
@@ -62,7 +62,7 @@ struct Meter {
 };
 Meter g_meter;
 
-void meterFrame(test::LockstepRig& rig) {
+void meterFrame(sim::LockstepRig& rig) {
     Meter& m = g_meter;
     while (core::isOk(rig.fsw().bus().receive(m.pipe, &m.inbox))) {
         msg::PowerMsg power{};
@@ -100,7 +100,7 @@ struct Measured {
 }  // namespace
 
 TEST_GROUP(PowerModelCalibration) {
-    test::LockstepRig* rig = nullptr;
+    sim::LockstepRig* rig = nullptr;
 
     void setup() override {
         sim::Scenario scenario = sim::loadScenarioFile("sim_stub/scenarios/straight_10m.toml");
@@ -109,7 +109,7 @@ TEST_GROUP(PowerModelCalibration) {
         scenario.map.xMax = 100.0;
         scenario.map.yMin = -50.0;
         scenario.map.yMax = 50.0;
-        rig = new test::LockstepRig(scenario);
+        rig = new sim::LockstepRig(scenario);
         CHECK(core::Status::kOk == rig->init());
         g_meter = Meter{};
         CHECK(core::isOk(rig->fsw().bus().createPipe("calibration", 8, &g_meter.pipe)));

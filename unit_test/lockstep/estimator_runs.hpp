@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "fsw/msg/health_msgs.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 
 namespace rse::test {
 
@@ -154,7 +154,7 @@ constexpr const char* kEstimatorTaskNames[3] = {"estimator", "drive_modes", "hea
 inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, double durationS) {
     sim::Scenario scenario = base;
     scenario.seed = seed;
-    auto rig = std::make_unique<LockstepRig>(scenario);
+    auto rig = std::make_unique<sim::LockstepRig>(scenario);
     NominalRun out;
     if (!core::isOk(rig->init())) {
         return out;
@@ -232,7 +232,7 @@ inline FaultRun runFaulted(const sim::Scenario& base, std::uint64_t seed) {
     out.factor = 1.3 + 0.3 * u(pick);
     out.degradeAtS = 60.0 + 60.0 * u(pick);
     out.failAtS = out.degradeAtS + 30.0 + 30.0 * u(pick);
-    auto rig = std::make_unique<LockstepRig>(scenario);
+    auto rig = std::make_unique<sim::LockstepRig>(scenario);
     if (!core::isOk(rig->init())) {
         return out;
     }

@@ -17,8 +17,8 @@
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
-#include "unit_test/lockstep/memory_ground.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/memory_ground.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -34,7 +34,7 @@ constexpr double kGoalX = 20.0;  // the demo mission's goal
 constexpr double kGoalY = 0.0;
 
 struct Watch {
-    test::MemoryGround* ground = nullptr;
+    sim::MemoryGround* ground = nullptr;
     core::PipeId pipe = 0;
     core::Message inbox{};
     msg::PlanStatusMsg plan{};
@@ -42,7 +42,7 @@ struct Watch {
 };
 Watch g_watch;
 
-void watchFrame(test::LockstepRig& rig) {
+void watchFrame(sim::LockstepRig& rig) {
     g_watch.ground->drainDownlink();
     while (core::isOk(rig.fsw().bus().receive(g_watch.pipe, &g_watch.inbox))) {
         msg::PlanStatusMsg p{};
@@ -58,12 +58,12 @@ void watchFrame(test::LockstepRig& rig) {
 }  // namespace
 
 TEST_GROUP(LockstepDeliberative) {
-    test::LockstepRig* rig = nullptr;
-    test::MemoryGround* ground = nullptr;
+    sim::LockstepRig* rig = nullptr;
+    sim::MemoryGround* ground = nullptr;
 
     void start(const sim::Scenario& scenario) {
-        rig = new test::LockstepRig(scenario);
-        ground = new test::MemoryGround;
+        rig = new sim::LockstepRig(scenario);
+        ground = new sim::MemoryGround;
         CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
         CHECK(core::Status::kOk == rig->init());
         g_watch = Watch{};

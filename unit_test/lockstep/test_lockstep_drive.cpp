@@ -2,7 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -18,7 +18,7 @@ namespace {
 double g_odometryM = 0.0;
 constexpr double kWheelRadiusM = 0.10;  // rover geometry (a table once tables exist)
 
-void integrateOdometry(test::LockstepRig& rig) {
+void integrateOdometry(sim::LockstepRig& rig) {
     double sum = 0.0;
     for (const msg::WheelStatus& w : rig.driveStatus().wheels) {
         sum += w.velocityRadS;
@@ -29,10 +29,10 @@ void integrateOdometry(test::LockstepRig& rig) {
 }  // namespace
 
 TEST_GROUP(LockstepDrive) {
-    test::LockstepRig* rig = nullptr;
+    sim::LockstepRig* rig = nullptr;
     void setup() override {
         g_odometryM = 0.0;
-        rig = new test::LockstepRig("sim_stub/scenarios/straight_10m.toml");
+        rig = new sim::LockstepRig("sim_stub/scenarios/straight_10m.toml");
         CHECK(core::Status::kOk == rig->init());
     }
     void teardown() override { delete rig; }

@@ -8,7 +8,7 @@
 
 #include "fsw/msg/health_msgs.hpp"
 #include "unit_test/lockstep/estimator_runs.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -22,7 +22,7 @@ namespace {
 
 const char* const kScenario = "sim_stub/scenarios/estimator_drive.toml";
 
-std::size_t taskRow(test::LockstepRig& rig, const char* name) {
+std::size_t taskRow(sim::LockstepRig& rig, const char* name) {
     for (std::size_t i = 0; i < rig.fsw().executive().taskCount(); ++i) {
         if (std::strcmp(rig.fsw().executive().entry(i)->name, name) == 0) {
             return i;
@@ -32,10 +32,10 @@ std::size_t taskRow(test::LockstepRig& rig, const char* name) {
     return 0;
 }
 
-std::uint64_t activeFaults(test::LockstepRig& rig) { return rig.fsw().health().status().activeMask; }
+std::uint64_t activeFaults(sim::LockstepRig& rig) { return rig.fsw().health().status().activeMask; }
 
 // Drives along an arc until every drive is operational and the estimate is running.
-void startDriving(test::LockstepRig& rig) {
+void startDriving(sim::LockstepRig& rig) {
     CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 3 * kNsPerSec));
     rig.commandBody(0.2, 0.05);
     CHECK_TRUE(rig.runUntil([&] { return rig.fsw().poseEstimator().latest().initialised != 0; }, 3 * kNsPerSec));
@@ -45,9 +45,9 @@ void startDriving(test::LockstepRig& rig) {
 }  // namespace
 
 TEST_GROUP(LockstepEstimator) {
-    test::LockstepRig* rig = nullptr;
+    sim::LockstepRig* rig = nullptr;
     void setup() override {
-        rig = new test::LockstepRig(kScenario);
+        rig = new sim::LockstepRig(kScenario);
         CHECK(core::Status::kOk == rig->init());
     }
     void teardown() override { delete rig; }

@@ -7,7 +7,7 @@
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
 #include "hal/can/isotp.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -36,7 +36,7 @@ bool isTelemetryPacket(const std::uint8_t* data, std::size_t length) {
 
 // Every frame: the ground side reads its endpoint, advances its ISO-TP channel
 // and takes every completed downlink message.
-void serviceGround(test::LockstepRig&) {
+void serviceGround(sim::LockstepRig&) {
     hal::CanFrame f;
     while (core::isOk(g_ground.can->receive(&f))) {
         if (f.id == app::kGroundDownlinkCobId) {
@@ -62,10 +62,10 @@ hal::IsoTpConfig groundConfig() {
 }  // namespace
 
 TEST_GROUP(LockstepGroundLink) {
-    test::LockstepRig* rig = nullptr;
+    sim::LockstepRig* rig = nullptr;
     core::EventLog* groundEvents = nullptr;
     void setup() override {
-        rig = new test::LockstepRig("sim_stub/scenarios/straight_10m.toml");
+        rig = new sim::LockstepRig("sim_stub/scenarios/straight_10m.toml");
         CHECK(core::Status::kOk == rig->init());
         groundEvents = new core::EventLog(rig->clock());
         g_ground = Ground{};

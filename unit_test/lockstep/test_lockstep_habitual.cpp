@@ -15,8 +15,8 @@
 #include "fsw/habitual/power_model.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
-#include "unit_test/lockstep/lockstep_rig.hpp"
-#include "unit_test/lockstep/memory_ground.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/memory_ground.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -38,7 +38,7 @@ constexpr core::TimeNs kEstopStopTime = 400 * kNsPerMs;
 
 // What the test sees of the flight software each frame (the rig's frame callback).
 struct Watch {
-    test::MemoryGround* ground = nullptr;
+    sim::MemoryGround* ground = nullptr;
     core::PipeId pipe = 0;
     core::Message inbox{};
     msg::LegReportMsg report{};
@@ -51,7 +51,7 @@ struct Watch {
 };
 Watch g_watch;
 
-void watchFrame(test::LockstepRig& rig) {
+void watchFrame(sim::LockstepRig& rig) {
     g_watch.ground->drainDownlink();
     while (core::isOk(rig.fsw().bus().receive(g_watch.pipe, &g_watch.inbox))) {
         msg::LegReportMsg r{};
@@ -94,12 +94,12 @@ struct SecondLegOutcome {
 }  // namespace
 
 TEST_GROUP(LockstepHabitual) {
-    test::LockstepRig* rig = nullptr;
-    test::MemoryGround* ground = nullptr;
+    sim::LockstepRig* rig = nullptr;
+    sim::MemoryGround* ground = nullptr;
 
     void start(const sim::Scenario& scenario) {
-        rig = new test::LockstepRig(scenario);
-        ground = new test::MemoryGround;
+        rig = new sim::LockstepRig(scenario);
+        ground = new sim::MemoryGround;
         CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
         CHECK(core::Status::kOk == rig->init());
         g_watch = Watch{};

@@ -1,9 +1,11 @@
-// A ground station for lockstep tests: authenticated command packets (the
-// dictionary's names, the lab key) into the flight software over an in-memory
-// packet link, and the downlink drained (counted, not decoded) so it never
-// fills. Add link() to the FswApp before LockstepRig::init().
+// A ground station for lockstep runs (tests, rse-demo): authenticated command
+// packets (the dictionary's names, the lab key) into the flight software over an
+// in-memory packet link, and the downlink drained (counted, not decoded) so it
+// never fills. Add link() to the FswApp before LockstepRig::init(). Host side:
+// HMAC-SHA-256 through mbedTLS (LDLIBS_CRYPTO).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "fsw/cmdtlm/command_auth.hpp"
@@ -11,7 +13,7 @@
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "hal/link/memory_packet_link.hpp"
 
-namespace rse::test {
+namespace rse::sim {
 
 class MemoryGround {
 public:
@@ -56,4 +58,4 @@ private:
     std::uint8_t buffer_[hal::kMemoryLinkMaxPacket] = {};
 };
 
-}  // namespace rse::test
+}  // namespace rse::sim

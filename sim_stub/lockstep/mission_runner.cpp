@@ -1,0 +1,425 @@
+#include "sim_stub/lockstep/mission_runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+#include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+#include "ground/command_encoder.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/memory_ground.hpp"
+#include "sim_stub/scenario/scenario_parser.hpp"
+
+namespace rse::sim {
+
+namespace {
+
+constexpr core::TimeNs kDrivesUpLimitNs = 3 * core::kNsPerSec;
+constexpr core::TimeNs kModeAckLimitNs = core::kNsPerSec;
+
+double seconds(core::TimeNs t) { return static_cast<double>(t) * 1e-9; }
+
+// A whole string as a finite number.
+bool parseNumber(const std::string& text, double* value) {
+    if (text.empty()) {
+        return false;
+    }
+    char* end = nullptr;
+    *value = std::strtod(text.c_str(), &end);
+    return *end == '\0' && std::isfinite(*value);
+}
+
+// "X,Y[,RISK]" into the options, checked against the dictionary's GOTO ranges.
+bool parseGoto(const std::string& text, MissionOptions* o, std::string* error) {
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (std::size_t comma = text.find(','); comma != std::string::npos; comma = text.find(',', start)) {
+        fields.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    fields.push_back(text.substr(start));
+    if (fields.size() < 2 || fields.size() > 3) {
+        *error = "--goto '" + text + "': expected X,Y or X,Y,RISK";
+        return false;
+    }
+    if (fields.size() == 2) {
+        fields.push_back("1e-3");
+    }
+    double v[3] = {};
+    for (std::size_t i = 0; i < 3; ++i) {
+        if (!parseNumber(fields[i], &v[i])) {
+            *error = "--goto '" + text + "': '" + fields[i] + "' is not a number";
+            return false;
+        }
+    }
+    try {
+        o->gotoArgs = ground::encodeArguments(*ground::lookupCommand("GOTO"),
+                                              {"x=" + fields[0], "y=" + fields[1], "risk=" + fields[2]});
+    } catch (const ground::CommandError& e) {
+        *error = std::string("--goto '") + text + "': " + e.what();
+        return false;
+    }
+    o->goalX = v[0];
+    o->goalY = v[1];
+    o->risk = v[2];
+    return true;
+}
+
+const char* stateName(msg::DeliberativeState s) {
+    switch (s) {
+        case msg::DeliberativeState::kIdle: return "IDLE";
+        case msg::DeliberativeState::kWaiting: return "WAITING";
+        case msg::DeliberativeState::kPlanning: return "PLANNING";
+        case msg::DeliberativeState::kExecuting: return "EXECUTING";
+        case msg::DeliberativeState::kCalledHome: return "CALLED HOME";
+        case msg::DeliberativeState::kComplete: return "COMPLETE";
+    }
+    return "?";
+}
+
+const char* modeName(std::uint8_t mode) {
+    return mode < cmdtlm::kModeCount ? cmdtlm::toString(static_cast<cmdtlm::Mode>(mode)) : "?";
+}
+
+// What the operator sees of the flight software: its published plan status
+// and mode (a pipe on the software bus) and its events (a reader of its own on
+// the event log), read once per frame; nothing is sent.
+class FlightWatch {
+public:
+    FlightWatch(core::SoftwareBus& bus, const core::EventLog& events) : bus_(bus), events_(events) {}
+    bool subscribe() {
+        return core::isOk(bus_.createPipe("rse-demo", 16, &pipe_)) &&
+               core::isOk(bus_.subscribe(pipe_, msg::ids::kPlanStatus)) &&
+               core::isOk(bus_.subscribe(pipe_, msg::ids::kMode));
+    }
+    void drain() {
+        while (core::isOk(bus_.receive(pipe_, &inbox_))) {
+            msg::PlanStatusMsg p{};
+            msg::ModeMsg m{};
+            if (inbox_.header.id == msg::ids::kPlanStatus && core::isOk(inbox_.decode(&p))) {
+                plan_ = p;
+            } else if (inbox_.header.id == msg::ids::kMode && core::isOk(inbox_.decode(&m))) {
+                mode_ = m;
+                modeSeen_ = true;
+            }
+        }
+        core::Event e;
+        while (core::isOk(events_.read(&cursor_, &e))) {
+            if (e.id == deliberative::events::kCallHome) {
+                callHomeText_ = e.text;
+            }
+        }
+    }
+    // The call home in the flight software's words (its CRITICAL event), from
+    // after "CALL HOME: " to before the goal counts that follow the reason.
+    std::string callHomeText() const {
+        std::string t = callHomeText_;
+        const std::string marker = "CALL HOME: ";
+        const std::size_t at = t.find(marker);
+        if (at != std::string::npos) {
+            t.erase(0, at + marker.size());
+        }
+        const std::size_t goal = t.find(", goal ");
+        return goal == std::string::npos ? t : t.substr(0, goal);
+    }
+    const msg::PlanStatusMsg& plan() const { return plan_; }
+    bool modeIs(std::uint8_t mode) const { return modeSeen_ && mode_.mode == mode; }
+    std::uint8_t mode() const { return mode_.mode; }
+    bool ended() const {
+        return plan_.state == msg::DeliberativeState::kComplete || plan_.state == msg::DeliberativeState::kCalledHome;
+    }
+
+private:
+    core::SoftwareBus& bus_;
+    const core::EventLog& events_;
+    core::EventLog::Cursor cursor_{};
+    std::string callHomeText_;
+    core::PipeId pipe_ = 0;
+    core::Message inbox_{};
+    msg::PlanStatusMsg plan_{};
+    msg::ModeMsg mode_{};
+    bool modeSeen_ = false;
+};
+
+// The demo's own lines, stamped like the console's.
+void say(std::FILE* out, LockstepRig& rig, const std::string& text) {
+    if (out != nullptr) {
+        std::fprintf(out, "[%10.3f] DEMO %s\n", seconds(rig.clock().now()), text.c_str());
+        std::fflush(out);
+    }
+}
+
+std::string describeScenario(const Scenario& s, const MissionOptions& o) {
+    std::size_t hidden = 0;
+    for (const Obstacle& ob : s.obstacles) {
+        hidden += ob.known ? 0 : 1;
+    }
+    char line[512];
+    std::snprintf(line, sizeof line, "scenario %s (%s): start (%.2f, %.2f), %zu rocks (%zu hidden), goal (%.2f, %.2f) "
+                  "risk bound %.3g, up to %.0f s",
+                  s.name.c_str(), o.scenarioPath.c_str(), s.start.x, s.start.y, s.obstacles.size(), hidden, o.goalX,
+                  o.goalY, o.risk, o.durationS);
+    std::string text = line;
+    if (o.clearFaults) {
+        text += "; faults cleared (--no-faults)";
+    } else if (s.faults.empty()) {
+        text += "; no faults";
+    }
+    for (const FaultSpec& f : s.faults) {
+        const bool onWheel = f.type == FaultType::kMotorDegradation || f.type == FaultType::kMotorFailure ||
+                             f.type == FaultType::kDriveHeartbeatLoss || f.type == FaultType::kDriveCrash;
+        std::snprintf(line, sizeof line, "; fault %s%s%s at %.1f s", toString(f.type), onWheel ? " on " : "",
+                      onWheel && f.wheel < msg::kWheelCount ? msg::wheelName(f.wheel) : "", seconds(f.at));
+        text += line;
+    }
+    return text;
+}
+
+MissionSummary setupFailed(MissionSummary summary, const std::string& why) {
+    summary.outcome = MissionOutcome::kSetupFailed;
+    summary.setupError = why;
+    return summary;
+}
+
+}  // namespace
+
+const char* toString(MissionOutcome outcome) {
+    switch (outcome) {
+        case MissionOutcome::kSetupFailed: return "setup failed";
+        case MissionOutcome::kGoalReached: return "goal reached";
+        case MissionOutcome::kCalledHome: return "called home";
+        case MissionOutcome::kTimedOut: return "timed out";
+    }
+    return "?";
+}
+
+void printMissionUsage(std::FILE* out) {
+    std::fprintf(out,
+                 "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
+                 "  --scenario FILE     TOML scenario (default %s)\n"
+                 "  --no-faults         leave the scenario's faults out\n"
+                 "  --goto X,Y[,RISK]   the goal in metres and the risk bound (default 20,0,1e-3)\n"
+                 "  --duration SECONDS  simulated seconds at most, boot included (default 180)\n"
+                 "  --quiet             no console lines, only the summary\n"
+                 "Runs rse-fsw and rse-sim in lockstep, sends SET_MODE AUTONOMOUS and GOTO through the\n"
+                 "authenticated ground link and runs until the rover reaches the goal, calls home or the\n"
+                 "duration passes. Exit status: 0 when the mission ran, 1 setup failure, 2 bad usage.\n",
+                 kDefaultMissionScenario);
+}
+
+ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* o, std::string* error) {
+    bool gotoGiven = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool hasValue = i + 1 < argc;
+        if (a == "--scenario" && hasValue) {
+            o->scenarioPath = argv[++i];
+        } else if (a == "--no-faults") {
+            o->clearFaults = true;
+        } else if (a == "--goto" && hasValue) {
+            if (!parseGoto(argv[++i], o, error)) {
+                return ParseOutcome::kUsageError;
+            }
+            gotoGiven = true;
+        } else if (a == "--duration" && hasValue) {
+            const std::string v = argv[++i];
+            if (!parseNumber(v, &o->durationS) || !(o->durationS > 0.0) || o->durationS > 1e6) {
+                *error = "--duration '" + v + "' is not a number of seconds in (0, 1e6]";
+                return ParseOutcome::kUsageError;
+            }
+        } else if (a == "--quiet") {
+            o->quiet = true;
+        } else if (a == "--help" || a == "-h") {
+            return ParseOutcome::kHelp;
+        } else {
+            *error = "unknown or incomplete option '" + a + "'";
+            return ParseOutcome::kUsageError;
+        }
+    }
+    if (!gotoGiven) {
+        // The default goal, through the same encoder.
+        const std::string def = "20,0,1e-3";
+        if (!parseGoto(def, o, error)) {
+            return ParseOutcome::kUsageError;
+        }
+    }
+    return ParseOutcome::kRun;
+}
+
+MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
+    const auto wallStart = std::chrono::steady_clock::now();
+    MissionSummary summary;
+    summary.goalX = o.goalX;
+    summary.goalY = o.goalY;
+    Scenario scenario;
+    std::string error;
+    if (!tryLoadScenarioFile(o.scenarioPath, &scenario, &error)) {
+        return setupFailed(summary, error);
+    }
+    if (o.clearFaults) {
+        scenario.faults.clear();
+    }
+    if (o.gotoArgs.empty()) {
+        return setupFailed(summary, "no GOTO arguments (options not parsed)");
+    }
+    const core::TimeNs durationNs = static_cast<core::TimeNs>(o.durationS * 1e9);
+
+    // About 2.5 MB (the flight software's planners and the console buffer): on the heap.
+    auto rig = std::make_unique<LockstepRig>(scenario);
+    MemoryGround ground;
+    app::FswApp& fsw = rig->fsw();
+    if (!core::isOk(fsw.addGroundLink(&ground.link()))) {
+        return setupFailed(summary, "the in-memory ground link could not be added");
+    }
+    if (!core::isOk(rig->init(o.quiet ? nullptr : out))) {
+        return setupFailed(summary, "the flight software did not initialise");
+    }
+    FlightWatch watch(fsw.bus(), fsw.events());
+    if (!watch.subscribe()) {
+        return setupFailed(summary, "no software-bus pipe for the plan status");
+    }
+    say(out, *rig, describeScenario(rig->scenario(), o));
+    const auto service = [&] {
+        ground.drainDownlink();
+        watch.drain();
+    };
+
+    if (!rig->runUntil([&] { service(); return rig->allDrivesOperational(); }, kDrivesUpLimitNs)) {
+        return setupFailed(summary, "the drives did not become operational");
+    }
+    say(out, *rig, "all six drives operational; ground: SET_MODE AUTONOMOUS");
+    if (!ground.setMode(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)) ||
+        !rig->runUntil([&] { service(); return watch.modeIs(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)); },
+                       kModeAckLimitNs)) {
+        return setupFailed(summary, "SET_MODE AUTONOMOUS was not sent or not taken");
+    }
+    if (!ground.send("GOTO", o.gotoArgs.data(), o.gotoArgs.size())) {
+        return setupFailed(summary, "GOTO could not be sent");
+    }
+    char line[160];
+    std::snprintf(line, sizeof line, "ground: GOTO x=%.2f y=%.2f risk=%.3g (authenticated, lab key)", o.goalX, o.goalY,
+                  o.risk);
+    say(out, *rig, line);
+
+    const core::TimeNs left = durationNs - rig->clock().now();
+    const bool ended = left > 0 && rig->runUntil([&] { service(); return watch.ended(); }, left);
+    summary.outcomeTimeS = seconds(rig->clock().now());
+    const msg::PlanStatusMsg plan = watch.plan();
+    if (ended) {
+        summary.outcome = plan.state == msg::DeliberativeState::kComplete ? MissionOutcome::kGoalReached
+                                                                          : MissionOutcome::kCalledHome;
+        summary.callHome = plan.callHome;
+        say(out, *rig, std::string("deliberative layer: ") + stateName(plan.state));
+        // The console task writes events at 10 Hz; the downlink is still drained.
+        (void)rig->runUntil([&] { service(); return false; }, kMissionTailNs);
+    } else {
+        summary.outcome = MissionOutcome::kTimedOut;
+        std::snprintf(line, sizeof line, "duration over; deliberative layer %s", stateName(plan.state));
+        say(out, *rig, line);
+    }
+    service();
+    fsw.shutdown("mission demo over");
+    summary.callHomeText = watch.callHomeText();
+
+    const msg::PlanStatusMsg& last = watch.plan();
+    const deliberative::DeliberativeCounters& c = fsw.deliberative().counters();
+    summary.endTimeS = seconds(rig->clock().now());
+    summary.finalState = last.state;
+    summary.finalMode = watch.mode();
+    summary.interlockTripped = fsw.canIo().interlock().tripped();
+    summary.plansMade = last.plansMade;
+    summary.planLengthM = last.planLengthM;
+    summary.riskBound = last.riskBound;
+    summary.riskInForce = last.riskInForce;
+    summary.riskUsed = last.riskUsed;
+    summary.legsSent = c.legsSent;
+    summary.legsAchieved = c.legsAchieved;
+    summary.failUps = c.failUps;
+    summary.replans = last.replans;
+    summary.boundRelaxations = last.boundRelaxations;
+    summary.riskRelaxations = last.riskRelaxations;
+    summary.callHomes = last.callHomes;
+    summary.habitualReplans = fsw.habitual().counters().replans;
+    summary.commandsAccepted = fsw.commands().counters().accepted;
+    summary.commandsRejected = fsw.commands().counters().rejected;
+
+    const TruthRecord& truth = rig->rover().truth();
+    summary.finalX = truth.pose.x;
+    summary.finalY = truth.pose.y;
+    summary.finalHeadingDeg = truth.pose.theta * 180.0 / kPi;
+    summary.goalDistanceM = std::hypot(truth.pose.x - o.goalX, truth.pose.y - o.goalY);
+    summary.distanceM = truth.distanceM;
+    summary.collisions = truth.collisions;
+    summary.energyWh = truth.energyDrawnWh;
+    summary.stateOfCharge = truth.stateOfCharge;
+    summary.wallTimeS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+
+    if (out != nullptr) {
+        printMissionSummary(summary, out);
+        fsw.printSummary(out);
+        std::fflush(out);
+    }
+    return summary;
+}
+
+void printMissionSummary(const MissionSummary& s, std::FILE* out) {
+    std::fprintf(out, "\n=== rse-demo mission summary ===\n");
+    switch (s.outcome) {
+        case MissionOutcome::kSetupFailed:
+            std::fprintf(out, "outcome:    setup failed: %s\n", s.setupError.c_str());
+            return;
+        case MissionOutcome::kGoalReached:
+            std::fprintf(out, "outcome:    goal (%.2f, %.2f) reached at %.1f s\n", s.goalX, s.goalY, s.outcomeTimeS);
+            break;
+        case MissionOutcome::kCalledHome:
+            std::fprintf(out, "outcome:    called home at %.1f s, reason %u: %s (mode %s%s)\n", s.outcomeTimeS,
+                         static_cast<unsigned>(s.callHome), s.callHomeText.c_str(), modeName(s.finalMode),
+                         s.interlockTripped ? ", drive interlock tripped" : "");
+            break;
+        case MissionOutcome::kTimedOut:
+            std::fprintf(out, "outcome:    timed out at %.1f s (deliberative layer %s, mode %s)\n", s.outcomeTimeS,
+                         stateName(s.finalState), modeName(s.finalMode));
+            break;
+    }
+    std::fprintf(out, "time:       %.1f s simulated in %.1f s wall (%.1fx real time)\n", s.endTimeS, s.wallTimeS,
+                 s.wallTimeS > 0.0 ? s.endTimeS / s.wallTimeS : 0.0);
+    std::fprintf(out, "truth:      final position (%.2f, %.2f) heading %.1f deg, %.2f m from the goal; driven %.2f m; "
+                      "collisions %u; energy %.2f Wh, state of charge %.1f %%\n",
+                 s.finalX, s.finalY, s.finalHeadingDeg, s.goalDistanceM, s.distanceM, s.collisions, s.energyWh,
+                 100.0 * s.stateOfCharge);
+    std::fprintf(out, "plan:       %u plans made; the last %.2f m, risk used %.3g (bound %.3g, in force %.3g)\n", s.plansMade,
+                 s.planLengthM, s.riskUsed, s.riskBound, s.riskInForce);
+    std::fprintf(out, "legs:       %u sent, %u achieved, %u fail-ups; %u replans, %u bound relaxations, %u risk "
+                      "relaxations, %u call homes; habitual replans %u\n",
+                 s.legsSent, s.legsAchieved, s.failUps, s.replans, s.boundRelaxations, s.riskRelaxations, s.callHomes,
+                 s.habitualReplans);
+    std::fprintf(out, "commands:   %u accepted, %u rejected\n\n", s.commandsAccepted, s.commandsRejected);
+}
+
+int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* err) {
+    MissionOptions options;
+    std::string error;
+    switch (parseMissionArgs(argc, argv, &options, &error)) {
+        case ParseOutcome::kHelp:
+            printMissionUsage(out);
+            return 0;
+        case ParseOutcome::kUsageError:
+            std::fprintf(err, "rse-demo: %s\n", error.c_str());
+            printMissionUsage(err);
+            return 2;
+        case ParseOutcome::kRun:
+            break;
+    }
+    const MissionSummary summary = runMission(options, out);
+    if (summary.outcome == MissionOutcome::kSetupFailed) {
+        std::fprintf(err, "rse-demo: setup failed: %s\n", summary.setupError.c_str());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace rse::sim

@@ -1,0 +1,105 @@
+// The autonomous mission in lockstep (rse-demo, `make demo`): the flight
+// software and the simulator booted on one virtual clock (LockstepRig), the
+// drives brought up, then the operator's commands - SET_MODE AUTONOMOUS and
+// GOTO x,y,risk, authenticated with the lab key - through the in-memory ground
+// link (MemoryGround), never on the software bus. The run lasts until the
+// deliberative layer publishes (PlanStatusMsg) that every goal is reached or
+// that it called home, plus kMissionTailNs so the last events reach the
+// console, or until the duration. The simulator's truth is read only for the
+// summary at the end.
+//
+// Host side (sim_stub/): full language; rse-fsw never links it.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fsw/core/clock.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+
+namespace rse::sim {
+
+constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
+constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
+
+struct MissionOptions {
+    std::string scenarioPath = kDefaultMissionScenario;
+    bool clearFaults = false;  // --no-faults: the scenario's faults left out
+    double goalX = 20.0;       // --goto X,Y[,RISK]
+    double goalY = 0.0;
+    double risk = 1e-3;
+    double durationS = 180.0;  // simulated seconds, boot included
+    bool quiet = false;        // no console lines (the summary is still written)
+    std::vector<std::uint8_t> gotoArgs;  // the GOTO argument bytes (ground encoder; filled by parseMissionArgs)
+};
+
+enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
+
+// rse-demo's command line (argv[0] is the program). The goal is checked with
+// the ground's command encoder (the dictionary's ranges), as rse-ground would;
+// on kUsageError *error says why.
+ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* options, std::string* error);
+void printMissionUsage(std::FILE* out);
+
+enum class MissionOutcome : std::uint8_t {
+    kSetupFailed = 0,  // the scenario, the flight software, the drives or the ground link could not be used
+    kGoalReached = 1,  // the deliberative layer published COMPLETE
+    kCalledHome = 2,   // ... published CALLED HOME (callHome says why)
+    kTimedOut = 3,     // neither before the duration
+};
+const char* toString(MissionOutcome outcome);
+
+struct MissionSummary {
+    MissionOutcome outcome = MissionOutcome::kSetupFailed;
+    std::string setupError;
+    msg::CallHomeReason callHome = msg::CallHomeReason::kNone;
+    std::string callHomeText;   // why, in the flight software's words (its call-home event)
+    double outcomeTimeS = 0.0;  // when the flight software published the outcome (timed out: the end)
+    double endTimeS = 0.0;      // simulated time when the run stopped
+    double wallTimeS = 0.0;
+    double goalX = 0.0;
+    double goalY = 0.0;
+
+    // What the flight software published (PlanStatusMsg, mode) and its counters.
+    msg::DeliberativeState finalState = msg::DeliberativeState::kIdle;
+    std::uint8_t finalMode = 0;
+    bool interlockTripped = false;
+    std::uint32_t plansMade = 0;
+    double planLengthM = 0.0;
+    double riskBound = 0.0;
+    double riskInForce = 0.0;
+    double riskUsed = 0.0;
+    std::uint32_t legsSent = 0;
+    std::uint32_t legsAchieved = 0;
+    std::uint32_t failUps = 0;
+    std::uint32_t replans = 0;
+    std::uint32_t boundRelaxations = 0;
+    std::uint32_t riskRelaxations = 0;
+    std::uint32_t callHomes = 0;
+    std::uint32_t habitualReplans = 0;
+    std::uint32_t commandsAccepted = 0;
+    std::uint32_t commandsRejected = 0;
+
+    // The simulator's truth at the end.
+    double finalX = 0.0;
+    double finalY = 0.0;
+    double finalHeadingDeg = 0.0;
+    double goalDistanceM = 0.0;  // from the final position to the goal
+    double distanceM = 0.0;      // path length driven
+    std::uint32_t collisions = 0;
+    double energyWh = 0.0;
+    double stateOfCharge = 0.0;
+};
+
+// Runs the mission. out gets the narration, the console (unless quiet), the
+// mission summary and the flight software's timing summary (nullptr: nothing).
+MissionSummary runMission(const MissionOptions& options, std::FILE* out);
+void printMissionSummary(const MissionSummary& summary, std::FILE* out);
+
+// rse-demo itself: 0 when the mission ran (whatever its outcome) or for
+// --help, 2 for a bad command line, 1 when the setup failed.
+int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* err);
+
+}  // namespace rse::sim
