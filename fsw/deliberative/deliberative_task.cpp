@@ -243,6 +243,8 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     ++counters_.goalListsAdopted;
     cancelLeg(now);
     status_.callHome = msg::CallHomeReason::kNone;
+    status_.riskInForce = goals.riskBound;
+    plan_ = CcPlan{};  // PLAN shows "no plan" until the new goal is planned
     legs_ = LegPlan{};
     legIndex_ = 0;
     setState(goals.count == 0 ? msg::DeliberativeState::kIdle : msg::DeliberativeState::kWaiting);
