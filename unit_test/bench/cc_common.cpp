@@ -440,4 +440,76 @@ double quantile(std::vector<double> values, double q) {
     return values[lo] + frac * (values[lo + 1] - values[lo]);
 }
 
+GapVerdict combineProofs(double cost, const ProofPass& unaided, const ProofPass& aided) {
+    GapVerdict v;
+    auto gapTo = [&](double reference) {
+        return std::isfinite(cost) ? (cost - reference) / reference : std::numeric_limits<double>::infinity();
+    };
+    auto usable = [](double x) { return std::isfinite(x) && x > 0.0; };
+    if (unaided.ran && unaided.proven && usable(unaided.cost)) {
+        v.source = GapSource::kProvenUnaided;
+        v.reference = unaided.cost;
+        v.gap = gapTo(v.reference);
+        return v;
+    }
+    if (aided.ran && aided.proven && usable(aided.cost)) {
+        v.source = GapSource::kProvenAided;
+        v.reference = aided.cost;
+        v.gap = gapTo(v.reference);
+        return v;
+    }
+    if (aided.ran && aided.noneBelowCutoff && usable(aided.cutoff)) {
+        v.source = GapSource::kProvenByCutoff;
+        v.reference = aided.cutoff;
+        v.gap = std::isfinite(cost) ? std::max(0.0, gapTo(v.reference)) : std::numeric_limits<double>::infinity();
+        return v;
+    }
+    double bound = -std::numeric_limits<double>::infinity();
+    for (const ProofPass* pass : {&unaided, &aided}) {
+        if (pass->ran && usable(pass->bound)) {
+            bound = std::max(bound, pass->bound);
+        }
+    }
+    if (usable(bound)) {
+        v.source = GapSource::kBound;
+        v.reference = bound;
+        v.gap = gapTo(bound);
+        return v;
+    }
+    v.gap = std::numeric_limits<double>::quiet_NaN();
+    return v;
+}
+
+bool proofsConsistent(const ProofPass& a, const ProofPass& b, double tolerance) {
+    auto lower = [](const ProofPass& p) {
+        double l = -std::numeric_limits<double>::infinity();
+        if (!p.ran) {
+            return l;
+        }
+        if (std::isfinite(p.bound)) {
+            l = std::max(l, p.bound);
+        }
+        if (p.noneBelowCutoff && std::isfinite(p.cutoff)) {
+            l = std::max(l, p.cutoff);
+        }
+        if (p.proven && std::isfinite(p.cost)) {
+            l = std::max(l, p.cost);
+        }
+        return l;
+    };
+    auto check = [&](const ProofPass& p, const ProofPass& other) {
+        if (!p.ran || !p.proven || !std::isfinite(p.cost)) {
+            return true;
+        }
+        const double slack = tolerance * std::fabs(p.cost);
+        if (p.cost < lower(other) - slack) {
+            return false;  // the other pass proved more than this optimum
+        }
+        return !(other.ran && other.proven && std::isfinite(other.cost) && std::fabs(other.cost - p.cost) > slack);
+    };
+    return check(a, b) && check(b, a);
+}
+
+double cutoffFor(double cost, double tolerance) { return cost * (1.0 + tolerance); }
+
 }  // namespace rse::test::cc

@@ -111,6 +111,47 @@ double siteBoundViolation(const CcProblem& problem, const double* meanX, const d
 // Do any of the mean segments meet any obstacle (the deterministic path)?
 bool meanPathHitsObstacle(const CcProblem& problem, const double* meanX, const double* meanY);
 
+// ---- optimality proofs (the benchmark's CBC passes)
+// What one exact pass (e.g. CBC unaided, or CBC under a cutoff) says about the
+// optimum of an instance.
+struct ProofPass {
+    bool ran = false;
+    bool proven = false;           // its plan's cost is the proven optimum
+    bool noneBelowCutoff = false;  // proven: no plan costs less than `cutoff`
+    double cost = 0.0;             // its plan's cost (+inf or anything without a plan; used only when proven)
+    double cutoff = 0.0;           // used only with noneBelowCutoff
+    double bound = 0.0;            // a lower bound on the optimum (used when finite and > 0)
+};
+// Where a gap comes from, best first.
+enum class GapSource : std::uint8_t {
+    kNone = 0,           // no pass gives an optimum or a positive bound: no gap
+    kProvenUnaided = 1,  // the first pass proved the optimum
+    kProvenAided = 2,    // the second pass proved an optimum below its cutoff
+    kProvenByCutoff = 3, // the second pass proved nothing costs less than its cutoff
+    kBound = 4,          // neither proved: to the best (largest) lower bound of both, an upper bound on the gap
+};
+struct GapVerdict {
+    GapSource source = GapSource::kNone;
+    double gap = 0.0;        // (cost - reference) / reference; +inf when cost is not finite (no plan); NaN with kNone
+    double reference = 0.0;  // the optimum, the cutoff or the bound
+    bool proven() const {
+        return source == GapSource::kProvenUnaided || source == GapSource::kProvenAided ||
+               source == GapSource::kProvenByCutoff;
+    }
+};
+// The gap of a plan of cost `cost` to the optimum as the passes establish it:
+// the unaided proof first, then the aided pass's proven optimum, then its
+// proof that nothing costs less than its cutoff (the optimum is >= cutoff, so
+// the gap is at most max(0, (cost - cutoff) / cutoff): that is the value
+// given), else the gap to the larger of the two passes' lower bounds.
+GapVerdict combineProofs(double cost, const ProofPass& unaided, const ProofPass& aided);
+// Do two passes agree within the relative tolerance? A proven optimum of one
+// must not lie below the other's lower bound (bound, or cutoff when
+// noneBelowCutoff) nor, when both proved, differ from the other's optimum.
+bool proofsConsistent(const ProofPass& a, const ProofPass& b, double tolerance);
+// The cutoff that proves or refutes a plan of this cost: cost x (1 + tolerance).
+double cutoffFor(double cost, double tolerance);
+
 // ---- statistics (the benchmark's summaries)
 // The q-quantile of the values, q in [0, 1], interpolated linearly between the
 // order statistics (q = 0.5 the median, 0 the least, 1 the largest; q outside

@@ -158,9 +158,9 @@ CcProblem generateInstance(std::uint64_t seed, const InstanceParams& params) {
     return problem;
 }
 
-std::vector<CcProblem> provableSet(double riskBound, std::size_t count, std::uint8_t obstacles) {
+std::vector<CcProblem> provableSet(double riskBound, std::size_t count, std::uint8_t obstacles, std::uint8_t steps) {
     InstanceParams p;
-    p.steps = 10;
+    p.steps = steps;
     p.obstacles = obstacles;
     p.riskBound = riskBound;
     p.onLineFraction = 1.0 / static_cast<double>(std::max<std::uint8_t>(obstacles, 1));

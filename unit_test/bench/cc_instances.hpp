@@ -62,13 +62,15 @@ CcProblem generateInstance(std::uint64_t seed, const InstanceParams& params);
 // The benchmark sets. Instance k of a set is generateInstance(base + k, ...),
 // with base fixed per set, so a set is the same on every run and machine.
 //   provable: N = 10, M = 4 (or the M given, e.g. 8), one obstacle across the
-//             line, the others off it (offLineClearanceM 1 m)
+//             line, the others off it (offLineClearanceM 1 m); `steps` gives
+//             the same scenes with fewer steps (e.g. N = 8, which CBC proves
+//             far sooner: its tree grows like faces^segments)
 //   large:    N = 20, M = 8, four across the line, the others anywhere
 constexpr std::uint64_t kProvableSeedBase = 1000;
 constexpr std::uint64_t kProvable8SeedBase = 2000;
 constexpr std::uint64_t kLargeSeedBase = 3000;
 std::vector<CcProblem> provableSet(double riskBound, std::size_t count = 50,
-                                   std::uint8_t obstacles = 4);
+                                   std::uint8_t obstacles = 4, std::uint8_t steps = 10);
 std::vector<CcProblem> largeSet(double riskBound, std::size_t count = 10);
 
 // The corner-cutting instance: start (0, 0), goal (10, 10), N = 4, site

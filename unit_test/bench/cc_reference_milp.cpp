@@ -468,6 +468,10 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
     const double firstPhase =
         opt.firstPhaseS >= 0.0 ? opt.firstPhaseS : std::clamp(0.2 * opt.timeLimitS, 0.5, 10.0);
     const double firstLimit = twoPhase ? std::min(firstPhase, opt.timeLimitS) : opt.timeLimitS;
+    // A given cutoff: with the region search, straight to it (the region of
+    // the cutoff is the first region); without, CBC's cutoff on the one run.
+    const bool cutoffGiven = std::isfinite(opt.cutoff);
+    bool noneBelow = false;  // proven: no plan costs less than opt.cutoff
     Run run;
     bool haveRun = false;
     if (twoPhase && opt.startPlan != nullptr && startPlanValid(p, split, opt.mode, *opt.startPlan)) {
@@ -495,7 +499,7 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
         haveRun = true;
         r.startPlanUsed = true;
     }
-    if (!haveRun && twoPhase && p.steps >= 4) {
+    if (!haveRun && twoPhase && p.steps >= 4 && !cutoffGiven) {
         // A quick incumbent: the second half of the means pinned to the goal
         // (fewer free segments, so CBC finds good paths sooner). Its solution
         // is a plan of the full problem; its bound is not a bound of it.
@@ -510,18 +514,18 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
             haveRun = true;
         }
     }
-    if (!haveRun) {
+    if (!haveRun && !(twoPhase && cutoffGiven)) {
         const double limit = fixedFaces == nullptr && twoPhase
                                  ? std::min(firstLimit, opt.timeLimitS - secondsSince(begin))
                                  : opt.timeLimitS;
-        run = runCbc(p, split, opt, fixedFaces, {}, limit, kInf, 0);
+        run = runCbc(p, split, opt, fixedFaces, {}, limit, opt.cutoff, 0);
         r.cbcSeconds += run.seconds;
         r.nodes += run.nodes;
     }
     r.binaries = run.binaries;
     r.rows = run.rows;
     r.columns = run.columns;
-    if (twoPhase && !run.proven && !run.infeasible && run.solution.empty() &&
+    if (twoPhase && !cutoffGiven && !run.proven && !run.infeasible && run.solution.empty() &&
         secondsSince(begin) < opt.timeLimitS) {
         // No incumbent yet: on without the region until the first one.
         const double left = opt.timeLimitS - secondsSince(begin);
@@ -529,41 +533,65 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
         r.cbcSeconds += run.seconds;
         r.nodes += run.nodes;
     }
-    if (twoPhase && !run.proven && !run.infeasible && !run.solution.empty()) {
-        // Every mean of a path no longer than the incumbent lies in the
-        // reachable region: confine the means to it and search under the
-        // incumbent as cutoff. Each better solution ends the run (solution
-        // limit 1) and the next one starts from the smaller region.
+    if (twoPhase && !run.proven && !run.infeasible && (!run.solution.empty() || cutoffGiven)) {
+        // Every mean of a path no longer than the incumbent (or shorter than
+        // the given cutoff) lies in the reachable region: confine the means
+        // to it and search under the incumbent (or the cutoff) as cutoff.
+        // Each better solution ends the run (solution limit 1) and the next
+        // one starts from the smaller region.
         double bestBound = run.bound;
         bool allowRestart = true;
         for (int round = 0; round < 40; ++round) {
-            const double incumbent = solutionCost(p, run);
-            const std::vector<Point> region = reachableRegion(p, incumbent * (1.0 + 1e-9) + 1e-9);
-            const double left = opt.timeLimitS - secondsSince(begin);
-            const bool restart = allowRestart && round < 39;
+            const bool have = !run.solution.empty();
+            const double incumbent = have ? solutionCost(p, run) : kInf;
+            // Every plan better than what we have (or than the cutoff) costs less than this.
+            const double ceiling = std::min(incumbent, opt.cutoff);
             // The incumbent enters as a cutoff, not as a MIP start: CBC 2.10.8
             // crashed in CglPreProcess::postProcess after MIP starts here.
-            const double cutoff =
-                incumbent + std::max(opt.absoluteGap, opt.relativeGap * std::fabs(incumbent));
+            const double cutoff = std::min(
+                opt.cutoff, have ? incumbent + std::max(opt.absoluteGap, opt.relativeGap * std::fabs(incumbent)) : kInf);
+            const std::vector<Point> region = reachableRegion(p, ceiling * (1.0 + 1e-9) + 1e-9);
+            if (region.empty()) {
+                // Not even the straight line is that short: nothing below the ceiling.
+                bestBound = std::max(bestBound, ceiling);
+                run.proven = have && ceiling >= incumbent;
+                noneBelow = cutoffGiven && ceiling < incumbent;
+                run.bound = bestBound;
+                break;
+            }
+            const double left = opt.timeLimitS - secondsSince(begin);
+            // Under a given cutoff and no incumbent yet, the run is not stopped at
+            // its first solution: every solution is below the cutoff, and a
+            // cutoff near the optimum (a plan's cost) gains nothing from a
+            // restart in a barely smaller region.
+            const bool restart = allowRestart && round < 39 && have;
             Run next = runCbc(p, split, opt, nullptr, region, left, cutoff, restart ? 1 : 0);
             r.cbcSeconds += next.seconds;
             r.nodes += next.nodes;
             r.rows = next.rows;
-            // The optimum is the incumbent or inside the region.
-            bestBound = std::max(bestBound, next.infeasible ? incumbent : std::min(incumbent, next.bound));
+            if (r.binaries == 0) {
+                r.binaries = next.binaries;
+                r.columns = next.columns;
+            }
+            // The optimum is at least the ceiling or inside the region.
+            bestBound = std::max(bestBound, next.infeasible ? ceiling : std::min(ceiling, next.bound));
             const double nextCost = next.solution.empty() ? kInf : solutionCost(p, next);
             const bool better = nextCost < incumbent - 1e-9 * (1.0 + incumbent);
-            if (nextCost <= incumbent + 1e-9 * (1.0 + incumbent)) {
+            if (!next.solution.empty() && (!have || nextCost <= incumbent + 1e-9 * (1.0 + incumbent))) {
                 run = next;
             } else {
-                // Nothing as good found: the incumbent stands.
-                run.proven = next.proven || next.infeasible;
+                // Nothing as good found: the incumbent (if any) stands; an
+                // exhausted search proves it, or, under a cutoff below it,
+                // proves that nothing costs less than the cutoff.
+                const bool exhausted = next.proven || next.infeasible;
+                run.proven = exhausted && have && ceiling >= incumbent;
+                noneBelow = exhausted && cutoffGiven && ceiling < incumbent;
                 run.timeLimit = next.timeLimit;
                 run.solutionLimit = next.solutionLimit;
             }
             run.infeasible = false;
             run.bound = bestBound;
-            if (run.proven || secondsSince(begin) >= opt.timeLimitS) {
+            if (run.proven || noneBelow || secondsSince(begin) >= opt.timeLimitS) {
                 break;
             }
             if (!better) {
@@ -574,9 +602,16 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
             }
         }
     }
-    r.provenInfeasible = run.infeasible;
+    if (cutoffGiven && run.infeasible) {
+        noneBelow = true;  // one run under the cutoff (no region search) found it empty
+    }
+    r.provenInfeasible = run.infeasible && !cutoffGiven;
+    r.noneBelowCutoff = noneBelow;
     r.timeLimitReached = run.timeLimit;
-    r.bestBound = run.bound;
+    r.bestBound = noneBelow ? std::max(run.bound, opt.cutoff) : run.bound;
+    if (cutoffGiven && run.solution.empty()) {
+        r.bestBound = noneBelow ? opt.cutoff : std::min(opt.cutoff, run.bound);
+    }
     if (run.solution.empty() || run.infeasible) {
         r.plan.status = deliberative::CcStatus::kNoPlan;
         r.cost = kInf;
@@ -619,6 +654,7 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
         MilpOptions lpOpt = opt;
         lpOpt.polish = false;
         lpOpt.regionTightening = false;
+        lpOpt.cutoff = kInf;
         lpOpt.timeLimitS = std::max(1.0, opt.timeLimitS);
         const MilpResult lp = solve(p, split, lpOpt, faces);
         if (lp.plan.status == deliberative::CcStatus::kOptimal && lp.cost <= r.cost + 1e-6 * (1.0 + r.cost)) {

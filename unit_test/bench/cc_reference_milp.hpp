@@ -47,6 +47,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -77,6 +78,20 @@ struct MilpOptions {
     // ignored (also without regionTightening). Returned as the answer when
     // CBC finds nothing shorter.
     const CcPlan* startPlan = nullptr;
+    // An objective cutoff (m; +inf: none): only plans costing less are
+    // sought (CBC's cutoff), e.g. a known plan's cost x (1 + 1e-7) to prove
+    // or refute that plan's optimality. With regionTightening the search
+    // starts at once in the region where a path shorter than the cutoff can
+    // pass (no first phase), and its first run is not stopped at its first
+    // solution (each better solution restarts the search only once an
+    // incumbent exists). Outcomes: kOptimal (the optimum is below the
+    // cutoff and proven), kFeasible (limit reached with a plan below it;
+    // bestBound), kNoPlan with noneBelowCutoff (proven: no plan costs less
+    // than the cutoff; bestBound = cutoff) or without it (limit reached,
+    // nothing found below the cutoff; bestBound = min(cutoff, CBC's bound)).
+    // A cutoff is an objective bound, not a MIP start (CBC 2.10.8 crashed
+    // after MIP starts); with startPlan too, the smaller of the two counts.
+    double cutoff = std::numeric_limits<double>::infinity();
     int logLevel = 0;                // CBC's log level (0 silent)
     std::vector<std::pair<std::string, std::string>> cbcParameters;  // extra "-name value" for CBC
 };
@@ -90,7 +105,8 @@ struct MilpResult {
     // plan.delta: the split used; riskUsed its sum; cost and euclideanLengthM
     // recomputed from the means.
     CcPlan plan;
-    bool provenInfeasible = false;
+    bool provenInfeasible = false;  // the problem has no plan (never set with a finite options.cutoff)
+    bool noneBelowCutoff = false;   // options.cutoff finite and proven: no plan costs less than it
     bool startPlanUsed = false;  // options.startPlan was valid and seeded the search
     bool timeLimitReached = false;
     double cost = 0.0;           // = plan.cost (K-gon length), +inf without a plan

@@ -239,3 +239,97 @@ TEST(CcCommon, QuantileInterpolatesBetweenOrderStatistics) {
     DOUBLES_EQUAL(2.0, quantile(w, 0.5), 0.0);
     CHECK(std::isinf(quantile(w, 1.0)));
 }
+
+namespace {
+
+ProofPass provenAt(double optimum) {
+    ProofPass p;
+    p.ran = true;
+    p.proven = true;
+    p.cost = optimum;
+    p.bound = optimum;
+    return p;
+}
+
+ProofPass boundOnly(double bound, double incumbent = INFINITY) {
+    ProofPass p;
+    p.ran = true;
+    p.cost = incumbent;
+    p.bound = bound;
+    return p;
+}
+
+ProofPass noneBelow(double cutoff) {
+    ProofPass p;
+    p.ran = true;
+    p.noneBelowCutoff = true;
+    p.cutoff = cutoff;
+    p.bound = cutoff;
+    p.cost = INFINITY;
+    return p;
+}
+
+}  // namespace
+
+TEST(CcCommon, CombineProofsTakesTheUnaidedOptimumThenTheAidedOptimumThenTheCutoffThenTheBound) {
+    const ProofPass notRun;
+    // The unaided proof comes first even when the aided pass proved something too.
+    GapVerdict v = combineProofs(10.2, provenAt(10.0), provenAt(10.1));
+    CHECK(v.source == GapSource::kProvenUnaided);
+    CHECK(v.proven());
+    DOUBLES_EQUAL(10.0, v.reference, 0.0);
+    DOUBLES_EQUAL(0.02, v.gap, 1e-12);
+    // Unaided at its limit: the aided optimum.
+    v = combineProofs(10.2, boundOnly(9.0, 10.5), provenAt(10.0));
+    CHECK(v.source == GapSource::kProvenAided);
+    DOUBLES_EQUAL(0.02, v.gap, 1e-12);
+    // Nothing below the cutoff 10.2 (1 + 1e-7): optimal within 1e-7, gap 0.
+    v = combineProofs(10.2, boundOnly(9.0), noneBelow(10.2 * (1.0 + 1e-7)));
+    CHECK(v.source == GapSource::kProvenByCutoff);
+    CHECK(v.proven());
+    DOUBLES_EQUAL(0.0, v.gap, 0.0);
+    // A cutoff below the cost proves a positive gap bound only, never a negative one.
+    v = combineProofs(10.2, notRun, noneBelow(10.0));
+    CHECK(v.source == GapSource::kProvenByCutoff);
+    DOUBLES_EQUAL(0.02, v.gap, 1e-12);
+    // Neither proved: the larger of the two bounds.
+    v = combineProofs(10.2, boundOnly(9.0, 10.4), boundOnly(10.0));
+    CHECK(v.source == GapSource::kBound);
+    CHECK(!v.proven());
+    DOUBLES_EQUAL(10.0, v.reference, 0.0);
+    DOUBLES_EQUAL(0.02, v.gap, 1e-12);
+    v = combineProofs(10.2, boundOnly(10.0), boundOnly(9.0));
+    DOUBLES_EQUAL(10.0, v.reference, 0.0);
+    // A pass that did not run does not count, whatever its fields say.
+    ProofPass ghost = provenAt(5.0);
+    ghost.ran = false;
+    v = combineProofs(10.2, boundOnly(9.0), ghost);
+    CHECK(v.source == GapSource::kBound);
+    DOUBLES_EQUAL(9.0, v.reference, 0.0);
+    // No plan on our side: an infinite gap; no optimum and no positive bound: no gap.
+    v = combineProofs(INFINITY, provenAt(10.0), notRun);
+    CHECK(std::isinf(v.gap));
+    v = combineProofs(10.2, boundOnly(-INFINITY), notRun);
+    CHECK(v.source == GapSource::kNone);
+    CHECK(std::isnan(v.gap));
+    v = combineProofs(10.2, boundOnly(0.0), boundOnly(NAN));
+    CHECK(v.source == GapSource::kNone);
+}
+
+TEST(CcCommon, ProofsConsistentCatchesAnOptimumBelowTheOtherPassesBound) {
+    const ProofPass notRun;
+    CHECK(proofsConsistent(provenAt(10.0), provenAt(10.0 * (1.0 + 1e-8)), 1e-6));
+    CHECK(!proofsConsistent(provenAt(10.0), provenAt(10.1), 1e-6));
+    CHECK(proofsConsistent(provenAt(10.0), boundOnly(9.5, 10.3), 1e-6));
+    CHECK(!proofsConsistent(provenAt(10.0), boundOnly(10.5), 1e-6));  // a bound above an optimum
+    CHECK(!proofsConsistent(noneBelow(10.5), provenAt(10.0), 1e-6));  // "none below 10.5" but 10 proven
+    CHECK(proofsConsistent(noneBelow(10.0 * (1.0 + 1e-7)), provenAt(10.0), 1e-6));
+    CHECK(proofsConsistent(provenAt(10.0), notRun, 1e-6));
+    CHECK(proofsConsistent(boundOnly(9.0), boundOnly(9.5), 1e-6));  // bounds alone never disagree
+}
+
+TEST(CcCommon, CutoffForScalesTheCost) {
+    DOUBLES_EQUAL(10.000001, cutoffFor(10.0, 1e-7), 1e-12);
+    DOUBLES_EQUAL(33.0, cutoffFor(33.0, 0.0), 0.0);
+    CHECK(cutoffFor(33.0, 1e-7) > 33.0);
+}

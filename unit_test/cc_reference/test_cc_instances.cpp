@@ -158,6 +158,26 @@ TEST(CcInstances, EightObstacleAndLargeSetsAreValid) {
     }
 }
 
+TEST(CcInstances, FewerStepsGiveTheSameScenes) {
+    InstanceParams shorter;
+    shorter.steps = 8;
+    shorter.obstacles = 4;
+    shorter.riskBound = 0.05;
+    const std::vector<CcProblem> eight = provableSet(0.05, 12, 4, 8);
+    const std::vector<CcProblem> ten = provableSet(0.05, 12);
+    LONGS_EQUAL(12, eight.size());
+    for (std::size_t k = 0; k < eight.size(); ++k) {
+        checkInstance(eight[k], shorter, 1);
+        LONGS_EQUAL(8, eight[k].steps);
+        LONGS_EQUAL(ten[k].obstacleCount, eight[k].obstacleCount);
+        DOUBLES_EQUAL(ten[k].goalX, eight[k].goalX, 0.0);
+        DOUBLES_EQUAL(ten[k].goalY, eight[k].goalY, 0.0);
+        for (std::size_t i = 0; i < ten[k].obstacleCount; ++i) {
+            DOUBLES_EQUAL(ten[k].obstacles[i].offset[0], eight[k].obstacles[i].offset[0], 0.0);
+        }
+    }
+}
+
 TEST(CcInstances, DiagonalBoxCornerCrossesTheDiagonal) {
     const CcProblem p = diagonalBoxInstance(0.05);
     STRCMP_EQUAL("", validateProblem(p).c_str());

@@ -222,6 +222,48 @@ TEST(CcReferenceMilp, AStartPlanIsUsedOnlyWhenItIsAPlan) {
     DOUBLES_EQUAL(first.cost, r.cost, 1e-9);
 }
 
+TEST(CcReferenceMilp, ACutoffProvesOrRefutesAPlanCost) {
+    CcProblem p = site(0, 0, 10, 0, 4);
+    p.obstacleCount = 1;
+    p.obstacles[0] = boxObstacle(4, -1, 6, 1, 1);
+    const double expected = 2.0 * (4.0 * std::cos(kPi / 8.0) + std::sin(kPi / 8.0)) + 2.0;
+    for (bool region : {true, false}) {
+        MilpOptions o = options();
+        o.regionTightening = region;
+        // Just above the optimum: the optimum is found below it and proven.
+        o.cutoff = cutoffFor(expected, 1e-7);
+        MilpResult r = solveReferenceMilp(p, o);
+        CHECK(r.plan.status == CcStatus::kOptimal);
+        CHECK(!r.noneBelowCutoff);
+        DOUBLES_EQUAL(expected, r.cost, 1e-6);
+        CHECK(r.cost < o.cutoff);
+        CHECK(r.plan.cost < o.cutoff);
+        CHECK(segmentConstraintSlack(p, r.plan.meanX, r.plan.meanY, evenSplit(p)) >= -1e-7);
+        // A plan 1 % longer than the optimum (a cutoff 1 % above): refuted, the optimum comes out.
+        o.cutoff = expected * 1.01;
+        r = solveReferenceMilp(p, o);
+        CHECK(r.plan.status == CcStatus::kOptimal);
+        DOUBLES_EQUAL(expected, r.cost, 1e-6);
+        // Just below the optimum: proven that nothing is shorter; no plan, and it is not "infeasible".
+        o.cutoff = expected * (1.0 - 1e-4);
+        r = solveReferenceMilp(p, o);
+        CHECK(r.plan.status == CcStatus::kNoPlan);
+        CHECK(r.noneBelowCutoff);
+        CHECK(!r.provenInfeasible);
+        DOUBLES_EQUAL(o.cutoff, r.bestBound, 1e-12);
+        // Below the straight line (10 m): nothing can be that short.
+        o.cutoff = 9.0;
+        r = solveReferenceMilp(p, o);
+        CHECK(r.plan.status == CcStatus::kNoPlan);
+        CHECK(r.noneBelowCutoff);
+        DOUBLES_EQUAL(9.0, r.bestBound, 1e-12);
+    }
+    // Without a cutoff nothing is claimed about one.
+    const MilpResult plain = solveReferenceMilp(p, options());
+    CHECK(!plain.noneBelowCutoff);
+    DOUBLES_EQUAL(expected, plain.cost, 1e-6);
+}
+
 TEST(CcReferenceMilp, AWallAcrossTheSiteIsProvenInfeasible) {
     CcProblem p = site(0, 0, 10, 0, 4);
     p.obstacleCount = 1;
@@ -229,7 +271,15 @@ TEST(CcReferenceMilp, AWallAcrossTheSiteIsProvenInfeasible) {
     const MilpResult r = solveReferenceMilp(p, options());
     CHECK(r.plan.status == CcStatus::kNoPlan);
     CHECK(r.provenInfeasible);
+    CHECK(!r.noneBelowCutoff);
     CHECK(std::isinf(r.cost));
+    // Under a cutoff it is "nothing below the cutoff", not a proof of infeasibility.
+    MilpOptions o = options();
+    o.cutoff = 50.0;
+    const MilpResult c = solveReferenceMilp(p, o);
+    CHECK(c.plan.status == CcStatus::kNoPlan);
+    CHECK(c.noneBelowCutoff);
+    CHECK(!c.provenInfeasible);
 }
 
 TEST(CcReferenceMilp, BadProblemsAndSplitsAreRefused) {
