@@ -64,6 +64,29 @@ TableCheck checkCoarseMapPayload(const TableDesc& table, const std::uint8_t* pay
             }
             sign = turn;
         }
+        // ... and winds once: every other vertex strictly on the inner side of
+        // each edge. Turns of one sign alone let a polygon that winds twice
+        // through (a pentagram) pass, whose faces bound only its inner pentagon.
+        for (std::uint16_t j = 0; j < n; ++j) {
+            const auto a = static_cast<std::uint16_t>(base + j);
+            const auto b = static_cast<std::uint16_t>(base + (j + 1) % n);
+            const double ax = value(table, payload, length, CoarseMapField::vertex_x_m, a);
+            const double ay = value(table, payload, length, CoarseMapField::vertex_y_m, a);
+            const double abx = value(table, payload, length, CoarseMapField::vertex_x_m, b) - ax;
+            const double aby = value(table, payload, length, CoarseMapField::vertex_y_m, b) - ay;
+            for (std::uint16_t k = 0; k < n; ++k) {
+                const auto w = static_cast<std::uint16_t>(base + k);
+                if (w == a || w == b) {
+                    continue;
+                }
+                const double side = abx * (value(table, payload, length, CoarseMapField::vertex_y_m, w) - ay) -
+                                    aby * (value(table, payload, length, CoarseMapField::vertex_x_m, w) - ax);
+                const bool inner = sign > 0.0 ? side > 0.0 : side < 0.0;
+                if (!inner) {
+                    return inconsistent(CoarseMapField::vertex_x_m, w);
+                }
+            }
+        }
     }
     return TableCheck{};
 }

@@ -1,6 +1,7 @@
 // The coarse map's content rules (fsw/tables/coarse_map_check.hpp): a bad map is
 // refused by the image check the ground compiler and the table service share,
 // naming the element at fault, and the service keeps the active map.
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -77,6 +78,31 @@ TEST(CoarseMapCheck, ANonConvexPolygonIsRefusedNamingItsVertex) {
     map.vertex_x_m[8 + 4] = 1.0F;
     map.vertex_y_m[8 + 4] = 1.0F;
     expectInconsistent(check(map), CoarseMapField::vertex_x_m, 8 + 4);
+}
+
+// Every turn of a pentagram (a regular pentagon's vertices taken every second
+// one) has the same sign, but it winds twice round: its faces bound only the
+// small pentagon inside, so a planner would take the rock for much less than it
+// is. Refused, naming a vertex on the wrong side of an edge.
+TEST(CoarseMapCheck, APolygonThatWindsTwiceIsRefused) {
+    CoarseMapTable map = defaultMap();
+    map.vertex_count[0] = 5;
+    for (int j = 0; j < 8; ++j) {
+        const double a = 2.0 * M_PI * static_cast<double>((2 * j) % 5) / 5.0;
+        map.vertex_x_m[j] = j < 5 ? static_cast<float>(10.0 + 2.0 * std::cos(a)) : 0.0F;
+        map.vertex_y_m[j] = j < 5 ? static_cast<float>(2.0 * std::sin(a)) : 0.0F;
+    }
+    const TableCheck c = check(map);
+    CHECK_TRUE(TableReject::kInconsistent == c.reason);
+    LONGS_EQUAL(CoarseMapField::vertex_x_m, c.field);
+    CHECK(c.element < 5);
+    // The same five vertices in pentagon order pass.
+    for (int j = 0; j < 5; ++j) {
+        const double a = 2.0 * M_PI * static_cast<double>(j) / 5.0;
+        map.vertex_x_m[j] = static_cast<float>(10.0 + 2.0 * std::cos(a));
+        map.vertex_y_m[j] = static_cast<float>(2.0 * std::sin(a));
+    }
+    CHECK_TRUE(check(map).ok());
 }
 
 TEST(CoarseMapCheck, StraightOrRepeatedVerticesAreRefused) {
