@@ -78,6 +78,10 @@ core::Status CanIoTask::init() {
     if (!core::isOk(st)) {
         return st;
     }
+    st = bus_.subscribe(pipe_, msg::ids::kInterlockReset);
+    if (!core::isOk(st)) {
+        return st;
+    }
     return bus_.subscribe(pipe_, msg::ids::kMode);
 }
 
@@ -128,6 +132,15 @@ void CanIoTask::takeCommands() {
                 for (double& c : commanded_) {
                     c = 0.0;
                 }
+            }
+            continue;
+        }
+        if (inbox_.header.id == msg::ids::kInterlockReset) {
+            msg::InterlockResetMsg reset{};
+            if (core::isOk(inbox_.decode(&reset))) {
+                (void)interlock_.resetIfHealthy(status_);  // evented either way
+            } else {
+                refuse("malformed interlock reset (interlock unchanged)");
             }
             continue;
         }

@@ -115,6 +115,11 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
         case CommandCode::ESTOP_CLEAR:
             setEstop(false);
             return {};
+        case CommandCode::RESET_INTERLOCK: {
+            msg::InterlockResetMsg request{};
+            request.timeNs = parts_.clock.now();
+            return core::isOk(parts_.bus.publish(request)) ? CommandOutcome{} : failed(0);
+        }
         case CommandCode::DRIVE: {
             if (estop_) {
                 return failed(0);  // the e-stop holds: clear it first

@@ -16,6 +16,12 @@ struct ModeMsg {
     std::uint8_t pad[6];
 };
 
+// RESET_INTERLOCK from ground: release the drive interlock if every drive is healthy.
+struct InterlockResetMsg {
+    static constexpr core::MsgId kMsgId = ids::kInterlockReset;
+    std::int64_t timeNs;
+};
+
 // A manual DRIVE command, already range-checked against the dictionary.
 struct ManualDriveMsg {
     static constexpr core::MsgId kMsgId = ids::kManualDrive;

@@ -36,6 +36,7 @@ constexpr core::MsgId kFollowerStatus = 0x0171;  // FollowerStatusMsg, on change
 
 // commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
 constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers
+constexpr core::MsgId kInterlockReset = 0x0133;  // InterlockResetMsg, per RESET_INTERLOCK, command handlers -> can_io
 constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive
 constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> deliberative, telemetry
 

@@ -30,6 +30,19 @@ void DriveInterlock::apply(const msg::DriveStatusMsg& status, const double (&com
     }
 }
 
+bool DriveInterlock::resetIfHealthy(const msg::DriveStatusMsg& status) {
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (unhealthy(status.wheels[w].health)) {
+            events_.report(events::kInterlockResetRefused, core::Severity::kWarning,
+                           "reflexive: interlock reset refused: wheel %zu drive still unhealthy (health %u)%s", w,
+                           static_cast<unsigned>(status.wheels[w].health), tripped_ ? "" : " (not tripped)");
+            return false;
+        }
+    }
+    reset();
+    return true;
+}
+
 void DriveInterlock::reset() {
     if (tripped_) {
         events_.report(events::kInterlockReset, core::Severity::kInfo, "reflexive: drive interlock reset");

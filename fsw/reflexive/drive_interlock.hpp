@@ -1,8 +1,8 @@
 // The reflexive layer's last line of defence for the wheels: if any drive is not
 // healthy (faulted, failed, lost) while the rover is commanded to move, every
 // drive is commanded to zero at once, so a rover with one dead or runaway wheel
-// does not keep driving on the others. The trip latches until reset() (by ground
-// command or a higher layer that has replanned around the lost wheel).
+// does not keep driving on the others. The trip latches until ground's
+// RESET_INTERLOCK (resetIfHealthy: only once every drive is healthy again).
 #pragma once
 
 #include "fsw/core/event_log.hpp"
@@ -18,6 +18,9 @@ public:
     void apply(const msg::DriveStatusMsg& status, const double (&command)[msg::kWheelCount],
                double (&out)[msg::kWheelCount]);
     void reset();
+    // Ground's RESET_INTERLOCK: releases the hold only when every drive in
+    // `status` is healthy (else event 606 naming the wheel, and false).
+    bool resetIfHealthy(const msg::DriveStatusMsg& status);
     bool tripped() const { return tripped_; }
     std::uint32_t trips() const { return trips_; }
 

@@ -242,6 +242,23 @@ TEST(GroundCommands, EstopZeroesTheDrivesAndHoldsOffCommands) {
     LONGS_EQUAL(0, fsw.canIo().drive(0).targetVelocityMradS());  // stays at zero until commanded
 }
 
+// RESET_INTERLOCK is taken in SAFE (the mode a call home leaves the rover in)
+// and reaches CAN I/O (no drive attached here: none is unhealthy, so the reset
+// goes through); it is refused as wrong_mode while AUTONOMOUS. The trip,
+// refused reset and release on simulated drives: unit_test/lockstep.
+TEST(GroundCommands, ResetInterlockIsTakenInSafeAndRefusedWhileAutonomous) {
+    send("RESET_INTERLOCK");
+    runFrames(2);
+    expectAccepted("RESET_INTERLOCK");
+    CHECK_FALSE(fsw.canIo().interlock().tripped());
+    send("SET_MODE", {2});
+    send("RESET_INTERLOCK");
+    runFrames(2);
+    const Packet& ack = last("CMD_ACK");
+    LONGS_EQUAL(findCommand("RESET_INTERLOCK")->apid, static_cast<long>(field(ack, "apid")));
+    CHECK(static_cast<long>(field(ack, "reason")) != 0);
+}
+
 TEST(GroundCommands, AModeChangeStopsTheWheelsTheLayerLeftTurning) {
     core::EventLog::Cursor events;  // the telemetry task pops events; read them beside it
     send("SET_MODE", {3});

@@ -182,4 +182,30 @@ TEST(LockstepDeliberative, ADriveFaultThatHoldsTheWheelsSafesTheRoverAndCallsHom
     CHECK(DeliberativeState::kCalledHome == g_watch.plan.state);
     CHECK(CallHomeReason::kMobilityLost == g_watch.plan.callHome);
     LONGS_EQUAL(0, rig->rover().truth().collisions);
+
+    // The operator's answer: once the worn drive is healthy again (its fault
+    // reset), RESET_INTERLOCK releases the hold and a new GOTO is planned and
+    // handed down. The mission cannot go on for long: on x86-64 the worn motor
+    // trips the interlock again on its first turn (mobility lost); on aarch64 the
+    // plan differs in the last bits and its leg end lies behind the hidden rock,
+    // which the deliberative map does not hold, so every replan repeats it
+    // (replans exhausted). Either way the rover calls home again, untouched.
+    CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 5 * kNsPerSec));
+    CHECK_TRUE(ground->send("RESET_INTERLOCK"));
+    CHECK_TRUE(rig->runUntil([&] { return !rig->fsw().canIo().interlock().tripped(); }, kNsPerSec));
+    const std::uint32_t legsBefore = delib.counters().legsSent;
+    gotoGoal(kGoalX, kGoalY, 1e-3);
+    CHECK_TRUE(rig->runUntil([&] { return delib.counters().legsSent > legsBefore; }, 10 * kNsPerSec));
+    CHECK(DeliberativeState::kExecuting == delib.state());
+    const bool again = rig->runUntil([&] { return delib.state() == DeliberativeState::kCalledHome; }, 30 * kNsPerSec);
+    rig->runFor(kNsPerSec);
+    if (!again || std::getenv("RSE_PRINT_CONSOLE") != nullptr) {
+        std::printf("%s\n", rig->consoleText());
+    }
+    CHECK_TRUE(again);
+    LONGS_EQUAL(2, delib.counters().callHomes);
+    CHECK(CallHomeReason::kMobilityLost == delib.status().callHome ||
+          CallHomeReason::kReplansExhausted == delib.status().callHome);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 602 INFO  reflexive: drive interlock reset"));
+    LONGS_EQUAL(0, rig->rover().truth().collisions);
 }

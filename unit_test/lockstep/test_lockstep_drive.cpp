@@ -104,6 +104,13 @@ TEST(LockstepDrive, MotorFailureIsReportedAndEveryOtherWheelIsStopped) {
     LONGS_EQUAL(1, rig->consoleCount("EVT 601 CRIT  reflexive: wheel 1 drive unhealthy"));  // interlock
     LONGS_EQUAL(1, rig->consoleCount("EVT 434 CRIT  drive ML (node 2): still faulted after 3 resets (EMCY 0x5000)"));
     LONGS_EQUAL(1, rig->consoleCount("EVT 406 ERROR drive ML (node 2): EMCY 0x5000"));
+    // RESET_INTERLOCK (its bus message, as the command handlers publish it) is
+    // refused while the failed drive stays unhealthy: the hold stays.
+    msg::InterlockResetMsg reset{};
+    CHECK(core::isOk(rig->fsw().bus().publish(reset)));
+    rig->runFor(200 * kNsPerMs);
+    CHECK_TRUE(rig->fsw().canIo().interlock().tripped());
+    LONGS_EQUAL(1, rig->consoleCount("EVT 606 WARN  reflexive: interlock reset refused: wheel 1 drive still unhealthy"));
 }
 
 TEST(LockstepDrive, CrashedDriveIsLostThenReconfiguredAfterItsRestart) {
