@@ -50,7 +50,13 @@ void AppCommandHandler::serviceOnboardRequests() {
          ++i) {
         msg::SafeRequestMsg request{};
         if (!core::isOk(inbox_.decode(&request))) {
-            continue;  // the bus only routes kSafeRequest here; a wrong size is the publisher's bug
+            ++malformedRequests_;
+            if (core::isReportableOccurrence(malformedRequests_)) {
+                parts_.events.report(events::kBusMessageMalformed, core::Severity::kError,
+                                     "app: command handlers ignored a malformed onboard request 0x%04x (%u so far)",
+                                     static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformedRequests_));
+            }
+            continue;
         }
         ++safeRequests_;
         parts_.events.report(events::kSafedOnRequest, core::Severity::kWarning,

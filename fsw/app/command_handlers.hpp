@@ -46,6 +46,7 @@ public:
     // A SafeRequestMsg (the deliberative layer's call home) puts the rover in SAFE.
     void serviceOnboardRequests() override;
     std::uint32_t safeRequests() const { return safeRequests_; }
+    std::uint32_t malformedRequests() const { return malformedRequests_; }
 
     bool estop() const { return estop_; }
     const deliberative::GoalList& goals() const { return goals_; }
@@ -66,6 +67,7 @@ private:
     core::PipeId requestPipe_ = 0;
     bool requestsReady_ = false;
     std::uint32_t safeRequests_ = 0;
+    std::uint32_t malformedRequests_ = 0;
     core::Message inbox_{};
 };
 

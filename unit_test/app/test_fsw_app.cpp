@@ -111,4 +111,10 @@ TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
         ++modes;
     }
     LONGS_EQUAL(0, modes);
+    // A request of the wrong size is counted and evented, not acted on.
+    const std::uint8_t shortRequest[3] = {};
+    CHECK(core::isOk(fsw.bus().publish(msg::ids::kSafeRequest, shortRequest, sizeof shortRequest)));
+    fsw.run(nullptr, 2);
+    LONGS_EQUAL(1, fsw.commandHandler().safeRequests());
+    LONGS_EQUAL(1, fsw.commandHandler().malformedRequests());
 }
