@@ -63,7 +63,7 @@
 namespace rse::estimator {
 
 // Rate-group rows the task-stall faults cover (fault ids 20..35).
-constexpr std::size_t kWatchedTaskRows = msg::fault::kCount - msg::fault::kTaskStalled;
+constexpr std::size_t kWatchedTaskRows = msg::fault::kTaskStalledCount;
 static_assert(kWatchedTaskRows == core::kMaxTasks, "one task-stall fault id per rate-group row");
 
 // The thresholds of every rule, taken from the tables at each run.

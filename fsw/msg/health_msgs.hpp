@@ -19,7 +19,10 @@ constexpr std::uint8_t kBatteryLow = 17;
 constexpr std::uint8_t kBusOvercurrent = 18;
 constexpr std::uint8_t kPoseUncertain = 19;
 constexpr std::uint8_t kTaskStalled = 20;         // + rate-group row 0..15 -> 20..35
-constexpr std::uint8_t kCount = 36;               // ids 1..35; 0 is "no fault"
+constexpr std::uint8_t kTaskStalledCount = 16;
+constexpr std::uint8_t kSensorStale = 36;         // + DeviceNode 0..3 -> 36..39: heartbeat on, data silent
+constexpr std::uint8_t kDriveOvertemp = 40;       // + wheel 0..5      -> 40..45
+constexpr std::uint8_t kCount = 46;               // ids 1..45; 0 is "no fault"
 }  // namespace fault
 
 struct FaultStatusMsg {
