@@ -3,6 +3,7 @@
 #include "fsw/app/app_events.hpp"
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 
 namespace rse::app {
@@ -27,13 +28,16 @@ CommandOutcome failed(std::int16_t detail) { return CommandOutcome{false, detail
 AppCommandHandler::AppCommandHandler(const Parts& parts) : parts_(parts), goals_(1e-3) {}
 
 namespace {
-constexpr std::uint16_t kRequestPipeDepth = 4;
+constexpr std::uint16_t kRequestPipeDepth = 8;  // call homes and task restarts (one per stalled row at most)
 }  // namespace
 
 core::Status AppCommandHandler::init() {
     core::Status status = parts_.bus.createPipe("mode_requests", kRequestPipeDepth, &requestPipe_);
     if (core::isOk(status)) {
         status = parts_.bus.subscribe(requestPipe_, msg::ids::kSafeRequest);
+    }
+    if (core::isOk(status)) {
+        status = parts_.bus.subscribe(requestPipe_, msg::ids::kTaskRestart);
     }
     if (!core::isOk(status)) {
         return status;
@@ -48,6 +52,10 @@ core::Status AppCommandHandler::init() {
 void AppCommandHandler::serviceOnboardRequests() {
     for (std::uint16_t i = 0; requestsReady_ && i < kRequestPipeDepth && core::isOk(parts_.bus.receive(requestPipe_, &inbox_));
          ++i) {
+        if (inbox_.header.id == msg::ids::kTaskRestart) {
+            restartTask();
+            continue;
+        }
         msg::SafeRequestMsg request{};
         if (!core::isOk(inbox_.decode(&request))) {
             ++malformedRequests_;
@@ -60,12 +68,37 @@ void AppCommandHandler::serviceOnboardRequests() {
         }
         ++safeRequests_;
         parts_.events.report(events::kSafedOnRequest, core::Severity::kWarning,
-                             "app: deliberative layer called home (reason %u): mode %s -> SAFE",
+                             "app: onboard call home (reason %u): mode %s -> SAFE",
                              static_cast<unsigned>(request.reason), cmdtlm::toString(mode_));
         if (mode_ != cmdtlm::Mode::kSafe) {
             setMode(cmdtlm::Mode::kSafe);
         }
     }
+}
+
+void AppCommandHandler::restartTask() {
+    msg::TaskRestartMsg request{};
+    if (!core::isOk(inbox_.decode(&request))) {
+        ++malformedRequests_;
+        if (core::isReportableOccurrence(malformedRequests_)) {
+            parts_.events.report(events::kBusMessageMalformed, core::Severity::kError,
+                                 "app: command handlers ignored a malformed onboard request 0x%04x (%u so far)",
+                                 static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformedRequests_));
+        }
+        return;
+    }
+    // The executive's rows stop only by being disabled (a hung task is the
+    // watchdog's), so running the row again is the restart.
+    if (!core::isOk(parts_.executive.setTaskEnabled(request.row, true))) {
+        ++taskRestartsRefused_;
+        parts_.events.report(events::kTaskRestartRefused, core::Severity::kError,
+                             "app: task restart refused: row %u is not in the rate-group table",
+                             static_cast<unsigned>(request.row));
+        return;
+    }
+    ++taskRestarts_;
+    parts_.events.report(events::kTaskRestarted, core::Severity::kWarning,
+                         "app: fault protection restarted rate-group row %u", static_cast<unsigned>(request.row));
 }
 
 CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict) {

@@ -3,7 +3,8 @@
 // flag and announces both on the bus (ModeMsg); mission goals go to the goal
 // list (GoalListMsg), manual drives to the manual-drive task, table commands to
 // the table service, counter resets to everything that counts. Onboard layers
-// may ask for SAFE (SafeRequestMsg, pipe "mode_requests").
+// may ask for SAFE (SafeRequestMsg, pipe "mode_requests"); fault protection may
+// ask for a stalled rate-group row to run again (TaskRestartMsg, same pipe).
 #pragma once
 
 #include "fsw/app/telemetry_task.hpp"
@@ -47,6 +48,8 @@ public:
     void serviceOnboardRequests() override;
     std::uint32_t safeRequests() const { return safeRequests_; }
     std::uint32_t malformedRequests() const { return malformedRequests_; }
+    std::uint32_t taskRestarts() const { return taskRestarts_; }
+    std::uint32_t taskRestartsRefused() const { return taskRestartsRefused_; }
 
     bool estop() const { return estop_; }
     const deliberative::GoalList& goals() const { return goals_; }
@@ -57,6 +60,7 @@ private:
     void setEstop(bool set);
     void publishMode();
     void publishGoals();
+    void restartTask();  // a TaskRestartMsg in inbox_
 
     Parts parts_;
     cmdtlm::CommandTask* commands_ = nullptr;
@@ -68,6 +72,8 @@ private:
     bool requestsReady_ = false;
     std::uint32_t safeRequests_ = 0;
     std::uint32_t malformedRequests_ = 0;
+    std::uint32_t taskRestarts_ = 0;
+    std::uint32_t taskRestartsRefused_ = 0;
     core::Message inbox_{};
 };
 

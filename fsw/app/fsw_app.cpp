@@ -35,6 +35,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       poseEstimator_(bus_, events_, tables_),
       driveModes_(bus_, events_, tables_),
       health_(bus_, events_, tables_, executive_),
+      faultProtection_(bus_, events_, tables_),
       housekeeping_(executive_, bus_, events_),
       telemetry_(bus_, events_, telemetryOutput_,
                  TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
@@ -81,6 +82,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(health_.init(), "health monitor init");
     }
     if (core::isOk(status)) {
+        status = initStep(faultProtection_.init(), "fault protection init");
+    }
+    if (core::isOk(status)) {
         status = initStep(commands_.init(), "command service init");
     }
     if (core::isOk(status)) {
@@ -115,7 +119,8 @@ core::Status FswApp::init(std::FILE* console) {
     // are the longest acceptable run. Tables come first, so an activation lands
     // between frames and every task of a frame sees the same values. The
     // estimator, drive modes and health come right after the CAN I/O task, so
-    // what they publish describes this frame's CAN inputs; the follower comes
+    // what they publish describes this frame's CAN inputs; fault protection
+    // answers the health task's faults in the same frame; the follower comes
     // after them so it steers from this frame's pose. The habitual layer runs at
     // 10 Hz on its own offset, so its planning slice does not share a frame with
     // housekeeping or the console; the deliberative layer likewise on offset 7,
@@ -127,6 +132,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"estimator", &poseEstimator_, 1, 0, 300},
         {"drive_modes", &driveModes_, 1, 0, 200},
         {"health", &health_, 1, 0, 200},
+        {"fault_prot", &faultProtection_, 1, 0, 200},
         {"follower", &follower_, 1, 0, 200},
         {"commands", &commands_, 1, 0, 1000},
         {"manual_drive", &manualDrive_, 1, 0, 200},

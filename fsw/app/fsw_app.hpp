@@ -23,6 +23,7 @@
 #include "fsw/estimator/drive_mode_task.hpp"
 #include "fsw/estimator/health_task.hpp"
 #include "fsw/estimator/pose_estimator_task.hpp"
+#include "fsw/fault_protection/fault_protection_task.hpp"
 #include "fsw/habitual/habitual_task.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "fsw/reflexive/trajectory_task.hpp"
@@ -74,6 +75,7 @@ public:
     const estimator::PoseEstimatorTask& poseEstimator() const { return poseEstimator_; }
     const estimator::DriveModeTask& driveModes() const { return driveModes_; }
     const estimator::HealthTask& health() const { return health_; }
+    const fault_protection::FaultProtectionTask& faultProtection() const { return faultProtection_; }
     const reflexive::TrajectoryTask& follower() const { return follower_; }
     const habitual::HabitualTask& habitual() const { return habitual_; }
     const deliberative::DeliberativeTask& deliberative() const { return deliberative_; }
@@ -94,6 +96,7 @@ private:
     estimator::PoseEstimatorTask poseEstimator_;
     estimator::DriveModeTask driveModes_;
     estimator::HealthTask health_;
+    fault_protection::FaultProtectionTask faultProtection_;
     cmdtlm::HousekeepingTask housekeeping_;
     TelemetryTask telemetry_;
     reflexive::ManualDrive manualDrive_;

@@ -10,10 +10,11 @@ namespace rse::app {
 core::Status TelemetryTask::init() {
     // Depth: drive status and the pose estimate arrive every frame, the rest
     // seldom, and this task runs every frame.
-    core::Status status = bus_.createPipe("telemetry", 8, &pipe_);
+    core::Status status = bus_.createPipe("telemetry", 10, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
-                               msg::ids::kGoalList, msg::ids::kPlanStatus};
+                               msg::ids::kGoalList, msg::ids::kPlanStatus, msg::ids::kFaultProtectionStatus,
+                               msg::ids::kMissionHold};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -41,6 +42,10 @@ void TelemetryTask::run(const core::FrameContext& frame) {
     if (frame.slot == kHealthSlot || healthChanged_) {
         healthChanged_ = false;
         sendHealth();
+    }
+    if (frame.slot == kFaultProtectionSlot || protectionChanged_) {
+        protectionChanged_ = false;
+        sendFaultProtection();
     }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
         planChanged_ = false;
@@ -75,6 +80,13 @@ void TelemetryTask::takeBusMessages() {
                 break;
             }
             case msg::ids::kMode: status = inbox_.decode(&mode_); break;
+            case msg::ids::kMissionHold: status = inbox_.decode(&hold_); break;
+            case msg::ids::kFaultProtectionStatus: {
+                // Published at 1 Hz and on every change: each one is news here.
+                status = inbox_.decode(&protection_);
+                protectionChanged_ = protectionChanged_ || core::isOk(status);
+                break;
+            }
             case msg::ids::kGoalList:
                 status = inbox_.decode(&goals_);
                 planChanged_ = planChanged_ || core::isOk(status);
@@ -306,6 +318,29 @@ core::Status TelemetryTask::sendTableDump(tables::TableId id, bool inactive) {
         output_.send(dump_);
     }
     return core::Status::kOk;
+}
+
+void TelemetryTask::sendFaultProtection() {
+    cmdtlm::FAULT_PROTECTION_Tlm tlm{};
+    const msg::FaultProtectionStatusMsg& p = protection_;
+    tlm.hold_reasons = p.holdReasons;
+    tlm.hold_estop = hold_.estop;
+    tlm.resume_count = hold_.resumeCount;
+    tlm.responses_started = p.responsesStarted;
+    tlm.recoveries = p.recoveries;
+    tlm.gave_up = p.gaveUp;
+    tlm.actions_sent = p.actionsSent;
+    tlm.response_count = std::min<std::uint8_t>(p.activeCount, static_cast<std::uint8_t>(msg::kResponseSlots));
+    for (std::size_t i = 0; i < tlm.response_count; ++i) {
+        const msg::ResponseTlm& r = p.responses[i];
+        tlm.fault_id[i] = r.faultId;
+        tlm.fault_class[i] = static_cast<std::uint8_t>(r.faultClass);
+        tlm.state[i] = static_cast<std::uint8_t>(r.state);
+        tlm.attempts_used[i] = r.attemptsUsed;
+        tlm.last_action[i] = r.lastAction;
+        tlm.state_since[i] = static_cast<float>(static_cast<double>(r.sinceNs) / static_cast<double>(core::kNsPerSec));
+    }
+    output_.send(tlm);
 }
 
 }  // namespace rse::app

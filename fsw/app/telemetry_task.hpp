@@ -20,6 +20,7 @@
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
@@ -33,6 +34,7 @@ constexpr std::uint32_t kTaskTimingSlot = 10;     // TASK_TIMING of task i in sl
 constexpr std::uint32_t kDrivesSlot = 50;
 constexpr std::uint32_t kRoverStateSlot = 60;
 constexpr std::uint32_t kHealthSlot = 70;
+constexpr std::uint32_t kFaultProtectionSlot = 80;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -73,6 +75,7 @@ private:
     void sendRoverState();
     void sendHealth();
     void sendPlan();
+    void sendFaultProtection();
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -95,6 +98,9 @@ private:
     msg::ModeMsg mode_{};
     msg::GoalListMsg goals_{};
     msg::PlanStatusMsg planStatus_{};
+    msg::FaultProtectionStatusMsg protection_{};
+    msg::MissionHoldMsg hold_{};
+    bool protectionChanged_ = false;
     // Packet structs kept out of the task's stack.
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};

@@ -33,6 +33,7 @@ const char* reasonName(msg::CallHomeReason r) {
         case msg::CallHomeReason::kReplansExhausted: return "replans exhausted";
         case msg::CallHomeReason::kInsufficientPower: return "insufficient power";
         case msg::CallHomeReason::kMobilityLost: return "mobility lost";
+        case msg::CallHomeReason::kFaultUnrecovered: return "fault unrecovered";
     }
     return "?";
 }

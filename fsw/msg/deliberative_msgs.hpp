@@ -29,6 +29,7 @@ enum class CallHomeReason : std::uint8_t {
     kReplansExhausted = 3,  // PLANNER.replan_limit replans of one goal failed up again
     kInsufficientPower = 4, // a leg's energy bound would pass PLANNER.bound_relax_limit, replans exhausted
     kMobilityLost = 5,      // a drive declared failed: the rover cannot drive (the interlock holds every drive)
+    kFaultUnrecovered = 6,  // fault protection used every attempt of a response (docs/fault_protection.md)
 };
 
 struct PlanLeg {

@@ -5,6 +5,7 @@
 // only through these messages (and SafeRequestMsg for a call home).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "fsw/msg/msg_ids.hpp"
@@ -51,6 +52,73 @@ struct DriveRecoveryMsg {
     std::uint8_t wheel;            // 0..5 (ignored for kResetInterlock)
     DriveRecoveryAction action;
     std::uint8_t pad[6];
+};
+
+// Fault protection -> the executive's owner (command handlers): run a stalled
+// rate-group row again (it was disabled, or stopped running).
+struct TaskRestartMsg {
+    static constexpr core::MsgId kMsgId = ids::kTaskRestart;
+    std::int64_t timeNs;
+    std::uint8_t row;  // rate-group row 0..kMaxTasks-1
+    std::uint8_t pad[7];
+};
+
+// The fault classes fault protection answers, one row each of FAULT_PROTECTION.
+enum class FaultClass : std::uint8_t {
+    kDriveLost = 0,        // drive heartbeat lost (fault ids 1..6)
+    kDriveFaulted = 1,     // a drive reports faulted or failed (drive status)
+    kDriveOvercurrent = 2, // fault ids 11..16
+    kSensorLost = 3,       // device heartbeat lost (7..10) or its data stale (36..39)
+    kBatteryLow = 4,       // 17
+    kBusOvercurrent = 5,   // 18
+    kPoseUncertain = 6,    // 19
+    kTaskStalled = 7,      // 20..35
+    kDriveOvertemp = 8,    // 40..45
+};
+constexpr std::size_t kFaultClassCount = 9;
+
+// What fault protection does about one class (FAULT_PROTECTION.response).
+enum class FaultResponseKind : std::uint8_t {
+    kEventOnly = 0,
+    kHoldUntilClear = 1,
+    kRecoverDrive = 2,
+    kRestartTask = 3,
+    kSafeAndCallHome = 4,
+};
+
+// Where one response stands.
+enum class ResponseState : std::uint8_t {
+    kIdle = 0,        // nothing active
+    kSettling = 1,    // a drive fault seen: held, giving the drive its own recovery time first
+    kWaiting = 2,     // action taken (or holding): waiting for the fault to clear
+    kRecovered = 3,   // cleared after a response: attempts remembered for attempt_memory_ms
+    kGaveUp = 4,      // attempts used: called home (or a drive declared failed)
+};
+
+// One response in progress: per wheel for the drive classes, per fault id otherwise.
+struct ResponseTlm {
+    std::uint8_t faultId;      // the fault it answers (drive classes: 1 + wheel), 0: slot unused
+    FaultClass faultClass;
+    ResponseState state;
+    std::uint8_t attemptsUsed;
+    std::uint8_t lastAction;   // DriveRecoveryAction for drives, 1 hold, 2 restart; 0 none yet
+    std::uint8_t pad[3];
+    std::int64_t sinceNs;      // when the current state was entered
+};
+constexpr std::size_t kResponseSlots = 8;
+
+// Published on every change and at 1 Hz (FAULT_PROTECTION telemetry).
+struct FaultProtectionStatusMsg {
+    static constexpr core::MsgId kMsgId = ids::kFaultProtectionStatus;
+    std::int64_t timeNs;
+    std::uint32_t holdReasons;    // MissionHoldMsg::reasons now
+    std::uint32_t responsesStarted;
+    std::uint32_t recoveries;     // responses that ended with the fault cleared
+    std::uint32_t gaveUp;         // responses that ended in a call home or a failed drive
+    std::uint32_t actionsSent;    // drive recovery and task restart requests
+    std::uint8_t activeCount;     // responses[0..activeCount) in use
+    std::uint8_t pad[3];
+    ResponseTlm responses[kResponseSlots];
 };
 
 }  // namespace rse::msg

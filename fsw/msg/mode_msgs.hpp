@@ -7,6 +7,14 @@
 
 namespace rse::msg {
 
+// ModeMsg::mode values (cmdtlm::Mode mirrors them; layers below cmdtlm use these).
+namespace mode {
+constexpr std::uint8_t kSafe = 0;
+constexpr std::uint8_t kStandby = 1;
+constexpr std::uint8_t kAutonomous = 2;
+constexpr std::uint8_t kManual = 3;
+}  // namespace mode
+
 // Published on every change of mode or e-stop, and once at start-up.
 struct ModeMsg {
     static constexpr core::MsgId kMsgId = ids::kMode;

@@ -47,5 +47,7 @@ constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home
 // fault protection -> CAN I/O and the layers (fault_protection_msgs.hpp)
 constexpr core::MsgId kMissionHold = 0x0180;    // MissionHoldMsg, on change and 1 Hz, fault protection -> can_io, habitual, deliberative, telemetry
 constexpr core::MsgId kDriveRecovery = 0x0181;  // DriveRecoveryMsg, per action, fault protection -> can_io
+constexpr core::MsgId kTaskRestart = 0x0182;    // TaskRestartMsg, per action, fault protection -> command handlers (executive owner)
+constexpr core::MsgId kFaultProtectionStatus = 0x0183;  // FaultProtectionStatusMsg, on change and 1 Hz, fault protection -> telemetry
 
 }  // namespace rse::msg::ids

@@ -100,6 +100,7 @@ public:
     const DriveHealthModelTable& driveHealthModel() const { return activeDriveHealthModel_; }
     const FollowerTable& follower() const { return activeFollower_; }
     const CoarseMapTable& coarseMap() const { return activeCoarseMap_; }
+    const FaultProtectionTable& faultProtection() const { return activeFaultProtection_; }
 
     TableStatus status(TableId id) const;  // all zero for an unknown id
     std::uint32_t activations() const { return activations_; }
@@ -141,6 +142,6 @@ private:
 };
 
 // One accessor per table above: a table added to the .def needs one too.
-static_assert(kTableCount == 9, "add an accessor to TableService for every table");
+static_assert(kTableCount == 10, "add an accessor to TableService for every table");
 
 }  // namespace rse::tables

@@ -1,0 +1,153 @@
+#include "fsw/fault_protection/fault_protection_task.hpp"
+
+#include <cstring>
+
+#include "fsw/fault_protection/fault_protection_events.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+
+namespace rse::fault_protection {
+
+core::Status FaultProtectionTask::init() {
+    core::Status status = bus_.createPipe("fault_protection", kPipeDepth, &pipe_);
+    const core::MsgId inputs[] = {msg::ids::kFaultStatus, msg::ids::kDriveStatus, msg::ids::kMode};
+    for (core::MsgId id : inputs) {
+        if (core::isOk(status)) {
+            status = bus_.subscribe(pipe_, id);
+        }
+    }
+    if (!core::isOk(status)) {
+        events_.report(events::kInitFailed, core::Severity::kError, "fault protection: init refused (%s)",
+                       core::toString(status));
+    }
+    return status;
+}
+
+void FaultProtectionTask::drainInputs() {
+    for (std::uint16_t n = 0; n < kPipeDepth; ++n) {  // nothing is published to the pipe while we drain
+        if (!core::isOk(bus_.receive(pipe_, &inbox_))) {
+            break;
+        }
+        core::Status decoded = core::Status::kWrongType;
+        switch (inbox_.header.id) {
+            case msg::ids::kFaultStatus: {
+                msg::FaultStatusMsg f{};
+                decoded = inbox_.decode(&f);
+                if (core::isOk(decoded)) {
+                    inputs_.activeFaults = f.activeMask;
+                }
+                break;
+            }
+            case msg::ids::kDriveStatus: {
+                msg::DriveStatusMsg d{};
+                decoded = inbox_.decode(&d);
+                if (core::isOk(decoded)) {
+                    inputs_.haveDrives = true;
+                    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+                        inputs_.health[w] = d.wheels[w].health;
+                    }
+                    inputs_.interlockTripped = d.interlockTripped != 0;
+                }
+                break;
+            }
+            case msg::ids::kMode: {
+                msg::ModeMsg m{};
+                decoded = inbox_.decode(&m);
+                if (core::isOk(decoded)) {
+                    inputs_.autonomous = m.mode == msg::mode::kAutonomous;
+                }
+                break;
+            }
+            default:
+                break;
+        }
+        if (!core::isOk(decoded)) {
+            ++malformed_;
+            if (core::isReportableOccurrence(malformed_)) {
+                events_.report(events::kMalformedInput, core::Severity::kError,
+                               "fault protection: malformed bus message 0x%04x ignored (%u so far)",
+                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformed_));
+            }
+        }
+    }
+}
+
+void FaultProtectionTask::publish(core::Status s) {
+    if (core::isOk(s)) {
+        return;
+    }
+    ++publishFailed_;
+    if (core::isReportableOccurrence(publishFailed_)) {
+        events_.report(events::kPublishFailed, core::Severity::kError,
+                       "fault protection: the bus refused a message (%s, %u so far)", core::toString(s),
+                       static_cast<unsigned>(publishFailed_));
+    }
+}
+
+void FaultProtectionTask::publishHold(core::TimeNs now, std::uint32_t reasons, bool force) {
+    const bool changed = reasons != hold_.reasons;
+    if (changed) {
+        if (reasons == 0) {
+            ++hold_.resumeCount;
+            events_.report(events::kHoldChanged, core::Severity::kInfo,
+                           "fault protection: mission hold released: resuming (resume %u)",
+                           static_cast<unsigned>(hold_.resumeCount));
+        } else {
+            events_.report(events::kHoldChanged, core::Severity::kWarning,
+                           "fault protection: mission hold, reasons 0x%02x: wheels to zero, no new legs",
+                           static_cast<unsigned>(reasons));
+        }
+    }
+    hold_.reasons = reasons;
+    hold_.estop = reasons != 0 ? 1 : 0;
+    if (changed || force) {
+        hold_.timeNs = now;
+        publish(bus_.publish(hold_));
+    }
+}
+
+void FaultProtectionTask::run(const core::FrameContext& frame) {
+    const core::TimeNs now = frame.actualStart;
+    drainInputs();
+    inputs_.now = now;
+    const ResponderLimits limits = responderLimitsFrom(tables_.faultProtection(), tables_.faultResponse());
+    ResponderActions actions;
+    const std::uint32_t startedBefore = responder_.responsesStarted() + responder_.recoveries() + responder_.gaveUp();
+    responder_.step(inputs_, limits, &actions);
+
+    for (std::size_t i = 0; i < actions.driveActions.size(); ++i) {
+        publish(bus_.publish(*actions.driveActions.at(i)));
+    }
+    for (std::size_t i = 0; i < actions.taskRestarts.size(); ++i) {
+        msg::TaskRestartMsg m{};
+        m.timeNs = now;
+        m.row = *actions.taskRestarts.at(i);
+        publish(bus_.publish(m));
+    }
+    if (actions.callHome) {
+        ++callHomes_;
+        events_.report(events::kCallHome, core::Severity::kCritical,
+                       "fault protection: CALL HOME: a fault response used every attempt: rover to SAFE");
+        msg::SafeRequestMsg safe{};
+        safe.timeNs = now;
+        safe.reason = msg::CallHomeReason::kFaultUnrecovered;
+        publish(bus_.publish(safe));
+    }
+    const bool periodic = ++runsSincePublish_ >= kPublishPeriodRuns;
+    publishHold(now, actions.holdReasons, periodic);
+
+    const std::uint32_t after = responder_.responsesStarted() + responder_.recoveries() + responder_.gaveUp();
+    const bool statusChanged = after != startedBefore || status_.holdReasons != hold_.reasons ||
+                               !actions.driveActions.empty() || !actions.taskRestarts.empty();
+    if (statusChanged || periodic) {
+        runsSincePublish_ = 0;
+        status_.timeNs = now;
+        status_.holdReasons = hold_.reasons;
+        responder_.fillStatus(&status_);
+        publish(bus_.publish(status_));
+    }
+}
+
+}  // namespace rse::fault_protection
