@@ -35,19 +35,20 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(13, hk.taskCount);
-    const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",  "follower",
-                                 "commands", "manual_drive", "housekeeping", "telemetry",   "console", "habitual",
-                                 "deliberative"};
-    for (std::size_t i = 0; i < 13; ++i) {
+    LONGS_EQUAL(14, hk.taskCount);
+    const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",
+                                 "fault_prot", "follower",   "commands",     "manual_drive", "housekeeping",
+                                 "telemetry", "console",     "habitual",     "deliberative"};
+    for (std::size_t i = 0; i < 14; ++i) {
         STRCMP_EQUAL(names[i], hk.tasks[i].name);
     }
     LONGS_EQUAL(301, hk.tasks[1].runs);    // every frame, this one included
     LONGS_EQUAL(301, hk.tasks[4].runs);    // health: every frame, before housekeeping in the table
-    LONGS_EQUAL(3, hk.tasks[8].runs);      // runs before the 4th collection
-    LONGS_EQUAL(300, hk.tasks[9].runs);    // every frame, but after housekeeping in the table
-    LONGS_EQUAL(30, hk.tasks[10].runs);    // 10 Hz console, offset 1
-    LONGS_EQUAL(30, hk.tasks[11].runs);    // 10 Hz habitual layer, offset 5
+    LONGS_EQUAL(301, hk.tasks[5].runs);    // fault protection: every frame, right after health
+    LONGS_EQUAL(3, hk.tasks[9].runs);      // runs before the 4th collection
+    LONGS_EQUAL(300, hk.tasks[10].runs);   // every frame, but after housekeeping in the table
+    LONGS_EQUAL(30, hk.tasks[11].runs);    // 10 Hz console, offset 1
+    LONGS_EQUAL(30, hk.tasks[12].runs);    // 10 Hz habitual layer, offset 5
     LONGS_EQUAL(0, hk.frameOverruns);
     CHECK(hk.eventsTotal >= 2);            // app and executive start-up events
 }
@@ -72,7 +73,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 13 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 14 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 

@@ -236,7 +236,7 @@ void commandSeeds() {
     }
     {
         const cmdtlm::CommandDesc& c = command("TABLE_VALIDATE");
-        const std::vector<double> id = {9};
+        const std::vector<double> id = {static_cast<double>(tables::kTableCount + 1)};  // one past the last table
         writeFile("command", "invalid.argument_out_of_range.table_id.bin",
                   authenticated(c.name, validArgs(c, &id), 213));
     }

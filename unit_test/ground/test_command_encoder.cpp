@@ -210,7 +210,7 @@ TEST(GroundCommandEncoder, BadBlobsAreRefused) {
                         "is 201 bytes, must be 1..200"));
     CHECK_TRUE(contains(errorOf("TABLE_LOAD", {"table_id=1", "offset=0", "data=@/nonexistent/x.bin"}),
                         "cannot read file"));
-    CHECK_TRUE(contains(errorOf("TABLE_LOAD", {"table_id=9", "offset=0", "data=00"}), "table_id=9 is out of range 1..6"));
+    CHECK_TRUE(contains(errorOf("TABLE_LOAD", {"table_id=11", "offset=0", "data=00"}), "table_id=11 is out of range 1..10"));
 }
 
 TEST(GroundCommandEncoder, EveryCommandEncodesAtItsBoundsAndTheValidatorAcceptsIt) {

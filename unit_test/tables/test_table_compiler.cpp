@@ -97,7 +97,7 @@ const char* const kSources[] = {"tables/rover_geometry.toml", "tables/estimator_
                                 "tables/planner.toml",        "tables/habitual.toml",
                                 "tables/can_node_map.toml",   "tables/fault_response.toml",
                                 "tables/drive_health_model.toml", "tables/follower.toml",
-                                "tables/coarse_map.toml"};
+                                "tables/coarse_map.toml",     "tables/fault_protection.toml"};
 
 }  // namespace
 
@@ -260,7 +260,7 @@ TEST(TableCompiler, DefaultSourceNeedsEveryTableExactlyOnce) {
     } catch (const TableSourceError& e) {
         message = e.what();
     }
-    CHECK_TEXT(contains(message, "no source for table COARSE_MAP"), message.c_str());
+    CHECK_TEXT(contains(message, "no source for table FAULT_PROTECTION"), message.c_str());
 
     std::vector<CompiledTable> twice = all;
     twice.push_back(compileTableText(kGoodGeometry, "other.toml"));

@@ -132,6 +132,12 @@ TEST(TableImage, ReEncodingADecodedImageGivesTheSameBytes) {
                 again = encoded(t, header.version);
                 break;
             }
+            case TableId::kFaultProtection: {
+                FaultProtectionTable t{};
+                CHECK_TRUE(decodeTable(image.data(), image.size(), &t).ok());
+                again = encoded(t, header.version);
+                break;
+            }
             case TableId::kHabitual: {
                 HabitualTable t{};
                 CHECK_TRUE(decodeTable(image.data(), image.size(), &t).ok());
@@ -396,11 +402,11 @@ TEST_GROUP(TableDescriptors){};
 TEST(TableDescriptors, IdsNamesAndLookupsAgree) {
     std::size_t count = 0;
     const TableDesc* descs = tableDescs(&count);
-    LONGS_EQUAL(9, count);
-    const std::uint16_t ids[] = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+    LONGS_EQUAL(10, count);
+    const std::uint16_t ids[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
     const char* names[] = {"ROVER_GEOMETRY", "ESTIMATOR_NOISE", "PLANNER",           "HABITUAL",
                            "CAN_NODE_MAP",   "FAULT_RESPONSE",  "DRIVE_HEALTH_MODEL", "FOLLOWER",
-                           "COARSE_MAP"};
+                           "COARSE_MAP",     "FAULT_PROTECTION"};
     for (std::size_t i = 0; i < count; ++i) {
         LONGS_EQUAL(ids[i], static_cast<std::uint16_t>(descs[i].id));
         STRCMP_EQUAL(names[i], descs[i].name);
@@ -411,7 +417,7 @@ TEST(TableDescriptors, IdsNamesAndLookupsAgree) {
     POINTERS_EQUAL(nullptr, findTable(static_cast<TableId>(0)));
     POINTERS_EQUAL(nullptr, findTable("RoverGeometry"));
     POINTERS_EQUAL(nullptr, findTable(static_cast<const char*>(nullptr)));
-    LONGS_EQUAL(count, tableIndex(static_cast<TableId>(10)));
+    LONGS_EQUAL(count, tableIndex(static_cast<TableId>(11)));
 }
 
 TEST(TableDescriptors, EveryFieldIsDescribedAndItsRangeFitsItsType) {

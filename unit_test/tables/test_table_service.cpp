@@ -129,8 +129,8 @@ TEST(TableService, StartUpFailsNamingAMissingTable) {
     CHECK_TRUE(Status::kInvalidArgument == fresh.init(kDefaultTableImages, kDefaultTableImageCount - 1));
     const auto d = drainEvents(log, events::kTableMissing);
     LONGS_EQUAL(1, d.count);
-    CHECK_TRUE(d.text.find("COARSE_MAP") != std::string::npos);
-    CHECK_FALSE(fresh.status(TableId::kCoarseMap).active);
+    CHECK_TRUE(d.text.find("FAULT_PROTECTION") != std::string::npos);
+    CHECK_FALSE(fresh.status(TableId::kFaultProtection).active);
     CHECK_TRUE(fresh.status(TableId::kRoverGeometry).active);
 }
 
