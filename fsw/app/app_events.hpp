@@ -20,7 +20,9 @@ constexpr core::EventId kWheelsStoppedOnModeChange = 212; // the rover mode chan
 constexpr core::EventId kEstopWheelsStopped = 213; // e-stop: every drive reports stopped, and how long it took
 constexpr core::EventId kEstopStopOverrun = 214;   // e-stop: a wheel still turns after FAULT_RESPONSE.estop_stop_time_ms
 constexpr core::EventId kSafedOnRequest = 215;     // an onboard layer called home: mode -> SAFE (who, why)
-constexpr core::EventId kTaskRestarted = 216;      // fault protection asked: a stalled rate-group row runs again
-constexpr core::EventId kTaskRestartRefused = 217; // a task restart naming no row of the table (row)
+constexpr core::EventId kTaskRestarted = 220;      // fault protection asked: a stalled rate-group row runs again
+constexpr core::EventId kTaskRestartRefused = 221; // a task restart naming no row of the table (row)
+constexpr core::EventId kWatchdogWithheld = 222;   // the watchdog is no longer fed: a task stalled or health silent (CRIT)
+constexpr core::EventId kWatchdogFeeding = 223;    // the watchdog is fed again
 
 }  // namespace rse::app::events

@@ -36,6 +36,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       driveModes_(bus_, events_, tables_),
       health_(bus_, events_, tables_, executive_),
       faultProtection_(bus_, events_, tables_),
+      watchdog_(bus_, events_),
       housekeeping_(executive_, bus_, events_),
       telemetry_(bus_, events_, telemetryOutput_,
                  TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
@@ -85,6 +86,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(faultProtection_.init(), "fault protection init");
     }
     if (core::isOk(status)) {
+        status = initStep(watchdog_.init(), "watchdog task init");
+    }
+    if (core::isOk(status)) {
         status = initStep(commands_.init(), "command service init");
     }
     if (core::isOk(status)) {
@@ -124,7 +128,8 @@ core::Status FswApp::init(std::FILE* console) {
     // after them so it steers from this frame's pose. The habitual layer runs at
     // 10 Hz on its own offset, so its planning slice does not share a frame with
     // housekeeping or the console; the deliberative layer likewise on offset 7,
-    // its planner sliced to about kSliceWork per run. Keep docs/architecture.md in step.
+    // its planner sliced to about kSliceWork per run. The watchdog is fed last
+    // in its frame, from what every task left behind. Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
         {"tables", &tables_, 1, 0, 200},
@@ -141,6 +146,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"console", &console_, 10, 1, 2000},
         {"habitual", &habitual_, 10, 5, 4000},
         {"deliberative", &deliberative_, 10, 7, 5000},
+        {"watchdog", &watchdog_, 10, 3, 100},
     };
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
     status = executive_.init(config, table, sizeof table / sizeof table[0]);

@@ -12,6 +12,7 @@
 #include "fsw/app/command_handlers.hpp"
 #include "fsw/app/console_task.hpp"
 #include "fsw/app/telemetry_task.hpp"
+#include "fsw/app/watchdog_task.hpp"
 #include "fsw/cmdtlm/command_task.hpp"
 #include "fsw/cmdtlm/housekeeping_task.hpp"
 #include "fsw/cmdtlm/telemetry_output.hpp"
@@ -44,6 +45,8 @@ public:
     // Before init: ground links besides ISO-TP on the rover CAN bus (UDP, or an
     // in-memory link in tests); each carries commands in and telemetry out.
     core::Status addGroundLink(hal::PacketLink* link);
+    // The computer's watchdog, fed while every task is live (before init; none: not fed).
+    void attachWatchdog(hal::Watchdog* watchdog) { watchdog_.attach(watchdog); }
     // Before init: keys that authenticate commands (none added: the lab key),
     // and the lab setting that accepts unauthenticated commands.
     cmdtlm::KeyStore& keys() { return commands_.keys(); }
@@ -76,6 +79,7 @@ public:
     const estimator::DriveModeTask& driveModes() const { return driveModes_; }
     const estimator::HealthTask& health() const { return health_; }
     const fault_protection::FaultProtectionTask& faultProtection() const { return faultProtection_; }
+    const WatchdogTask& watchdog() const { return watchdog_; }
     const reflexive::TrajectoryTask& follower() const { return follower_; }
     const habitual::HabitualTask& habitual() const { return habitual_; }
     const deliberative::DeliberativeTask& deliberative() const { return deliberative_; }
@@ -97,6 +101,7 @@ private:
     estimator::DriveModeTask driveModes_;
     estimator::HealthTask health_;
     fault_protection::FaultProtectionTask faultProtection_;
+    WatchdogTask watchdog_;
     cmdtlm::HousekeepingTask housekeeping_;
     TelemetryTask telemetry_;
     reflexive::ManualDrive manualDrive_;

@@ -2,7 +2,7 @@
 //
 //   rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
 //           [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]
-//           [--key-file FILE] [--lab-no-auth]
+//           [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
@@ -27,6 +27,7 @@
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/can/socketcan_bus.hpp"
 #include "hal/link/udp_packet_link.hpp"
+#include "hal/watchdog/watchdog_device.hpp"
 
 namespace {
 
@@ -48,13 +49,15 @@ struct Options {
     std::uint16_t telemetryPort = rse::hal::kDefaultTelemetryPort;
     const char* keyFile = nullptr;
     bool authRequired = true;
+    const char* watchdogDevice = nullptr;
+    int watchdogTimeoutS = 30;
 };
 
 void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
                  "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
-                 "               [--key-file FILE] [--lab-no-auth]\n"
+                 "               [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
                  "                      the ground link runs over ISO-TP on it (rx 0x6F0, tx 0x6F1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
@@ -68,7 +71,10 @@ void usage(std::FILE* out) {
                  "  --tlm-port N        UDP telemetry port (default 1235)\n"
                  "  --key-file FILE     command authentication keys, lines ID:64-hex-digits\n"
                  "                      (default: the public lab key, id 1 - not for flight)\n"
-                 "  --lab-no-auth       lab setting: also accept unauthenticated commands\n");
+                 "  --lab-no-auth       lab setting: also accept unauthenticated commands\n"
+                 "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
+                 "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
+                 "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n");
 }
 
 // Returns false (after printing why) on a bad command line.
@@ -105,7 +111,7 @@ bool parseOptions(int argc, char** argv, Options* options) {
         } else if (std::strcmp(arg, "--lab-no-auth") == 0) {
             options->authRequired = false;
         } else if (std::strcmp(arg, "--udp-bind") == 0 || std::strcmp(arg, "--tlm-host") == 0 ||
-                   std::strcmp(arg, "--key-file") == 0) {
+                   std::strcmp(arg, "--key-file") == 0 || std::strcmp(arg, "--watchdog") == 0) {
             if (i + 1 >= argc) {
                 std::fprintf(stderr, "rse-fsw: %s needs a value\n", arg);
                 return false;
@@ -115,9 +121,20 @@ bool parseOptions(int argc, char** argv, Options* options) {
                 options->udpBind = value;
             } else if (std::strcmp(arg, "--tlm-host") == 0) {
                 options->telemetryHost = value;
+            } else if (std::strcmp(arg, "--watchdog") == 0) {
+                options->watchdogDevice = value;
             } else {
                 options->keyFile = value;
             }
+        } else if (std::strcmp(arg, "--watchdog-timeout") == 0) {
+            char* end = nullptr;
+            const long seconds = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : 0;
+            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || seconds < 1 || seconds > 3600) {
+                std::fprintf(stderr, "rse-fsw: --watchdog-timeout needs a number of seconds 1..3600\n");
+                return false;
+            }
+            ++i;
+            options->watchdogTimeoutS = static_cast<int>(seconds);
         } else if (std::strcmp(arg, "--cmd-port") == 0 || std::strcmp(arg, "--tlm-port") == 0) {
             char* end = nullptr;
             const unsigned long port = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
@@ -138,6 +155,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
     }
     if (options->lockstep && options->canInterface != nullptr) {
         std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock and cannot use a real CAN interface\n");
+        return false;
+    }
+    if (options->lockstep && options->watchdogDevice != nullptr) {
+        std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock: a watchdog would time out on real time\n");
         return false;
     }
     if (options->lockstep && options->durationSec <= 0.0) {
@@ -240,6 +261,16 @@ int main(int argc, char** argv) {
         }
         return 1;
     }
+    // Armed only once the flight software is ready to feed it.
+    static rse::hal::WatchdogDevice g_watchdog(app.events());
+    if (options.watchdogDevice != nullptr) {
+        if (!rse::core::isOk(g_watchdog.open(options.watchdogDevice, options.watchdogTimeoutS))) {
+            std::fprintf(stderr, "rse-fsw: cannot open watchdog '%s': %s\n", options.watchdogDevice,
+                         std::strerror(g_watchdog.lastErrno()));
+            return 1;
+        }
+        app.attachWatchdog(&g_watchdog);
+    }
     installStopHandlers();
     if (!options.lockstep && options.realtimePosture) {
         (void)rse::core::enterRealtimePosture(app.events(), 50);
@@ -255,6 +286,7 @@ int main(int argc, char** argv) {
                 options.canInterface != nullptr ? options.canInterface : "none attached");
     app.run(&g_stopRequested, maxFrames);
 
+    g_watchdog.disarm();  // a clean stop must not restart the computer
     app.shutdown(g_stopRequested != 0 ? "stop signal received" : "duration reached");
     app.printSummary(stdout);
     return 0;
