@@ -237,7 +237,8 @@ TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # The tshark check captures the UDP ground link on lo: host build only too.
 VCAN_TEST := unit_test/integration/vcan_test/vcan_integration_test.sh
 TSHARK_TEST := unit_test/integration/tshark/tshark_ccsds_test.sh
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(VCAN_TEST) $(TSHARK_TEST))
+WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(VCAN_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 

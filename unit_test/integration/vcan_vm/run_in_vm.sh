@@ -31,8 +31,12 @@ EX_TIMEOUT=124   # the VM did not finish within VM_TIMEOUT seconds
 # Required ones must exist; optional ones are loaded when the kernel ships them.
 MODS_REQUIRED=(can can-raw can-dev vcan can-isotp)
 MODS_OPTIONAL_LOAD=(can-bcm)
-# Copied into the guest (/lib/modules/rse/) but not loaded: insmod them if needed.
-MODS_EXTRA=(can-gw can-j1939 vxcan)
+# Copied into the guest (/lib/modules/rse/) but not loaded: insmod them if needed
+# (softdog: the watchdog test, unit_test/integration/watchdog_test/).
+MODS_EXTRA=(can-gw can-j1939 vxcan softdog)
+# The prepared kernel's cache folder is named with these lists, so a change to
+# them prepares it again instead of reusing one without the new modules.
+MODS_SIG=$(printf '%s ' "${MODS_REQUIRED[@]}" / "${MODS_OPTIONAL_LOAD[@]}" / "${MODS_EXTRA[@]}" | cksum | cut -d' ' -f1)
 
 PACKAGES=(qemu-system-x86 busybox-static can-utils)
 
@@ -166,7 +170,7 @@ can_apt_update() { [ "$(id -u)" = 0 ] || [ -n "$SUDO" ]; }
 # Newest kernel already prepared in the cache (fallback when apt cannot resolve).
 newest_cached_kernel() {
     local d best=
-    for d in "$VM_CACHE"/kernel/*/READY; do
+    for d in "$VM_CACHE"/kernel/*_m"$MODS_SIG"/READY; do
         [ -e "$d" ] || continue
         best=$(dirname "$d")
     done
@@ -241,7 +245,7 @@ prepare_kernel() {  # $1 package name; sets KDIR=$VM_CACHE/kernel/<pkg>_<ver>/ (
     if [ -z "$ver" ] || [ "$ver" = "(none)" ]; then
         die $EX_SETUP "apt-cache knows no candidate version of $pkg"
     fi
-    kdir="$VM_CACHE/kernel/${pkg}_${ver}"
+    kdir="$VM_CACHE/kernel/${pkg}_${ver}_m${MODS_SIG}"
     if [ -e "$kdir/READY" ]; then KDIR=$kdir; return 0; fi
     # leftovers of an interrupted earlier run (we hold the cache lock)
     rm -rf "$VM_CACHE"/debs/.dl.* "$VM_CACHE"/kernel/.stage.* "$VM_CACHE"/kernel/*.tmp
@@ -256,7 +260,7 @@ prepare_kernel() {  # $1 package name; sets KDIR=$VM_CACHE/kernel/<pkg>_<ver>/ (
         [ -n "$pkg" ] || die $EX_SETUP "cannot resolve linux-image-amd64 after apt-get update"
         case "$pkg" in *-cloud-*|*-rt-*) die $EX_SETUP "resolved kernel $pkg is a cloud/rt flavour" ;; esac
         ver=$(candidate_version "$pkg")
-        kdir="$VM_CACHE/kernel/${pkg}_${ver}"
+        kdir="$VM_CACHE/kernel/${pkg}_${ver}_m${MODS_SIG}"
         if [ -e "$kdir/READY" ]; then KDIR=$kdir; return 0; fi
         deb=$(download_deb "$pkg" "$ver") || die $EX_SETUP "apt-get download $pkg=$ver failed"
     fi
