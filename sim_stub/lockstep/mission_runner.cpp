@@ -7,6 +7,8 @@
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/fault_protection/fault_protection_events.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "ground/command_encoder.hpp"
@@ -94,26 +96,60 @@ public:
     bool subscribe() {
         return core::isOk(bus_.createPipe("rse-demo", 16, &pipe_)) &&
                core::isOk(bus_.subscribe(pipe_, msg::ids::kPlanStatus)) &&
-               core::isOk(bus_.subscribe(pipe_, msg::ids::kMode));
+               core::isOk(bus_.subscribe(pipe_, msg::ids::kMode)) &&
+               core::isOk(bus_.subscribe(pipe_, msg::ids::kMissionHold));
     }
     void drain() {
         while (core::isOk(bus_.receive(pipe_, &inbox_))) {
             msg::PlanStatusMsg p{};
             msg::ModeMsg m{};
+            msg::MissionHoldMsg h{};
             if (inbox_.header.id == msg::ids::kPlanStatus && core::isOk(inbox_.decode(&p))) {
                 plan_ = p;
             } else if (inbox_.header.id == msg::ids::kMode && core::isOk(inbox_.decode(&m))) {
                 mode_ = m;
                 modeSeen_ = true;
+            } else if (inbox_.header.id == msg::ids::kMissionHold && core::isOk(inbox_.decode(&h))) {
+                if (h.reasons != 0 && firstHoldNs_ < 0) {
+                    firstHoldNs_ = h.timeNs;
+                }
+                if (h.resumeCount != hold_.resumeCount) {
+                    lastResumeNs_ = h.timeNs;
+                }
+                hold_ = h;
             }
         }
         core::Event e;
+        namespace fp = fault_protection::events;
         while (core::isOk(events_.read(&cursor_, &e))) {
-            if (e.id == deliberative::events::kCallHome) {
-                callHomeText_ = e.text;
+            if (e.id == deliberative::events::kCallHome || e.id == fp::kCallHome || e.id == fp::kGaveUp) {
+                // A give-up says why; fault protection's call home (941) follows it.
+                if (e.id != fp::kCallHome || callHomeText_.empty()) {
+                    callHomeText_ = e.text;
+                }
             }
+            fpCalledHome_ = fpCalledHome_ || e.id == fp::kCallHome;
+            if (e.id == fp::kResponseStarted) {
+                ++responses_;
+                firstResponseNs_ = firstResponseNs_ < 0 ? e.time : firstResponseNs_;
+            }
+            recovered_ += e.id == fp::kRecovered ? 1 : 0;
+            gaveUp_ += e.id == fp::kGaveUp ? 1 : 0;
+            actions_ += e.id == fp::kDriveAction || e.id == fp::kTaskRestart ? 1 : 0;
         }
     }
+    void fill(MissionSummary* s) const {
+        s->faultProtectionCalledHome = fpCalledHome_;
+        s->responsesStarted = responses_;
+        s->responsesRecovered = recovered_;
+        s->responsesGaveUp = gaveUp_;
+        s->recoveryActions = actions_;
+        s->holdsReleased = hold_.resumeCount;
+        s->firstResponseTimeS = firstResponseNs_ < 0 ? -1.0 : seconds(firstResponseNs_);
+        s->firstHoldTimeS = firstHoldNs_ < 0 ? -1.0 : seconds(firstHoldNs_);
+        s->lastResumeTimeS = lastResumeNs_ < 0 ? -1.0 : seconds(lastResumeNs_);
+    }
+    bool faultProtectionCalledHome() const { return fpCalledHome_; }
     // The call home in the flight software's words (its CRITICAL event), from
     // after "CALL HOME: " to before the goal counts that follow the reason.
     std::string callHomeText() const {
@@ -130,7 +166,8 @@ public:
     bool modeIs(std::uint8_t mode) const { return modeSeen_ && mode_.mode == mode; }
     std::uint8_t mode() const { return mode_.mode; }
     bool ended() const {
-        return plan_.state == msg::DeliberativeState::kComplete || plan_.state == msg::DeliberativeState::kCalledHome;
+        return plan_.state == msg::DeliberativeState::kComplete || plan_.state == msg::DeliberativeState::kCalledHome ||
+               fpCalledHome_;
     }
 
 private:
@@ -143,6 +180,10 @@ private:
     msg::PlanStatusMsg plan_{};
     msg::ModeMsg mode_{};
     bool modeSeen_ = false;
+    msg::MissionHoldMsg hold_{};
+    bool fpCalledHome_ = false;
+    std::uint32_t responses_ = 0, recovered_ = 0, gaveUp_ = 0, actions_ = 0;
+    core::TimeNs firstResponseNs_ = -1, firstHoldNs_ = -1, lastResumeNs_ = -1;
 };
 
 // The demo's own lines, stamped like the console's.
@@ -263,6 +304,9 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     if (o.clearFaults) {
         scenario.faults.clear();
     }
+    if (o.editScenario) {
+        o.editScenario(scenario);
+    }
     if (o.gotoArgs.empty()) {
         return setupFailed(summary, "no GOTO arguments (options not parsed)");
     }
@@ -310,10 +354,12 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     summary.outcomeTimeS = seconds(rig->clock().now());
     const msg::PlanStatusMsg plan = watch.plan();
     if (ended) {
-        summary.outcome = plan.state == msg::DeliberativeState::kComplete ? MissionOutcome::kGoalReached
-                                                                          : MissionOutcome::kCalledHome;
-        summary.callHome = plan.callHome;
-        say(out, *rig, std::string("deliberative layer: ") + stateName(plan.state));
+        summary.outcome = plan.state == msg::DeliberativeState::kComplete && !watch.faultProtectionCalledHome()
+                              ? MissionOutcome::kGoalReached
+                              : MissionOutcome::kCalledHome;
+        summary.callHome = watch.faultProtectionCalledHome() ? msg::CallHomeReason::kFaultUnrecovered : plan.callHome;
+        say(out, *rig, watch.faultProtectionCalledHome() ? std::string("fault protection called home")
+                                                         : std::string("deliberative layer: ") + stateName(plan.state));
         // The console task writes events at 10 Hz; the downlink is still drained.
         (void)rig->runUntil([&] { service(); return false; }, kMissionTailNs);
     } else {
@@ -324,6 +370,7 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     service();
     fsw.shutdown("mission demo over");
     summary.callHomeText = watch.callHomeText();
+    watch.fill(&summary);
 
     const msg::PlanStatusMsg& last = watch.plan();
     const deliberative::DeliberativeCounters& c = fsw.deliberative().counters();
@@ -397,6 +444,13 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
                       "relaxations, %u call homes; habitual replans %u\n",
                  s.legsSent, s.legsAchieved, s.failUps, s.replans, s.boundRelaxations, s.riskRelaxations, s.callHomes,
                  s.habitualReplans);
+    std::fprintf(out, "fault prot: %u responses, %u recovered, %u gave up, %u recovery actions, %u holds released",
+                 s.responsesStarted, s.responsesRecovered, s.responsesGaveUp, s.recoveryActions, s.holdsReleased);
+    if (s.firstResponseTimeS >= 0.0) {
+        std::fprintf(out, "; first response %.2f s, first hold %.2f s, last resume %.2f s", s.firstResponseTimeS,
+                     s.firstHoldTimeS, s.lastResumeTimeS);
+    }
+    std::fprintf(out, "\n");
     std::fprintf(out, "commands:   %u accepted, %u rejected\n\n", s.commandsAccepted, s.commandsRejected);
 }
 

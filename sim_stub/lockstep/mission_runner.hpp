@@ -13,11 +13,13 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "fsw/core/clock.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "sim_stub/scenario/scenario.hpp"
 
 namespace rse::sim {
 
@@ -33,6 +35,9 @@ struct MissionOptions {
     double durationS = 180.0;  // simulated seconds, boot included
     bool quiet = false;        // no console lines (the summary is still written)
     std::vector<std::uint8_t> gotoArgs;  // the GOTO argument bytes (ground encoder; filled by parseMissionArgs)
+    // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
+    // before the rig is built; applied after --no-faults.
+    std::function<void(Scenario&)> editScenario;
 };
 
 enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
@@ -46,7 +51,7 @@ void printMissionUsage(std::FILE* out);
 enum class MissionOutcome : std::uint8_t {
     kSetupFailed = 0,  // the scenario, the flight software, the drives or the ground link could not be used
     kGoalReached = 1,  // the deliberative layer published COMPLETE
-    kCalledHome = 2,   // ... published CALLED HOME (callHome says why)
+    kCalledHome = 2,   // ... published CALLED HOME (callHome says why), or fault protection called home
     kTimedOut = 3,     // neither before the duration
 };
 const char* toString(MissionOutcome outcome);
@@ -81,6 +86,17 @@ struct MissionSummary {
     std::uint32_t habitualReplans = 0;
     std::uint32_t commandsAccepted = 0;
     std::uint32_t commandsRejected = 0;
+
+    // Fault protection, as the operator sees it: its events and its hold.
+    bool faultProtectionCalledHome = false;  // the call home was fault protection's (event 941)
+    std::uint32_t responsesStarted = 0;      // events 930
+    std::uint32_t responsesRecovered = 0;    // events 932
+    std::uint32_t responsesGaveUp = 0;       // events 933
+    std::uint32_t recoveryActions = 0;       // events 931 (drive fault reset / node reset) and 935 (task restart)
+    std::uint32_t holdsReleased = 0;         // MissionHoldMsg resumeCount at the end
+    double firstResponseTimeS = -1.0;        // first event 930 (-1: none)
+    double firstHoldTimeS = -1.0;            // first MissionHoldMsg with a reason set
+    double lastResumeTimeS = -1.0;           // last hold release
 
     // The simulator's truth at the end.
     double finalX = 0.0;
