@@ -7,11 +7,11 @@ namespace rse::hal::canopen {
 using core::Severity;
 using core::Status;
 
-Status CanOpenMaster::addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout) {
+Status CanOpenMaster::addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout, core::TimeNs bootTimeout) {
     if (node == nullptr) {
         return Status::kInvalidArgument;
     }
-    const Status s = heartbeats_.monitor(node->nodeId(), heartbeatTimeout);
+    const Status s = heartbeats_.monitor(node->nodeId(), heartbeatTimeout, bootTimeout);
     if (!core::isOk(s)) {
         return s;
     }
