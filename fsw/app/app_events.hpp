@@ -20,5 +20,9 @@ constexpr core::EventId kWheelsStoppedOnModeChange = 212; // the rover mode chan
 constexpr core::EventId kEstopWheelsStopped = 213; // e-stop: every drive reports stopped, and how long it took
 constexpr core::EventId kEstopStopOverrun = 214;   // e-stop: a wheel still turns after FAULT_RESPONSE.estop_stop_time_ms
 constexpr core::EventId kSafedOnRequest = 215;     // an onboard layer called home: mode -> SAFE (who, why)
+constexpr core::EventId kDriveRecoveryRefused = 216; // DriveRecoveryMsg malformed, unknown action, wheel out of range or nothing to reset (throttled)
+constexpr core::EventId kDriveRecoveryTaken = 217;   // DriveRecoveryMsg acted on: fault reset, NMT reset node or interlock reset
+constexpr core::EventId kHoldEstopChanged = 218;     // fault protection's MissionHoldMsg e-stop set or released
+constexpr core::EventId kNodeMapRefused = 219;       // start-up: a node id of the CAN node map could not be used; rse-fsw exits
 
 }  // namespace rse::app::events
