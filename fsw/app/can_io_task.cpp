@@ -364,6 +364,8 @@ void CanIoTask::publishStatus(core::TimeNs now) {
         s.statusword = d.feedback().statusword;
         s.lastEmcyCode = d.lastEmcyCode();
         s.health = static_cast<msg::DriveHealth>(d.state());
+        s.temperatureValid = d.feedback().temperatureCount > 0 ? 1 : 0;
+        s.temperatureC = static_cast<float>(d.feedback().temperatureDeciC) * 0.1F;
     }
     status_.interlockTripped = interlock_.tripped() ? 1 : 0;
     (void)bus_.publish(status_);

@@ -69,7 +69,8 @@ void CanOpenMaster::dispatch(const CanFrame& frame, core::TimeNs now) {
         heartbeats_.onFrame(frame, now);
         return;
     }
-    const bool perNode = (function == kEmcy && node != 0) || function == kTpdo1 || function == kSdoResponse;
+    const bool perNode =
+        (function == kEmcy && node != 0) || function == kTpdo1 || function == kTpdo2 || function == kSdoResponse;
     CanOpenNode* owner = perNode ? findNode(node) : nullptr;
     if (owner != nullptr) {
         owner->onFrame(frame, now);

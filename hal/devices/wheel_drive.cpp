@@ -148,6 +148,22 @@ void WheelDrive::onFrame(const CanFrame& frame, core::TimeNs now) {
         }
         return;
     }
+    if (function == canopen::kTpdo2) {
+        if (frame.dlc != 2) {
+            ++stats_.badPdo;
+            if (core::isReportableOccurrence(stats_.badPdo)) {
+                events_.report(events::kBadPdo, Severity::kWarning,
+                               "drive %s (node %u): TPDO2 with dlc %u, expected 2 (%u so far)", name_,
+                               static_cast<unsigned>(nodeId_), static_cast<unsigned>(frame.dlc),
+                               static_cast<unsigned>(stats_.badPdo));
+            }
+            return;
+        }
+        feedback_.temperatureDeciC = le::getI16(&frame.data[0]);
+        feedback_.temperatureTime = now;
+        ++feedback_.temperatureCount;
+        return;
+    }
     if (function == canopen::kTpdo1) {
         if (frame.dlc != 8) {
             ++stats_.badPdo;

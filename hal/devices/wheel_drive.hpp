@@ -58,10 +58,13 @@ struct DriveFeedback {
     std::int16_t currentMa = 0;      // motor current actual
     core::TimeNs time = 0;           // when the TPDO arrived
     std::uint32_t count = 0;         // TPDOs received
+    std::int16_t temperatureDeciC = 0;  // motor temperature (TPDO2), 0.1 degC
+    core::TimeNs temperatureTime = 0;
+    std::uint32_t temperatureCount = 0;  // TPDO2s received; 0: temperature unknown
 };
 
 struct DriveStats {
-    std::uint32_t badPdo = 0;          // TPDO with a DLC other than 8
+    std::uint32_t badPdo = 0;          // TPDO1 with a DLC other than 8, TPDO2 other than 2, EMCY other than 8
     std::uint32_t emcyCount = 0;
     std::uint32_t configAttempts = 0;
     std::uint32_t configFailures = 0;  // configuration given up

@@ -2,7 +2,9 @@
 // emulator (and, where a server must misbehave on cue, a scripted SDO server):
 // the FAULT_RESPONSE limits it is given (DriveConfig) and the boot timeout
 // change what it does, and a fault taken before the node is operational clears.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "hal/canopen/canopen_events.hpp"
@@ -331,4 +333,30 @@ TEST(WheelDrive, TheNodeIdGivenAtStartUpIsTheOneDriven) {
     LONGS_EQUAL(static_cast<long>(core::Status::kInvalidArgument),
                 static_cast<long>(spare.configure(128, DriveConfig{})));
     LONGS_EQUAL(2, spare.nodeId());
+}
+
+TEST(WheelDrive, MotorTemperatureIsDecodedFromTpdo2) {
+    Rig rig;
+    rig.emulator.setAmbientTemperature(-12.3);
+    rig.start(DriveConfig{});
+    rig.emulator.powerOn();
+    CHECK_TRUE(rig.runUntilState(DriveState::kStarting, 2 * kNsPerSec));
+    LONGS_EQUAL(0, rig.drive.feedback().temperatureCount);  // unknown until the first TPDO2
+    CHECK_TRUE(rig.runUntilState(DriveState::kOperational, 2 * kNsPerSec));
+    rig.runUntil([] { return false; }, 1 * kNsPerSec);
+    CHECK(rig.drive.feedback().temperatureCount >= 9);
+    // Holding zero speed still draws current, so it warms a little between reports.
+    const std::int16_t reported = rig.drive.feedback().temperatureDeciC;
+    CHECK(reported > -123);
+    CHECK(std::abs(static_cast<double>(reported) - 10.0 * rig.emulator.temperatureC()) < 2.0);
+    // A TPDO2 of the wrong length is counted, the last good value kept.
+    CanFrame bad;
+    bad.id = 0x281;
+    bad.dlc = 4;
+    (void)rig.peer->send(bad);
+    const std::uint32_t badBefore = rig.drive.stats().badPdo;
+    rig.emulatorOn = false;
+    rig.cycle();
+    LONGS_EQUAL(badBefore + 1, rig.drive.stats().badPdo);
+    LONGS_EQUAL(reported, rig.drive.feedback().temperatureDeciC);
 }
