@@ -78,9 +78,10 @@
 // One lumped motor temperature T, integrated in the same sub-steps:
 //   dT/dt = heatGain x overheat x (I / 1 A)^2 - (T - ambient) / thermalTimeConstant
 // (I the physical current above, 0 with torque off), starting at ambient.
-// Defaults: ambient 20 degC, heat gain 0.5 degC/s per A^2, time constant 60 s, so a
-// wheel holding 750 mA settles 17 degC above ambient and 1125 mA (wear 1.5) 38
-// degC above. setOverheat(factor) multiplies the heat gain (the scenario's
+// Defaults: ambient 20 degC, heat gain 0.2 degC/s per A^2, time constant 60 s, so a
+// wheel holding 750 mA settles 7 degC above ambient; the rover's wheels in
+// lockstep driving (about 1.4 A) settle 23 degC above, and 1.3x wear (1.8 A) 39
+// degC above: 20 degC of margin to the 80 degC limit. setOverheat(factor) multiplies the heat gain (the scenario's
 // motor_overheat fault); a power cycle does not cool the motor. The drive does
 // not protect itself: it only reports T.
 // TPDO2 (0x280+n, DLC 2: motor temperature i16 in 0.1 degC) is sent in
@@ -166,7 +167,7 @@ struct DriveEmulatorConfig {
     std::size_t noiseChannel = 0;     // whose streams: the wheel index 0..5 (DriveBank sets it)
     // Thermal model (see "Thermal model" above).
     double ambientC = 20.0;
-    double heatGainCPerA2S = 0.5;
+    double heatGainCPerA2S = 0.2;
     core::TimeNs thermalTimeConstant = 60 * core::kNsPerSec;
     std::uint8_t tpdo2EverySyncs = 10;  // 0: no TPDO2
 };

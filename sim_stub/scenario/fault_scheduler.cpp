@@ -51,6 +51,9 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kPositionFixOutlier:
                 add(f.at, FaultAction::kPositionFixOutlier);
                 break;
+            case FaultType::kMotorOverheat:
+                add(f.at, FaultAction::kOverheatMotor);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -70,6 +73,9 @@ void FaultScheduler::fire(const FaultEvent& e) {
     switch (e.action) {
         case FaultAction::kDegradeMotor:
             target_.degradeMotor(f.wheel, f.value);
+            break;
+        case FaultAction::kOverheatMotor:
+            target_.overheatMotor(f.wheel, f.value);
             break;
         case FaultAction::kFailMotor:
             target_.failMotor(f.wheel);

@@ -33,6 +33,7 @@ enum class FaultAction : std::uint8_t {
     kBabbleStart,
     kBabbleEnd,
     kPositionFixOutlier,
+    kOverheatMotor,
 };
 
 struct FaultEvent {
