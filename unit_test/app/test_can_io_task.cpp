@@ -136,6 +136,9 @@ TEST(CanIoTables, DriveAndDeviceNodeIdsComeFromTheNodeMap) {
     tables::CanNodeMapTable map = rig.tables.canNodeMap();
     map.drive_node_id[0] = 7;
     map.imu_node_id = 40;
+    map.power_node_id = 41;
+    map.hazard_node_id = 42;
+    map.position_fix_node_id = 43;
     rig.setNodeMap(map);
     Started s(rig);
     CHECK_TRUE(s.bootAll());
@@ -144,9 +147,13 @@ TEST(CanIoTables, DriveAndDeviceNodeIdsComeFromTheNodeMap) {
     // Heartbeat monitoring and NodeStatusMsg use the table's ids.
     LONGS_EQUAL(7, rig.nodes.nodes[0].nodeId);
     CHECK(rig.nodes.nodes[0].everSeen == 1);
-    LONGS_EQUAL(40, rig.nodes.nodes[msg::kWheelCount].nodeId);
-    CHECK(s.io.master().heartbeats().node(40) != nullptr);
-    CHECK(s.io.master().heartbeats().node(0x20) == nullptr);
+    for (std::uint8_t d = 0; d < msg::kDeviceNodeCount; ++d) {
+        const auto id = static_cast<std::uint8_t>(40 + d);
+        LONGS_EQUAL(id, rig.nodes.nodes[msg::kWheelCount + d].nodeId);
+        LONGS_EQUAL(id, s.io.monitoredNodeId(msg::kWheelCount + d));
+        CHECK(s.io.master().heartbeats().node(id) != nullptr);
+        CHECK(s.io.master().heartbeats().node(static_cast<std::uint8_t>(0x20 + d)) == nullptr);
+    }
     CHECK(s.io.master().heartbeats().node(1) == nullptr);
 }
 
