@@ -71,6 +71,12 @@ void DriveBank::overheatMotor(std::size_t wheel, double heatGainFactor) {
     }
 }
 
+void DriveBank::faultDrive(std::size_t wheel, std::uint16_t emcyCode) {
+    if (valid(wheel)) {
+        slots_[wheel].drive.injectFault(emcyCode);
+    }
+}
+
 void DriveBank::failMotor(std::size_t wheel) {
     if (valid(wheel)) {
         slots_[wheel].drive.failMotor();

@@ -54,6 +54,9 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kMotorOverheat:
                 add(f.at, FaultAction::kOverheatMotor);
                 break;
+            case FaultType::kDriveFault:
+                add(f.at, FaultAction::kDriveFault);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -73,6 +76,9 @@ void FaultScheduler::fire(const FaultEvent& e) {
     switch (e.action) {
         case FaultAction::kDegradeMotor:
             target_.degradeMotor(f.wheel, f.value);
+            break;
+        case FaultAction::kDriveFault:
+            target_.faultDrive(f.wheel, static_cast<std::uint16_t>(f.cobId));
             break;
         case FaultAction::kOverheatMotor:
             target_.overheatMotor(f.wheel, f.value);

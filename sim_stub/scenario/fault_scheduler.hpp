@@ -34,6 +34,7 @@ enum class FaultAction : std::uint8_t {
     kBabbleEnd,
     kPositionFixOutlier,
     kOverheatMotor,
+    kDriveFault,
 };
 
 struct FaultEvent {

@@ -40,6 +40,8 @@ const char* toString(FaultType type) {
             return "position_fix_outlier";
         case FaultType::kMotorOverheat:
             return "motor_overheat";
+        case FaultType::kDriveFault:
+            return "drive_fault";
     }
     return "?";
 }

@@ -36,8 +36,9 @@ enum class FaultType : std::uint8_t {
     kBabblingNode,      // cobId, value = frames per second, until
     kPositionFixOutlier,  // value = offset, m; bearingRad; count = how many fixes
     kMotorOverheat,     // wheel, value = heat gain factor (the motor heats that many times faster)
+    kDriveFault,        // wheel, cobId = EMCY code: a one-shot fault a fault reset clears
 };
-constexpr FaultType kLastFaultType = FaultType::kMotorOverheat;
+constexpr FaultType kLastFaultType = FaultType::kDriveFault;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 

@@ -482,7 +482,7 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
         fail(join(p, "type"), "unknown fault type \"" + type +
                                   "\" (expected motor_degradation, motor_failure, drive_heartbeat_loss, "
                                   "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-                                  "babbling_node, position_fix_outlier or motor_overheat)");
+                                  "babbling_node, position_fix_outlier, motor_overheat or drive_fault)");
     }
     const double atS = ranged(t, p, "at_s", 0.0, 0.0, kMaxTimeS, true);
     f.at = toNs(atS);
@@ -496,6 +496,14 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
         case FaultType::kMotorFailure:
             onlyKeys(t, p, {"type", "at_s", "wheel"}, ctx);
             f.wheel = wheel(t, p);
+            break;
+        case FaultType::kDriveFault:
+            onlyKeys(t, p, {"type", "at_s", "wheel", "emcy_code"}, ctx);
+            f.wheel = wheel(t, p);
+            f.cobId = static_cast<std::uint32_t>(integer(t, p, "emcy_code", 0x4310, false));
+            if (f.cobId == 0 || f.cobId > 0xFFFF) {
+                fail(join(p, "emcy_code"), "must be 1..0xFFFF (got " + std::to_string(f.cobId) + ")");
+            }
             break;
         case FaultType::kMotorOverheat:
             onlyKeys(t, p, {"type", "at_s", "wheel", "heat_factor"}, ctx);

@@ -96,3 +96,40 @@ TEST(LockstepCanFaults, ANominalDriveRaisesNoOverTemperatureFault) {
                   static_cast<double>(rig.driveStatus().wheels[0].temperatureC), rig.driveStatus().wheels[0].currentA);
     UT_PRINT(figures);
 }
+
+// The defect found against an independent CANopen device: an EMCY while the
+// master configures a drive (pre-operational, where RPDOs are ignored) used
+// to end in "failed" for good. Here one drive faults with its boot-up and
+// another in the middle of its configuration.
+TEST(LockstepCanFaults, AFaultWhileADriveIsConfiguredIsResetBySdoAndItComesUp) {
+    sim::LockstepRig rig(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 0.0\nwheel = 4\n"
+                                      "[[faults]]\ntype = \"drive_fault\"\nat_s = 0.04\nwheel = 2\nemcy_code = 0x3210\n"));
+    CHECK(core::Status::kOk == rig.init());
+    CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 3 * kNsPerSec));
+    for (const std::size_t w : {1U, 3U}) {
+        const hal::WheelDrive& d = rig.fsw().canIo().drive(w);
+        CHECK(d.stats().faults >= 1);
+        CHECK(d.stats().sdoFaultResets >= 1);
+        LONGS_EQUAL(0, d.stats().configFailures);
+        LONGS_EQUAL(1, rig.drives().drive(w).stats().faultResets);
+    }
+    char figures[120];
+    std::snprintf(figures, sizeof figures, "faults during configuration: all six drives operational at %.2f s",
+                  static_cast<double>(rig.clock().now()) / 1e9);
+    UT_PRINT(figures);
+}
+
+TEST(LockstepCanFaults, AFaultWhileDrivingIsResetByRpdoAndTheDriveComesBack) {
+    sim::LockstepRig rig(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 3.0\nwheel = 6\n"));
+    CHECK(core::Status::kOk == rig.init());
+    CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 2 * kNsPerSec));
+    rig.commandAllWheels(2.0);
+    CHECK_TRUE(rig.runUntil([&] { return rig.fsw().canIo().drive(5).stats().faults == 1; }, 4 * kNsPerSec));
+    CHECK(rig.clock().now() >= 3 * kNsPerSec);
+    CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 2 * kNsPerSec));
+    const hal::WheelDrive& d = rig.fsw().canIo().drive(5);
+    LONGS_EQUAL(0, d.stats().sdoFaultResets);
+    CHECK(d.stats().faultResets >= 1);
+    LONGS_EQUAL(1, rig.drives().drive(5).stats().faultResets);
+    CHECK_TRUE(rig.fsw().canIo().interlock().tripped());  // latched until fault protection or ground resets it
+}

@@ -81,3 +81,23 @@ TEST(MotorOverheatScenario, BadValuesAreRejected) {
     CHECK_FALSE(tryParseScenario(kBase + "[drives]\nambient_c = 200\n", "c.toml", &s, &error));
     CHECK(error.find("ambient_c") != std::string::npos);
 }
+
+TEST(MotorOverheatScenario, DriveFaultIsParsedAndScheduledWithItsEmcyCode) {
+    const Scenario s = parseScenario(kBase + "[[faults]]\ntype = \"drive_fault\"\nat_s = 1\nwheel = 6\n"
+                                             "[[faults]]\ntype = \"drive_fault\"\nat_s = 2\nwheel = 1\nemcy_code = 0x3210\n",
+                                     "drive_fault.toml");
+    LONGS_EQUAL(2, s.faults.size());
+    CHECK(FaultType::kDriveFault == s.faults[0].type);
+    STRCMP_EQUAL("drive_fault", toString(s.faults[0].type));
+    test::RecordingFaultTarget target;
+    FaultScheduler scheduler(s.faults, target);
+    scheduler.step(3 * core::kNsPerSec);
+    LONGS_EQUAL(2, target.log.size());
+    CHECK(target.log[0].find("drive-fault 5 0x4310") != std::string::npos);
+    CHECK(target.log[1].find("drive-fault 0 0x3210") != std::string::npos);
+    Scenario bad;
+    std::string error;
+    CHECK_FALSE(tryParseScenario(kBase + "[[faults]]\ntype = \"drive_fault\"\nat_s = 1\nwheel = 1\nemcy_code = 0\n",
+                                 "e.toml", &bad, &error));
+    CHECK(error.find("emcy_code") != std::string::npos);
+}
