@@ -126,6 +126,18 @@ void RoverSim::degradeMotor(std::size_t wheel, double currentFactor) {
     }
 }
 
+void RoverSim::overheatMotor(std::size_t wheel, double heatGainFactor) {
+    if (driveTargetFor(wheel)) {
+        wiring_.driveFaults->overheatMotor(wheel, heatGainFactor);
+    }
+}
+
+void RoverSim::faultDrive(std::size_t wheel, std::uint16_t emcyCode) {
+    if (driveTargetFor(wheel)) {
+        wiring_.driveFaults->faultDrive(wheel, emcyCode);
+    }
+}
+
 void RoverSim::failMotor(std::size_t wheel) {
     if (driveTargetFor(wheel)) {
         wiring_.driveFaults->failMotor(wheel);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/app/app_events.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "hal/devices/rse_device_ids.hpp"
 
@@ -28,12 +29,13 @@ CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareB
       tables_(tables),
       master_(can, events),
       link_(can, events, "rover"),
-      drives_{{can, events, master_.heartbeats(), kDriveNodeIds[0], msg::wheelName(0)},
-              {can, events, master_.heartbeats(), kDriveNodeIds[1], msg::wheelName(1)},
-              {can, events, master_.heartbeats(), kDriveNodeIds[2], msg::wheelName(2)},
-              {can, events, master_.heartbeats(), kDriveNodeIds[3], msg::wheelName(3)},
-              {can, events, master_.heartbeats(), kDriveNodeIds[4], msg::wheelName(4)},
-              {can, events, master_.heartbeats(), kDriveNodeIds[5], msg::wheelName(5)}},
+      // Node ids are set from the node map table in init().
+      drives_{{can, events, master_.heartbeats(), 0, msg::wheelName(0)},
+              {can, events, master_.heartbeats(), 0, msg::wheelName(1)},
+              {can, events, master_.heartbeats(), 0, msg::wheelName(2)},
+              {can, events, master_.heartbeats(), 0, msg::wheelName(3)},
+              {can, events, master_.heartbeats(), 0, msg::wheelName(4)},
+              {can, events, master_.heartbeats(), 0, msg::wheelName(5)}},
       imu_(events),
       power_(events),
       hazard_(events),
@@ -41,15 +43,51 @@ CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareB
       interlock_(events),
       groundLink_(can, clock, events) {}
 
-core::Status CanIoTask::init() {
-    // Read once: the heartbeat consumer is configured at start-up (the node map
-    // table says an activated map applies at the next start).
-    heartbeatTimeout_ = static_cast<core::TimeNs>(tables_.canNodeMap().heartbeat_timeout_ms) * core::kNsPerMs;
-    for (hal::WheelDrive& d : drives_) {
-        const core::Status s = master_.addNode(&d, heartbeatTimeout_);
+core::Status CanIoTask::initNodes() {
+    // Read once: the master is configured at start-up (the node map table says
+    // an activated map applies at the next start).
+    const tables::CanNodeMapTable& map = tables_.canNodeMap();
+    const tables::FaultResponseTable& response = tables_.faultResponse();
+    heartbeatTimeout_ = static_cast<core::TimeNs>(map.heartbeat_timeout_ms) * core::kNsPerMs;
+    const core::TimeNs bootTimeout = static_cast<core::TimeNs>(map.drive_boot_timeout_ms) * core::kNsPerMs;
+    hal::DriveConfig config;
+    config.sdoRetries = response.sdo_retries;
+    config.sdoTimeout = static_cast<core::TimeNs>(response.sdo_timeout_ms) * core::kNsPerMs;
+    config.faultResets = response.drive_restart_attempts;
+    config.faultResetWait = static_cast<core::TimeNs>(response.drive_fault_reset_wait_ms) * core::kNsPerMs;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        core::Status s = drives_[w].configure(map.drive_node_id[w], config);
+        if (core::isOk(s)) {
+            s = master_.addNode(&drives_[w], heartbeatTimeout_, bootTimeout);
+        }
         if (!core::isOk(s)) {
+            // The table's own check refuses duplicates; this catches what gets past it.
+            events_.report(events::kNodeMapRefused, core::Severity::kCritical,
+                           "app: node map refused: drive %s node %u (%s)", msg::wheelName(w),
+                           static_cast<unsigned>(map.drive_node_id[w]), core::toString(s));
             return s;
         }
+    }
+    deviceNodes_[0] = map.imu_node_id;
+    deviceNodes_[1] = map.power_node_id;
+    deviceNodes_[2] = map.hazard_node_id;
+    deviceNodes_[3] = map.position_fix_node_id;
+    for (std::uint8_t node : deviceNodes_) {
+        const core::Status st = master_.monitor(node, heartbeatTimeout_);
+        if (!core::isOk(st)) {
+            events_.report(events::kNodeMapRefused, core::Severity::kCritical,
+                           "app: node map refused: device node %u (%s)", static_cast<unsigned>(node),
+                           core::toString(st));
+            return st;
+        }
+    }
+    return core::Status::kOk;
+}
+
+core::Status CanIoTask::init() {
+    core::Status st = initNodes();
+    if (!core::isOk(st)) {
+        return st;
     }
     namespace ids = hal::device_ids;
     const struct {
@@ -59,30 +97,98 @@ core::Status CanIoTask::init() {
                  {ids::kFixX, &fix_},     {ids::kFixY, &fix_},
                  {kGroundUplinkCobId, &groundLink_}};
     for (const auto& s : sinks) {
-        const core::Status st = master_.addSink(s.cob, s.sink);
+        st = master_.addSink(s.cob, s.sink);
         if (!core::isOk(st)) {
             return st;
         }
     }
-    for (std::uint8_t node : {ids::kImuNode, ids::kPowerNode, ids::kHazardNode, ids::kFixNode}) {
-        const core::Status st = master_.monitor(node, heartbeatTimeout_);
+    st = bus_.createPipe("can_io", kCanIoPipeDepth, &pipe_);
+    if (!core::isOk(st)) {
+        return st;
+    }
+    for (core::MsgId id : {msg::ids::kWheelCommand, msg::ids::kInterlockReset, msg::ids::kMode,
+                           msg::ids::kDriveRecovery, msg::ids::kMissionHold}) {
+        st = bus_.subscribe(pipe_, id);
         if (!core::isOk(st)) {
             return st;
         }
     }
-    core::Status st = bus_.createPipe("can_io", 4, &pipe_);
-    if (!core::isOk(st)) {
-        return st;
+    return core::Status::kOk;
+}
+
+std::uint8_t CanIoTask::monitoredNodeId(std::size_t i) const {
+    if (i < msg::kWheelCount) {
+        return drives_[i].nodeId();
     }
-    st = bus_.subscribe(pipe_, msg::ids::kWheelCommand);
-    if (!core::isOk(st)) {
-        return st;
+    return i < msg::kMonitoredNodeCount ? deviceNodes_[i - msg::kWheelCount] : 0;
+}
+
+void CanIoTask::refuseRecovery(const char* why, unsigned wheel) {
+    ++recoveriesRefused_;
+    if (core::isReportableOccurrence(recoveriesRefused_)) {
+        events_.report(events::kDriveRecoveryRefused, core::Severity::kError,
+                       "app: drive recovery refused: %s (wheel %u, %u so far)", why, wheel,
+                       static_cast<unsigned>(recoveriesRefused_));
     }
-    st = bus_.subscribe(pipe_, msg::ids::kInterlockReset);
-    if (!core::isOk(st)) {
-        return st;
+}
+
+void CanIoTask::takeRecovery(core::TimeNs now) {
+    msg::DriveRecoveryMsg r{};
+    if (!core::isOk(inbox_.decode(&r))) {
+        refuseRecovery("malformed message", 255U);
+        return;
     }
-    return bus_.subscribe(pipe_, msg::ids::kMode);
+    const auto action = static_cast<unsigned>(r.action);
+    const char* what = nullptr;
+    core::Status st = core::Status::kOk;
+    if (r.action == msg::DriveRecoveryAction::kResetInterlock) {
+        what = "interlock reset";
+        (void)interlock_.resetIfHealthy(status_);  // evented either way (605/606)
+    } else if (r.action != msg::DriveRecoveryAction::kFaultReset && r.action != msg::DriveRecoveryAction::kResetNode) {
+        refuseRecovery(action == 0 ? "no action" : "unknown action", r.wheel);
+        return;
+    } else if (r.wheel >= msg::kWheelCount) {
+        refuseRecovery("wheel out of range", r.wheel);
+        return;
+    } else if (r.action == msg::DriveRecoveryAction::kFaultReset) {
+        what = "fault reset";
+        st = drives_[r.wheel].requestFaultReset(now);
+        if (!core::isOk(st)) {
+            refuseRecovery("fault reset: drive neither faulted nor failed", r.wheel);
+            return;
+        }
+    } else {
+        what = "NMT reset node";
+        st = master_.sendNmt(hal::canopen::NmtCommand::kResetNode, drives_[r.wheel].nodeId());
+        if (!core::isOk(st)) {
+            refuseRecovery("NMT reset node not sent (CAN refused it)", r.wheel);
+            return;
+        }
+    }
+    ++recoveriesTaken_;
+    events_.report(events::kDriveRecoveryTaken, core::Severity::kWarning, "app: drive recovery: %s, wheel %s",
+                   what, r.action == msg::DriveRecoveryAction::kResetInterlock ? "-" : msg::wheelName(r.wheel));
+}
+
+void CanIoTask::takeHold() {
+    msg::MissionHoldMsg hold{};
+    if (!core::isOk(inbox_.decode(&hold))) {
+        refuse("malformed mission hold (hold state unchanged)");
+        return;
+    }
+    const bool held = hold.estop != 0;
+    if (held != holdEstop_) {
+        events_.report(events::kHoldEstopChanged, held ? core::Severity::kWarning : core::Severity::kInfo,
+                       held ? "app: fault protection hold: every drive to zero (reasons 0x%02X)"
+                            : "app: fault protection hold released (reasons 0x%02X)",
+                       static_cast<unsigned>(hold.reasons));
+    }
+    holdEstop_ = held;
+    if (holdEstop_) {
+        for (double& c : commanded_) {
+            c = 0.0;
+        }
+    }
 }
 
 void CanIoTask::refuse(const char* why) {
@@ -103,7 +209,7 @@ bool CanIoTask::anyWheelCommanded() const {
     return false;
 }
 
-void CanIoTask::takeCommands() {
+void CanIoTask::takeCommands(core::TimeNs now) {
     const double maxSpeed = static_cast<double>(tables_.roverGeometry().max_wheel_speed_rad_s);
     while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
         if (inbox_.header.id == msg::ids::kMode) {
@@ -133,6 +239,14 @@ void CanIoTask::takeCommands() {
                     c = 0.0;
                 }
             }
+            continue;
+        }
+        if (inbox_.header.id == msg::ids::kDriveRecovery) {
+            takeRecovery(now);
+            continue;
+        }
+        if (inbox_.header.id == msg::ids::kMissionHold) {
+            takeHold();
             continue;
         }
         if (inbox_.header.id == msg::ids::kInterlockReset) {
@@ -165,6 +279,15 @@ void CanIoTask::takeCommands() {
             }
             continue;
         }
+        if (why == nullptr && holdEstop_) {
+            ++heldByHold_;
+            if (core::isReportableOccurrence(heldByHold_)) {
+                events_.report(events::kWheelCommandHeld, core::Severity::kWarning,
+                               "app: wheel command ignored: fault protection hold (%u so far)",
+                               static_cast<unsigned>(heldByHold_));
+            }
+            continue;
+        }
         if (why != nullptr) {
             refuse(why);
             continue;
@@ -177,7 +300,7 @@ void CanIoTask::takeCommands() {
 
 void CanIoTask::run(const core::FrameContext& frame) {
     const core::TimeNs now = frame.actualStart;
-    takeCommands();
+    takeCommands(now);
     double safe[msg::kWheelCount];
     interlock_.apply(status_, commanded_, safe);
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
@@ -241,6 +364,8 @@ void CanIoTask::publishStatus(core::TimeNs now) {
         s.statusword = d.feedback().statusword;
         s.lastEmcyCode = d.lastEmcyCode();
         s.health = static_cast<msg::DriveHealth>(d.state());
+        s.temperatureValid = d.feedback().temperatureCount > 0 ? 1 : 0;
+        s.temperatureC = static_cast<float>(d.feedback().temperatureDeciC) * 0.1F;
     }
     status_.interlockTripped = interlock_.tripped() ? 1 : 0;
     (void)bus_.publish(status_);
@@ -248,13 +373,10 @@ void CanIoTask::publishStatus(core::TimeNs now) {
 }
 
 void CanIoTask::publishNodes(core::TimeNs now) {
-    namespace ids = hal::device_ids;
-    static const std::uint8_t kDeviceNodes[msg::kDeviceNodeCount] = {ids::kImuNode, ids::kPowerNode,
-                                                                     ids::kHazardNode, ids::kFixNode};
     nodes_.timeNs = now;
     nodes_.heartbeatTimeoutNs = heartbeatTimeout_;
     for (std::size_t i = 0; i < msg::kMonitoredNodeCount; ++i) {
-        const std::uint8_t id = i < msg::kWheelCount ? drives_[i].nodeId() : kDeviceNodes[i - msg::kWheelCount];
+        const std::uint8_t id = monitoredNodeId(i);
         const hal::canopen::NodeHealth* h = master_.heartbeats().node(id);
         msg::NodeLiveness& n = nodes_.nodes[i];
         n.nodeId = id;

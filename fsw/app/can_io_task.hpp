@@ -9,6 +9,20 @@
 //        until the next command arrives. A change of rover mode also commands
 //        every drive to zero (event 212 if one was turning): the new mode's
 //        layer commands afresh.
+//        DriveRecoveryMsg (fault protection): kFaultReset starts a fresh round
+//        of fault resets on a faulted or failed drive, kResetNode sends NMT
+//        reset node (0x81) to it (it reboots and is configured from the start),
+//        kResetInterlock releases the interlock if every drive is healthy.
+//        Malformed, unknown action, wheel out of range, or a drive with nothing
+//        to reset: refused, counted, event 216. Taken: event 217.
+//        MissionHoldMsg (fault protection): while its estop is 1 every drive is
+//        commanded to zero and wheel commands are ignored and counted, like the
+//        operator's e-stop but on a flag of its own, so neither releases the
+//        other's hold (event 218 on each change).
+//   Node ids (drives and devices), the heartbeat and boot timeouts, and the
+//   drives' SDO retries / timeout and fault-reset count / wait come from the
+//   CAN_NODE_MAP and FAULT_RESPONSE tables at init (a changed table applies at
+//   the next start). Device data frames keep the ICD's fixed COB-IDs.
 //   out: DriveStatusMsg and NodeStatusMsg (heartbeat liveness of every node) every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
 //        sample; HazardMsg at 10 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
@@ -36,8 +50,11 @@
 
 namespace rse::app {
 
-// Drive node ids per wheel index (docs/icd.md §1.1); a table once tables exist.
-constexpr std::uint8_t kDriveNodeIds[msg::kWheelCount] = {1, 2, 3, 4, 5, 6};
+// Inputs one frame may bring: a DriveRecoveryMsg per wheel (fault protection
+// may reset every drive at once), a hold, a mode change, an interlock reset and
+// the two wheel commanders (follower, manual drive). A deeper pipe than that
+// would only hide a producer that floods; a full pipe is counted by the bus.
+constexpr std::uint16_t kCanIoPipeDepth = msg::kWheelCount + 6;
 
 // Below this reported speed a wheel counts as stopped for the e-stop watch.
 constexpr double kEstopStoppedRadS = 0.05;
@@ -59,6 +76,12 @@ public:
     std::uint32_t commandsRejected() const { return commandsRejected_; }
     bool estopHeld() const { return estop_; }
     std::uint32_t commandsHeldByEstop() const { return heldByEstop_; }
+    bool holdEstopHeld() const { return holdEstop_; }                // fault protection's MissionHoldMsg estop
+    std::uint32_t commandsHeldByHold() const { return heldByHold_; }  // ignored while only that hold was set
+    std::uint32_t recoveriesTaken() const { return recoveriesTaken_; }
+    std::uint32_t recoveriesRefused() const { return recoveriesRefused_; }
+    // Node id of NodeStatusMsg entry i (drives 0..5, then IMU, power, hazard, fix), from the node map.
+    std::uint8_t monitoredNodeId(std::size_t i) const;
     // The e-stop watch: from the frame an e-stop is taken until every drive
     // reports below kEstopStoppedRadS. The time it took (event 213), or an
     // overrun of FAULT_RESPONSE.estop_stop_time_ms (event 214, critical, once per
@@ -67,7 +90,11 @@ public:
     std::uint32_t estopOverruns() const { return estopOverruns_; }
 
 private:
-    void takeCommands();
+    core::Status initNodes();
+    void takeCommands(core::TimeNs now);
+    void takeRecovery(core::TimeNs now);
+    void takeHold();
+    void refuseRecovery(const char* why, unsigned wheel);
     bool anyWheelCommanded() const;
     void refuse(const char* why);  // counts and events a bus input that was not applied
     void publishStatus(core::TimeNs now);
@@ -94,6 +121,11 @@ private:
     bool estop_ = false;
     std::uint8_t mode_ = 0;  // SAFE until the first ModeMsg
     std::uint32_t heldByEstop_ = 0;
+    bool holdEstop_ = false;
+    std::uint32_t heldByHold_ = 0;
+    std::uint32_t recoveriesTaken_ = 0;
+    std::uint32_t recoveriesRefused_ = 0;
+    std::uint8_t deviceNodes_[msg::kDeviceNodeCount] = {};  // IMU, power, hazard, fix (node map order)
     bool estopWatching_ = false;        // an e-stop is set and some wheel has not yet stopped
     bool estopOverrunReported_ = false;
     core::TimeNs estopSince_ = -1;      // -1: set this frame, timed from this run

@@ -24,6 +24,8 @@ constexpr core::EventId kHealthPoseUncertain = 730;           // fault 19: posit
 constexpr core::EventId kHealthPoseUncertainCleared = 731;
 constexpr core::EventId kHealthTaskStalled = 732;             // faults 20..35: a rate-group task stopped running
 constexpr core::EventId kHealthTaskStalledCleared = 733;
+constexpr core::EventId kHealthDriveOvertemp = 736;           // faults 40..45: motor temperature above drive_overtemp_c, held
+constexpr core::EventId kHealthDriveOvertempCleared = 737;    // cooled drive_overtemp_c - 5 degC, held
 constexpr core::EventId kHealthInputRejected = 740;           // malformed bus message or non-finite value (throttled)
 
 }  // namespace rse::estimator::events

@@ -25,6 +25,7 @@ HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const ta
     l.poseFaultSigmaM = static_cast<double>(noise.pose_fault_sigma_m);
     l.poseClearSigmaM = static_cast<double>(noise.pose_clear_sigma_m);
     l.firstFixWait = static_cast<core::TimeNs>(noise.first_fix_wait_ms) * core::kNsPerMs;
+    l.driveOvertempC = static_cast<double>(faults.drive_overtemp_c);
     return l;
 }
 
@@ -106,6 +107,39 @@ void HealthMonitor::onDriveStatus(const msg::DriveStatusMsg& status, const Healt
                            static_cast<unsigned>(id), msg::wheelName(w), current, clearA,
                            toMs(status.timeNs - since));
         }
+    }
+    checkDriveTemperature(status, limits, now);
+}
+
+void HealthMonitor::checkDriveTemperature(const msg::DriveStatusMsg& status, const HealthLimits& limits,
+                                          core::TimeNs now) {
+    const double raiseC = limits.driveOvertempC;
+    const double clearC = limits.driveOvertempC - kOvertempClearMarginC;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        const msg::WheelStatus& wheel = status.wheels[w];
+        if (wheel.temperatureValid == 0) {
+            continue;  // not reported yet: no evidence either way
+        }
+        const double celsius = static_cast<double>(wheel.temperatureC);
+        if (!std::isfinite(celsius)) {
+            rejectValue(msg::wheelName(w), "drive temperatureC");
+            continue;
+        }
+        PersistenceFilter& filter = driveTemperature_[w];
+        const core::TimeNs since = filter.pendingSince();
+        const PersistenceFilter::Edge edge = filter.update(status.timeNs, celsius > raiseC, celsius < clearC, limits.persist);
+        if (edge == PersistenceFilter::Edge::kNone) {
+            continue;
+        }
+        const auto id = static_cast<std::uint8_t>(msg::fault::kDriveOvertemp + w);
+        const bool raised = edge == PersistenceFilter::Edge::kRaised;
+        (void)faults_.set(id, raised, now);
+        events_.report(raised ? events::kHealthDriveOvertemp : events::kHealthDriveOvertempCleared,
+                       raised ? core::Severity::kError : core::Severity::kInfo,
+                       raised ? "health: fault %u: drive %s motor %.1f degC > %.1f degC for %lld ms"
+                              : "health: fault %u cleared: drive %s motor %.1f degC < %.1f degC for %lld ms",
+                       static_cast<unsigned>(id), msg::wheelName(w), celsius, raised ? raiseC : clearC,
+                       toMs(status.timeNs - since));
     }
 }
 

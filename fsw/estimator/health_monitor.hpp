@@ -37,6 +37,9 @@
 //     task_stall_periods * period + 10 ms of its last run's end; cleared in the
 //     first health run after it runs again (the same frame when its row is above
 //     the health task's).
+//   40..45 drive over-temperature: a reported (temperatureValid) motor
+//     temperature > drive_overtemp_c held fault_persist_ms on the DriveStatusMsg
+//     samples; clears below drive_overtemp_c - 5 degC held as long.
 // Every threshold rule needs its condition on at least two samples at different
 // times (PersistenceFilter), and the heartbeat and stall rules need a timeout
 // to pass, so no fault can change state on every frame and flood the events.
@@ -77,11 +80,14 @@ struct HealthLimits {
     double poseFaultSigmaM = 0.0;       // raise above
     double poseClearSigmaM = 0.0;       // clear below
     core::TimeNs firstFixWait = 0;
+    double driveOvertempC = 0.0;        // raise above; clear kOvertempClearMarginC below
 };
 HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise);
 
 // Fraction of an over-current limit below which the current must fall to clear.
 constexpr double kOvercurrentClearFraction = 0.9;
+// Degrees below drive_overtemp_c a motor must cool to clear its fault.
+constexpr double kOvertempClearMarginC = 5.0;
 
 class HealthMonitor {
 public:
@@ -106,12 +112,14 @@ public:
 
 private:
     void rejectValue(const char* input, const char* field);
+    void checkDriveTemperature(const msg::DriveStatusMsg& status, const HealthLimits& limits, core::TimeNs now);
     void setHeartbeat(std::uint8_t id, bool lost, const msg::NodeStatusMsg& status, std::size_t node,
                       core::TimeNs now);
 
     core::EventLog& events_;
     FaultBook faults_;
     PersistenceFilter driveCurrent_[msg::kWheelCount];
+    PersistenceFilter driveTemperature_[msg::kWheelCount];
     PersistenceFilter batteryLow_;
     PersistenceFilter busCurrent_;
     PersistenceFilter pose_;

@@ -37,7 +37,9 @@ struct WheelStatus {
     std::uint16_t statusword;
     std::uint16_t lastEmcyCode;
     DriveHealth health;
-    std::uint8_t pad[7];
+    std::uint8_t temperatureValid;  // 1: temperatureC was reported by the drive (TPDO2)
+    std::uint8_t pad[2];
+    float temperatureC;             // motor temperature, degC (0 until valid)
 };
 
 struct DriveStatusMsg {

@@ -1,5 +1,6 @@
 #include "fsw/tables/table_image.hpp"
 
+#include "fsw/tables/can_node_map_check.hpp"
 #include "fsw/tables/coarse_map_check.hpp"
 
 #include <cfloat>
@@ -238,6 +239,9 @@ TableCheck checkTablePayload(const TableDesc& table, const std::uint8_t* payload
     }
     if (table.id == TableId::kCoarseMap) {
         return checkCoarseMapPayload(table, payload, length);
+    }
+    if (table.id == TableId::kCanNodeMap) {
+        return checkCanNodeMapPayload(table, payload, length);
     }
     return TableCheck{};
 }

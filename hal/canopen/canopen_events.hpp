@@ -11,6 +11,7 @@ constexpr core::EventId kNodeRecovered = 403;      // heartbeat back after a los
 constexpr core::EventId kNodeStateChanged = 404;   // NMT state in the heartbeat changed
 constexpr core::EventId kBadHeartbeat = 405;       // heartbeat with wrong DLC or unknown state byte
 constexpr core::EventId kEmcyReceived = 406;       // EMCY with its error code and register
+constexpr core::EventId kNodeNeverBooted = 407;    // no boot-up or heartbeat within the node's boot timeout: lost
 constexpr core::EventId kSdoAborted = 410;         // SDO transfer aborted (by the server or by us)
 constexpr core::EventId kSdoTimeout = 411;         // SDO server did not answer in time
 constexpr core::EventId kSdoProtocolError = 412;   // malformed or unexpected SDO response
@@ -23,5 +24,6 @@ constexpr core::EventId kDriveFault = 433;         // drive entered fault (EMCY 
 constexpr core::EventId kDriveFailed = 434;        // fault not cleared after its resets: drive out of service
 constexpr core::EventId kDriveFaultCleared = 435;  // fault reset succeeded
 constexpr core::EventId kDriveLost = 436;          // drive's heartbeat lost
+constexpr core::EventId kDriveResetRequested = 437; // a fresh round of fault resets asked for from outside (fault protection)
 
 }  // namespace rse::hal::events

@@ -13,6 +13,7 @@ constexpr std::uint32_t kSync = 0x080;
 constexpr std::uint32_t kEmcy = 0x080;
 constexpr std::uint32_t kTpdo1 = 0x180;
 constexpr std::uint32_t kRpdo1 = 0x200;
+constexpr std::uint32_t kTpdo2 = 0x280;
 constexpr std::uint32_t kSdoResponse = 0x580;  // server -> client
 constexpr std::uint32_t kSdoRequest = 0x600;   // client -> server
 constexpr std::uint32_t kHeartbeat = 0x700;

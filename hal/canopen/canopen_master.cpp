@@ -7,11 +7,11 @@ namespace rse::hal::canopen {
 using core::Severity;
 using core::Status;
 
-Status CanOpenMaster::addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout) {
+Status CanOpenMaster::addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout, core::TimeNs bootTimeout) {
     if (node == nullptr) {
         return Status::kInvalidArgument;
     }
-    const Status s = heartbeats_.monitor(node->nodeId(), heartbeatTimeout);
+    const Status s = heartbeats_.monitor(node->nodeId(), heartbeatTimeout, bootTimeout);
     if (!core::isOk(s)) {
         return s;
     }
@@ -69,7 +69,8 @@ void CanOpenMaster::dispatch(const CanFrame& frame, core::TimeNs now) {
         heartbeats_.onFrame(frame, now);
         return;
     }
-    const bool perNode = (function == kEmcy && node != 0) || function == kTpdo1 || function == kSdoResponse;
+    const bool perNode =
+        (function == kEmcy && node != 0) || function == kTpdo1 || function == kTpdo2 || function == kSdoResponse;
     CanOpenNode* owner = perNode ? findNode(node) : nullptr;
     if (owner != nullptr) {
         owner->onFrame(frame, now);

@@ -60,7 +60,8 @@ class CanOpenMaster {
 public:
     CanOpenMaster(CanBus& bus, core::EventLog& events) : bus_(bus), events_(events), heartbeats_(events) {}
 
-    core::Status addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout);
+    // bootTimeout: see HeartbeatConsumer::monitor (0: none).
+    core::Status addNode(CanOpenNode* node, core::TimeNs heartbeatTimeout, core::TimeNs bootTimeout = 0);
     core::Status addSink(std::uint32_t cobId, CanFrameSink* sink);
     // Monitors a heartbeat-only node (RSE devices).
     core::Status monitor(std::uint8_t nodeId, core::TimeNs heartbeatTimeout) {

@@ -7,8 +7,8 @@ namespace rse::hal::canopen {
 using core::Severity;
 using core::Status;
 
-Status HeartbeatConsumer::monitor(std::uint8_t nodeId, core::TimeNs timeout) {
-    if (nodeId == 0 || nodeId > kMaxNodeId || timeout <= 0) {
+Status HeartbeatConsumer::monitor(std::uint8_t nodeId, core::TimeNs timeout, core::TimeNs bootTimeout) {
+    if (nodeId == 0 || nodeId > kMaxNodeId || timeout <= 0 || bootTimeout < 0) {
         return Status::kInvalidArgument;
     }
     if (find(nodeId) != nullptr) {
@@ -17,6 +17,7 @@ Status HeartbeatConsumer::monitor(std::uint8_t nodeId, core::TimeNs timeout) {
     NodeHealth n;
     n.nodeId = nodeId;
     n.timeout = timeout;
+    n.bootTimeout = bootTimeout;
     return nodes_.push_back(n) == Status::kOk ? Status::kOk : Status::kNoCapacity;
 }
 
@@ -81,6 +82,18 @@ void HeartbeatConsumer::onFrame(const CanFrame& frame, core::TimeNs now) {
 
 void HeartbeatConsumer::check(core::TimeNs now) {
     for (NodeHealth& n : nodes_) {
+        if (n.watchedSince < 0) {
+            n.watchedSince = now;
+        }
+        if (!n.everSeen && !n.lost && n.bootTimeout > 0 && now - n.watchedSince > n.bootTimeout) {
+            n.lost = true;
+            ++n.losses;
+            events_.report(events::kNodeNeverBooted, Severity::kError,
+                           "canopen: node %u lost, no boot-up or heartbeat in %lld ms since start",
+                           static_cast<unsigned>(n.nodeId),
+                           static_cast<long long>((now - n.watchedSince) / core::kNsPerMs));
+            continue;
+        }
         if (!n.everSeen || n.lost) {
             continue;
         }

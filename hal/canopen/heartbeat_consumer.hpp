@@ -1,6 +1,9 @@
 // CiA 301 heartbeat consumer: tracks each monitored node's NMT state, declares it
 // lost when no heartbeat came within its timeout, and counts boot-ups so a device
-// client notices a restart (it polls bootUps() and reconfigures).
+// client notices a restart (it polls bootUps() and reconfigures). A node given a
+// boot timeout that stays silent that long from the first check() (the master's
+// first cycle) is declared lost as well (event 407): a device that never boots is
+// as absent as one that stopped, and must not go unreported.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +22,8 @@ constexpr std::size_t kMaxMonitoredNodes = 16;
 struct NodeHealth {
     std::uint8_t nodeId = 0;
     core::TimeNs timeout = 0;
+    core::TimeNs bootTimeout = 0;  // 0: a node never heard is not judged
+    core::TimeNs watchedSince = -1;  // first check(); -1 before it
     NmtState state = NmtState::kUnknown;
     core::TimeNs lastSeen = 0;
     bool everSeen = false;
@@ -32,8 +37,9 @@ class HeartbeatConsumer {
 public:
     explicit HeartbeatConsumer(core::EventLog& events) : events_(events) {}
 
-    // kNoCapacity beyond kMaxMonitoredNodes, kAlreadyExists, kInvalidArgument for id 0/>127.
-    core::Status monitor(std::uint8_t nodeId, core::TimeNs timeout);
+    // kNoCapacity beyond kMaxMonitoredNodes, kAlreadyExists, kInvalidArgument for
+    // id 0/>127 or a timeout <= 0 or a negative boot timeout (0: none).
+    core::Status monitor(std::uint8_t nodeId, core::TimeNs timeout, core::TimeNs bootTimeout = 0);
     // Frame at 0x700 + node; frames of unmonitored nodes are counted, not tracked.
     void onFrame(const CanFrame& frame, core::TimeNs now);
     // Declares nodes lost whose heartbeat is overdue. Once per cycle.

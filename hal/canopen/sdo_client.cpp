@@ -36,6 +36,11 @@ const char* toString(SdoResult result) {
     return "?";
 }
 
+void SdoClient::configure(std::uint8_t nodeId, core::TimeNs timeout) {
+    nodeId_ = nodeId;
+    timeout_ = timeout;
+}
+
 void SdoClient::clear() {
     phase_ = Phase::kNone;
     result_ = SdoResult::kIdle;
@@ -75,6 +80,11 @@ Status SdoClient::download(std::uint16_t index, std::uint8_t subIndex, std::uint
     result_ = SdoResult::kInProgress;
     index_ = index;
     subIndex_ = subIndex;
+    // A download reads nothing back: what an earlier transfer left must not be
+    // taken for this one's result (event 431 prints these).
+    value_ = 0;
+    length_ = 0;
+    abortCode_ = 0;
     return Status::kOk;
 }
 
@@ -96,6 +106,7 @@ Status SdoClient::upload(std::uint16_t index, std::uint8_t subIndex, core::TimeN
     subIndex_ = subIndex;
     value_ = 0;
     length_ = 0;
+    abortCode_ = 0;
     announced_ = 0;
     return Status::kOk;
 }

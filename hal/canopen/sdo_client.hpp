@@ -55,6 +55,9 @@ public:
     std::uint32_t abortCode() const { return abortCode_; }
     // Back to idle so the next transfer can start (after reading the result).
     void clear();
+    // Start-up only (no transfer in progress): the server's node id and the
+    // answer timeout come from tables the owner reads after construction.
+    void configure(std::uint8_t nodeId, core::TimeNs timeout);
 
     const SdoStats& stats() const { return stats_; }
     std::uint8_t nodeId() const { return nodeId_; }

@@ -1,14 +1,10 @@
-// Node ids and COB-IDs of the RSE (non-CANopen) devices, docs/icd.md §1.1-1.2.
+// COB-IDs of the RSE (non-CANopen) devices' data frames, docs/icd.md §1.2.
+// Their node ids (heartbeats) are not here: they come from the CAN_NODE_MAP table.
 #pragma once
 
 #include <cstdint>
 
 namespace rse::hal::device_ids {
-
-constexpr std::uint8_t kImuNode = 0x20;
-constexpr std::uint8_t kPowerNode = 0x21;
-constexpr std::uint8_t kHazardNode = 0x22;
-constexpr std::uint8_t kFixNode = 0x23;
 
 constexpr std::uint32_t kImuRates = 0x6A0;
 constexpr std::uint32_t kPower = 0x6A1;

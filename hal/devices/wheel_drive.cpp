@@ -60,6 +60,40 @@ WheelDrive::WheelDrive(CanBus& bus, core::EventLog& events, const canopen::Heart
     : bus_(bus), events_(events), heartbeats_(heartbeats), nodeId_(nodeId), name_(name),
       sdo_(bus, events, nodeId) {}
 
+core::Status WheelDrive::configure(std::uint8_t nodeId, const DriveConfig& config) {
+    if (nodeId == 0 || nodeId > canopen::kMaxNodeId || config.sdoTimeout <= 0 || config.faultResetWait <= 0) {
+        return core::Status::kInvalidArgument;
+    }
+    nodeId_ = nodeId;
+    config_ = config;
+    sdo_.configure(nodeId, config.sdoTimeout);
+    return core::Status::kOk;
+}
+
+core::Status WheelDrive::requestFaultReset(core::TimeNs now) {
+    if (state_ != DriveState::kFaulted && state_ != DriveState::kFailed) {
+        return core::Status::kUnavailable;
+    }
+    ++stats_.resetRequests;
+    events_.report(events::kDriveResetRequested, Severity::kInfo,
+                   "drive %s (node %u): fault reset requested (was %s): %u more resets", name_,
+                   static_cast<unsigned>(nodeId_), toString(state_), static_cast<unsigned>(config_.faultResets));
+    enterFaulted(now);
+    return core::Status::kOk;
+}
+
+void WheelDrive::enterFaulted(core::TimeNs now) {
+    // Only an NMT-operational node acts on RPDO1; any other state (boot-up just
+    // seen, configuring, starting, stopped, or a configuration that failed) gets
+    // its reset by SDO.
+    const canopen::NodeHealth* health = heartbeats_.node(nodeId_);
+    const bool operational = health != nullptr && health->state == NmtState::kOperational &&
+                             (state_ == DriveState::kEnabling || state_ == DriveState::kOperational ||
+                              state_ == DriveState::kFaulted || state_ == DriveState::kFailed);
+    enter(DriveState::kFaulted, now);
+    resetBySdo_ = !operational;
+}
+
 void WheelDrive::enter(DriveState next, core::TimeNs now) {
     state_ = next;
     enteredAt_ = now;
@@ -73,6 +107,7 @@ void WheelDrive::enter(DriveState next, core::TimeNs now) {
     if (next == DriveState::kFaulted) {
         resetsTried_ = 0;
         resetEdge_ = false;
+        sdoReset_ = SdoReset::kIdle;
     }
 }
 
@@ -81,9 +116,9 @@ void WheelDrive::fault(const char* why, std::uint16_t code, core::TimeNs now) {
         return;
     }
     ++stats_.faults;
-    events_.report(events::kDriveFault, Severity::kError, "drive %s (node %u): fault, %s, code 0x%04X", name_,
-                   static_cast<unsigned>(nodeId_), why, static_cast<unsigned>(code));
-    enter(DriveState::kFaulted, now);
+    events_.report(events::kDriveFault, Severity::kError, "drive %s (node %u): fault, %s, code 0x%04X (was %s)", name_,
+                   static_cast<unsigned>(nodeId_), why, static_cast<unsigned>(code), toString(state_));
+    enterFaulted(now);
 }
 
 void WheelDrive::onFrame(const CanFrame& frame, core::TimeNs now) {
@@ -111,6 +146,22 @@ void WheelDrive::onFrame(const CanFrame& frame, core::TimeNs now) {
         if (lastEmcyCode_ != 0 && (lastEmcyCode_ & 0xF000) != 0x8000) {
             fault("EMCY", lastEmcyCode_, now);
         }
+        return;
+    }
+    if (function == canopen::kTpdo2) {
+        if (frame.dlc != 2) {
+            ++stats_.badPdo;
+            if (core::isReportableOccurrence(stats_.badPdo)) {
+                events_.report(events::kBadPdo, Severity::kWarning,
+                               "drive %s (node %u): TPDO2 with dlc %u, expected 2 (%u so far)", name_,
+                               static_cast<unsigned>(nodeId_), static_cast<unsigned>(frame.dlc),
+                               static_cast<unsigned>(stats_.badPdo));
+            }
+            return;
+        }
+        feedback_.temperatureDeciC = le::getI16(&frame.data[0]);
+        feedback_.temperatureTime = now;
+        ++feedback_.temperatureCount;
         return;
     }
     if (function == canopen::kTpdo1) {
@@ -145,12 +196,21 @@ bool WheelDrive::checkHeartbeat(core::TimeNs now) {
         return false;
     }
     if (health->bootUps != seenBootUps_) {
-        // Booted (first time, or restarted under us): configure from scratch.
         seenBootUps_ = health->bootUps;
+        if (state_ == DriveState::kFaulted && enteredAt_ >= health->lastSeen) {
+            // The EMCY came with (or after) the boot-up: the new boot's fault.
+            // Configuring would forget it; clear it first (by SDO: pre-operational).
+            enter(DriveState::kFaulted, now);
+            resetBySdo_ = true;
+            return true;
+        }
+        // Booted (first time, or restarted under us): configure from scratch.
         enter(DriveState::kConfiguring, now);
         return true;
     }
-    if (health->lost && state_ != DriveState::kLost && state_ != DriveState::kWaitingBootUp) {
+    // Waiting for boot-up included: the consumer's boot timeout declares a node
+    // that never booted lost, and the drive must say so too.
+    if (health->lost && state_ != DriveState::kLost) {
         ++stats_.losses;
         events_.report(events::kDriveLost, Severity::kError, "drive %s (node %u): lost (was %s)", name_,
                        static_cast<unsigned>(nodeId_), toString(state_));
@@ -193,7 +253,9 @@ void WheelDrive::stepConfiguring(core::TimeNs now) {
     if (r == SdoResult::kInProgress) {
         return;
     }
-    const bool ok = r == SdoResult::kDone && (step.write || (sdo_.value() & step.mask) == (step.value & step.mask));
+    const std::uint32_t value = sdo_.value();
+    const std::uint32_t abortCode = sdo_.abortCode();
+    const bool ok = r == SdoResult::kDone && (step.write || (value & step.mask) == (step.value & step.mask));
     sdo_.clear();
     stepRequested_ = false;
     if (ok) {
@@ -201,19 +263,46 @@ void WheelDrive::stepConfiguring(core::TimeNs now) {
         stepAttempts_ = 0;
         return;
     }
-    if (++stepAttempts_ < kConfigRetries) {
+    if (stepAttempts_ < config_.sdoRetries) {
+        ++stepAttempts_;
         return;  // try the same step again next cycle
     }
     ++stats_.configFailures;
-    events_.report(events::kDriveConfigFailed, Severity::kError,
-                   "drive %s (node %u): start-up check failed: %s (0x%04X:%u, %s, got 0x%08X, abort 0x%08X)",
-                   name_, static_cast<unsigned>(nodeId_), step.what, static_cast<unsigned>(step.index),
-                   static_cast<unsigned>(step.subIndex), canopen::toString(r),
-                   static_cast<unsigned>(sdo_.value()), static_cast<unsigned>(sdo_.abortCode()));
+    // Index and sub-index name the step (docs/icd.md §1.4); the text must keep
+    // the abort code whole within kEventTextSize, so no step description here.
+    const unsigned tries = static_cast<unsigned>(stepAttempts_ + 1);
+    if (r == SdoResult::kDone) {
+        events_.report(events::kDriveConfigFailed, Severity::kError,
+                       "drive %s (node %u): config 0x%04X:%u failed (%u tries): read 0x%08X", name_,
+                       static_cast<unsigned>(nodeId_), static_cast<unsigned>(step.index),
+                       static_cast<unsigned>(step.subIndex), tries, static_cast<unsigned>(value));
+    } else if (r == SdoResult::kAborted) {
+        events_.report(events::kDriveConfigFailed, Severity::kError,
+                       "drive %s (node %u): config 0x%04X:%u failed (%u tries): abort code 0x%08X", name_,
+                       static_cast<unsigned>(nodeId_), static_cast<unsigned>(step.index),
+                       static_cast<unsigned>(step.subIndex), tries, static_cast<unsigned>(abortCode));
+    } else {
+        events_.report(events::kDriveConfigFailed, Severity::kError,
+                       "drive %s (node %u): config 0x%04X:%u failed (%u tries): %s", name_,
+                       static_cast<unsigned>(nodeId_), static_cast<unsigned>(step.index),
+                       static_cast<unsigned>(step.subIndex), tries, canopen::toString(r));
+    }
+    enter(DriveState::kFailed, now);
+}
+
+void WheelDrive::declareFailed(core::TimeNs now) {
+    events_.report(events::kDriveFailed, Severity::kCritical,
+                   "drive %s (node %u): still faulted after %u resets (EMCY 0x%04X): out of service", name_,
+                   static_cast<unsigned>(nodeId_), static_cast<unsigned>(resetsTried_),
+                   static_cast<unsigned>(lastEmcyCode_));
     enter(DriveState::kFailed, now);
 }
 
 void WheelDrive::stepFaulted(core::TimeNs now) {
+    if (resetBySdo_) {
+        stepFaultedBySdo(now);
+        return;
+    }
     const bool cleared = feedback_.time > enteredAt_ && feedback_.power != cia402::PowerState::kFault &&
                          feedback_.power != cia402::PowerState::kFaultReactionActive;
     if (resetsTried_ > 0 && cleared) {
@@ -222,20 +311,73 @@ void WheelDrive::stepFaulted(core::TimeNs now) {
         enter(DriveState::kEnabling, now);
         return;
     }
-    if (now - enteredAt_ < static_cast<core::TimeNs>(resetsTried_) * kFaultResetWait) {
+    if (now - enteredAt_ < static_cast<core::TimeNs>(resetsTried_) * config_.faultResetWait) {
         return;  // give the last reset its time
     }
-    if (resetsTried_ == kFaultResets) {
-        events_.report(events::kDriveFailed, Severity::kCritical,
-                       "drive %s (node %u): still faulted after %u resets (EMCY 0x%04X): out of service", name_,
-                       static_cast<unsigned>(nodeId_), static_cast<unsigned>(kFaultResets),
-                       static_cast<unsigned>(lastEmcyCode_));
-        enter(DriveState::kFailed, now);
+    if (resetsTried_ >= config_.faultResets) {
+        declareFailed(now);
         return;
     }
     ++resetsTried_;
     ++stats_.faultResets;
     resetEdge_ = true;  // sendCyclic: 0x0000 this cycle, 0x0080 the next
+}
+
+void WheelDrive::stepFaultedBySdo(core::TimeNs now) {
+    const SdoResult r = sdo_.result();
+    if (r == SdoResult::kInProgress) {
+        return;  // ours, or a configuration transfer the fault interrupted
+    }
+    const std::uint32_t value = sdo_.value();
+    switch (sdoReset_) {
+        case SdoReset::kIdle:
+            if (resetsTried_ >= config_.faultResets) {
+                declareFailed(now);
+                return;
+            }
+            sdo_.clear();
+            ++resetsTried_;
+            ++stats_.faultResets;
+            ++stats_.sdoFaultResets;
+            if (core::isOk(sdo_.download(0x6040, 0, cia402::controlword::kDisableVoltage, 2, now))) {
+                sdoReset_ = SdoReset::kBitLow;  // bit 7 low first, so the next write is a rising edge
+            }
+            return;  // a write the bus refused used up this attempt; the next one comes next cycle
+        case SdoReset::kBitLow:
+            sdo_.clear();
+            if (r == SdoResult::kDone &&
+                core::isOk(sdo_.download(0x6040, 0, cia402::controlword::kFaultReset, 2, now))) {
+                sdoReset_ = SdoReset::kBitHigh;
+            } else {
+                sdoReset_ = SdoReset::kIdle;
+            }
+            return;
+        case SdoReset::kBitHigh:
+            sdo_.clear();
+            settleUntil_ = now + config_.faultResetWait;
+            sdoReset_ = r == SdoResult::kDone ? SdoReset::kSettle : SdoReset::kIdle;
+            return;
+        case SdoReset::kSettle:
+            if (now < settleUntil_) {
+                return;
+            }
+            sdo_.clear();
+            sdoReset_ = core::isOk(sdo_.upload(0x6041, 0, now)) ? SdoReset::kReadStatus : SdoReset::kIdle;
+            return;
+        case SdoReset::kReadStatus: {
+            sdo_.clear();
+            sdoReset_ = SdoReset::kIdle;
+            const cia402::PowerState power = cia402::decodeStatusword(static_cast<std::uint16_t>(value));
+            if (r == SdoResult::kDone && power != cia402::PowerState::kFault &&
+                power != cia402::PowerState::kFaultReactionActive) {
+                events_.report(events::kDriveFaultCleared, Severity::kInfo,
+                               "drive %s (node %u): fault cleared by SDO after %u resets: configuring again", name_,
+                               static_cast<unsigned>(nodeId_), static_cast<unsigned>(resetsTried_));
+                enter(DriveState::kConfiguring, now);
+            }
+            return;
+        }
+    }
 }
 
 void WheelDrive::step(core::TimeNs now) {

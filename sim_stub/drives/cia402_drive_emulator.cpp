@@ -13,6 +13,7 @@ constexpr std::uint32_t kCobNmt = 0x000;
 constexpr std::uint32_t kCobSync = 0x080;
 constexpr std::uint32_t kCobEmcy = 0x080;
 constexpr std::uint32_t kCobTpdo1 = 0x180;
+constexpr std::uint32_t kCobTpdo2 = 0x280;
 constexpr std::uint32_t kCobRpdo1 = 0x200;
 constexpr std::uint32_t kCobSdoRequest = 0x600;
 constexpr std::uint32_t kCobHeartbeat = 0x700;
@@ -123,6 +124,7 @@ Cia402DriveEmulator::Cia402DriveEmulator(hal::CanBus& bus, std::uint8_t nodeId, 
     : bus_(bus), config_(config), nodeId_(nodeId), valid_(nodeId >= 1 && nodeId <= 127),
       sdo_(bus, static_cast<SdoObjectDictionary&>(*this), nodeId, config.sdoServerTimeout),
       loadTorqueNm_(config.loadTorqueNm),
+      temperatureC_(std::isfinite(config.ambientC) ? config.ambientC : 20.0),
       currentRng_(config.noiseSeed, driveCurrentStream(config.noiseChannel)),
       velocityRng_(config.noiseSeed, driveVelocityStream(config.noiseChannel)) {
     config_.currentSigmaMa = noiseSigma(config_.currentSigmaMa);
@@ -171,6 +173,22 @@ void Cia402DriveEmulator::setMeasurementNoise(double currentSigmaMa, double velo
     config_.noiseChannel = channel;
     currentRng_ = SimRng(seed, driveCurrentStream(channel));
     velocityRng_ = SimRng(seed, driveVelocityStream(channel));
+}
+
+void Cia402DriveEmulator::setAmbientTemperature(double celsius) {
+    if (!std::isfinite(celsius)) {
+        return;
+    }
+    config_.ambientC = celsius;
+    if (!haveTime_) {
+        temperatureC_ = celsius;  // a motor that has not run yet sits at ambient
+    }
+}
+
+void Cia402DriveEmulator::setOverheat(double heatGainFactor) {
+    if (std::isfinite(heatGainFactor) && heatGainFactor > 0.0) {
+        overheat_ = heatGainFactor;
+    }
 }
 
 void Cia402DriveEmulator::injectFault(std::uint16_t emcyCode) {
@@ -374,6 +392,10 @@ void Cia402DriveEmulator::handleSync(const hal::CanFrame& frame, core::TimeNs no
     if (syncsSinceTpdo_ >= tpdoType_) {
         syncsSinceTpdo_ = 0;
         sendTpdo();
+    }
+    if (config_.tpdo2EverySyncs != 0 && ++syncsSinceTpdo2_ >= config_.tpdo2EverySyncs) {
+        syncsSinceTpdo2_ = 0;
+        sendTpdo2();
     }
 }
 
@@ -608,6 +630,16 @@ void Cia402DriveEmulator::sendTpdo() {
     }
 }
 
+void Cia402DriveEmulator::sendTpdo2() {
+    hal::CanFrame f;
+    f.id = kCobTpdo2 + nodeId_;
+    f.dlc = 2;
+    le::putI16(&f.data[0], clampTo<std::int16_t>(std::llround(temperatureC_ * 10.0), INT16_MIN, INT16_MAX));
+    if (send(f)) {
+        ++stats_.tpdo2Sent;
+    }
+}
+
 void Cia402DriveEmulator::sendHeartbeatIfDue(core::TimeNs now) {
     if (heartbeatMs_ == 0 || now < nextHeartbeat_) {
         return;
@@ -652,6 +684,13 @@ double Cia402DriveEmulator::effectiveTargetRadS() const {
     return static_cast<double>(t) / 1000.0;
 }
 
+void Cia402DriveEmulator::advanceTemperature(double dts) {
+    const double amps = current_ * 1e-3;
+    const double tau = seconds(config_.thermalTimeConstant);
+    const double cooling = tau > 0.0 ? (temperatureC_ - config_.ambientC) / tau : 0.0;
+    temperatureC_ += dts * (config_.heatGainCPerA2S * overheat_ * amps * amps - cooling);
+}
+
 void Cia402DriveEmulator::advanceModel(core::TimeNs now) {
     if (!haveTime_) {
         haveTime_ = true;
@@ -676,11 +715,13 @@ void Cia402DriveEmulator::advanceModel(core::TimeNs now) {
         if (!on) {
             current_ = 0.0;
             overCurrentTiming_ = false;
+            advanceTemperature(dts);
             continue;
         }
         const double acceleration = (velocity_ - before) / dts;
         current_ = degradation_ * (config_.noLoadCurrentMa + config_.currentPerTorqueMaPerNm * std::fabs(loadTorqueNm_) +
                                    config_.currentPerAccelMaPerRadS2 * std::fabs(acceleration));
+        advanceTemperature(dts);
         if (current_ <= static_cast<double>(config_.overCurrentLimitMa)) {
             overCurrentTiming_ = false;
             continue;

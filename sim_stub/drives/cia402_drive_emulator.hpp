@@ -74,6 +74,19 @@
 // Over-current: a current above overCurrentLimit (3000 mA) for more than
 // overCurrentTime (100 ms) -> EMCY 0x2310, fault (resettable).
 //
+// ---- Thermal model ------------------------------------------------------------
+// One lumped motor temperature T, integrated in the same sub-steps:
+//   dT/dt = heatGain x overheat x (I / 1 A)^2 - (T - ambient) / thermalTimeConstant
+// (I the physical current above, 0 with torque off), starting at ambient.
+// Defaults: ambient 20 degC, heat gain 0.2 degC/s per A^2, time constant 60 s, so a
+// wheel holding 750 mA settles 7 degC above ambient; the rover's wheels in
+// lockstep driving (about 1.4 A) settle 23 degC above, and 1.3x wear (1.8 A) 39
+// degC above: 20 degC of margin to the 80 degC limit. setOverheat(factor) multiplies the heat gain (the scenario's
+// motor_overheat fault); a power cycle does not cool the motor. The drive does
+// not protect itself: it only reports T.
+// TPDO2 (0x280+n, DLC 2: motor temperature i16 in 0.1 degC) is sent in
+// operational on every tpdo2EverySyncs-th SYNC (default 10: 10 Hz), after TPDO1.
+//
 // ---- Measurement noise -------------------------------------------------------------
 // What the drive REPORTS (TPDO1, and SDO uploads of 0x606C velocity actual and
 // 0x6078 current actual) carries Gaussian white noise: one independent draw per
@@ -152,6 +165,11 @@ struct DriveEmulatorConfig {
     double velocitySigmaMradS = 0.0;  // on the velocity actual, mrad/s
     std::uint64_t noiseSeed = 1;      // the scenario seed
     std::size_t noiseChannel = 0;     // whose streams: the wheel index 0..5 (DriveBank sets it)
+    // Thermal model (see "Thermal model" above).
+    double ambientC = 20.0;
+    double heatGainCPerA2S = 0.2;
+    core::TimeNs thermalTimeConstant = 60 * core::kNsPerSec;
+    std::uint8_t tpdo2EverySyncs = 10;  // 0: no TPDO2
 };
 
 struct DriveEmulatorStats {
@@ -173,6 +191,7 @@ struct DriveEmulatorStats {
     std::uint32_t rpdoMalformed = 0;       // DLC != 6 in operational (EMCY 0x8210)
     std::uint32_t rpdoNotOperational = 0;  // RPDO1 outside operational: ignored
     std::uint32_t tpdoSent = 0;
+    std::uint32_t tpdo2Sent = 0;
     std::uint32_t sdoNotAllowed = 0;       // SDO requests in stopped: ignored
     std::uint32_t emcySent = 0;
     std::uint32_t emcySuppressed = 0;      // EMCY due in stopped: not sent
@@ -210,6 +229,11 @@ public:
     void failMotor();                           // EMCY 0x5000, fault; survives resets and power cycles
     void injectFault(std::uint16_t emcyCode);   // a one-shot, resettable fault with this code (non-zero)
     void setOverCurrentLimit(std::int32_t currentMa) { config_.overCurrentLimitMa = currentMa; }
+    // Thermal hooks: the ambient the motor cools to (also its temperature when
+    // set before the first step), and the heat gain factor (1 nominal; values
+    // <= 0 or not finite are ignored).
+    void setAmbientTemperature(double celsius);
+    void setOverheat(double heatGainFactor);
     // Replaces the measurement noise settings and restarts both noise streams
     // from (seed, channel), as if constructed with them.
     void setMeasurementNoise(double currentSigmaMa, double velocitySigmaMradS, std::uint64_t seed,
@@ -237,6 +261,8 @@ public:
     std::int16_t lastReportedCurrentMa() const { return reportedCurrent_; }
     double loadTorqueNm() const { return loadTorqueNm_; }
     double degradation() const { return degradation_; }
+    double temperatureC() const { return temperatureC_; }
+    double overheat() const { return overheat_; }
     bool motorFailed() const { return motorFailed_; }
     std::uint8_t errorRegister() const;        // 0x1001
     std::uint16_t lastEmcyCode() const { return lastEmcyCode_; }
@@ -277,10 +303,12 @@ private:
     void raiseError(std::uint8_t kind, std::uint16_t code, core::TimeNs now);
     void sendEmcy(std::uint16_t code);
     void sendTpdo();
+    void sendTpdo2();
     void sendHeartbeatIfDue(core::TimeNs now);
     std::int32_t reportVelocityMradS();  // one report: the value plus one noise draw
     std::int16_t reportCurrentMa();
     void advanceModel(core::TimeNs now);
+    void advanceTemperature(double dts);
     bool torqueOn() const;
     double effectiveTargetRadS() const;
     bool send(const hal::CanFrame& frame);
@@ -300,6 +328,7 @@ private:
     core::TimeNs nextHeartbeat_ = 0;
     std::uint8_t tpdoType_ = 1;  // 0x1800:02
     std::uint8_t syncsSinceTpdo_ = 0;
+    std::uint8_t syncsSinceTpdo2_ = 0;
 
     // PDO latch
     bool rpdoLatched_ = false;
@@ -329,6 +358,8 @@ private:
     double current_ = 0.0;   // mA
     double loadTorqueNm_;
     double degradation_ = 1.0;
+    double temperatureC_;
+    double overheat_ = 1.0;
     bool overCurrentTiming_ = false;
     core::TimeNs overCurrentSince_ = 0;
 

@@ -35,6 +35,7 @@ DriveEmulatorConfig DriveBank::configFor(const Scenario& scenario, const DriveEm
     c.currentSigmaMa = scenario.drives.currentSigmaA * 1e3;
     c.velocitySigmaMradS = scenario.drives.velocitySigmaRadS * 1e3;
     c.noiseSeed = scenario.seed;
+    c.ambientC = scenario.drives.ambientC;
     return c;
 }
 
@@ -61,6 +62,18 @@ std::array<WheelModel*, kWheelCount> DriveBank::wheels() {
 void DriveBank::degradeMotor(std::size_t wheel, double currentFactor) {
     if (valid(wheel)) {
         slots_[wheel].drive.setDegradation(currentFactor);
+    }
+}
+
+void DriveBank::overheatMotor(std::size_t wheel, double heatGainFactor) {
+    if (valid(wheel)) {
+        slots_[wheel].drive.setOverheat(heatGainFactor);
+    }
+}
+
+void DriveBank::faultDrive(std::size_t wheel, std::uint16_t emcyCode) {
+    if (valid(wheel)) {
+        slots_[wheel].drive.injectFault(emcyCode);
     }
 }
 

@@ -45,6 +45,8 @@ public:
     // FaultTarget: the drive hooks.
     void degradeMotor(std::size_t wheel, double currentFactor) override;
     void failMotor(std::size_t wheel) override;
+    void overheatMotor(std::size_t wheel, double heatGainFactor) override;
+    void faultDrive(std::size_t wheel, std::uint16_t emcyCode) override;
     void suppressHeartbeat(std::size_t wheel, bool on) override;
     void crashDrive(std::size_t wheel) override;
     void restartDrive(std::size_t wheel) override;

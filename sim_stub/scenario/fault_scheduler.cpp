@@ -51,6 +51,12 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kPositionFixOutlier:
                 add(f.at, FaultAction::kPositionFixOutlier);
                 break;
+            case FaultType::kMotorOverheat:
+                add(f.at, FaultAction::kOverheatMotor);
+                break;
+            case FaultType::kDriveFault:
+                add(f.at, FaultAction::kDriveFault);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -70,6 +76,12 @@ void FaultScheduler::fire(const FaultEvent& e) {
     switch (e.action) {
         case FaultAction::kDegradeMotor:
             target_.degradeMotor(f.wheel, f.value);
+            break;
+        case FaultAction::kDriveFault:
+            target_.faultDrive(f.wheel, static_cast<std::uint16_t>(f.cobId));
+            break;
+        case FaultAction::kOverheatMotor:
+            target_.overheatMotor(f.wheel, f.value);
             break;
         case FaultAction::kFailMotor:
             target_.failMotor(f.wheel);

@@ -33,6 +33,8 @@ enum class FaultAction : std::uint8_t {
     kBabbleStart,
     kBabbleEnd,
     kPositionFixOutlier,
+    kOverheatMotor,
+    kDriveFault,
 };
 
 struct FaultEvent {

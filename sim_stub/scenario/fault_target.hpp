@@ -24,6 +24,12 @@ class FaultTarget {
 public:
     // The motor draws currentFactor times the current for the same torque (k >= 1).
     virtual void degradeMotor(std::size_t wheel, double currentFactor) = 0;
+    // The motor heats heatGainFactor times faster for the same current (k >= 1).
+    // A target without a thermal model ignores it.
+    virtual void overheatMotor(std::size_t /*wheel*/, double /*heatGainFactor*/) {}
+    // The drive takes a fault with this EMCY code (non-zero) that a fault reset
+    // clears: EMCY, fault reaction, fault. A target without drives ignores it.
+    virtual void faultDrive(std::size_t /*wheel*/, std::uint16_t /*emcyCode*/) {}
     // The motor no longer turns (the wheel locks); the drive reports the failure.
     virtual void failMotor(std::size_t wheel) = 0;
     // The drive keeps working but its heartbeat is (on) or is no longer (off) sent.

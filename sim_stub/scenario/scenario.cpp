@@ -38,6 +38,10 @@ const char* toString(FaultType type) {
             return "babbling_node";
         case FaultType::kPositionFixOutlier:
             return "position_fix_outlier";
+        case FaultType::kMotorOverheat:
+            return "motor_overheat";
+        case FaultType::kDriveFault:
+            return "drive_fault";
     }
     return "?";
 }

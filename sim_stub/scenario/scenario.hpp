@@ -35,8 +35,10 @@ enum class FaultType : std::uint8_t {
     kBusFault,          // busRule
     kBabblingNode,      // cobId, value = frames per second, until
     kPositionFixOutlier,  // value = offset, m; bearingRad; count = how many fixes
+    kMotorOverheat,     // wheel, value = heat gain factor (the motor heats that many times faster)
+    kDriveFault,        // wheel, cobId = EMCY code: a one-shot fault a fault reset clears
 };
-constexpr FaultType kLastFaultType = FaultType::kPositionFixOutlier;
+constexpr FaultType kLastFaultType = FaultType::kDriveFault;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 
@@ -58,6 +60,7 @@ struct FaultSpec {
 struct DriveNoiseParams {
     double currentSigmaA = 0.0;      // on the reported current actual
     double velocitySigmaRadS = 0.0;  // on the reported velocity actual
+    double ambientC = 20.0;          // [drives] ambient_c: what the motors cool to (and start at)
 };
 
 struct DeviceParams {

@@ -412,7 +412,8 @@ void Parser::parseDevices(const toml::table& t, DeviceParams* d) const {
 
 void Parser::parseDrives(const toml::table& t, DriveNoiseParams* d) const {
     const std::string p = "drives";
-    onlyKeys(t, p, {"current_sigma_a", "velocity_sigma_rad_s"});
+    onlyKeys(t, p, {"current_sigma_a", "velocity_sigma_rad_s", "ambient_c"});
+    d->ambientC = ranged(t, p, "ambient_c", d->ambientC, -120.0, 80.0);
     d->currentSigmaA = ranged(t, p, "current_sigma_a", d->currentSigmaA, 0.0, 1.0);
     d->velocitySigmaRadS = ranged(t, p, "velocity_sigma_rad_s", d->velocitySigmaRadS, 0.0, 1.0);
 }
@@ -481,7 +482,7 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
         fail(join(p, "type"), "unknown fault type \"" + type +
                                   "\" (expected motor_degradation, motor_failure, drive_heartbeat_loss, "
                                   "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-                                  "babbling_node or position_fix_outlier)");
+                                  "babbling_node, position_fix_outlier, motor_overheat or drive_fault)");
     }
     const double atS = ranged(t, p, "at_s", 0.0, 0.0, kMaxTimeS, true);
     f.at = toNs(atS);
@@ -495,6 +496,19 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
         case FaultType::kMotorFailure:
             onlyKeys(t, p, {"type", "at_s", "wheel"}, ctx);
             f.wheel = wheel(t, p);
+            break;
+        case FaultType::kDriveFault:
+            onlyKeys(t, p, {"type", "at_s", "wheel", "emcy_code"}, ctx);
+            f.wheel = wheel(t, p);
+            f.cobId = static_cast<std::uint32_t>(integer(t, p, "emcy_code", 0x4310, false));
+            if (f.cobId == 0 || f.cobId > 0xFFFF) {
+                fail(join(p, "emcy_code"), "must be 1..0xFFFF (got " + std::to_string(f.cobId) + ")");
+            }
+            break;
+        case FaultType::kMotorOverheat:
+            onlyKeys(t, p, {"type", "at_s", "wheel", "heat_factor"}, ctx);
+            f.wheel = wheel(t, p);
+            f.value = ranged(t, p, "heat_factor", 0.0, 1.0, 100.0, true);
             break;
         case FaultType::kDriveHeartbeatLoss:
             onlyKeys(t, p, {"type", "at_s", "wheel", "duration_s", "until_s"}, ctx);

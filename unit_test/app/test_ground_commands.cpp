@@ -381,7 +381,9 @@ TEST(GroundCommands, MalformedBusMessagesAreCountedNotSilentlyDropped) {
 
 // No CAN devices here: no position fix ever comes, so the estimate stays
 // uninitialised and the health monitor raises pose-uncertain once the first-fix
-// wait (3 s) is over; HEALTH goes down when it changes and at 1 Hz.
+// wait (3 s) is over; HEALTH goes down when it changes and at 1 Hz. The six
+// drives never boot either: past CAN_NODE_MAP.drive_boot_timeout_ms (3 s) they
+// are reported lost, so their heartbeat faults are raised too.
 TEST(GroundCommands, RoverStateAndHealthReportTheEstimatorAndFaults) {
     runFrames(250);
     const Packet& early = last("HEALTH");
@@ -391,8 +393,11 @@ TEST(GroundCommands, RoverStateAndHealthReportTheEstimatorAndFaults) {
     runFrames(100);  // past 3 s
     CHECK(countOf("HEALTH") >= before + 1);
     const Packet& health = last("HEALTH");
-    const auto poseBit = static_cast<double>(std::uint64_t{1} << msg::fault::kPoseUncertain);
-    DOUBLES_EQUAL(poseBit, field(health, "active_faults"), 0.0);
+    std::uint64_t expected = std::uint64_t{1} << msg::fault::kPoseUncertain;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        expected |= std::uint64_t{1} << (msg::fault::kDriveHeartbeatLost + w);
+    }
+    DOUBLES_EQUAL(static_cast<double>(expected), field(health, "active_faults"), 0.0);
     LONGS_EQUAL(msg::fault::kPoseUncertain, static_cast<long>(field(health, "last_fault_id")));
     LONGS_EQUAL(1, static_cast<long>(field(health, "last_fault_raised")));
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {

@@ -36,7 +36,7 @@ struct ScheduledFrame {
 }  // namespace
 
 int main() {
-    const int drives = static_cast<int>(sizeof app::kDriveNodeIds / sizeof app::kDriveNodeIds[0]);
+    const int drives = static_cast<int>(msg::kWheelCount);
     const int heartbeatNodes = drives + 4;  // + IMU, power, hazard, position fix
     const ScheduledFrame schedule[] = {
         {"RPDO1 to each drive", drives, 6, 100.0},

@@ -119,3 +119,31 @@ TEST(SdoClient, HostileResponsesAreProtocolErrorsOrIgnored) {
     LONGS_EQUAL(3, sdo.stats().protocolErrors);
     CHECK(Status::kInvalidArgument == sdo.download(0x1017, 0, 1, 5, 0));
 }
+
+TEST(SdoClient, ANewTransferForgetsTheLastOnesValueAndAbortCode) {
+    CHECK(Status::kOk == sdo.upload(0x1000, 0, 0));
+    answer({0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00});
+    LONGS_EQUAL(0x00020192, sdo.value());
+    sdo.clear();
+    CHECK(Status::kOk == sdo.download(0x1017, 0, 100, 2, 0));
+    LONGS_EQUAL(0, sdo.value());  // a download reads nothing back
+    answer({0x80, 0x17, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06});
+    LONGS_EQUAL(0x06010002, sdo.abortCode());
+    sdo.clear();
+    CHECK(Status::kOk == sdo.upload(0x6061, 0, 0));
+    LONGS_EQUAL(0, sdo.abortCode());
+    sdo.poll(kSdoDefaultTimeout + 1);
+    CHECK(SdoResult::kTimeout == sdo.result());
+    LONGS_EQUAL(0, sdo.abortCode());
+    LONGS_EQUAL(0, sdo.value());
+}
+
+TEST(SdoClient, TheTimeoutAndNodeComeFromConfigure) {
+    sdo.configure(7, 30 * core::kNsPerMs);
+    CHECK(Status::kOk == sdo.upload(0x1000, 0, 0));
+    LONGS_EQUAL(0x607, lastRequest().id);
+    sdo.poll(30 * core::kNsPerMs);
+    CHECK(SdoResult::kInProgress == sdo.result());
+    sdo.poll(30 * core::kNsPerMs + 1);
+    CHECK(SdoResult::kTimeout == sdo.result());
+}

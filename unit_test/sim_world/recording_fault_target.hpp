@@ -17,6 +17,8 @@ public:
 
     void degradeMotor(std::size_t wheel, double k) override { add("degrade %zu %.2f", wheel, k); }
     void failMotor(std::size_t wheel) override { add("fail %zu", wheel); }
+    void overheatMotor(std::size_t wheel, double k) override { add("overheat %zu %.2f", wheel, k); }
+    void faultDrive(std::size_t wheel, std::uint16_t code) override { add("drive-fault %zu 0x%04X", wheel, code); }
     void suppressHeartbeat(std::size_t wheel, bool on) override { add("heartbeat-loss %zu %s", wheel, onOff(on)); }
     void crashDrive(std::size_t wheel) override { add("crash-drive %zu", wheel); }
     void restartDrive(std::size_t wheel) override { add("restart-drive %zu", wheel); }

@@ -83,12 +83,14 @@ TEST(TableImage, EncodeDecodeRoundTripsEveryField) {
     map.hazard_node_id = 42;
     map.position_fix_node_id = 43;
     map.heartbeat_timeout_ms = 4321;
+    map.drive_boot_timeout_ms = 5432;
     const std::vector<std::uint8_t> image = encoded(map, 99);
     CanNodeMapTable back{};
     CHECK_TRUE(decodeTable(image.data(), image.size(), &back).ok());
     MEMCMP_EQUAL(nodes, back.drive_node_id, sizeof nodes);
     LONGS_EQUAL(43, back.position_fix_node_id);
     LONGS_EQUAL(4321, back.heartbeat_timeout_ms);
+    LONGS_EQUAL(5432, back.drive_boot_timeout_ms);
 
     FaultResponseTable fr{};
     const std::vector<std::uint8_t> def = defaultImage(TableId::kFaultResponse);

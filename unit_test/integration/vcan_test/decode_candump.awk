@@ -29,6 +29,9 @@ function bad(why) { undecoded++; printf "%s UNDECODED      %s#%s (%s)\n", time, 
   } else if (fn == 384) {
     if (!drive(n) || dlc != 8) { bad("TPDO1: unknown drive or length"); next }
     ok("TPDO1", sprintf("drive %d statusword 0x%04X velocity %d mrad/s current %d mA", n, u16(data, 0), s32(data, 2), s16(data, 6)))
+  } else if (fn == 640) {
+    if (!drive(n) || dlc != 2) { bad("TPDO2: unknown drive or length"); next }
+    ok("TPDO2", sprintf("drive %d motor temperature %.1f degC", n, s16(data, 0) / 10))
   } else if (fn == 512) {
     if (!drive(n) || dlc != 6) { bad("RPDO1: unknown drive or length"); next }
     ok("RPDO1", sprintf("drive %d controlword 0x%04X target %d mrad/s", n, u16(data, 0), s32(data, 2)))
