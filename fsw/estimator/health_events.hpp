@@ -24,6 +24,8 @@ constexpr core::EventId kHealthPoseUncertain = 730;           // fault 19: posit
 constexpr core::EventId kHealthPoseUncertainCleared = 731;
 constexpr core::EventId kHealthTaskStalled = 732;             // faults 20..35: a rate-group task stopped running
 constexpr core::EventId kHealthTaskStalledCleared = 733;
+constexpr core::EventId kHealthSensorStale = 734;             // faults 36..39: no data from a device for its stale time
+constexpr core::EventId kHealthSensorStaleCleared = 735;      // its data arrives again (time it was silent)
 constexpr core::EventId kHealthInputRejected = 740;           // malformed bus message or non-finite value (throttled)
 
 }  // namespace rse::estimator::events
