@@ -137,7 +137,12 @@ TEST(LockstepFaultDetection, AHazardDetectorDropoutWithItsHeartbeatOnRaisesSenso
     CHECK_TRUE(rig.runUntil([&] { return rig.clock().now() >= dropout.until; }, 20 * kNsPerSec));
     CHECK(rig.fsw().health().active(fault));
     CHECK_TRUE(rig.runUntil([&] { return !rig.fsw().health().active(fault); }, 2 * kNsPerSec));
-    CHECK(rig.clock().now() - dropout.until <= kNsPerSec + 110 * kNsPerMs);
+    const TimeNs clearedAfter = rig.clock().now() - dropout.until;
+    if (verbose()) {
+        std::printf("\nhazard dropout: fault %u raised %.2f s after the dropout, cleared %.2f s after its end\n",
+                    static_cast<unsigned>(fault), seconds(raisedAfter), seconds(clearedAfter));
+    }
+    CHECK(clearedAfter <= kNsPerSec + 110 * kNsPerMs);
     LONGS_EQUAL(0, rig.fsw().health().status().activeMask);
     LONGS_EQUAL(1, rig.fsw().health().raisedCount(fault));
     rig.runFor(200 * kNsPerMs);
