@@ -304,7 +304,7 @@ void PoseEstimatorTask::noteFixRefused(const msg::PositionFixMsg& fix, double ma
                        mahalanobis2, static_cast<double>(t.fix_gate_chi2),
                        static_cast<unsigned>(counters_.fixesRejected));
     }
-    // >= rather than ==: a limit lowered by a table load below the count so far still applies.
+    // Not ==: a limit lowered by a table load below the count so far still applies.
     if (counters_.consecutiveRejections < t.fix_reject_limit || reanchorDue_) {
         return;
     }
@@ -312,7 +312,7 @@ void PoseEstimatorTask::noteFixRefused(const msg::PositionFixMsg& fix, double ma
     ++counters_.inconsistencies;
     inconsistent_ = true;
     events_.report(events::kFixesInconsistent, core::Severity::kError,
-                   "estimator: %u fixes in a row refused (last d2 %.1f): estimate inconsistent, re-anchor on the next",
+                   "estimator: %u fixes refused in a row (last d2 %.1f): estimate inconsistent, re-anchoring",
                    static_cast<unsigned>(counters_.consecutiveRejections), mahalanobis2);
 }
 
@@ -334,7 +334,7 @@ void PoseEstimatorTask::reanchorOn(const msg::PositionFixMsg& fix, double sigmaX
     ++counters_.reanchors;
     ++counters_.fixesAccepted;
     events_.report(events::kPoseReanchored, core::Severity::kWarning,
-                   "estimator: re-anchored on fix (%.2f, %.2f): moved %.2f m, heading %.3f rad, bias %.4f rad/s kept",
+                   "estimator: re-anchored at (%.2f, %.2f): moved %.2f m, %.3f rad; bias %.4f rad/s kept",
                    fix.xM, fix.yM, std::hypot(fix.xM - fromX, fix.yM - fromY),
                    wrapAngle(fix.headingRad - fromHeading), filter_.gyroBias());
 }

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
+#include <string>
 
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/node_msgs.hpp"
@@ -26,6 +28,25 @@ namespace {
 
 double seconds(TimeNs t) { return static_cast<double>(t) * 1e-9; }
 bool verbose() { return std::getenv("RSE_PRINT_CONSOLE") != nullptr; }
+
+// With RSE_PRINT_CONSOLE set: the console lines holding any of the event ids.
+void printEvents(sim::LockstepRig& rig, std::initializer_list<const char*> ids) {
+    if (!verbose()) {
+        return;
+    }
+    const std::string text = rig.consoleText();
+    std::size_t start = 0;
+    while (start < text.size()) {
+        const std::size_t end = std::min(text.find('\n', start), text.size());
+        const std::string line = text.substr(start, end - start);
+        for (const char* id : ids) {
+            if (line.find(id) != std::string::npos) {
+                std::printf("%s\n", line.c_str());
+            }
+        }
+        start = end + 1;
+    }
+}
 
 std::uint8_t staleFault(msg::DeviceNode device) {
     return static_cast<std::uint8_t>(msg::fault::kSensorStale + static_cast<std::uint8_t>(device));
@@ -105,6 +126,7 @@ TEST(LockstepFaultDetection, AnImuBiasStepRaisesPoseUncertaintyAndTheEstimatorRe
     CHECK(finalError < 5.0 * est.positionSigmaM + 0.05);
     CHECK(worstErrorAfterClear < 0.3);
     rig.runFor(200 * kNsPerMs);  // the console prints events at 10 Hz
+    printEvents(rig, {"EVT 711 ", "EVT 712 ", "EVT 713 ", "EVT 730 ", "EVT 731 "});
     CHECK(rig.consoleCount("EVT 711 ") >= 1);  // inconsistent
     CHECK(rig.consoleCount("EVT 712 ") >= 1);  // re-anchored
     CHECK(rig.consoleCount("EVT 713 ") >= 1);  // consistent again
@@ -146,6 +168,7 @@ TEST(LockstepFaultDetection, AHazardDetectorDropoutWithItsHeartbeatOnRaisesSenso
     LONGS_EQUAL(0, rig.fsw().health().status().activeMask);
     LONGS_EQUAL(1, rig.fsw().health().raisedCount(fault));
     rig.runFor(200 * kNsPerMs);
+    printEvents(rig, {"EVT 734 ", "EVT 735 "});
     LONGS_EQUAL(1, rig.consoleCount("EVT 734 "));
     LONGS_EQUAL(1, rig.consoleCount("EVT 735 "));
     LONGS_EQUAL(0, rig.consoleCount("EVT 722 "));  // no heartbeat fault
