@@ -410,6 +410,7 @@ void CanIoTask::publishSensors(const core::FrameContext& frame) {
     if (frame.frame % 10 == 0) {
         msg::HazardMsg h{};
         h.timeNs = now;
+        h.detectorFrames = hazard_.frameStats().accepted;
         for (const hal::HazardSighting& s : hazard_.sightings()) {
             if (h.count < msg::kMaxHazardsInMsg) {
                 h.sightings[h.count++] = msg::HazardSightingTlm{s.rangeM, s.bearingRad, s.halfWidthM, s.obstacleId, {}};

@@ -26,6 +26,8 @@ constexpr core::EventId kHealthTaskStalled = 732;             // faults 20..35: 
 constexpr core::EventId kHealthTaskStalledCleared = 733;
 constexpr core::EventId kHealthDriveOvertemp = 736;           // faults 40..45: motor temperature above drive_overtemp_c, held
 constexpr core::EventId kHealthDriveOvertempCleared = 737;    // cooled drive_overtemp_c - 5 degC, held
+constexpr core::EventId kHealthSensorStale = 734;             // faults 36..39: no data from a device for its stale time
+constexpr core::EventId kHealthSensorStaleCleared = 735;      // its data arrives again (time it was silent)
 constexpr core::EventId kHealthInputRejected = 740;           // malformed bus message or non-finite value (throttled)
 
 }  // namespace rse::estimator::events

@@ -26,6 +26,11 @@ HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const ta
     l.poseClearSigmaM = static_cast<double>(noise.pose_clear_sigma_m);
     l.firstFixWait = static_cast<core::TimeNs>(noise.first_fix_wait_ms) * core::kNsPerMs;
     l.driveOvertempC = static_cast<double>(faults.drive_overtemp_c);
+    const std::uint16_t staleMs[msg::kDeviceNodeCount] = {noise.imu_stale_ms, noise.power_stale_ms,
+                                                          noise.hazard_stale_ms, noise.fix_stale_ms};
+    for (std::size_t i = 0; i < msg::kDeviceNodeCount; ++i) {
+        l.sensorStale[i] = static_cast<core::TimeNs>(staleMs[i]) * core::kNsPerMs;
+    }
     return l;
 }
 
@@ -195,6 +200,8 @@ void HealthMonitor::onPose(const msg::PoseEstimateMsg& pose) {
     }
     poseSeen_ = true;
     poseInitialised_ = pose.initialised != 0;
+    poseInconsistent_ = pose.inconsistent != 0;
+    poseRejections_ = pose.consecutiveFixRejections;
     poseSigmaM_ = pose.positionSigmaM;
 }
 
@@ -203,8 +210,9 @@ void HealthMonitor::checkPose(const HealthLimits& limits, core::TimeNs now) {
     // message at all counts as not initialised.
     const bool initialised = poseSeen_ && poseInitialised_;
     const bool noFixInTime = !initialised && now - start_ > limits.firstFixWait;
-    const bool tooUncertain = initialised && poseSigmaM_ > limits.poseFaultSigmaM;
-    const bool certain = initialised && poseSigmaM_ < limits.poseClearSigmaM;
+    const bool inconsistent = initialised && poseInconsistent_;
+    const bool tooUncertain = initialised && (poseSigmaM_ > limits.poseFaultSigmaM || inconsistent);
+    const bool certain = initialised && !inconsistent && poseSigmaM_ < limits.poseClearSigmaM;
     const PersistenceFilter::Edge edge = pose_.update(now, noFixInTime || tooUncertain, certain, 0);
     if (edge == PersistenceFilter::Edge::kRaised) {
         (void)faults_.set(msg::fault::kPoseUncertain, true, now);
@@ -213,6 +221,10 @@ void HealthMonitor::checkPose(const HealthLimits& limits, core::TimeNs now) {
                            "health: fault %u: pose uncertain, no position fix %lld ms after start (wait %lld ms)",
                            static_cast<unsigned>(msg::fault::kPoseUncertain), toMs(now - start_),
                            toMs(limits.firstFixWait));
+        } else if (inconsistent) {
+            events_.report(events::kHealthPoseUncertain, core::Severity::kError,
+                           "health: fault %u: pose uncertain, estimate inconsistent with the fixes (%u refused in a row)",
+                           static_cast<unsigned>(msg::fault::kPoseUncertain), static_cast<unsigned>(poseRejections_));
         } else {
             events_.report(events::kHealthPoseUncertain, core::Severity::kError,
                            "health: fault %u: pose uncertain, position sigma %.2f m > %.2f m",
@@ -223,6 +235,46 @@ void HealthMonitor::checkPose(const HealthLimits& limits, core::TimeNs now) {
         events_.report(events::kHealthPoseUncertainCleared, core::Severity::kInfo,
                        "health: fault %u cleared: position sigma %.2f m < %.2f m",
                        static_cast<unsigned>(msg::fault::kPoseUncertain), poseSigmaM_, limits.poseClearSigmaM);
+    }
+}
+
+void HealthMonitor::onSensorData(msg::DeviceNode device, core::TimeNs sampleTime) {
+    const auto i = static_cast<std::size_t>(device);
+    if (i < msg::kDeviceNodeCount && sampleTime > sensorDataAt_[i]) {
+        sensorDataAt_[i] = sampleTime;
+    }
+}
+
+void HealthMonitor::onHazards(const msg::HazardMsg& hazards) {
+    if (!hazardFramesSeen_ || hazards.detectorFrames != hazardFrames_) {
+        // The first message counts only if the detector has spoken at all.
+        if (hazardFramesSeen_ || hazards.detectorFrames != 0) {
+            onSensorData(msg::DeviceNode::kHazard, hazards.timeNs);
+        }
+        hazardFramesSeen_ = true;
+        hazardFrames_ = hazards.detectorFrames;
+    }
+}
+
+void HealthMonitor::checkSensors(const HealthLimits& limits, core::TimeNs now) {
+    for (std::size_t i = 0; i < msg::kDeviceNodeCount; ++i) {
+        const core::TimeNs reference = sensorDataAt_[i] != 0 ? sensorDataAt_[i] : start_;
+        const core::TimeNs silent = now - reference;
+        const bool stale = silent > limits.sensorStale[i];
+        const auto id = static_cast<std::uint8_t>(msg::fault::kSensorStale + i);
+        const core::TimeNs since = faults_.changedAt(id);
+        if (!faults_.set(id, stale, now)) {
+            continue;
+        }
+        if (stale) {
+            events_.report(events::kHealthSensorStale, core::Severity::kError,
+                           "health: fault %u: %s data stale, none for %lld ms (limit %lld ms)",
+                           static_cast<unsigned>(id), kDeviceNames[i], toMs(silent), toMs(limits.sensorStale[i]));
+        } else {
+            events_.report(events::kHealthSensorStaleCleared, core::Severity::kInfo,
+                           "health: fault %u cleared: %s data back after %lld ms stale", static_cast<unsigned>(id),
+                           kDeviceNames[i], toMs(now - since));
+        }
     }
 }
 

@@ -25,9 +25,11 @@
 //     measured on sample times, so the 10 Hz sampling adds up to 100 ms: raised at
 //     most fault_persist_ms + 100 ms after the first sample showing the
 //     condition (at the second such sample at the earliest).
-//   19 pose uncertain: initialised and positionSigmaM > pose_fault_sigma_m, or
-//     not initialised more than first_fix_wait_ms after the health task's first
-//     run; clears once initialised with positionSigmaM < pose_clear_sigma_m.
+//   19 pose uncertain: initialised and positionSigmaM > pose_fault_sigma_m or
+//     the estimate flagged inconsistent (fix_reject_limit fixes refused in a
+//     row), or not initialised more than first_fix_wait_ms after the health
+//     task's first run; clears once initialised, consistent and
+//     positionSigmaM < pose_clear_sigma_m.
 //     Judged every frame on the latest PoseEstimateMsg; raised (cleared) in the
 //     second consecutive frame that shows the condition, so at most 10 ms after
 //     the first such estimate (no fix: within first_fix_wait_ms + 20 ms).
@@ -40,6 +42,17 @@
 //   40..45 drive over-temperature: a reported (temperatureValid) motor
 //     temperature > drive_overtemp_c held fault_persist_ms on the DriveStatusMsg
 //     samples; clears below drive_overtemp_c - 5 degC held as long.
+//   36..39 sensor stale (DeviceNode IMU, power, hazard, position fix): no
+//     data from the device for its stale time (imu_stale_ms, power_stale_ms,
+//     hazard_stale_ms, fix_stale_ms), whether its heartbeat goes on (a
+//     dropout) or not (a crash also raises 7..10). Data time: the sample's CAN
+//     receive time for the IMU, power and fix messages (published only for a
+//     new sample); for the hazard detector, whose HazardMsg comes every 100 ms
+//     regardless, the time of the first HazardMsg whose detectorFrames moved
+//     (up to 100 ms late). A device never heard is judged from the health
+//     task's first run. Judged every frame: raised within stale time + 10 ms
+//     of the last data (hazard: + 110 ms); cleared in the frame its data is
+//     read again (hazard: within 100 ms).
 // Every threshold rule needs its condition on at least two samples at different
 // times (PersistenceFilter), and the heartbeat and stall rules need a timeout
 // to pass, so no fault can change state on every frame and flood the events.
@@ -81,6 +94,7 @@ struct HealthLimits {
     double poseClearSigmaM = 0.0;       // clear below
     core::TimeNs firstFixWait = 0;
     double driveOvertempC = 0.0;        // raise above; clear kOvertempClearMarginC below
+    core::TimeNs sensorStale[msg::kDeviceNodeCount] = {};  // by DeviceNode: *_stale_ms
 };
 HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise);
 
@@ -102,6 +116,11 @@ public:
     void onPower(const msg::PowerMsg& power, const HealthLimits& limits, core::TimeNs now);
     void onPose(const msg::PoseEstimateMsg& pose);  // kept for checkPose()
     void checkPose(const HealthLimits& limits, core::TimeNs now);
+    // Data from a device arrived (sampleTime: its receive time); for checkSensors().
+    void onSensorData(msg::DeviceNode device, core::TimeNs sampleTime);
+    // The hazard detector's data: new when detectorFrames moved since the last HazardMsg.
+    void onHazards(const msg::HazardMsg& hazards);
+    void checkSensors(const HealthLimits& limits, core::TimeNs now);
     // self: the health task's own row is skipped (see the .cpp).
     void checkTasks(const core::Executive& executive, const core::Task* self, const HealthLimits& limits,
                     core::TimeNs now);
@@ -127,7 +146,12 @@ private:
     core::TimeNs start_ = 0;
     bool poseSeen_ = false;
     bool poseInitialised_ = false;
+    bool poseInconsistent_ = false;
+    std::uint32_t poseRejections_ = 0;  // consecutive fixes refused, for the event text
     double poseSigmaM_ = 0.0;
+    core::TimeNs sensorDataAt_[msg::kDeviceNodeCount] = {};  // latest data time, 0: none yet
+    bool hazardFramesSeen_ = false;
+    std::uint32_t hazardFrames_ = 0;
     std::uint32_t nonFinite_ = 0;
 };
 

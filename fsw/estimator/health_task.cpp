@@ -1,5 +1,7 @@
 #include "fsw/estimator/health_task.hpp"
 
+#include <cmath>
+
 #include "fsw/estimator/health_events.hpp"
 #include "fsw/msg/msg_ids.hpp"
 
@@ -7,8 +9,9 @@ namespace rse::estimator {
 
 core::Status HealthTask::init() {
     core::Status status = bus_.createPipe("health", kPipeDepth, &pipe_);
-    const core::MsgId inputs[] = {msg::ids::kNodeStatus, msg::ids::kPower, msg::ids::kDriveStatus,
-                                  msg::ids::kPoseEstimate};
+    const core::MsgId inputs[] = {msg::ids::kNodeStatus, msg::ids::kPower,       msg::ids::kDriveStatus,
+                                  msg::ids::kPoseEstimate, msg::ids::kImu,      msg::ids::kPositionFix,
+                                  msg::ids::kHazards};
     for (core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -53,9 +56,37 @@ void HealthTask::drainInputs(const HealthLimits& limits, core::TimeNs now) {
                 decoded = inbox_.decode(&power);
                 if (core::isOk(decoded)) {
                     monitor_.onPower(power, limits, now);
+                    if (std::isfinite(power.busVoltageV) && std::isfinite(power.busCurrentA)) {
+                        monitor_.onSensorData(msg::DeviceNode::kPower, power.timeNs);
+                    }
                 }
                 break;
             }
+            // Staleness counts usable data only: a device that keeps sending
+            // samples it flags invalid leaves the estimator as blind as silence.
+            case msg::ids::kImu: {
+                msg::ImuMsg imu{};
+                decoded = inbox_.decode(&imu);
+                if (core::isOk(decoded) && imu.valid == 1 && std::isfinite(imu.yawRateRadS)) {
+                    monitor_.onSensorData(msg::DeviceNode::kImu, imu.timeNs);
+                }
+                break;
+            }
+            case msg::ids::kPositionFix: {
+                msg::PositionFixMsg fix{};
+                decoded = inbox_.decode(&fix);
+                if (core::isOk(decoded) && std::isfinite(fix.xM) && std::isfinite(fix.yM) &&
+                    std::isfinite(fix.headingRad) && std::isfinite(fix.sigmaM) && fix.sigmaM > 0.0) {
+                    monitor_.onSensorData(msg::DeviceNode::kPositionFix, fix.timeNs);
+                }
+                break;
+            }
+            case msg::ids::kHazards:
+                decoded = inbox_.decode(&hazards_);
+                if (core::isOk(decoded)) {
+                    monitor_.onHazards(hazards_);
+                }
+                break;
             default:
                 break;
         }
@@ -87,6 +118,7 @@ void HealthTask::run(const core::FrameContext& frame) {
         monitor_.onPose(pose_);
     }
     monitor_.checkPose(limits, now);
+    monitor_.checkSensors(limits, now);
     monitor_.checkTasks(executive_, this, limits, now);
 
     const bool changed = monitor_.faults().raisedTotal() + monitor_.faults().clearedTotal() != transitionsBefore;

@@ -3,7 +3,8 @@
 // (fsw/estimator/health_monitor.hpp, where the detection bounds are) and tells
 // the executive and telemetry which faults are active.
 //   in:  NodeStatusMsg, DriveStatusMsg, PoseEstimateMsg (the latest of each per
-//        run), PowerMsg (every sample, in order); the executive's task liveness
+//        run), PowerMsg (every sample, in order), ImuMsg, PositionFixMsg and
+//        HazardMsg (for the sensor-stale rules); the executive's task liveness
 //        (read directly: it is the executive's own state, not a message).
 //   out: FaultStatusMsg in every run in which a fault changed state, otherwise
 //        every kPublishPeriodRuns runs (1 s), and in the first run.
@@ -19,14 +20,16 @@
 #include "fsw/core/software_bus.hpp"
 #include "fsw/estimator/health_monitor.hpp"
 #include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::estimator {
 
 class HealthTask final : public core::Task {
 public:
-    // One of each input per frame, plus margin for a frame the task misses.
-    static constexpr std::uint16_t kPipeDepth = 8;
+    // Up to seven inputs in one frame (node, drive, pose, IMU every frame; power,
+    // hazard, fix at 10 / 10 / 1 Hz), plus margin for a frame the task misses.
+    static constexpr std::uint16_t kPipeDepth = 16;
     static constexpr std::uint32_t kPublishPeriodRuns = 100;
 
     HealthTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
@@ -65,6 +68,7 @@ private:
     msg::NodeStatusMsg nodes_{};
     msg::DriveStatusMsg drives_{};
     msg::PoseEstimateMsg pose_{};
+    msg::HazardMsg hazards_{};
     bool haveNodes_ = false;
     bool haveDrives_ = false;
     bool havePose_ = false;

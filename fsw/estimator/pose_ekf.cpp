@@ -93,6 +93,17 @@ core::Status PoseEkf::init(double xM, double yM, double thetaRad, double sigmaXy
     return core::Status::kOk;
 }
 
+core::Status PoseEkf::reanchor(double xM, double yM, double thetaRad, double sigmaXyM, double sigmaThetaRad,
+                               double sigmaBiasRadS) {
+    if (!initialised_) {
+        return core::Status::kNotInitialized;
+    }
+    const double bias = state_(kPoseBias);
+    const core::Status status = init(xM, yM, thetaRad, sigmaXyM, sigmaThetaRad, sigmaBiasRadS);
+    state_(kPoseBias) = bias;
+    return status;
+}
+
 core::Status PoseEkf::predict(double dtS, double speedMS, double omegaMeasuredRadS, bool yawFromImu,
                               const PoseProcessNoise& noise) {
     if (!initialised_) {

@@ -89,6 +89,14 @@ public:
     core::Status init(double xM, double yM, double thetaRad, double sigmaXyM, double sigmaThetaRad,
                       double sigmaBiasRadS);
 
+    // Puts position and heading at a fix with the fix's sigmas, drops every
+    // correlation and gives the bias (estimate kept) the variance sigmaBias^2,
+    // so the fixes that follow re-estimate it. For a filter whose estimate the
+    // fixes have refuted (a bias step it could not follow): kNotInitialized
+    // before init(), kInvalidArgument as init(), the filter unchanged.
+    core::Status reanchor(double xM, double yM, double thetaRad, double sigmaXyM, double sigmaThetaRad,
+                          double sigmaBiasRadS);
+
     // kNotInitialized before init(); kInvalidArgument for dt <= 0, a non-finite
     // input or a negative / non-finite noise density, the filter unchanged.
     core::Status predict(double dtS, double speedMS, double omegaMeasuredRadS, bool yawFromImu,

@@ -18,5 +18,8 @@ constexpr core::EventId kPredictionRefused = 707;   // ERROR: time went backward
 constexpr core::EventId kInputNotFinite = 708;      // WARN: non-finite wheel velocity or IMU rate ignored (throttled)
 constexpr core::EventId kImuSampleInvalid = 709;    // WARN: IMU sample flagged invalid, ignored (throttled)
 constexpr core::EventId kFixSuperseded = 710;       // INFO: two fixes in one frame, the older dropped (throttled)
+constexpr core::EventId kFixesInconsistent = 711;   // ERROR: fix_reject_limit fixes refused in a row: estimate inconsistent
+constexpr core::EventId kPoseReanchored = 712;      // WARN: estimate re-anchored on a fix (jump, bias kept, its sigma reset)
+constexpr core::EventId kFixesConsistent = 713;     // INFO: a fix passed the gate after the re-anchoring: consistent again
 
 }  // namespace rse::estimator::events

@@ -263,6 +263,9 @@ void PoseEstimatorTask::applyFix() {
                                "estimator: initialised at x %.2f y %.2f m heading %.3f rad (sigma %.3f m %.4f rad)",
                                filter_.x(), filter_.y(), filter_.heading(), sigmaXy, sigmaTheta);
             }
+        } else if (reanchorDue_) {
+            reanchorOn(fix, sigmaXy, sigmaTheta);
+            return;
         } else {
             status = filter_.updateFix(fix.xM, fix.yM, fix.headingRad, sigmaXy, sigmaTheta,
                                        static_cast<double>(t.fix_gate_chi2), &result);
@@ -277,17 +280,63 @@ void PoseEstimatorTask::applyFix() {
         }
         return;
     }
-    if (result.accepted) {
-        ++counters_.fixesAccepted;
+    if (!result.accepted) {
+        noteFixRefused(fix, result.mahalanobis2);
         return;
     }
+    ++counters_.fixesAccepted;
+    counters_.consecutiveRejections = 0;
+    if (inconsistent_ && !reanchorDue_) {
+        inconsistent_ = false;
+        events_.report(events::kFixesConsistent, core::Severity::kInfo,
+                       "estimator: fix passed the gate after the re-anchoring (d2 %.1f): estimate consistent again",
+                       result.mahalanobis2);
+    }
+}
+
+void PoseEstimatorTask::noteFixRefused(const msg::PositionFixMsg& fix, double mahalanobis2) {
+    const tables::EstimatorNoiseTable& t = tables_.estimatorNoise();
     ++counters_.fixesRejected;
+    ++counters_.consecutiveRejections;
     if (core::isReportableOccurrence(counters_.fixesRejected)) {
         events_.report(events::kFixRejectedByGate, core::Severity::kWarning,
                        "estimator: fix (%.2f, %.2f) rejected: d2 %.1f > gate %.1f (%u so far)", fix.xM, fix.yM,
-                       result.mahalanobis2, static_cast<double>(t.fix_gate_chi2),
+                       mahalanobis2, static_cast<double>(t.fix_gate_chi2),
                        static_cast<unsigned>(counters_.fixesRejected));
     }
+    // Not ==: a limit lowered by a table load below the count so far still applies.
+    if (counters_.consecutiveRejections < t.fix_reject_limit || reanchorDue_) {
+        return;
+    }
+    reanchorDue_ = true;
+    ++counters_.inconsistencies;
+    inconsistent_ = true;
+    events_.report(events::kFixesInconsistent, core::Severity::kError,
+                   "estimator: %u fixes refused in a row (last d2 %.1f): estimate inconsistent, re-anchoring",
+                   static_cast<unsigned>(counters_.consecutiveRejections), mahalanobis2);
+}
+
+void PoseEstimatorTask::reanchorOn(const msg::PositionFixMsg& fix, double sigmaXy, double sigmaTheta) {
+    const tables::EstimatorNoiseTable& t = tables_.estimatorNoise();
+    const double fromX = filter_.x();
+    const double fromY = filter_.y();
+    const double fromHeading = filter_.heading();
+    const core::Status status = filter_.reanchor(fix.xM, fix.yM, fix.headingRad, sigmaXy, sigmaTheta,
+                                                 static_cast<double>(t.initial_gyro_bias_sigma_rad_s));
+    if (!core::isOk(status)) {
+        ++counters_.fixesInvalid;  // the fix passed the checks above, so only the table can make this happen
+        events_.report(events::kFixInvalid, core::Severity::kWarning, "estimator: re-anchoring refused (%s)",
+                       core::toString(status));
+        return;
+    }
+    reanchorDue_ = false;
+    counters_.consecutiveRejections = 0;
+    ++counters_.reanchors;
+    ++counters_.fixesAccepted;
+    events_.report(events::kPoseReanchored, core::Severity::kWarning,
+                   "estimator: re-anchored at (%.2f, %.2f): moved %.2f m, %.3f rad; bias %.4f rad/s kept",
+                   fix.xM, fix.yM, std::hypot(fix.xM - fromX, fix.yM - fromY),
+                   wrapAngle(fix.headingRad - fromHeading), filter_.gyroBias());
 }
 
 void PoseEstimatorTask::publish(core::TimeNs now) {
@@ -323,6 +372,9 @@ void PoseEstimatorTask::publish(core::TimeNs now) {
     m.fixesInvalid = counters_.fixesInvalid;
     m.imuStaleCount = counters_.imuStale;
     m.yawFromImu = yawFromImu_ ? 1 : 0;
+    m.consecutiveFixRejections = counters_.consecutiveRejections;
+    m.reanchors = counters_.reanchors;
+    m.inconsistent = inconsistent_ ? 1 : 0;
     (void)bus_.publish(m);
 }
 

@@ -26,6 +26,18 @@
 //     the filter (bias 0 +- initial_gyro_bias_sigma_rad_s, event 700); later
 //     ones pass the fix_gate_chi2 Mahalanobis gate or are rejected (event
 //     701), never moving the estimate.
+//     Refused fixes in a row are counted; the fix_reject_limit'th marks the
+//     estimate inconsistent (event 711): the fixes refute it, so its
+//     covariance is too small for its real error (a gyro bias step the bias
+//     walk cannot follow, slip beyond the model) and every later fix would be
+//     refused too. The next valid fix then re-anchors the filter (event 712):
+//     position and heading from the fix as at initialisation, the bias
+//     estimate kept but its sigma back to initial_gyro_bias_sigma_rad_s so the
+//     following fixes re-estimate it. The estimate stays inconsistent until a
+//     fix passes the gate again (event 713). A burst of outliers shorter than
+//     the limit is refused and never moves the estimate; a source that stays
+//     offset longer than the limit is believed over the filter, with the
+//     pose-uncertainty fault raised meanwhile.
 //  4. Publishes PoseEstimateMsg (before initialisation: initialised = 0, zero
 //     pose, 1e6 on the covariance diagonal).
 // The estimator noise and rover geometry tables are read every run.
@@ -66,6 +78,9 @@ struct PoseEstimatorCounters {
     std::uint32_t malformed = 0;           // bus messages that did not decode
     std::uint32_t notFinite = 0;           // non-finite wheel velocities or IMU rates ignored
     std::uint32_t imuInvalid = 0;          // IMU samples flagged invalid
+    std::uint32_t consecutiveRejections = 0;  // fixes refused by the gate since the last one taken
+    std::uint32_t inconsistencies = 0;     // times fix_reject_limit refusals in a row were reached
+    std::uint32_t reanchors = 0;           // fixes the filter was re-anchored on
 };
 
 class PoseEstimatorTask final : public core::Task {
@@ -81,6 +96,7 @@ public:
     const msg::PoseEstimateMsg& latest() const { return latest_; }
     const PoseEstimatorCounters& counters() const { return counters_; }
     bool yawFromImu() const { return yawFromImu_; }
+    bool inconsistent() const { return inconsistent_; }
 
 private:
     struct Odometry {
@@ -96,6 +112,8 @@ private:
     Odometry odometry(core::TimeNs now) const;
     void predictTo(core::TimeNs now);
     void applyFix();
+    void noteFixRefused(const msg::PositionFixMsg& fix, double mahalanobis2);
+    void reanchorOn(const msg::PositionFixMsg& fix, double sigmaXy, double sigmaTheta);
     void publish(core::TimeNs now);
     void countNotFinite(const char* what);
 
@@ -118,6 +136,8 @@ private:
     bool yawFromImu_ = true;  // assumed until the first prediction says otherwise
     double speedMS_ = 0.0;    // inputs of the last prediction, published
     double yawRateRadS_ = 0.0;
+    bool inconsistent_ = false;    // the fixes refuted the estimate (see step 3)
+    bool reanchorDue_ = false;     // the next valid fix re-anchors the filter
 
     PoseEstimatorCounters counters_;
     msg::PoseEstimateMsg latest_{};

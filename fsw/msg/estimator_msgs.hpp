@@ -25,9 +25,15 @@ struct PoseEstimateMsg {
     std::uint32_t fixesRejected;  // by the Mahalanobis gate (outliers)
     std::uint32_t fixesInvalid;   // malformed (non-finite, sigma not positive)
     std::uint32_t imuStaleCount;  // predictions that used the wheel yaw rate because the IMU was stale
+    std::uint32_t consecutiveFixRejections;  // fixes refused by the gate since the last one taken
+    std::uint32_t reanchors;      // times the filter was re-anchored on a fix after fix_reject_limit refusals
     std::uint8_t initialised;     // 0 until the first accepted position fix
     std::uint8_t yawFromImu;      // 1: the last prediction used the IMU, 0: the wheels
-    std::uint8_t pad[6];
+    // 1 from the fix_reject_limit'th fix refused in a row until, after the
+    // re-anchoring, a fix passes the gate again: the estimate disagrees with
+    // the fixes, so its covariance cannot be trusted (health raises fault 19).
+    std::uint8_t inconsistent;
+    std::uint8_t pad[5];
 };
 
 }  // namespace rse::msg

@@ -43,11 +43,15 @@ struct HazardSightingTlm {
     std::uint8_t pad[7];
 };
 
+// Published every 100 ms whether the detector spoke or not (sightings expire
+// after 1 s), so the sightings alone cannot show a silent detector:
+// detectorFrames can (health judges staleness on it).
 struct HazardMsg {
     static constexpr core::MsgId kMsgId = ids::kHazards;
     std::int64_t timeNs;
     std::uint8_t count;
-    std::uint8_t pad[7];
+    std::uint8_t pad[3];
+    std::uint32_t detectorFrames;  // frames accepted from the detector since start (sightings and "clear" reports)
     HazardSightingTlm sightings[kMaxHazardsInMsg];
 };
 

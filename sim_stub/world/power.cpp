@@ -49,6 +49,12 @@ void Battery::step(double dtS, double timeS, double motorCurrentSumA) {
     // Base load at the previous voltage: an explicit step, no implicit solve.
     baseCurrent_ = voltage_ > 1.0 ? params_.baseLoadW / voltage_ : 0.0;
     busCurrent_ = motorCurrent_ + baseCurrent_ - solarCurrent_;
+    if (busCurrent_ < 0.0 && soc_ >= 1.0) {
+        // Full: the shunt regulator sheds what the loads do not take, so a
+        // strong array cannot push the pack above its full voltage.
+        solarCurrent_ = motorCurrent_ + baseCurrent_;
+        busCurrent_ = 0.0;
+    }
     if (dtS > 0.0) {
         const double capacityAs = params_.capacityAh * 3600.0;
         soc_ = clamp01(soc_ - busCurrent_ * dtS / capacityAs);

@@ -5,6 +5,12 @@
 // converters are lossless; no regeneration: a negative motor current counts as
 // its magnitude). The avionics base load is a constant power.
 // State of charge: dQ/dt = -I_bus, SoC = Q / capacity, clamped to [0, 1].
+// Recharge: whenever the array gives more than the loads draw, I_bus < 0 and
+// the pack charges, at rest or driving (a scenario sets the array's current:
+// the default 1 A array against the 25 W base load nets about zero, so a
+// recharge test needs a stronger one, e.g. scenarios/low_battery.toml). A full
+// pack (SoC 1) takes no charge: a shunt regulator sheds the surplus, so
+// solarCurrentA() is then what the loads use and I_bus = 0.
 // Voltage: V = OCV(SoC) - R_int * I_bus, with OCV piecewise linear through
 //   SoC 0 -> 22.0 V, 0.1 -> 25.2 V, 0.5 -> 27.0 V, 0.9 -> 28.4 V, 1.0 -> 29.4 V
 // (a 7-cell Li-ion pack on a nominal 28 V bus).

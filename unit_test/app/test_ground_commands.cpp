@@ -383,17 +383,21 @@ TEST(GroundCommands, MalformedBusMessagesAreCountedNotSilentlyDropped) {
 // uninitialised and the health monitor raises pose-uncertain once the first-fix
 // wait (3 s) is over; HEALTH goes down when it changes and at 1 Hz. The six
 // drives never boot either: past CAN_NODE_MAP.drive_boot_timeout_ms (3 s) they
-// are reported lost, so their heartbeat faults are raised too.
+// are reported lost, so their heartbeat faults are raised too. No device
+// ever sends data either, so each one's sensor-stale fault (36..39) comes up
+// after its own stale time (0.2 to 3 s, ESTIMATOR_NOISE).
 TEST(GroundCommands, RoverStateAndHealthReportTheEstimatorAndFaults) {
+    const std::uint64_t staleBits = std::uint64_t{0xF} << msg::fault::kSensorStale;
     runFrames(250);
     const Packet& early = last("HEALTH");
-    LONGS_EQUAL(0, static_cast<long>(field(early, "active_faults")));
+    const auto earlyMask = static_cast<std::uint64_t>(field(early, "active_faults"));
+    CHECK((earlyMask & ~staleBits) == 0);
     LONGS_EQUAL(0, static_cast<long>(field(last("ROVER_STATE"), "estimate_valid")));
     const std::size_t before = countOf("HEALTH");
     runFrames(100);  // past 3 s
     CHECK(countOf("HEALTH") >= before + 1);
     const Packet& health = last("HEALTH");
-    std::uint64_t expected = std::uint64_t{1} << msg::fault::kPoseUncertain;
+    std::uint64_t expected = (std::uint64_t{1} << msg::fault::kPoseUncertain) | staleBits;
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         expected |= std::uint64_t{1} << (msg::fault::kDriveHeartbeatLost + w);
     }

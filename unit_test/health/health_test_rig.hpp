@@ -1,7 +1,7 @@
 // The health suite's rig: a real executive on a virtual clock running, in
 // order, a feed task standing in for the CAN I/O and pose estimator tasks (a
 // real heartbeat consumer fed with heartbeat frames, drive status, power at
-// 10 Hz, pose every frame), an idle 100 Hz worker, the health task, an idle
+// 10 Hz, pose and IMU every frame, a fix at 1 Hz, hazards at 10 Hz), an idle 100 Hz worker, the health task, an idle
 // 10 Hz task and an idle 100 Hz task after the health task. Nothing here
 // touches the heap after construction, so the zero-allocation test can use it.
 #pragma once
@@ -93,6 +93,27 @@ public:
             pose.timeNs = now;
             (void)bus_.publish(pose);
         }
+        // Sensor data as CAN I/O publishes it: IMU every frame, a fix at 1 Hz,
+        // HazardMsg every 100 ms with the detector's frame count, which moves
+        // only when the detector speaks (1 Hz here: its "clear" reports).
+        if (publishImu) {
+            const msg::ImuMsg imu{now, 0.0, 1, {}};
+            (void)bus_.publish(imu);
+            lastImuSample = now;
+        }
+        if (publishFix && frame.frame % 100 == 50) {
+            const msg::PositionFixMsg fix{now, 1.0, 2.0, 0.0, 0.05};
+            (void)bus_.publish(fix);
+            lastFixSample = now;
+        }
+        if (frame.frame % 10 == 0) {
+            if (hazardSpeaks && frame.frame % 100 == 0) {
+                ++hazard.detectorFrames;
+                lastHazardFrame = now;
+            }
+            hazard.timeNs = now;
+            (void)bus_.publish(hazard);
+        }
     }
 
     bool alive[msg::kMonitoredNodeCount];
@@ -106,6 +127,13 @@ public:
     bool publishDrives = true;
     bool publishPower = true;
     bool publishPose = true;
+    bool publishImu = true;
+    bool publishFix = true;
+    bool hazardSpeaks = true;
+    core::TimeNs lastImuSample = 0;
+    core::TimeNs lastFixSample = 0;
+    core::TimeNs lastHazardFrame = 0;
+    msg::HazardMsg hazard{};
 
 private:
     core::SoftwareBus& bus_;

@@ -99,7 +99,7 @@ TEST(FaultBook, CountsTransitionsOnlyAndRemembersTheLastOne) {
 TEST(FaultBook, IgnoresIdsOutsideTheCatalogue) {
     FaultBook book;
     CHECK_FALSE(book.set(0, true, 1));
-    CHECK_FALSE(book.set(36, true, 1));
+    CHECK_FALSE(book.set(rse::msg::fault::kCount, true, 1));  // one past the last id
     CHECK_FALSE(book.isActive(0));
     LONGS_EQUAL(0, book.raisedTotal());
     CHECK(book.activeMask() == 0);

@@ -302,3 +302,39 @@ TEST(PoseEkfRefusals, BadFixesLeaveTheFilterUnchanged) {
     CHECK_TRUE(s == ekf.state());
     CHECK_TRUE(p == ekf.covariance());
 }
+
+TEST_GROUP(PoseEkfReanchor){};
+
+// Re-anchoring: the pose from the fix as at initialisation, the bias estimate
+// kept with the given sigma, every correlation gone.
+TEST(PoseEkfReanchor, TakesThePoseFromTheFixKeepsTheBiasAndResetsTheCovariance) {
+    PoseEkf ekf;
+    CHECK_TRUE(Status::kNotInitialized == ekf.reanchor(1.0, 2.0, 0.3, 0.05, 0.005, 0.01));
+    CHECK_TRUE(Status::kOk == ekf.init(0.0, 0.0, 0.0, 0.05, 0.005, 0.01));
+    const PoseProcessNoise noise = rse::test::defaultTableNoise();
+    for (int i = 0; i < 500; ++i) {  // turning on a biased IMU: correlations build up
+        CHECK_TRUE(Status::kOk == ekf.predict(0.01, 0.2, 0.05, true, noise));
+    }
+    FixUpdateResult r;
+    CHECK_TRUE(Status::kOk == ekf.updateFix(ekf.x(), ekf.y(), ekf.heading() + 0.01, 0.05, 0.005, 16.27, &r));
+    CHECK_TRUE(r.accepted);
+    const double bias = ekf.gyroBias();
+    CHECK(std::fabs(bias) > 1e-4);
+    CHECK(std::fabs(ekf.covariance()(kPoseTheta, kPoseBias)) > 0.0);
+
+    const PoseState before = ekf.state();
+    CHECK_TRUE(Status::kInvalidArgument == ekf.reanchor(1.0, 2.0, 0.3, -1.0, 0.005, 0.02));
+    CHECK_TRUE(before == ekf.state());
+
+    CHECK_TRUE(Status::kOk == ekf.reanchor(1.0, 2.0, 0.3, 0.05, 0.005, 0.02));
+    DOUBLES_EQUAL(1.0, ekf.x(), 0.0);
+    DOUBLES_EQUAL(2.0, ekf.y(), 0.0);
+    DOUBLES_EQUAL(0.3, ekf.heading(), 1e-15);
+    DOUBLES_EQUAL(bias, ekf.gyroBias(), 0.0);
+    PoseCovariance expected = PoseCovariance::Zero();
+    expected(kPoseX, kPoseX) = 0.05 * 0.05;
+    expected(kPoseY, kPoseY) = 0.05 * 0.05;
+    expected(kPoseTheta, kPoseTheta) = 0.005 * 0.005;
+    expected(kPoseBias, kPoseBias) = 0.02 * 0.02;
+    CHECK_TRUE(expected == ekf.covariance());
+}

@@ -406,3 +406,124 @@ TEST(PoseEstimatorTask, TenThousandRunsAllocateNothing) {
     CHECK_TRUE(task.counters().imuStale > 0);
     LONGS_EQUAL(9, task.counters().yawSourceSwitches);  // to wheels and back 4 times, the 5th outage runs to the end
 }
+
+namespace {
+
+void activateNoise(tables::TableService& service, const tables::EstimatorNoiseTable& t) {
+    std::vector<std::uint8_t> image(tables::kMaxTableImageSize);
+    image.resize(tables::encodeTable(t, 2, image.data(), image.size()));
+    CHECK_TRUE(service.loadChunk(tables::TableId::kEstimatorNoise, 0, image.data(), image.size()).ok());
+    CHECK_TRUE(service.validate(tables::TableId::kEstimatorNoise).ok());
+    CHECK_TRUE(service.activate(tables::TableId::kEstimatorNoise).ok());
+    service.run(core::FrameContext{});
+}
+
+}  // namespace
+
+// Fewer outliers in a row than fix_reject_limit are refused and move nothing;
+// the limit'th refusal marks the estimate inconsistent, the next fix re-anchors
+// it, and a fix passing the gate after that makes it consistent again.
+TEST(PoseEstimatorTask, FixesRefusedInARowMarkTheEstimateInconsistentAndTheNextReanchorsIt) {
+    const unsigned limit = tables.estimatorNoise().fix_reject_limit;
+    LONGS_EQUAL(3, limit);
+    initialiseAt(0.0, 0.0, 0.0);
+    runFrames(99);
+    for (unsigned i = 0; i + 1 < limit; ++i) {  // a short burst of outliers: refused, nothing else
+        publishFix(2.0, 0.0, 0.0, 0.05);
+        runFrames(100);
+    }
+    LONGS_EQUAL(limit - 1, lastPublished.consecutiveFixRejections);
+    LONGS_EQUAL(0, lastPublished.inconsistent);
+    publishFix(0.0, 0.0, 0.0, 0.05);
+    runFrames(100);
+    LONGS_EQUAL(0, lastPublished.consecutiveFixRejections);
+    LONGS_EQUAL(0, eventsWithId(ev::kFixesInconsistent));
+
+    // The source now says the rover is 2 m east, fix after fix.
+    const estimator::PoseState before = task.filter().state();
+    for (unsigned i = 0; i < limit; ++i) {
+        publishFix(2.0, 0.0, 0.0, 0.05);
+        runFrame();
+        LONGS_EQUAL(i + 1, lastPublished.consecutiveFixRejections);
+        LONGS_EQUAL(i + 1 == limit ? 1 : 0, lastPublished.inconsistent);
+        runFrames(99);
+    }
+    CHECK_TRUE(before == task.filter().state());  // refused fixes never move it
+    const test::DrainedEvents flagged = test::drainEvents(events, ev::kFixesInconsistent);
+    LONGS_EQUAL(1, flagged.count);
+    CHECK_TRUE(flagged.text.find("3 fixes refused in a row") != std::string::npos);
+
+    publishFix(2.0, 0.0, 0.0, 0.05);  // re-anchors: taken without the gate
+    runFrame();
+    DOUBLES_EQUAL(2.0, task.filter().x(), 1e-9);
+    LONGS_EQUAL(1, lastPublished.reanchors);
+    LONGS_EQUAL(0, lastPublished.consecutiveFixRejections);
+    LONGS_EQUAL(1, lastPublished.inconsistent);  // not confirmed yet
+    const test::DrainedEvents reanchored = test::drainEvents(events, ev::kPoseReanchored);
+    LONGS_EQUAL(1, reanchored.count);
+    CHECK_TRUE(reanchored.text.find("moved 2.00 m") != std::string::npos);
+    // Position and heading as at initialisation; the bias sigma back to its initial value.
+    const double floor = static_cast<double>(tables.estimatorNoise().position_fix_sigma_floor_m);
+    const double biasSigma = static_cast<double>(tables.estimatorNoise().initial_gyro_bias_sigma_rad_s);
+    DOUBLES_EQUAL(0.05 * 0.05, task.filter().covariance()(0, 0), 1e-12);
+    CHECK_TRUE(floor < 0.05);
+    DOUBLES_EQUAL(biasSigma * biasSigma, task.filter().covariance()(3, 3), 1e-12);
+
+    runFrames(99);
+    publishFix(2.0, 0.0, 0.0, 0.05);  // agrees with the re-anchored estimate: consistent again
+    runFrame();
+    LONGS_EQUAL(0, lastPublished.inconsistent);
+    LONGS_EQUAL(1, eventsWithId(ev::kFixesConsistent));
+}
+
+// The failure the limit exists for: a gyro bias step far beyond what the bias
+// walk lets the filter follow. Standing still at the origin, the IMU suddenly
+// reads 0.02 rad/s. Without recovery every fix is refused from then on; with
+// it the filter re-anchors, re-estimates the bias and takes the fixes again.
+TEST(PoseEstimatorTask, AfterABiasStepItReanchorsReestimatesTheBiasAndTakesTheFixesAgain) {
+    initialiseAt(0.0, 0.0, 0.0);
+    for (int s = 0; s < 300; ++s) {  // five minutes of fixes: the bias sigma shrinks
+        runFrames(99);
+        publishFix(0.0, 0.0, 0.0, 0.05);
+        runFrame();
+    }
+    CHECK_TRUE(std::sqrt(task.filter().covariance()(3, 3)) < 0.001);
+    imuRate = 0.02;
+    std::uint32_t worstRun = 0;
+    for (int s = 0; s < 120; ++s) {
+        runFrames(99);
+        publishFix(0.0, 0.0, 0.0, 0.05);
+        runFrame();
+        worstRun = std::max(worstRun, lastPublished.consecutiveFixRejections);
+    }
+    CHECK_TRUE(task.counters().fixesRejected >= tables.estimatorNoise().fix_reject_limit);
+    LONGS_EQUAL(tables.estimatorNoise().fix_reject_limit, worstRun);
+    CHECK_TRUE(lastPublished.reanchors >= 1);
+    LONGS_EQUAL(0, lastPublished.inconsistent);
+    DOUBLES_EQUAL(0.02, task.filter().gyroBias(), 0.001);
+    DOUBLES_EQUAL(0.0, task.filter().heading(), 0.01);
+    // The last minute: every fix taken.
+    const std::uint32_t rejected = task.counters().fixesRejected;
+    for (int s = 0; s < 60; ++s) {
+        runFrames(99);
+        publishFix(0.0, 0.0, 0.0, 0.05);
+        runFrame();
+    }
+    LONGS_EQUAL(rejected, task.counters().fixesRejected);
+}
+
+TEST(PoseEstimatorTask, TheRejectLimitIsReadFromTheActiveTable) {
+    tables::EstimatorNoiseTable t = tables.estimatorNoise();
+    t.fix_reject_limit = 5;
+    activateNoise(tables, t);
+    initialiseAt(0.0, 0.0, 0.0);
+    for (int i = 0; i < 4; ++i) {
+        publishFix(2.0, 0.0, 0.0, 0.05);
+        runFrames(100);
+    }
+    LONGS_EQUAL(4, lastPublished.consecutiveFixRejections);
+    LONGS_EQUAL(0, lastPublished.inconsistent);
+    publishFix(2.0, 0.0, 0.0, 0.05);
+    runFrame();
+    LONGS_EQUAL(1, lastPublished.inconsistent);
+}
