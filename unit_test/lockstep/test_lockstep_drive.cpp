@@ -102,7 +102,9 @@ TEST(LockstepDrive, MotorFailureIsReportedAndEveryOtherWheelIsStopped) {
     CHECK(msg::DriveHealth::kFailed == rig->driveStatus().wheels[1].health);
     LONGS_EQUAL(1, rig->driveStatus().interlockTripped);
     LONGS_EQUAL(1, rig->consoleCount("EVT 601 CRIT  reflexive: wheel 1 drive unhealthy"));  // interlock
-    LONGS_EQUAL(1, rig->consoleCount("EVT 434 CRIT  drive ML (node 2): still faulted after 3 resets (EMCY 0x5000)"));
+    // Fault protection then asks for another round of resets (and node resets
+    // after it), so the "still faulted" report may come more than once.
+    CHECK(rig->consoleCount("EVT 434 CRIT  drive ML (node 2): still faulted after 3 resets (EMCY 0x5000)") >= 1);
     LONGS_EQUAL(1, rig->consoleCount("EVT 406 ERROR drive ML (node 2): EMCY 0x5000"));
     // RESET_INTERLOCK (its bus message, as the command handlers publish it) is
     // refused while the failed drive stays unhealthy: the hold stays.

@@ -1,0 +1,145 @@
+// Lockstep: whole missions (rse-demo's runner: the flight software and the
+// simulator on one virtual clock, SET_MODE AUTONOMOUS and GOTO (20, 0) from the
+// ground) with one fault each, injected by the simulator's fault scheduler:
+// fault protection's response is seen in its events and its mission hold, and
+// the rover reaches its goal where the fault is recoverable (issue 13). The
+// demo's own motor faults are left out; each test adds its fault to the demo
+// scenario. RSE_PRINT_CONSOLE=1 prints each mission's console.
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "fsw/msg/health_msgs.hpp"
+#include "sim_stub/lockstep/mission_runner.hpp"
+#include "sim_stub/scenario/scenario.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using sim::FaultSpec;
+using sim::FaultType;
+using sim::MissionOptions;
+using sim::MissionOutcome;
+using sim::MissionSummary;
+using sim::Scenario;
+
+namespace {
+
+constexpr core::TimeNs kS = core::kNsPerSec;
+
+core::TimeNs at(double seconds) { return static_cast<core::TimeNs>(seconds * 1e9); }
+
+bool printConsole() { return std::getenv("RSE_PRINT_CONSOLE") != nullptr; }
+
+// The demo mission without its faults, plus `faults`; another scenario file when given.
+MissionSummary runWith(std::vector<FaultSpec> faults, double durationS = 300.0,
+                       const char* scenario = sim::kDefaultMissionScenario) {
+    MissionOptions o;
+    const char* argv[] = {"rse-demo", "--no-faults", "--scenario", scenario};
+    std::string error;
+    if (sim::parseMissionArgs(4, argv, &o, &error) != sim::ParseOutcome::kRun) {
+        std::printf("\nbad options: %s\n", error.c_str());
+        return MissionSummary{};
+    }
+    o.durationS = durationS;
+    o.quiet = !printConsole();
+    o.editScenario = [faults](Scenario& s) {
+        for (const FaultSpec& f : faults) {
+            s.faults.push_back(f);
+        }
+    };
+    return sim::runMission(o, printConsole() ? stdout : nullptr);
+}
+
+void report(const char* what, const MissionSummary& s) {
+    std::printf("\n  %s: %s at %.1f s (%s), %.2f m from the goal, %u collisions; fault protection: %u responses, "
+                "%u recovered, %u gave up, %u actions, %u holds released, first response %.2f s, last resume %.2f s",
+                what, sim::toString(s.outcome), s.outcomeTimeS, s.callHomeText.c_str(), s.goalDistanceM,
+                static_cast<unsigned>(s.collisions), static_cast<unsigned>(s.responsesStarted),
+                static_cast<unsigned>(s.responsesRecovered), static_cast<unsigned>(s.responsesGaveUp),
+                static_cast<unsigned>(s.recoveryActions), static_cast<unsigned>(s.holdsReleased), s.firstResponseTimeS,
+                s.lastResumeTimeS);
+}
+
+void checkReachedAfterResponse(const MissionSummary& s, double faultAtS) {
+    CHECK_TRUE_TEXT(s.outcome == MissionOutcome::kGoalReached, s.callHomeText.c_str());
+    CHECK(s.goalDistanceM < 0.6);
+    LONGS_EQUAL(0, s.collisions);
+    CHECK(s.responsesStarted >= 1);
+    CHECK(s.responsesRecovered >= 1);
+    LONGS_EQUAL(0, s.responsesGaveUp);
+    CHECK(s.holdsReleased >= 1);
+    CHECK(s.firstHoldTimeS >= faultAtS);
+    CHECK(s.lastResumeTimeS > s.firstHoldTimeS);
+}
+
+FaultSpec wheelFault(FaultType type, std::size_t wheel, double atS, double untilS = -1.0, double value = 0.0) {
+    FaultSpec f;
+    f.type = type;
+    f.wheel = wheel;
+    f.at = at(atS);
+    f.until = untilS < 0.0 ? sim::kNever : at(untilS);
+    f.value = value;
+    return f;
+}
+
+}  // namespace
+
+TEST_GROUP(LockstepFaultProtection){};
+
+TEST(LockstepFaultProtection, AShortDriveHeartbeatGapIsRiddenOutAndTheGoalReached) {
+    const MissionSummary s = runWith({wheelFault(FaultType::kDriveHeartbeatLoss, 2, 20.0, 20.2)});
+    report("heartbeat gap 0.2 s on RL at 20 s", s);
+    checkReachedAfterResponse(s, 20.0);
+}
+
+TEST(LockstepFaultProtection, ADriveThatCrashesAndRestartsIsBroughtBackAndTheGoalReached) {
+    const MissionSummary s = runWith({wheelFault(FaultType::kDriveCrash, 4, 20.0, 22.0)});
+    report("drive MR crash at 20 s, restart at 22 s", s);
+    checkReachedAfterResponse(s, 20.0);
+}
+
+TEST(LockstepFaultProtection, ADriveFaultIsResetAndTheGoalReached) {
+    FaultSpec f = wheelFault(FaultType::kDriveFault, 0, 25.0);
+    f.cobId = 0x2310;  // EMCY: current, device output side
+    const MissionSummary s = runWith({f});
+    report("drive FL fault (EMCY 0x2310) at 25 s", s);
+    checkReachedAfterResponse(s, 25.0);
+}
+
+TEST(LockstepFaultProtection, AHazardDetectorDropoutHoldsTheRoverUntilItSeesAgain) {
+    FaultSpec f;
+    f.type = FaultType::kSensorDropout;
+    f.device = sim::SimDevice::kHazard;
+    f.at = at(30.0);
+    f.until = at(45.0);
+    const MissionSummary s = runWith({f});
+    report("hazard detector silent 30-45 s", s);
+    checkReachedAfterResponse(s, 30.0);
+    CHECK(s.lastResumeTimeS >= 45.0);  // never drove on blind
+}
+
+TEST(LockstepFaultProtection, AnImuBiasStepIsHeldThroughUntilThePoseIsTrustedAgain) {
+    FaultSpec f;
+    f.type = FaultType::kImuBiasStep;
+    f.at = at(20.0);
+    f.value = 0.005;
+    const MissionSummary s = runWith({f});
+    report("IMU bias step 0.005 rad/s at 20 s", s);
+    checkReachedAfterResponse(s, 20.0);
+}
+
+TEST(LockstepFaultProtection, ALowBatteryHoldsTheRoverUntilTheSunRechargesIt) {
+    const MissionSummary s = runWith({}, 1500.0, "sim_stub/scenarios/low_battery.toml");
+    report("2 % charge at start, 8 A array", s);
+    checkReachedAfterResponse(s, 0.0);
+    CHECK(s.lastResumeTimeS > 300.0);  // it waited to charge, not drove on
+}
+
+TEST(LockstepFaultProtection, AnOverheatingMotorStopsTheRoverUntilItCools) {
+    const MissionSummary s = runWith({wheelFault(FaultType::kMotorOverheat, 3, 10.0, -1.0, 20.0)}, 900.0);
+    report("FR motor heats 20x faster from 10 s", s);
+    CHECK(s.responsesStarted >= 1);
+    CHECK(s.holdsReleased >= 1);
+    LONGS_EQUAL(0, s.collisions);
+}
