@@ -316,6 +316,11 @@ $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEF
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
 
+# The fault-recovery benchmark runs whole missions through the ground link (the ground library).
+$(BUILD)/bin/bench_fault_recovery: $(BUILD)/obj/unit_test/bench/bench_fault_recovery.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
 # The chance-constrained reference benchmark: CBC's exact MILP (host only).
 $(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)

@@ -113,6 +113,9 @@ public:
                 if (h.reasons != 0 && firstHoldNs_ < 0) {
                     firstHoldNs_ = h.timeNs;
                 }
+                if ((h.reasons != 0) != (hold_.reasons != 0)) {
+                    mark(h.reasons != 0 ? MarkKind::kHoldSet : MarkKind::kHoldReleased, 0, h.timeNs);
+                }
                 if (h.resumeCount != hold_.resumeCount) {
                     lastResumeNs_ = h.timeNs;
                 }
@@ -133,6 +136,16 @@ public:
                 ++responses_;
                 firstResponseNs_ = firstResponseNs_ < 0 ? e.time : firstResponseNs_;
             }
+            const bool raise = e.id >= 720 && e.id < 738 && e.id % 2 == 0;  // health raise events
+            if (raise) {
+                mark(MarkKind::kFaultRaised, e.id, e.time);
+            } else if (e.id == fp::kResponseStarted) {
+                mark(MarkKind::kResponseStarted, e.id, e.time);
+            } else if (e.id == fp::kDriveAction || e.id == fp::kTaskRestart) {
+                mark(MarkKind::kRecoveryAction, e.id, e.time);
+            } else if (e.id == fp::kGaveUp) {
+                mark(MarkKind::kGaveUp, e.id, e.time);
+            }
             recovered_ += e.id == fp::kRecovered ? 1 : 0;
             gaveUp_ += e.id == fp::kGaveUp ? 1 : 0;
             actions_ += e.id == fp::kDriveAction || e.id == fp::kTaskRestart ? 1 : 0;
@@ -148,6 +161,9 @@ public:
         s->firstResponseTimeS = firstResponseNs_ < 0 ? -1.0 : seconds(firstResponseNs_);
         s->firstHoldTimeS = firstHoldNs_ < 0 ? -1.0 : seconds(firstHoldNs_);
         s->lastResumeTimeS = lastResumeNs_ < 0 ? -1.0 : seconds(lastResumeNs_);
+        s->marks = marks_;
+        s->markCount = markCount_;
+        s->marksDropped = marksDropped_;
     }
     bool faultProtectionCalledHome() const { return fpCalledHome_; }
     // The call home in the flight software's words (its CRITICAL event), from
@@ -184,6 +200,17 @@ private:
     bool fpCalledHome_ = false;
     std::uint32_t responses_ = 0, recovered_ = 0, gaveUp_ = 0, actions_ = 0;
     core::TimeNs firstResponseNs_ = -1, firstHoldNs_ = -1, lastResumeNs_ = -1;
+    std::array<MissionMark, kMissionMarks> marks_{};
+    std::size_t markCount_ = 0;
+    std::size_t marksDropped_ = 0;
+
+    void mark(MarkKind kind, std::uint16_t id, core::TimeNs t) {
+        if (markCount_ < marks_.size()) {
+            marks_[markCount_++] = MissionMark{kind, id, seconds(t)};
+        } else {
+            ++marksDropped_;
+        }
+    }
 };
 
 // The demo's own lines, stamped like the console's.
@@ -227,6 +254,15 @@ MissionSummary setupFailed(MissionSummary summary, const std::string& why) {
 }
 
 }  // namespace
+
+const MissionMark* MissionSummary::firstMark(MarkKind kind, double timeS) const {
+    for (std::size_t i = 0; i < markCount; ++i) {
+        if (marks[i].kind == kind && marks[i].timeS >= timeS) {
+            return &marks[i];
+        }
+    }
+    return nullptr;
+}
 
 const char* toString(MissionOutcome outcome) {
     switch (outcome) {

@@ -11,6 +11,7 @@
 // Host side (sim_stub/): full language; rse-fsw never links it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
@@ -56,6 +57,22 @@ enum class MissionOutcome : std::uint8_t {
 };
 const char* toString(MissionOutcome outcome);
 
+// A moment of fault handling the operator can see: what happened and when.
+enum class MarkKind : std::uint8_t {
+    kFaultRaised,      // a health raise event (720..738, even ids)
+    kResponseStarted,  // fault protection event 930
+    kRecoveryAction,   // 931 (drive fault reset / node reset) or 935 (task restart)
+    kHoldSet,          // MissionHoldMsg reasons went from 0 to non-zero
+    kHoldReleased,     // ... back to 0
+    kGaveUp,           // 933
+};
+struct MissionMark {
+    MarkKind kind = MarkKind::kFaultRaised;
+    std::uint16_t eventId = 0;
+    double timeS = 0.0;
+};
+constexpr std::size_t kMissionMarks = 256;  // the first ones are kept; marksDropped counts the rest
+
 struct MissionSummary {
     MissionOutcome outcome = MissionOutcome::kSetupFailed;
     std::string setupError;
@@ -97,6 +114,11 @@ struct MissionSummary {
     double firstResponseTimeS = -1.0;        // first event 930 (-1: none)
     double firstHoldTimeS = -1.0;            // first MissionHoldMsg with a reason set
     double lastResumeTimeS = -1.0;           // last hold release
+    std::array<MissionMark, kMissionMarks> marks{};  // in time order
+    std::size_t markCount = 0;
+    std::size_t marksDropped = 0;
+    // The first mark of a kind at or after timeS (nullptr: none).
+    const MissionMark* firstMark(MarkKind kind, double timeS) const;
 
     // The simulator's truth at the end.
     double finalX = 0.0;

@@ -1,0 +1,188 @@
+// Fault-protection benchmark (make bench; issue 13): for each fault type, seeded
+// whole missions (rse-demo's runner: GOTO (20, 0) on the demo site, the demo's
+// own motor faults left out) with the fault injected by the simulator's
+// fault scheduler at a random time, and per type:
+//   recovered   the mission reached its goal with no response giving up
+//   detect      injection -> the health monitor's raise event (s); drive
+//               faults that fault protection sees in the drive status first
+//               count from its response
+//   e-stop      detection -> fault protection's hold (the e-stop), in minor
+//               frames (target: <= 1)
+//   1st action  response start -> the first recovery command (a drive fault
+//               reset / node reset), in minor frames (target: within one
+//               deliberative period, 10 frames, after the drive's own settle time
+//               is over; the settle time is FAULT_RESPONSE.heartbeat_loss_ms for a lost drive)
+//   resumed     injection -> the hold released for the last time (s)
+// Simulator truth (position, collisions) is read only for the summary.
+//
+// Usage: bench_fault_recovery [runs]   (default 100 per type)
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "sim_stub/lockstep/mission_runner.hpp"
+#include "sim_stub/scenario/scenario.hpp"
+
+namespace {
+
+using rse::sim::FaultSpec;
+using rse::sim::FaultType;
+using rse::sim::MarkKind;
+using rse::sim::MissionMark;
+using rse::sim::MissionSummary;
+
+constexpr double kFrameS = 0.01;
+
+struct FaultCase {
+    const char* name;
+    const char* scenario;
+    double durationS;
+    bool recoverable;
+    // The fault for one run (at: its random time), and where its drive is.
+    std::function<std::vector<FaultSpec>(double at, std::mt19937_64& rng)> make;
+};
+
+rse::core::TimeNs ns(double s) { return static_cast<rse::core::TimeNs>(s * 1e9); }
+
+FaultSpec wheelFault(FaultType t, std::size_t wheel, double at, double until = -1.0) {
+    FaultSpec f;
+    f.type = t;
+    f.wheel = wheel;
+    f.at = ns(at);
+    f.until = until < 0.0 ? rse::sim::kNever : ns(until);
+    return f;
+}
+
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) {
+        return NAN;
+    }
+    std::sort(v.begin(), v.end());
+    const auto i = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+    return v[std::min(i, v.size() - 1)];
+}
+
+struct Tally {
+    unsigned runs = 0, recovered = 0, collisions = 0, noResponse = 0;
+    std::vector<double> detect, estopFrames, actionFrames, resumed;
+};
+
+void measure(const MissionSummary& s, double at, Tally* t) {
+    ++t->runs;
+    const bool reached = s.outcome == rse::sim::MissionOutcome::kGoalReached && s.goalDistanceM < 0.6;
+    t->recovered += reached && s.responsesGaveUp == 0 ? 1 : 0;
+    t->collisions += s.collisions;
+    const MissionMark* response = s.firstMark(MarkKind::kResponseStarted, at);
+    const MissionMark* raised = s.firstMark(MarkKind::kFaultRaised, at);
+    if (response == nullptr) {
+        ++t->noResponse;
+        return;
+    }
+    // Detection: the health raise, or fault protection's own sight of a drive status.
+    const double detected = raised != nullptr && raised->timeS <= response->timeS ? raised->timeS : response->timeS;
+    t->detect.push_back(detected - at);
+    const MissionMark* hold = s.firstMark(MarkKind::kHoldSet, detected);
+    if (hold != nullptr) {
+        t->estopFrames.push_back(std::round((hold->timeS - detected) / kFrameS));
+    }
+    const MissionMark* action = s.firstMark(MarkKind::kRecoveryAction, response->timeS);
+    if (action != nullptr) {
+        t->actionFrames.push_back(std::round((action->timeS - response->timeS) / kFrameS));
+    }
+    if (s.lastResumeTimeS >= at) {
+        t->resumed.push_back(s.lastResumeTimeS - at);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int runs = argc > 1 ? std::atoi(argv[1]) : 100;
+    if (runs < 1 || runs > 10000) {
+        std::fprintf(stderr, "usage: bench_fault_recovery [runs 1..10000]\n");
+        return 2;
+    }
+    const char* demo = rse::sim::kDefaultMissionScenario;
+    const std::vector<FaultCase> cases = {
+        {"drive heartbeat gap 0.2 s", demo, 300.0, true,
+         [](double at, std::mt19937_64& rng) {
+             return std::vector<FaultSpec>{wheelFault(FaultType::kDriveHeartbeatLoss, rng() % 6, at, at + 0.2)};
+         }},
+        {"drive crash, restart 2 s", demo, 300.0, true,
+         [](double at, std::mt19937_64& rng) {
+             return std::vector<FaultSpec>{wheelFault(FaultType::kDriveCrash, rng() % 6, at, at + 2.0)};
+         }},
+        {"drive fault (EMCY), resettable", demo, 300.0, true,
+         [](double at, std::mt19937_64& rng) {
+             FaultSpec f = wheelFault(FaultType::kDriveFault, rng() % 6, at);
+             f.cobId = 0x2310;
+             return std::vector<FaultSpec>{f};
+         }},
+        {"hazard detector silent 10 s", demo, 300.0, true,
+         [](double at, std::mt19937_64&) {
+             FaultSpec f;
+             f.type = FaultType::kSensorDropout;
+             f.device = rse::sim::SimDevice::kHazard;
+             f.at = ns(at);
+             f.until = ns(at + 10.0);
+             return std::vector<FaultSpec>{f};
+         }},
+        {"IMU bias step 0.005 rad/s", demo, 300.0, true,
+         [](double at, std::mt19937_64&) {
+             FaultSpec f;
+             f.type = FaultType::kImuBiasStep;
+             f.at = ns(at);
+             f.value = 0.005;
+             return std::vector<FaultSpec>{f};
+         }},
+        {"motor fails (wheel locks)", demo, 300.0, false,
+         [](double at, std::mt19937_64& rng) {
+             return std::vector<FaultSpec>{wheelFault(FaultType::kMotorFailure, rng() % 6, at)};
+         }},
+    };
+    std::printf("fault recovery: %d seeded demo missions per fault type, fault at a random time in [5, 60] s\n", runs);
+    std::printf("%-32s %5s %9s %9s %12s %12s %14s %10s\n", "fault", "runs", "recovered", "collide", "detect s p50/max",
+                "e-stop fr max", "1st action fr", "resumed s p50/max");
+    const auto wall0 = std::chrono::steady_clock::now();
+    for (const FaultCase& c : cases) {
+        Tally t;
+        std::mt19937_64 rng(0x5EED0000u + static_cast<unsigned>(&c - cases.data()));
+        std::uniform_real_distribution<double> when(5.0, 60.0);
+        for (int r = 0; r < runs; ++r) {
+            const double at = std::round(when(rng) * 100.0) / 100.0;
+            const std::uint64_t seed = rng();
+            const std::vector<FaultSpec> faults = c.make(at, rng);
+            rse::sim::MissionOptions o;
+            const char* args[] = {"rse-demo", "--no-faults", "--quiet", "--scenario", c.scenario};
+            std::string error;
+            if (rse::sim::parseMissionArgs(5, args, &o, &error) != rse::sim::ParseOutcome::kRun) {
+                std::fprintf(stderr, "bench_fault_recovery: %s\n", error.c_str());
+                return 1;
+            }
+            o.durationS = c.durationS;
+            o.editScenario = [&](rse::sim::Scenario& s) {
+                s.seed = seed;
+                s.faults = faults;
+            };
+            measure(rse::sim::runMission(o, nullptr), at, &t);
+        }
+        auto maxOf = [](const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); };
+        std::printf("%-32s %5u %8.0f%% %9u %6.2f/%-6.2f %12.0f %6.0f/%-7.0f %6.1f/%-6.1f%s\n", c.name, t.runs,
+                    100.0 * t.recovered / t.runs, t.collisions, percentile(t.detect, 0.5), maxOf(t.detect),
+                    maxOf(t.estopFrames), percentile(t.actionFrames, 0.5), maxOf(t.actionFrames),
+                    percentile(t.resumed, 0.5), maxOf(t.resumed), c.recoverable ? "" : "  (not recoverable: call home expected)");
+        if (t.noResponse > 0) {
+            std::printf("%-32s %u runs with no fault-protection response\n", "", t.noResponse);
+        }
+        std::fflush(stdout);
+    }
+    std::printf("wall time %.0f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    return 0;
+}
