@@ -59,6 +59,20 @@ bool goalListUsable(const msg::GoalListMsg& g) {
     return true;
 }
 
+bool hazardsUsable(const msg::KnownHazardsMsg& h) {
+    if (h.count > msg::kMaxKnownHazards) {
+        return false;
+    }
+    for (std::size_t i = 0; i < h.count; ++i) {
+        const msg::KnownHazard& k = h.hazards[i];
+        if (!std::isfinite(k.xM) || !std::isfinite(k.yM) || !std::isfinite(k.radiusM) || !(k.radiusM > 0.0F) ||
+            k.radiusM > kMaxHazardRadiusM || k.obstacleId == 0) {
+            return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
@@ -75,7 +89,9 @@ core::Status DeliberativeTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("deliberative", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kGoalList, msg::ids::kLegReport, msg::ids::kDriveModes, msg::ids::kMode};
+    const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kLegReport,   msg::ids::kDriveModes,
+                                  msg::ids::kMode,        msg::ids::kKnownHazards, msg::ids::kMissionHold,
+                                  msg::ids::kFaultStatus};
     for (const core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(inputPipe_, id);
@@ -103,14 +119,18 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
     const msg::DeliberativeState s = status_.state;
     const bool active = s == msg::DeliberativeState::kWaiting || s == msg::DeliberativeState::kPlanning ||
                         s == msg::DeliberativeState::kExecuting;
-    if (active && autonomous_ && mobilityLost()) {
+    // A hold is fault protection's: a drive under recovery trips the interlock
+    // on purpose, and what the hold stops must not count against the mission.
+    if (active && autonomous_ && !held_ && mobilityLost()) {
         callHome(msg::CallHomeReason::kMobilityLost,
                  interlockTripped_ ? "the drive interlock holds every drive" : "a drive is declared failed", now);
-    } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && goalIndex_ < goals_.count &&
+    } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && !held_ && goalIndex_ < goals_.count &&
                poseUsable(now)) {
         startPlan(now);
     } else if (s == msg::DeliberativeState::kPlanning) {
         stepPlanner(now);
+    } else if (s == msg::DeliberativeState::kExecuting && goalUnconfirmed_ && !held_) {
+        checkUnconfirmedGoal(now);
     }
     ++runs_;
     if (changed_ || runs_ % kStatusPeriodRuns == 0) {
@@ -198,6 +218,33 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
+            case msg::ids::kKnownHazards: {
+                msg::KnownHazardsMsg hazards{};
+                if (core::isOk(inbox_.decode(&hazards)) && hazardsUsable(hazards)) {
+                    onHazards(hazards, now);
+                } else {
+                    malformed("known hazards", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kMissionHold: {
+                msg::MissionHoldMsg hold{};
+                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                    onHold(hold, now);
+                } else {
+                    malformed("mission hold", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kFaultStatus: {
+                msg::FaultStatusMsg faults{};
+                if (core::isOk(inbox_.decode(&faults))) {
+                    faults_ = faults;
+                } else {
+                    malformed("fault status", inbox_.header.id);
+                }
+                break;
+            }
             default:
                 malformed("message", inbox_.header.id);
                 break;
@@ -240,6 +287,8 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     goalIndex_ = 0;
     riskFactor_ = 1.0;
     goalReplans_ = 0;
+    goalUnconfirmed_ = false;
+    replanRequest_.pending = false;
     ++counters_.goalListsAdopted;
     cancelLeg(now);
     status_.callHome = msg::CallHomeReason::kNone;
@@ -261,6 +310,7 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
         return;
     }
     const msg::DeliberativeState s = status_.state;
+    goalUnconfirmed_ = false;
     if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
         cancelLeg(now);
         setState(msg::DeliberativeState::kWaiting);
@@ -287,24 +337,182 @@ void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs
             sendLeg(now);
             return;
         }
-        ++counters_.goalsReached;
-        events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
-                       static_cast<unsigned>(goalIndex_), goals_.goals[goalIndex_].xM, goals_.goals[goalIndex_].yM);
-        ++goalIndex_;
-        goalReplans_ = 0;
-        riskFactor_ = 1.0;
-        if (goalIndex_ < goals_.count) {
-            setState(msg::DeliberativeState::kWaiting);
-        } else {
-            setState(msg::DeliberativeState::kComplete);
-            events_.report(events::kMissionComplete, core::Severity::kInfo, "deliberative: every goal reached (%u)",
-                           static_cast<unsigned>(goals_.count));
-        }
+        goalReached();
         return;
     }
     const bool refused = report.state == msg::HabitualState::kIdle && report.violated == msg::LegConstraint::kBadLeg;
     if (report.state == msg::HabitualState::kFailedUp || refused) {
+        if (held_) {
+            ++counters_.failUpsWhileHeld;
+            events_.report(events::kFailUpWhileHeld, core::Severity::kInfo,
+                           "deliberative: leg %u failed up (%s) during a hold (reasons 0x%x): ignored, re-sent on release",
+                           static_cast<unsigned>(report.legId), constraintName(report.violated),
+                           static_cast<unsigned>(holdReasons_));
+            return;
+        }
         onFailUp(report, now);
+    }
+}
+
+bool DeliberativeTask::poseUncertain() const {
+    const bool faulted = ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U;
+    const double limit = static_cast<double>(tables_.estimatorNoise().pose_fault_sigma_m);
+    return faulted || !poseSeen_ || pose_.initialised == 0 || !(pose_.positionSigmaM <= limit);
+}
+
+void DeliberativeTask::goalReached() {
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    if (poseUncertain()) {
+        if (!goalUnconfirmed_) {
+            ++counters_.goalsUnconfirmed;
+            events_.report(events::kGoalUnconfirmed, core::Severity::kWarning,
+                           "deliberative: goal %u (%.2f, %.2f): last leg reached but the pose is uncertain (sigma "
+                           "%.2f m%s): not claimed, waiting",
+                           static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.positionSigmaM,
+                           ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U ? ", fault 19" : "");
+        }
+        goalUnconfirmed_ = true;
+        changed_ = true;
+        return;
+    }
+    goalUnconfirmed_ = false;
+    ++counters_.goalsReached;
+    events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
+                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM);
+    ++goalIndex_;
+    goalReplans_ = 0;
+    riskFactor_ = 1.0;
+    if (goalIndex_ < goals_.count) {
+        setState(msg::DeliberativeState::kWaiting);
+    } else {
+        setState(msg::DeliberativeState::kComplete);
+        events_.report(events::kMissionComplete, core::Severity::kInfo, "deliberative: every goal reached (%u)",
+                       static_cast<unsigned>(goals_.count));
+    }
+}
+
+void DeliberativeTask::checkUnconfirmedGoal(core::TimeNs now) {
+    if (poseUncertain()) {
+        return;
+    }
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    const double off = std::hypot(pose_.xM - goal.xM, pose_.yM - goal.yM);
+    if (off <= static_cast<double>(tables_.habitual().goal_tolerance_m)) {
+        goalReached();
+        return;
+    }
+    goalUnconfirmed_ = false;
+    ++counters_.goalLegsResent;
+    events_.report(events::kGoalLegResent, core::Severity::kWarning,
+                   "deliberative: goal %u: pose certain again %.2f m from the goal: last leg re-sent from (%.2f, %.2f)",
+                   static_cast<unsigned>(goalIndex_), off, pose_.xM, pose_.yM);
+    legIndex_ = legs_.count > 0 ? legs_.count - 1 : 0;
+    resendFromPose(now);
+}
+
+LegParams DeliberativeTask::legParams() const {
+    const tables::HabitualTable& habitual = tables_.habitual();
+    const tables::PlannerTable& planner = tables_.planner();
+    LegParams params;
+    params.spacingM = static_cast<double>(planner.waypoint_spacing_m);
+    params.slackFrac = static_cast<double>(planner.leg_slack_frac);
+    params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
+    params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
+    params.power = habitual::powerModelFrom(habitual);
+    params.meanPowerFactor = meanFactor();
+    params.headingRad = pose_.headingRad;
+    return params;
+}
+
+void DeliberativeTask::resendFromPose(core::TimeNs now) {
+    if (status_.state != msg::DeliberativeState::kExecuting || legIndex_ >= legs_.count) {
+        return;
+    }
+    msg::PlanLeg& leg = legs_.legs[legIndex_];
+    (void)legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, legParams(), &leg);
+    legBoundFactor_ = 1.0;
+    leg_.legId = 0;
+    sendLeg(now);
+}
+
+bool DeliberativeTask::legEndInHazard(const msg::PlanLeg& leg) const {
+    const double clearance = static_cast<double>(tables_.roverGeometry().footprint_radius_m) + kLegEndMarginM;
+    for (std::size_t i = 0; i < hazards_.count && i < msg::kMaxKnownHazards; ++i) {
+        const msg::KnownHazard& h = hazards_.hazards[i];
+        const double reach = static_cast<double>(h.radiusM) + clearance;
+        const double dx = leg.xM - static_cast<double>(h.xM);
+        const double dy = leg.yM - static_cast<double>(h.yM);
+        if (dx * dx + dy * dy < reach * reach) {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool DeliberativeTask::skipLegEndsInHazards() {
+    bool moved = false;
+    while (legIndex_ + 1 < legs_.count && legEndInHazard(legs_.legs[legIndex_])) {
+        const msg::PlanLeg skipped = legs_.legs[legIndex_];
+        msg::PlanLeg& next = legs_.legs[legIndex_ + 1];
+        next.lengthM += skipped.lengthM;
+        next.energyJ += skipped.energyJ;
+        next.risk += skipped.risk;
+        legs_.plannedLengthM[legIndex_ + 1] += legs_.plannedLengthM[legIndex_];
+        ++legIndex_;
+        ++counters_.legEndsSkipped;
+        moved = true;
+        events_.report(events::kLegEndSkipped, core::Severity::kWarning,
+                       "deliberative: leg end (%.2f, %.2f) inside a seen hazard: merged into leg %u of %u (to (%.2f, %.2f))",
+                       skipped.xM, skipped.yM, static_cast<unsigned>(legIndex_ + 1), static_cast<unsigned>(legs_.count),
+                       next.xM, next.yM);
+    }
+    return moved;
+}
+
+void DeliberativeTask::onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now) {
+    hazards_ = hazards;
+    ++counters_.hazardMaps;
+    // The leg in force may end inside what was just seen: the habitual layer
+    // could only fail up on it, so move on to the next leg end now.
+    if (status_.state == msg::DeliberativeState::kExecuting && leg_.legId != 0 && !held_ &&
+        legIndex_ + 1 < legs_.count && legEndInHazard(legs_.legs[legIndex_])) {
+        leg_.legId = 0;
+        sendLeg(now);
+    }
+}
+
+void DeliberativeTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now) {
+    holdReasons_ = hold.reasons;
+    if (hold.reasons != 0U) {
+        if (!held_) {
+            held_ = true;
+            ++counters_.holds;
+            changed_ = true;
+            events_.report(events::kMissionHeld, core::Severity::kWarning,
+                           "deliberative: mission held (reasons 0x%x%s): no new legs, leg %u kept",
+                           static_cast<unsigned>(hold.reasons), hold.estop != 0 ? ", e-stop" : "",
+                           static_cast<unsigned>(leg_.legId));
+        }
+        resumeCount_ = hold.resumeCount;
+        return;
+    }
+    // Reasons 0 is the release whether or not resumeCount moved: a lost or
+    // inconsistent count must not leave the mission held for good.
+    const bool wasHeld = held_;
+    held_ = false;
+    resumeCount_ = hold.resumeCount;
+    if (!wasHeld) {
+        return;
+    }
+    ++counters_.resumes;
+    changed_ = true;
+    const bool driving = status_.state == msg::DeliberativeState::kExecuting && !goalUnconfirmed_ &&
+                         legIndex_ < legs_.count;
+    events_.report(events::kMissionResumed, core::Severity::kInfo,
+                   "deliberative: hold released (resume %u): %s", static_cast<unsigned>(hold.resumeCount),
+                   driving ? "current leg re-sent from the current pose" : "nothing to re-send");
+    if (driving) {
+        resendFromPose(now);
     }
 }
 
@@ -346,12 +554,28 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     const tables::PlannerTable& planner = tables_.planner();
     const msg::Goal& goal = goals_.goals[goalIndex_];
     PlanRequest request;
-    request.startX = pose_.xM;
-    request.startY = pose_.yM;
-    request.startCov[0] = pose_.covariance[0];
-    request.startCov[1] = pose_.covariance[1];
-    request.startCov[2] = pose_.covariance[3];
-    request.startCov[3] = pose_.covariance[4];
+    ReplanRequest& rr = replanRequest_;
+    const bool replanning = rr.pending;
+    if (replanning && now - rr.timeNs > kReplanMaxAgeNs) {
+        // Too old to start from: the rover stands elsewhere now.
+        rr.timeNs = pose_.timeNs;
+        rr.xM = pose_.xM;
+        rr.yM = pose_.yM;
+        rr.headingRad = pose_.headingRad;
+        rr.cov[0] = pose_.covariance[0];
+        rr.cov[1] = pose_.covariance[1];
+        rr.cov[2] = pose_.covariance[3];
+        rr.cov[3] = pose_.covariance[4];
+    }
+    rr.pending = false;
+    request.startX = replanning ? rr.xM : pose_.xM;
+    request.startY = replanning ? rr.yM : pose_.yM;
+    request.startCov[0] = replanning ? rr.cov[0] : pose_.covariance[0];
+    request.startCov[1] = replanning ? rr.cov[1] : pose_.covariance[1];
+    request.startCov[2] = replanning ? rr.cov[2] : pose_.covariance[3];
+    request.startCov[3] = replanning ? rr.cov[3] : pose_.covariance[4];
+    request.hazards = hazards_.hazards;
+    request.hazardCount = hazards_.count;
     request.goalX = goal.xM;
     request.goalY = goal.yM;
     const double risk = goals_.riskBound * riskFactor_;
@@ -362,7 +586,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
                        "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s", static_cast<unsigned>(goalIndex_),
-                       goal.xM, goal.yM, pose_.xM, pose_.yM, toString(report.error));
+                       goal.xM, goal.yM, request.startX, request.startY, toString(report.error));
         callHome(msg::CallHomeReason::kGoalUnreachable, toString(report.error), now);
         return;
     }
@@ -388,9 +612,12 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     status_.riskInForce = request.riskBound;
     setState(msg::DeliberativeState::kPlanning);
     events_.report(events::kPlanStarted, core::Severity::kInfo,
-                   "deliberative: planning goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u steps, %u obstacles%s",
-                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.xM, pose_.yM, request.riskBound,
-                   static_cast<unsigned>(problem_.steps), static_cast<unsigned>(problem_.obstacleCount),
+                   "deliberative: planning goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u steps, %u obstacles "
+                   "(%u seen hazards of %u)%s",
+                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
+                   request.riskBound, static_cast<unsigned>(problem_.steps),
+                   static_cast<unsigned>(problem_.obstacleCount), static_cast<unsigned>(report.hazardsUsed),
+                   static_cast<unsigned>(report.hazardsSeen),
                    report.startInObstacle ? " (start inside a grown obstacle)" : "");
 }
 
@@ -415,16 +642,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
     plan_ = planner_.plan();
     const bool hasPath = plan_.status == CcStatus::kOptimal || plan_.status == CcStatus::kFeasible;
     if (hasPath) {
-        const tables::HabitualTable& habitual = tables_.habitual();
-        const tables::PlannerTable& planner = tables_.planner();
-        LegParams params;
-        params.spacingM = static_cast<double>(planner.waypoint_spacing_m);
-        params.slackFrac = static_cast<double>(planner.leg_slack_frac);
-        params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
-        params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
-        params.power = habitual::powerModelFrom(habitual);
-        params.meanPowerFactor = meanFactor();
-        params.headingRad = pose_.headingRad;
+        const LegParams params = legParams();
         if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
             ++counters_.plansFound;
             events_.report(events::kPlanFound, core::Severity::kInfo,
@@ -469,10 +687,26 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     }
     ++goalReplans_;
     ++counters_.replans;
+    ReplanRequest& rr = replanRequest_;
+    rr.timeNs = now;
+    rr.xM = pose_.xM;
+    rr.yM = pose_.yM;
+    rr.headingRad = pose_.headingRad;
+    rr.cov[0] = pose_.covariance[0];
+    rr.cov[1] = pose_.covariance[1];
+    rr.cov[2] = pose_.covariance[3];
+    rr.cov[3] = pose_.covariance[4];
+    rr.firstGoal = goalIndex_;
+    rr.unfinished = static_cast<std::uint8_t>(goals_.count > goalIndex_ ? goals_.count - goalIndex_ : 0);
+    rr.why = why;
+    rr.pending = true;
     events_.report(events::kReplan, core::Severity::kWarning,
-                   "deliberative: replanning goal %u from the current estimate after %s (%u of %u)",
-                   static_cast<unsigned>(goalIndex_), constraintName(why), static_cast<unsigned>(goalReplans_),
-                   static_cast<unsigned>(limit));
+                   "deliberative: replan %u of %u after %s at %.2f s from (%.2f, %.2f): goals %u..%u unfinished, %u "
+                   "seen hazards",
+                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(limit), constraintName(why),
+                   static_cast<double>(now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
+                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
+                   static_cast<unsigned>(hazards_.count));
     setState(msg::DeliberativeState::kWaiting);
 }
 
@@ -480,6 +714,13 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
 // Outputs
 
 void DeliberativeTask::sendLeg(core::TimeNs now) {
+    (void)skipLegEndsInHazards();
+    if (held_) {
+        // Sent from the pose of the moment when the hold is released.
+        leg_ = msg::LegCommandMsg{};
+        changed_ = true;
+        return;
+    }
     const msg::PlanLeg& leg = legs_.legs[legIndex_];
     leg_ = msg::LegCommandMsg{};
     leg_.timeNs = now;

@@ -94,8 +94,8 @@ core::Status HabitualTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("habitual", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kLegCommand, msg::ids::kHazards, msg::ids::kDriveModes,
-                                  msg::ids::kFollowerStatus, msg::ids::kMode};
+    const core::MsgId inputs[] = {msg::ids::kLegCommand,     msg::ids::kHazards, msg::ids::kDriveModes,
+                                  msg::ids::kFollowerStatus, msg::ids::kMode,    msg::ids::kMissionHold};
     for (const core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(inputPipe_, id);
@@ -119,7 +119,10 @@ void HabitualTask::run(const core::FrameContext& frame) {
     drainPoses();
     drainInputs(now);
     updateOdometry();
-    switch (state_) {
+    if (held_) {
+        ++counters_.heldRuns;
+    }
+    switch (held_ ? msg::HabitualState::kIdle : state_) {
         case msg::HabitualState::kPlanning:
         case msg::HabitualState::kRepairing:
             stepPlanning(now);
@@ -133,8 +136,12 @@ void HabitualTask::run(const core::FrameContext& frame) {
             break;
     }
     modesChanged_ = false;
-    if (runs_ % kReportPeriodRuns == 0) {
+    const bool periodic = runs_ % kReportPeriodRuns == 0;
+    if (periodic) {
         publishReport(now);
+    }
+    if (periodic || mapBuilder_.revision() != hazardsRevision_) {
+        publishHazards(now);
     }
 }
 
@@ -212,10 +219,42 @@ void HabitualTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
+            case msg::ids::kMissionHold: {
+                msg::MissionHoldMsg hold{};
+                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                    onHold(hold, now);
+                } else {
+                    malformed("mission hold", inbox_.header.id);
+                }
+                break;
+            }
             default:
                 malformed("message", inbox_.header.id);
                 break;
         }
+    }
+}
+
+void HabitualTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now) {
+    if (hold.reasons != 0U && !held_) {
+        held_ = true;
+        ++counters_.holds;
+        queryActive_ = false;  // a planning run restarts from the pose of the release
+        const bool moving = legActive_;
+        if (moving) {
+            sendStop(now);
+        }
+        events_.report(events::kMissionHeld, core::Severity::kWarning,
+                       "habitual: mission held (reasons 0x%x): %s, leg %u kept", static_cast<unsigned>(hold.reasons),
+                       moving ? "rover stopped" : "nothing under way", static_cast<unsigned>(leg_.legId));
+    } else if (hold.reasons == 0U && held_) {
+        held_ = false;
+        ++counters_.releases;
+        restWaitRuns_ = 0;
+        events_.report(events::kMissionReleased, core::Severity::kInfo,
+                       "habitual: hold released (resume %u): leg %u %s", static_cast<unsigned>(hold.resumeCount),
+                       static_cast<unsigned>(leg_.legId),
+                       state_ == msg::HabitualState::kDriving ? "waits for the re-sent leg" : "goes on");
     }
 }
 
@@ -401,7 +440,7 @@ void HabitualTask::onDriveModes(const msg::DriveModesMsg& modes) {
 }
 
 void HabitualTask::onFollower(const msg::FollowerStatusMsg& status, core::TimeNs now) {
-    if (state_ != msg::HabitualState::kDriving || trajectory_.count == 0 ||
+    if (held_ || state_ != msg::HabitualState::kDriving || trajectory_.count == 0 ||
         status.trajectoryId != trajectory_.trajectoryId) {
         return;  // about a trajectory no longer in force
     }
@@ -892,6 +931,26 @@ void HabitualTask::sendStop(core::TimeNs now) {
     trajectory_.count = 0;
     (void)bus_.publish(trajectory_);
     ++counters_.stopsSent;
+}
+
+void HabitualTask::publishHazards(core::TimeNs now) {
+    static_assert(msg::kMaxKnownHazards == kMaxMapDiscs, "KnownHazardsMsg carries the whole disc table");
+    msg::KnownHazardsMsg m{};
+    m.timeNs = now;
+    m.revision = mapBuilder_.revision();
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (h.used) {
+            msg::KnownHazard& out = m.hazards[m.count++];
+            out.xM = static_cast<float>(h.centre.x);
+            out.yM = static_cast<float>(h.centre.y);
+            out.radiusM = static_cast<float>(h.radiusM);
+            out.obstacleId = h.obstacleId;
+        }
+    }
+    (void)bus_.publish(m);
+    ++counters_.hazardMapsSent;
+    hazardsRevision_ = m.revision;
 }
 
 void HabitualTask::setState(msg::HabitualState state, core::TimeNs now) {

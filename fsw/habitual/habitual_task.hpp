@@ -2,9 +2,11 @@
 // deliberative layer's legs and the reflexive layer's trajectory follower.
 //
 //   in:  LegCommandMsg (a waypoint and its not-to-exceed length and energy),
-//        PoseEstimateMsg, HazardMsg, DriveModesMsg, FollowerStatusMsg, ModeMsg
+//        PoseEstimateMsg, HazardMsg, DriveModesMsg, FollowerStatusMsg, ModeMsg,
+//        MissionHoldMsg (fault protection)
 //   out: TrajectoryMsg (a plan, or count 0 = stop), LegReportMsg (on every state
-//        change and at 1 Hz)
+//        change and at 1 Hz), KnownHazardsMsg (the remembered hazard discs, when
+//        they change and at 1 Hz: the deliberative layer plans round them)
 //
 // State machine (HabitualState, habitual_msgs.hpp):
 //   any     --leg refused-----------> (unchanged; a one-off report: kIdle + kBadLeg)
@@ -25,6 +27,11 @@
 //                                                       then kFailedUp (drives held: at once)
 //             follower kReached ---------------------> kAchieved
 //   kFailedUp / kAchieved: wait for the next leg.
+//   held (MissionHoldMsg reasons != 0, any state): stop sent once, the leg and
+//           the state kept, no planning, no supervision, no fail-up; hazards are
+//           still remembered. Released (reasons 0): a session in planning goes
+//           on; a leg being driven waits stopped for the deliberative layer to
+//           re-send it from the current pose (a new leg).
 //
 // Planning run: if the straight segment to the goal is free it is the shortest
 // path and is taken without sampling; otherwise RRT* (rrt_star.hpp) from the
@@ -71,6 +78,7 @@
 #include "fsw/habitual/power_model.hpp"
 #include "fsw/habitual/rrt_star.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
@@ -154,6 +162,10 @@ struct HabitualCounters {
     std::uint32_t malformedInputs = 0;
     std::uint32_t hazardsUnplaced = 0;  // hazard messages with no usable pose to place them
     std::uint32_t mapRefused = 0;       // local map refusals while building
+    std::uint32_t hazardMapsSent = 0;   // KnownHazardsMsg published
+    std::uint32_t holds = 0;            // holds begun
+    std::uint32_t releases = 0;         // holds released
+    std::uint32_t heldRuns = 0;         // runs spent held
 };
 
 class HabitualTask final : public core::Task {
@@ -162,7 +174,7 @@ public:
 
     // Pipes "habitual_pose" (depth kPosePipeDepth: PoseEstimateMsg) and
     // "habitual" (kInputPipeDepth: leg, hazards, drive modes, follower status,
-    // mode). A refusal is evented (819) and returned; run() then does nothing.
+    // mode, mission hold). A refusal is evented (819) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
@@ -179,6 +191,7 @@ public:
     double drivenLengthM() const { return drivenLengthM_; }
     double drivenEnergyJ() const { return drivenEnergyJ_; }
     bool autonomous() const { return autonomous_; }
+    bool held() const { return held_; }
 
 private:
     struct Evaluation {
@@ -199,6 +212,7 @@ private:
     void onHazards(const msg::HazardMsg& hazards, core::TimeNs now);
     void onDriveModes(const msg::DriveModesMsg& modes);
     void onFollower(const msg::FollowerStatusMsg& status, core::TimeNs now);
+    void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
     void malformed(const char* what, core::MsgId id);
     bool poseUsable(core::TimeNs now) const;
     double meanFactor() const;
@@ -229,6 +243,7 @@ private:
     void sendStop(core::TimeNs now);
     void setState(msg::HabitualState state, core::TimeNs now);
     void publishReport(core::TimeNs now);
+    void publishHazards(core::TimeNs now);
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -244,6 +259,7 @@ private:
     bool poseSeen_ = false;
     msg::DriveModesMsg modes_{};
     bool modesChanged_ = false;
+    bool held_ = false;
 
     // The leg.
     msg::HabitualState state_ = msg::HabitualState::kIdle;
@@ -285,6 +301,7 @@ private:
     msg::LegConstraint reportViolated_ = msg::LegConstraint::kNone;
     double reportExcess_ = 0.0;
     std::uint32_t runs_ = 0;
+    std::uint32_t hazardsRevision_ = 0;  // map revision last published in KnownHazardsMsg
     HabitualCounters counters_{};
 
     // Large members last.
