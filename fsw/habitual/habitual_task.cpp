@@ -355,6 +355,7 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
 
     leg_ = leg;
     legActive_ = true;
+    escapesThisLeg_ = 0;
     drivenLengthM_ = 0.0;
     drivenEnergyJ_ = 0.0;
     anchorSet_ = false;
@@ -443,6 +444,11 @@ void HabitualTask::onFollower(const msg::FollowerStatusMsg& status, core::TimeNs
     if (held_ || state_ != msg::HabitualState::kDriving || trajectory_.count == 0 ||
         status.trajectoryId != trajectory_.trajectoryId) {
         return;  // about a trajectory no longer in force
+    }
+    if (status.state == msg::FollowerState::kReached && escaping_) {
+        escaping_ = false;
+        beginSession(PlanTrigger::kPathBlocked, 0, now);  // from where the escape ended
+        return;
     }
     if (status.state == msg::FollowerState::kReached) {
         ++counters_.legsAchieved;
@@ -539,6 +545,11 @@ bool HabitualTask::startQuery(core::TimeNs now) {
         completePlan(0, now);
         return false;
     }
+    Point2 exit{0.0, 0.0};
+    if (!planMap_.pointFree(queryStart_) && escapesThisLeg_ < kMaxEscapesPerLeg && findEscape(footprint, &exit)) {
+        sendEscape(exit, now);
+        return false;
+    }
     if (planMap_.segmentFree(queryStart_, goal)) {
         // The shortest path there is: nothing to sample.
         rawPath_[0] = queryStart_;
@@ -567,6 +578,68 @@ bool HabitualTask::startQuery(core::TimeNs now) {
     }
     queryActive_ = true;
     return true;
+}
+
+bool HabitualTask::findEscape(double footprint, Point2* exit) const {
+    // The seen hazard the start lies deepest inside (planMap_ is at the bare
+    // footprint here: its discs are the remembered ones plus the footprint).
+    const RememberedHazard* deepest = nullptr;
+    double depth = 0.0;
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (!h.used) {
+            continue;
+        }
+        const double d = h.radiusM + footprint - distance(queryStart_, h.centre);
+        if (d > depth) {
+            depth = d;
+            deepest = &h;
+        }
+    }
+    if (deepest == nullptr) {
+        return false;  // blocked by a coarse-map polygon or the bounds: no escape from a disc
+    }
+    const double away = distance(queryStart_, deepest->centre);
+    Point2 u = away > 1e-6 ? (1.0 / away) * (queryStart_ - deepest->centre)
+                           : Point2{-std::cos(queryHeading_), -std::sin(queryHeading_)};
+    double reach = deepest->radiusM + footprint + kPlanMarginM + kEscapeExtraM;
+    for (std::uint32_t i = 0; i < kEscapeSteps; ++i, reach += kEscapeStepM) {
+        const Point2 p = deepest->centre + reach * u;
+        if (distance(p, queryStart_) > kMaxEscapeM) {
+            return false;
+        }
+        if (planMap_.pointFree(p)) {
+            *exit = p;
+            return true;
+        }
+    }
+    return false;
+}
+
+void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
+    ++escapesThisLeg_;
+    ++counters_.escapes;
+    const tables::HabitualTable& hab = tables_.habitual();
+    trajectory_ = msg::TrajectoryMsg{};
+    trajectory_.timeNs = now;
+    trajectory_.trajectoryId = nextTrajectoryId_++;
+    if (nextTrajectoryId_ == 0) {
+        nextTrajectoryId_ = 1;
+    }
+    trajectory_.legId = leg_.legId;
+    trajectory_.speedMS = static_cast<double>(hab.cruise_speed_m_s);
+    trajectory_.count = 2;
+    trajectory_.points[0] = msg::TrajectoryPoint{queryStart_.x, queryStart_.y};
+    trajectory_.points[1] = msg::TrajectoryPoint{exit.x, exit.y};
+    (void)bus_.publish(trajectory_);
+    progressIndex_ = 0;
+    escaping_ = true;
+    events_.report(events::kEscape, core::Severity::kWarning,
+                   "habitual: leg %u: rover within the footprint of a seen hazard at (%.2f, %.2f): backing out %.2f m "
+                   "to (%.2f, %.2f), then replanning (%u of %u this leg)",
+                   static_cast<unsigned>(leg_.legId), queryStart_.x, queryStart_.y, distance(queryStart_, exit), exit.x,
+                   exit.y, static_cast<unsigned>(escapesThisLeg_), static_cast<unsigned>(kMaxEscapesPerLeg));
+    setState(msg::HabitualState::kDriving, now);
 }
 
 void HabitualTask::finishQuery(core::TimeNs now) {
@@ -707,6 +780,7 @@ void HabitualTask::acceptPlan(std::size_t count, const Evaluation& evaluation, c
         trajectory_.points[i] = msg::TrajectoryPoint{rawPath_[i].x, rawPath_[i].y};
     }
     (void)bus_.publish(trajectory_);
+    escaping_ = false;
     ++counters_.plansSent;
     progressIndex_ = 0;
     plan_ = evaluation;
@@ -822,7 +896,8 @@ std::size_t HabitualTask::remainingPath(Point2* out) {
 }
 
 void HabitualTask::superviseDriving(core::TimeNs now) {
-    if (trajectory_.count < 2 || !poseSeen_) {
+    // An escape starts inside an inflated disc and only moves away from it.
+    if (trajectory_.count < 2 || !poseSeen_ || escaping_) {
         return;
     }
     Point2 remaining[msg::kMaxTrajectoryPoints];
@@ -921,6 +996,7 @@ void HabitualTask::onCannotFollow(const msg::FollowerStatusMsg& status, core::Ti
 // ---- Outputs ----------------------------------------------------------------------
 
 void HabitualTask::sendStop(core::TimeNs now) {
+    escaping_ = false;
     trajectory_ = msg::TrajectoryMsg{};
     trajectory_.timeNs = now;
     trajectory_.trajectoryId = nextTrajectoryId_++;

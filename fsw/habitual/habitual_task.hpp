@@ -45,7 +45,15 @@
 // without it a fresh plan grazing a disc is "blocked" again by the next
 // sighting. The margin is dropped (bare footprint) for a run whose start or goal
 // lies inside it, and for the runs after one that found no path with it. Paths
-// are checked while driving against the bare footprint.
+// are checked while driving against the bare footprint. A planning run whose
+// start lies inside a seen hazard's disc grown by the footprint (the disc grew
+// as more of the rock came into view after the rover stopped) first backs out:
+// a straight trajectory directly away from that disc's centre to the first
+// point free at footprint + kPlanMarginM + kEscapeExtraM (kEscapeSteps of
+// kEscapeStepM further if another obstacle is there, at most kMaxEscapeM), not
+// checked against the disc it leaves; reached, the session plans again from
+// there. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
+// leg fails up (no path).
 //
 // Constraints (step 3 of the policy), re-evaluated for the remaining leg:
 //   allowed length = (maxPathLengthM - driven length) * (1 - distance_margin_frac)
@@ -117,6 +125,12 @@ constexpr std::uint32_t kMaxRestWaitRuns = 30;
 // Driven-distance and heading accumulation steps (filter pose jitter at rest).
 constexpr double kOdometryStepM = 0.05;
 constexpr double kOdometryStepRad = 0.05;
+// Backing out of a seen hazard's footprint (see the file comment).
+constexpr double kEscapeExtraM = 0.05;
+constexpr double kEscapeStepM = 0.25;
+constexpr std::uint32_t kEscapeSteps = 8;
+constexpr double kMaxEscapeM = 3.0;
+constexpr std::uint32_t kMaxEscapesPerLeg = 3;
 
 // Why a planning session started.
 enum class PlanTrigger : std::uint8_t {
@@ -163,6 +177,7 @@ struct HabitualCounters {
     std::uint32_t hazardsUnplaced = 0;  // hazard messages with no usable pose to place them
     std::uint32_t mapRefused = 0;       // local map refusals while building
     std::uint32_t hazardMapsSent = 0;   // KnownHazardsMsg published
+    std::uint32_t escapes = 0;          // back-outs of a seen hazard's footprint
     std::uint32_t holds = 0;            // holds begun
     std::uint32_t releases = 0;         // holds released
     std::uint32_t heldRuns = 0;         // runs spent held
@@ -192,6 +207,7 @@ public:
     double drivenEnergyJ() const { return drivenEnergyJ_; }
     bool autonomous() const { return autonomous_; }
     bool held() const { return held_; }
+    bool escaping() const { return escaping_; }
 
 private:
     struct Evaluation {
@@ -222,6 +238,10 @@ private:
     void beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, core::TimeNs now);
     void stepPlanning(core::TimeNs now);
     bool startQuery(core::TimeNs now);
+    // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
+    // footprint): the point to back out to; false when there is none.
+    bool findEscape(double footprint, Point2* exit) const;
+    void sendEscape(Point2 exit, core::TimeNs now);
     void finishQuery(core::TimeNs now);
     // rawPath_[0..count) is the planning run's path (count < 2: none).
     void completePlan(std::size_t count, core::TimeNs now);
@@ -271,6 +291,8 @@ private:
     double anchorHeading_ = 0.0;
     bool anchorSet_ = false;
     std::uint32_t cannotFollowReplans_ = 0;
+    std::uint32_t escapesThisLeg_ = 0;
+    bool escaping_ = false;  // the trajectory in force backs out of a seen hazard
 
     // The planning session.
     PlanTrigger trigger_ = PlanTrigger::kNewLeg;
