@@ -556,9 +556,9 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     PlanRequest request;
     ReplanRequest& rr = replanRequest_;
     const bool replanning = rr.pending;
-    if (replanning && now - rr.timeNs > kReplanMaxAgeNs) {
-        // Too old to start from: the rover stands elsewhere now.
-        rr.timeNs = pose_.timeNs;
+    if (replanning && now - rr.poseTimeNs > kReplanMaxAgeNs) {
+        // Too old to start from: the rover may stand elsewhere now.
+        rr.poseTimeNs = pose_.timeNs;
         rr.xM = pose_.xM;
         rr.yM = pose_.yM;
         rr.headingRad = pose_.headingRad;
@@ -612,13 +612,10 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     status_.riskInForce = request.riskBound;
     setState(msg::DeliberativeState::kPlanning);
     events_.report(events::kPlanStarted, core::Severity::kInfo,
-                   "deliberative: planning goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u steps, %u obstacles "
-                   "(%u seen hazards of %u)%s",
+                   "deliberative: plan goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u obstacles, %u seen%s",
                    static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
-                   request.riskBound, static_cast<unsigned>(problem_.steps),
-                   static_cast<unsigned>(problem_.obstacleCount), static_cast<unsigned>(report.hazardsUsed),
-                   static_cast<unsigned>(report.hazardsSeen),
-                   report.startInObstacle ? " (start inside a grown obstacle)" : "");
+                   request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
+                   static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
 }
 
 void DeliberativeTask::stepPlanner(core::TimeNs now) {
@@ -689,6 +686,7 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     ++counters_.replans;
     ReplanRequest& rr = replanRequest_;
     rr.timeNs = now;
+    rr.poseTimeNs = pose_.timeNs;
     rr.xM = pose_.xM;
     rr.yM = pose_.yM;
     rr.headingRad = pose_.headingRad;
@@ -701,8 +699,7 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     rr.why = why;
     rr.pending = true;
     events_.report(events::kReplan, core::Severity::kWarning,
-                   "deliberative: replan %u of %u after %s at %.2f s from (%.2f, %.2f): goals %u..%u unfinished, %u "
-                   "seen hazards",
+                   "deliberative: replan %u/%u (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
                    static_cast<unsigned>(goalReplans_), static_cast<unsigned>(limit), constraintName(why),
                    static_cast<double>(now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
                    static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),

@@ -56,8 +56,8 @@
 //              in force (re-sent as a new leg).
 //   replan: a ReplanRequest records the unfinished goals, the time and the
 //              position (and covariance) at the fail-up; the plan starts from
-//              that position (refreshed from the pose if it is older than
-//              kReplanMaxAgeNs when planning starts) and event 911 gives them.
+//              that position (refreshed from the pose if that position is older
+//              than kReplanMaxAgeNs when planning starts) and event 911 gives them.
 //   call home: leg cancelled (legId 0: the habitual layer stops and holds),
 //   SafeRequestMsg (the mode owner goes to SAFE), CRITICAL event 912, PLAN
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
@@ -111,14 +111,16 @@ constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was pr
 // disc grows as more of its rock comes into view.
 constexpr double kLegEndMarginM = 0.25;
 // A replan request's position older than this when planning starts is
-// refreshed from the pose (the rover may have coasted or been held meanwhile).
+// refreshed from the pose (the pose was stale at the fail-up, or the rover
+// moved while planning waited for a usable pose).
 constexpr core::TimeNs kReplanMaxAgeNs = 1000 * core::kNsPerMs;
 // Largest hazard radius believed (the habitual layer merges no disc beyond 2 m).
 constexpr float kMaxHazardRadiusM = 10.0F;
 
 // What a replan starts from: the unfinished goals, the time and the position.
 struct ReplanRequest {
-    core::TimeNs timeNs = 0;
+    core::TimeNs timeNs = 0;         // when the replan was asked for
+    core::TimeNs poseTimeNs = 0;     // when the rover was at (xM, yM)
     double xM = 0.0, yM = 0.0, headingRad = 0.0;
     double cov[4] = {};              // (x, y) covariance at that time
     std::uint8_t firstGoal = 0;      // goals_[firstGoal .. firstGoal + unfinished) remain
