@@ -510,8 +510,7 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
             return;  // finished at once: straight line, or refused
         }
     }
-    const tables::HabitualTable& hab = tables_.habitual();
-    const std::uint32_t budget = hab.rrt_iterations;
+    const std::uint32_t budget = queryBudget();
     const std::uint32_t done = rrt_.iterations();
     const std::uint32_t remaining = budget > done ? budget - done : 0;
     const std::uint32_t slice = remaining < kRrtIterationsPerRun ? remaining : kRrtIterationsPerRun;
@@ -523,6 +522,17 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
         lastQuery_.earlyStop = early;
         finishQuery(now);
     }
+}
+
+std::uint32_t HabitualTask::queryBudget() const {
+    const tables::HabitualTable& hab = tables_.habitual();
+    if (trigger_ == PlanTrigger::kNewLeg && attempt_ == 0) {
+        return hab.rrt_iterations;
+    }
+    // A local replan (the rover stopped mid-leg, or a repair) is bounded in time
+    // as well: the table's milliseconds as iterations at the calibrated rate.
+    const std::uint32_t timed = static_cast<std::uint32_t>(hab.replan_budget_ms) * kRrtIterationsPerMs;
+    return timed < hab.rrt_iterations ? timed : hab.rrt_iterations;
 }
 
 bool HabitualTask::startQuery(core::TimeNs now) {

@@ -36,7 +36,9 @@
 // Planning run: if the straight segment to the goal is free it is the shortest
 // path and is taken without sampling; otherwise RRT* (rrt_star.hpp) from the
 // estimated position, at most kRrtIterationsPerRun iterations per task run and
-// HABITUAL.rrt_iterations in all, stopping early once the cost is within 1 % of
+// HABITUAL.rrt_iterations in all (a local replan - any session not started by a
+// new leg, and every repair run - at most HABITUAL.replan_budget_ms x
+// kRrtIterationsPerMs of them), stopping early once the cost is within 1 % of
 // the straight-line distance; then line-of-sight shortcutting, the exact goal
 // appended when the path ends within the goal tolerance, at most
 // kMaxTrajectoryPoints points (else it counts as no path). Plans keep
@@ -102,6 +104,11 @@ namespace rse::habitual {
 // so a run stays within about 2 ms (docs/habitual.md, "Time per run"); the
 // default 2000 iterations take two runs.
 constexpr std::uint32_t kRrtIterationsPerRun = 1000;
+// RRT* iterations per millisecond of HABITUAL.replan_budget_ms: the slowest of
+// the figures above (1.3 ms per 1000 near 7000 nodes), rounded down, so a
+// replan of N ms stays within about N ms on the development host. Recalibrate
+// on the flight computer.
+constexpr std::uint32_t kRrtIterationsPerMs = 750;
 // Raw RRT* path points taken (a path needing more counts as no path). Bounds the
 // shortcutting work at one plan completion: < kMaxRawPathPoints^2 / 2 checks.
 constexpr std::size_t kMaxRawPathPoints = 128;
@@ -238,6 +245,8 @@ private:
     void beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, core::TimeNs now);
     void stepPlanning(core::TimeNs now);
     bool startQuery(core::TimeNs now);
+    // RRT* iterations the planning run may take (see the file comment).
+    std::uint32_t queryBudget() const;
     // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
     // footprint): the point to back out to; false when there is none.
     bool findEscape(double footprint, Point2* exit) const;
