@@ -30,6 +30,8 @@ constexpr core::EventId kMissionHeld = 920;       // WARN: fault protection hold
 constexpr core::EventId kMissionResumed = 921;    // INFO: hold released (resume count): the current leg re-sent from the current pose
 constexpr core::EventId kGoalUnconfirmed = 922;   // WARN: the goal's last leg reached while the pose is uncertain: waiting for a certain pose
 constexpr core::EventId kGoalLegResent = 923;     // WARN: pose certain again but off the goal (distance): the last leg re-sent from the pose
+constexpr core::EventId kBackingUp = 925;         // WARN: no path after the replans: backing up along the driven track (distance, target, n of limit)
+constexpr core::EventId kBackedUp = 926;          // INFO: back-up reached: replanning from there
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

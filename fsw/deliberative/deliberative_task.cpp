@@ -115,6 +115,7 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
     }
     const core::TimeNs now = frame.actualStart;
     drainFast();
+    recordTrack();
     drainInputs(now);
     const msg::DeliberativeState s = status_.state;
     const bool active = s == msg::DeliberativeState::kWaiting || s == msg::DeliberativeState::kPlanning ||
@@ -289,6 +290,8 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     goalReplans_ = 0;
     goalUnconfirmed_ = false;
     replanRequest_.pending = false;
+    backingUp_ = false;
+    goalBackUps_ = 0;
     ++counters_.goalListsAdopted;
     cancelLeg(now);
     status_.callHome = msg::CallHomeReason::kNone;
@@ -311,6 +314,7 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
     }
     const msg::DeliberativeState s = status_.state;
     goalUnconfirmed_ = false;
+    backingUp_ = false;
     if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
         cancelLeg(now);
         setState(msg::DeliberativeState::kWaiting);
@@ -323,6 +327,23 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
 void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs now) {
     if (status_.state != msg::DeliberativeState::kExecuting || leg_.legId == 0 || report.legId != leg_.legId) {
         return;  // about an older leg, or the 1 Hz repeat of one already handled
+    }
+    if (report.state == msg::HabitualState::kAchieved && backingUp_) {
+        backingUp_ = false;
+        // The track now ends where the back-up did: a further back-up goes on
+        // back, not over the ground just reversed along.
+        trackCount_ = backUpKeep_ < trackCount_ ? backUpKeep_ : trackCount_;
+        recordTrack();
+        leg_.legId = 0;
+        changed_ = true;
+        events_.report(events::kBackedUp, core::Severity::kInfo,
+                       "deliberative: backed up to (%.2f, %.2f) (%u of %u): replanning goal %u from there", pose_.xM,
+                       pose_.yM, static_cast<unsigned>(goalBackUps_),
+                       static_cast<unsigned>(tables_.planner().no_path_backup_limit),
+                       static_cast<unsigned>(goalIndex_));
+        captureReplanRequest(msg::LegConstraint::kNoPath, now);
+        setState(msg::DeliberativeState::kWaiting);
+        return;
     }
     if (report.state == msg::HabitualState::kAchieved) {
         ++counters_.legsAchieved;
@@ -381,6 +402,7 @@ void DeliberativeTask::goalReached() {
                    static_cast<unsigned>(goalIndex_), goal.xM, goal.yM);
     ++goalIndex_;
     goalReplans_ = 0;
+    goalBackUps_ = 0;
     riskFactor_ = 1.0;
     if (goalIndex_ < goals_.count) {
         setState(msg::DeliberativeState::kWaiting);
@@ -425,6 +447,10 @@ LegParams DeliberativeTask::legParams() const {
 }
 
 void DeliberativeTask::resendFromPose(core::TimeNs now) {
+    if (status_.state == msg::DeliberativeState::kExecuting && backingUp_) {
+        sendBackUpLeg(now);
+        return;
+    }
     if (status_.state != msg::DeliberativeState::kExecuting || legIndex_ >= legs_.count) {
         return;
     }
@@ -474,7 +500,7 @@ void DeliberativeTask::onHazards(const msg::KnownHazardsMsg& hazards, core::Time
     ++counters_.hazardMaps;
     // The leg in force may end inside what was just seen: the habitual layer
     // could only fail up on it, so move on to the next leg end now.
-    if (status_.state == msg::DeliberativeState::kExecuting && leg_.legId != 0 && !held_ &&
+    if (status_.state == msg::DeliberativeState::kExecuting && leg_.legId != 0 && !held_ && !backingUp_ &&
         legIndex_ + 1 < legs_.count && legEndInHazard(legs_.legs[legIndex_])) {
         leg_.legId = 0;
         sendLeg(now);
@@ -518,6 +544,11 @@ void DeliberativeTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now)
 
 void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs now) {
     ++counters_.failUps;
+    if (backingUp_) {
+        backingUp_ = false;
+        callHome(msg::CallHomeReason::kReplansExhausted, "the back-up failed up", now);
+        return;
+    }
     events_.report(events::kFailUpReceived, core::Severity::kWarning,
                    "deliberative: leg %u failed up: %s (predicted %.1f, allowed %.1f, excess %.1f)",
                    static_cast<unsigned>(report.legId), constraintName(report.violated),
@@ -677,6 +708,9 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     leg_.legId = 0;
     const std::uint32_t limit = tables_.planner().replan_limit;
     if (goalReplans_ >= limit) {
+        if (why == msg::LegConstraint::kNoPath && startBackUp(now)) {
+            return;
+        }
         callHome(why == msg::LegConstraint::kEnergy ? msg::CallHomeReason::kInsufficientPower
                                                     : msg::CallHomeReason::kReplansExhausted,
                  constraintName(why), now);
@@ -684,6 +718,18 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     }
     ++goalReplans_;
     ++counters_.replans;
+    captureReplanRequest(why, now);
+    const ReplanRequest& rr = replanRequest_;
+    events_.report(events::kReplan, core::Severity::kWarning,
+                   "deliberative: replan %u/%u (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
+                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(limit), constraintName(why),
+                   static_cast<double>(now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
+                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
+                   static_cast<unsigned>(hazards_.count));
+    setState(msg::DeliberativeState::kWaiting);
+}
+
+void DeliberativeTask::captureReplanRequest(msg::LegConstraint why, core::TimeNs now) {
     ReplanRequest& rr = replanRequest_;
     rr.timeNs = now;
     rr.poseTimeNs = pose_.timeNs;
@@ -698,13 +744,110 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     rr.unfinished = static_cast<std::uint8_t>(goals_.count > goalIndex_ ? goals_.count - goalIndex_ : 0);
     rr.why = why;
     rr.pending = true;
-    events_.report(events::kReplan, core::Severity::kWarning,
-                   "deliberative: replan %u/%u (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
-                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(limit), constraintName(why),
-                   static_cast<double>(now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
-                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
-                   static_cast<unsigned>(hazards_.count));
-    setState(msg::DeliberativeState::kWaiting);
+}
+
+void DeliberativeTask::recordTrack() {
+    if (backingUp_ || !poseSeen_ || pose_.initialised == 0 || !std::isfinite(pose_.xM) || !std::isfinite(pose_.yM)) {
+        return;
+    }
+    if (trackCount_ > 0) {
+        const std::size_t newest = (trackHead_ + trackCount_ - 1) % kTrackPoints;
+        if (std::hypot(pose_.xM - trackX_[newest], pose_.yM - trackY_[newest]) < kTrackStepM) {
+            return;
+        }
+    }
+    const std::size_t slot = (trackHead_ + trackCount_) % kTrackPoints;
+    trackX_[slot] = pose_.xM;
+    trackY_[slot] = pose_.yM;
+    if (trackCount_ < kTrackPoints) {
+        ++trackCount_;
+    } else {
+        trackHead_ = (trackHead_ + 1) % kTrackPoints;
+    }
+}
+
+bool DeliberativeTask::backUpTarget(double distanceM, msg::PlanLeg* out, std::size_t* keep) const {
+    // Walk back from the pose through the track, newest first; the first point
+    // at or beyond distanceM (then every kTrackStepM, up to twice it) that is
+    // clear of every seen hazard.
+    double fromX = pose_.xM;
+    double fromY = pose_.yM;
+    double walked = 0.0;
+    double want = distanceM;
+    const double farthest = 2.0 * distanceM;
+    for (std::size_t k = 0; k < trackCount_; ++k) {
+        const std::size_t i = (trackHead_ + trackCount_ - 1 - k) % kTrackPoints;
+        const double seg = std::hypot(trackX_[i] - fromX, trackY_[i] - fromY);
+        // At most farthest / kTrackStepM candidates in all (80 for 10 m).
+        for (std::uint32_t c = 0; c < 100 && seg > 0.0 && walked + seg >= want; ++c) {
+            const double f = (want - walked) / seg;
+            msg::PlanLeg p{};
+            p.xM = fromX + f * (trackX_[i] - fromX);
+            p.yM = fromY + f * (trackY_[i] - fromY);
+            if (!legEndInHazard(p)) {
+                *out = p;
+                *keep = trackCount_ - 1 - k;  // the points beyond the target are driven back over
+                return true;
+            }
+            want += kTrackStepM;
+            if (want > farthest) {
+                return false;
+            }
+        }
+        walked += seg;
+        fromX = trackX_[i];
+        fromY = trackY_[i];
+    }
+    return false;
+}
+
+bool DeliberativeTask::startBackUp(core::TimeNs now) {
+    const tables::PlannerTable& planner = tables_.planner();
+    const double distance = static_cast<double>(planner.no_path_backup_m);
+    msg::PlanLeg target{};
+    std::size_t keep = 0;
+    if (goalBackUps_ >= planner.no_path_backup_limit || !(distance > 0.0) ||
+        !backUpTarget(distance, &target, &keep)) {
+        return false;
+    }
+    backUpKeep_ = keep;
+    ++goalBackUps_;
+    ++counters_.backUps;
+    backingUp_ = true;
+    backUpLeg_ = target;
+    events_.report(events::kBackingUp, core::Severity::kWarning,
+                   "deliberative: no path after %u replans: backing up %.1f m along the track to (%.2f, %.2f), %u of %u",
+                   static_cast<unsigned>(goalReplans_), std::hypot(target.xM - pose_.xM, target.yM - pose_.yM),
+                   target.xM, target.yM, static_cast<unsigned>(goalBackUps_),
+                   static_cast<unsigned>(planner.no_path_backup_limit));
+    setState(msg::DeliberativeState::kExecuting);
+    sendBackUpLeg(now);
+    return true;
+}
+
+void DeliberativeTask::sendBackUpLeg(core::TimeNs now) {
+    if (held_) {
+        leg_ = msg::LegCommandMsg{};
+        changed_ = true;
+        return;
+    }
+    (void)legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, legParams(), &backUpLeg_);
+    leg_ = msg::LegCommandMsg{};
+    leg_.timeNs = now;
+    leg_.legId = nextLegId_;
+    nextLegId_ = nextLegId_ == UINT32_MAX ? 1 : nextLegId_ + 1;
+    leg_.finalLeg = 0;
+    leg_.goalXM = backUpLeg_.xM;
+    leg_.goalYM = backUpLeg_.yM;
+    leg_.maxPathLengthM = backUpLeg_.lengthM;
+    leg_.maxEnergyJ = backUpLeg_.energyJ;
+    published(bus_.publish(leg_), "back-up leg");
+    ++counters_.legsSent;
+    changed_ = true;
+    events_.report(events::kLegSent, core::Severity::kInfo,
+                   "deliberative: leg %u (back-up) to (%.2f, %.2f): <= %.2f m, <= %.0f J",
+                   static_cast<unsigned>(leg_.legId), backUpLeg_.xM, backUpLeg_.yM, backUpLeg_.lengthM,
+                   backUpLeg_.energyJ);
 }
 
 // ---------------------------------------------------------------------------

@@ -54,6 +54,16 @@
 //              (map_problem.hpp); a leg end inside one (grown by the footprint
 //              and kLegEndMarginM) is merged into the next leg, also for the leg
 //              in force (re-sent as a new leg).
+//   no path the replans cannot fix (a kNoPath fail-up with PLANNER.replan_limit
+//              replans spent): back up PLANNER.no_path_backup_m along the driven
+//              track (recorded every kTrackStepM, kTrackPoints deep; not while
+//              backing up, and cut back to the back-up's end when reached), to the
+//              first point there clear of seen hazards, as a leg of its own;
+//              reached, a replan from there (not counted against replan_limit);
+//              at most PLANNER.no_path_backup_limit per goal, then call home
+//              kReplansExhausted. No track to back along, or no clear point
+//              within twice the distance: call home. A back-up leg that fails
+//              up calls home.
 //   replan: a ReplanRequest records the unfinished goals, the time and the
 //              position (and covariance) at the fail-up; the plan starts from
 //              that position (refreshed from the pose if that position is older
@@ -114,6 +124,9 @@ constexpr double kLegEndMarginM = 0.25;
 // refreshed from the pose (the pose was stale at the fail-up, or the rover
 // moved while planning waited for a usable pose).
 constexpr core::TimeNs kReplanMaxAgeNs = 1000 * core::kNsPerMs;
+// The driven track kept for backing up: a point every kTrackStepM, the last kTrackPoints.
+constexpr double kTrackStepM = 0.25;
+constexpr std::size_t kTrackPoints = 64;
 // Largest hazard radius believed (the habitual layer merges no disc beyond 2 m).
 constexpr float kMaxHazardRadiusM = 10.0F;
 
@@ -154,6 +167,7 @@ struct DeliberativeCounters {
     std::uint32_t failUpsWhileHeld = 0;
     std::uint32_t goalsUnconfirmed = 0;  // goal's last leg reached with the pose uncertain
     std::uint32_t goalLegsResent = 0;    // ... and then re-sent from a certain pose off the goal
+    std::uint32_t backUps = 0;           // back-ups along the track after "no path"
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -179,6 +193,7 @@ public:
     const msg::LegCommandMsg& lastLeg() const { return leg_; }
     std::uint32_t plannerSlices() const { return slices_; }
     bool held() const { return held_; }
+    bool backingUp() const { return backingUp_; }
     const ReplanRequest& lastReplanRequest() const { return replanRequest_; }
     const msg::KnownHazardsMsg& hazards() const { return hazards_; }
 
@@ -205,6 +220,14 @@ private:
     void checkUnconfirmedGoal(core::TimeNs now);
     void resendFromPose(core::TimeNs now);
     LegParams legParams() const;
+    void captureReplanRequest(msg::LegConstraint why, core::TimeNs now);
+    void recordTrack();
+    // The point no_path_backup_m back along the track from the pose, clear of
+    // seen hazards; false when there is none.
+    // *keep: the track points older than the target.
+    bool backUpTarget(double distanceM, msg::PlanLeg* out, std::size_t* keep) const;
+    bool startBackUp(core::TimeNs now);
+    void sendBackUpLeg(core::TimeNs now);
 
     void startPlan(core::TimeNs now);
     void stepPlanner(core::TimeNs now);
@@ -239,6 +262,15 @@ private:
     std::uint32_t resumeCount_ = 0;
     bool goalUnconfirmed_ = false;   // the goal's last leg reached, pose uncertain: waiting
     ReplanRequest replanRequest_{};
+    // The driven track: track_[(trackHead_ + k) % kTrackPoints], k < trackCount_, oldest first.
+    double trackX_[kTrackPoints] = {};
+    double trackY_[kTrackPoints] = {};
+    std::size_t trackHead_ = 0;
+    std::size_t trackCount_ = 0;
+    bool backingUp_ = false;         // the leg in force is a back-up
+    msg::PlanLeg backUpLeg_{};
+    std::size_t backUpKeep_ = 0;     // track points kept when the back-up is reached
+    std::uint32_t goalBackUps_ = 0;  // back-ups of the current goal
 
     // Goals.
     msg::GoalListMsg goals_{};

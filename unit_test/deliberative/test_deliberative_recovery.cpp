@@ -337,3 +337,103 @@ TEST(DeliberativeRecovery, AReplanRequestWhosePositionIsStaleStartsFromTheNextFr
     DOUBLES_EQUAL(4.0, rig->task.problem().startX, 0.0);
     DOUBLES_EQUAL(4.0, rig->task.lastReplanRequest().xM, 0.0);
 }
+
+// ---- backing up after "no path" ---------------------------------------------------------
+
+TEST(DeliberativeRecovery, NoPathTheReplansCannotFixBacksUpAlongTheTrackRetriesUpToTheLimitThenCallsHome) {
+    autonomousToFirstLeg();
+    for (int i = 0; i <= 20; ++i) {  // driven east along y = 0.5 to x = 6
+        rig->x = 0.3 * i;
+        rig->y = 0.5;
+        rig->run();
+    }
+    const tables::PlannerTable& planner = rig->tables.planner();
+    const double backUp = static_cast<double>(planner.no_path_backup_m);
+    CHECK(backUp > 0.0 && backUp < 3.0);
+    CHECK(planner.no_path_backup_limit >= 2);
+    for (unsigned k = 0; k < planner.replan_limit; ++k) {
+        rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+        rig->run();
+        CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    }
+    double atX = 6.0;
+    for (unsigned b = 1; b <= planner.no_path_backup_limit; ++b) {
+        rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+        rig->run();
+        CHECK_TRUE(rig->task.backingUp());
+        LONGS_EQUAL(b, rig->task.counters().backUps);
+        CHECK(DeliberativeState::kExecuting == rig->task.state());
+        // Back along the track it came by, not over the last back-up.
+        DOUBLES_EQUAL(atX - backUp, rig->lastLeg.goalXM, 1e-9);
+        DOUBLES_EQUAL(0.5, rig->lastLeg.goalYM, 1e-9);
+        LONGS_EQUAL(0, rig->lastLeg.finalLeg);
+        LONGS_EQUAL(planner.replan_limit, rig->task.counters().replans);  // a back-up is not a replan
+        rig->achieveLeg();
+        rig->run();
+        CHECK_FALSE(rig->task.backingUp());
+        CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+        atX -= backUp;
+        DOUBLES_EQUAL(atX, rig->task.problem().startX, 1e-9);  // the retry plans from there
+    }
+    LONGS_EQUAL(planner.no_path_backup_limit, rig->seenCount(ev::kBackingUp));
+    LONGS_EQUAL(planner.no_path_backup_limit, rig->seenCount(ev::kBackedUp));
+    LONGS_EQUAL(0, rig->safeRequests);
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    CHECK(msg::CallHomeReason::kReplansExhausted == rig->lastSafe.reason);
+}
+
+TEST(DeliberativeRecovery, TheBackUpDistanceComesFromThePlannerTableAndSkipsPointsInsideSeenHazards) {
+    tables::PlannerTable t = rig->tables.planner();
+    t.no_path_backup_m = 1.0F;
+    t.replan_limit = 0;
+    CHECK_TRUE(rig->loadTable(tables::TableId::kPlanner, t, 50));
+    autonomousToFirstLeg();
+    for (int i = 0; i <= 20; ++i) {
+        rig->x = 0.3 * i;
+        rig->run();
+    }
+    // A rock seen beside the track 1 m back: the first clear point is farther back.
+    const double hazard[1][3] = {{4.8, 0.6, 0.1}};
+    rig->sendHazards(hazard, 1);
+    rig->run();
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK_TRUE(rig->task.backingUp());
+    const double clear = 0.1 + footprint + deliberative::kLegEndMarginM;
+    const double bx = rig->lastLeg.goalXM;
+    DOUBLES_EQUAL(0.0, rig->lastLeg.goalYM, 1e-9);
+    CHECK(bx < 5.0);
+    CHECK(std::hypot(bx - 4.8, 0.6) >= clear);
+    CHECK(std::hypot(bx + deliberative::kTrackStepM - 4.8, 0.6) < clear);  // one step nearer is not clear
+    // Without the hazard, exactly the table's distance.
+    delete rig;
+    setup();
+    CHECK_TRUE(rig->loadTable(tables::TableId::kPlanner, t, 50));
+    autonomousToFirstLeg();
+    for (int i = 0; i <= 20; ++i) {
+        rig->x = 0.3 * i;
+        rig->run();
+    }
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK_TRUE(rig->task.backingUp());
+    DOUBLES_EQUAL(5.0, rig->lastLeg.goalXM, 1e-9);
+}
+
+TEST(DeliberativeRecovery, NoBackUpWithoutATrackOrWithTheLimitZero) {
+    tables::PlannerTable t = rig->tables.planner();
+    t.replan_limit = 0;
+    t.no_path_backup_limit = 0;
+    CHECK_TRUE(rig->loadTable(tables::TableId::kPlanner, t, 51));
+    autonomousToFirstLeg();
+    for (int i = 0; i <= 20; ++i) {
+        rig->x = 0.3 * i;
+        rig->run();
+    }
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    LONGS_EQUAL(0, rig->task.counters().backUps);
+}
