@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/habitual/map_builder.hpp"
 
 namespace rse::deliberative {
 
@@ -461,8 +462,15 @@ void DeliberativeTask::resendFromPose(core::TimeNs now) {
     sendLeg(now);
 }
 
-bool DeliberativeTask::legEndInHazard(const msg::PlanLeg& leg) const {
+bool DeliberativeTask::legEndTooClose(const msg::PlanLeg& leg) const {
     const double clearance = static_cast<double>(tables_.roverGeometry().footprint_radius_m) + kLegEndMarginM;
+    // The plan keeps its means off the grown polygons only with the chance
+    // margin of the moment, and a polygon grown less for a close start keeps
+    // less: an end the habitual layer could reach only without its planning
+    // margin is not handed to it.
+    if (habitual::MapBuilder::distanceToCoarseMap(tables_.coarseMap(), habitual::Point2{leg.xM, leg.yM}) < clearance) {
+        return true;
+    }
     for (std::size_t i = 0; i < hazards_.count && i < msg::kMaxKnownHazards; ++i) {
         const msg::KnownHazard& h = hazards_.hazards[i];
         const double reach = static_cast<double>(h.radiusM) + clearance;
@@ -477,7 +485,7 @@ bool DeliberativeTask::legEndInHazard(const msg::PlanLeg& leg) const {
 
 bool DeliberativeTask::skipLegEndsInHazards() {
     bool moved = false;
-    while (legIndex_ + 1 < legs_.count && legEndInHazard(legs_.legs[legIndex_])) {
+    while (legIndex_ + 1 < legs_.count && legEndTooClose(legs_.legs[legIndex_])) {
         const msg::PlanLeg skipped = legs_.legs[legIndex_];
         msg::PlanLeg& next = legs_.legs[legIndex_ + 1];
         next.lengthM += skipped.lengthM;
@@ -488,7 +496,7 @@ bool DeliberativeTask::skipLegEndsInHazards() {
         ++counters_.legEndsSkipped;
         moved = true;
         events_.report(events::kLegEndSkipped, core::Severity::kWarning,
-                       "deliberative: leg end (%.2f, %.2f) inside a seen hazard: merged into leg %u of %u (to (%.2f, %.2f))",
+                       "deliberative: leg end (%.2f, %.2f) too near a rock: merged into leg %u of %u (to (%.2f, %.2f))",
                        skipped.xM, skipped.yM, static_cast<unsigned>(legIndex_ + 1), static_cast<unsigned>(legs_.count),
                        next.xM, next.yM);
     }
@@ -501,7 +509,7 @@ void DeliberativeTask::onHazards(const msg::KnownHazardsMsg& hazards, core::Time
     // The leg in force may end inside what was just seen: the habitual layer
     // could only fail up on it, so move on to the next leg end now.
     if (status_.state == msg::DeliberativeState::kExecuting && leg_.legId != 0 && !held_ && !backingUp_ &&
-        legIndex_ + 1 < legs_.count && legEndInHazard(legs_.legs[legIndex_])) {
+        legIndex_ + 1 < legs_.count && legEndTooClose(legs_.legs[legIndex_])) {
         leg_.legId = 0;
         sendLeg(now);
     }
@@ -784,7 +792,7 @@ bool DeliberativeTask::backUpTarget(double distanceM, msg::PlanLeg* out, std::si
             msg::PlanLeg p{};
             p.xM = fromX + f * (trackX_[i] - fromX);
             p.yM = fromY + f * (trackY_[i] - fromY);
-            if (!legEndInHazard(p)) {
+            if (!legEndTooClose(p)) {
                 *out = p;
                 *keep = trackCount_ - 1 - k;  // the points beyond the target are driven back over
                 return true;

@@ -51,9 +51,10 @@
 //              current leg is re-sent from the current pose (new legId, bounds
 //              recomputed: plan_legs.hpp legBoundsFrom).
 //   seen hazards (KnownHazardsMsg): every plan includes them as obstacles
-//              (map_problem.hpp); a leg end inside one (grown by the footprint
-//              and kLegEndMarginM) is merged into the next leg, also for the leg
-//              in force (re-sent as a new leg).
+//              (map_problem.hpp); a leg end inside one, or near a coarse-map
+//              polygon (within the footprint and kLegEndMarginM), is merged into
+//              the next leg, also for the leg in force on a new sighting
+//              (re-sent as a new leg).
 //   no path the replans cannot fix (a kNoPath fail-up with PLANNER.replan_limit
 //              replans spent): back up PLANNER.no_path_backup_m along the driven
 //              track (recorded every kTrackStepM, kTrackPoints deep; not while
@@ -212,8 +213,10 @@ private:
     void onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now);
     void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
     bool poseUncertain() const;
-    bool legEndInHazard(const msg::PlanLeg& leg) const;
-    // Merges leg ends inside seen hazards into their next leg, from legIndex_ on
+    bool legEndTooClose(const msg::PlanLeg& leg) const;
+    // A leg end within the footprint + kLegEndMarginM of a seen hazard's disc or
+    // a coarse-map polygon.
+    // Merges such leg ends into their next leg, from legIndex_ on
     // while they are not the last leg; true when legIndex_ moved.
     bool skipLegEndsInHazards();
     void goalReached();

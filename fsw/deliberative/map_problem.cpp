@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/deliberative/gaussian.hpp"
 #include "fsw/habitual/geometry2d.hpp"
 #include "fsw/habitual/map_builder.hpp"
 
@@ -182,6 +183,13 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     const std::size_t slots = map.obstacle_count <= kCoarseMapSlots ? map.obstacle_count : kCoarseMapSlots;
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
+    // Room the start needs beyond an obstacle it stands close to: the end
+    // clearance and its own chance-constraint tightening at the even split of
+    // the largest problem (the trace bounds every face's variance).
+    const double startDelta = p.riskBound / (2.0 * static_cast<double>(p.steps > 0 ? p.steps : 1) *
+                                             static_cast<double>(kMaxPlanObstacles));
+    const double startMargin =
+        kHazardEndClearanceM + tighteningMargin(startDelta, p.startCov[0] + p.startCov[3]);
     for (std::size_t slot = 0; slot < slots; ++slot) {
         const std::size_t n = map.vertex_count[slot];
         if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &grown[count])) {
@@ -207,7 +215,8 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         }
         ++report->hazardsSeen;
         // The growth that keeps the start and the goal outside (see the header).
-        const double room = std::fmin(octagonGauge(c, s), octagonGauge(c, g)) - r - kHazardEndClearanceM;
+        const double room =
+            std::fmin(octagonGauge(c, s) - startMargin, octagonGauge(c, g) - kHazardEndClearanceM) - r;
         if (room < 0.0) {
             ++report->hazardsLeftOut;
             continue;

@@ -16,9 +16,10 @@
 //   rover's disc off everything the rover has seen, not only the orbital map.
 //   They compete with the polygons for the planner's kMaxPlanObstacles slots by
 //   the same ranking. A grown hazard that would contain the start or the goal
-//   is grown less (down to the bare disc plus kHazardEndClearanceM), so a rover
-//   that stopped close to a rock can still plan away from it; one whose bare
-//   disc contains the start or the goal is left out (counted).
+//   is grown less, so a rover that stopped close to a rock can still plan away
+//   from it: the goal keeps kHazardEndClearanceM, the start that plus its own
+//   chance-constraint tightening (PhiInv(1 - Delta / (2 N kMaxPlanObstacles))
+//   sqrt(trace Sigma_0)); one that leaves no such room is left out (counted).
 // - Site: the coarse map's bounds shrunk by the footprint radius.
 // - Plant: PLANNER.horizon_steps steps, PLANNER.process_noise_sigma_m per step,
 //   Sigma_0 the estimate's (x, y) covariance block; allocation from the table.
@@ -36,7 +37,7 @@
 namespace rse::deliberative {
 
 constexpr std::size_t kHazardFaces = 8;
-// A start or goal closer than this to a hazard's bare disc leaves the hazard out.
+// Clearance a start or goal keeps from an obstacle grown less for it.
 constexpr double kHazardEndClearanceM = 0.05;
 
 struct PlanRequest {

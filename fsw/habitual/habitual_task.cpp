@@ -610,20 +610,53 @@ bool HabitualTask::findEscape(double footprint, Point2* exit) const {
         return false;  // blocked by a coarse-map polygon or the bounds: no escape from a disc
     }
     const double away = distance(queryStart_, deepest->centre);
-    Point2 u = away > 1e-6 ? (1.0 / away) * (queryStart_ - deepest->centre)
-                           : Point2{-std::cos(queryHeading_), -std::sin(queryHeading_)};
-    double reach = deepest->radiusM + footprint + kPlanMarginM + kEscapeExtraM;
-    for (std::uint32_t i = 0; i < kEscapeSteps; ++i, reach += kEscapeStepM) {
-        const Point2 p = deepest->centre + reach * u;
-        if (distance(p, queryStart_) > kMaxEscapeM) {
-            return false;
-        }
-        if (planMap_.pointFree(p)) {
-            *exit = p;
-            return true;
+    const double base = away > 1e-6 ? std::atan2(queryStart_.y - deepest->centre.y, queryStart_.x - deepest->centre.x)
+                                    : queryHeading_ + 3.141592653589793;
+    // Straight away first; then turned either way, in case that runs towards
+    // another obstacle.
+    const double turns[] = {0.0, 0.5236, -0.5236, 1.0472, -1.0472, 1.5708, -1.5708};
+    const tables::CoarseMapTable& coarse = tables_.coarseMap();
+    const double keep = footprint + kPlanMarginM;
+    for (const double turn : turns) {
+        const Point2 u{std::cos(base + turn), std::sin(base + turn)};
+        double reach = deepest->radiusM + keep + kEscapeExtraM;
+        for (std::uint32_t i = 0; i < kEscapeSteps; ++i, reach += kEscapeStepM) {
+            const Point2 p = deepest->centre + reach * u;
+            if (distance(p, queryStart_) > kMaxEscapeM) {
+                break;
+            }
+            if (planMap_.pointFree(p) && escapeClear(coarse, p, keep, deepest)) {
+                *exit = p;
+                return true;
+            }
         }
     }
     return false;
+}
+
+bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
+                               const RememberedHazard* leaving) const {
+    // The end keeps the planning margin from every other obstacle; the way
+    // there keeps the bare footprint from the mapped rocks.
+    if (MapBuilder::distanceToCoarseMap(coarse, exit) < keep) {
+        return false;
+    }
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (h.used && &h != leaving && distance(exit, h.centre) < h.radiusM + keep) {
+            return false;
+        }
+    }
+    const double length = distance(queryStart_, exit);
+    const double footprint = static_cast<double>(tables_.roverGeometry().footprint_radius_m);
+    for (std::uint32_t i = 1; i <= kEscapeChecks; ++i) {
+        const double f = static_cast<double>(i) / static_cast<double>(kEscapeChecks);
+        const Point2 q = queryStart_ + f * (exit - queryStart_);
+        if (length > 0.0 && MapBuilder::distanceToCoarseMap(coarse, q) < footprint) {
+            return false;
+        }
+    }
+    return true;
 }
 
 void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {

@@ -50,10 +50,12 @@
 // are checked while driving against the bare footprint. A planning run whose
 // start lies inside a seen hazard's disc grown by the footprint (the disc grew
 // as more of the rock came into view after the rover stopped) first backs out:
-// a straight trajectory directly away from that disc's centre to the first
-// point free at footprint + kPlanMarginM + kEscapeExtraM (kEscapeSteps of
-// kEscapeStepM further if another obstacle is there, at most kMaxEscapeM), not
-// checked against the disc it leaves; reached, the session plans again from
+// a straight trajectory directly away from that disc's centre (or turned by up
+// to 90 degrees either way when that runs towards another obstacle) to the
+// first point clear of that disc by footprint + kPlanMarginM + kEscapeExtraM
+// and of everything else by footprint + kPlanMarginM (kEscapeSteps of
+// kEscapeStepM further out, at most kMaxEscapeM away), the way there clear of
+// the mapped rocks, not checked against the disc it leaves; reached, the session plans again from
 // there. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
 // leg fails up (no path).
 //
@@ -138,6 +140,8 @@ constexpr double kEscapeStepM = 0.25;
 constexpr std::uint32_t kEscapeSteps = 8;
 constexpr double kMaxEscapeM = 3.0;
 constexpr std::uint32_t kMaxEscapesPerLeg = 3;
+// Points checked along the way out against the mapped rocks (3 m / 30: 0.1 m apart).
+constexpr std::uint32_t kEscapeChecks = 30;
 
 // Why a planning session started.
 enum class PlanTrigger : std::uint8_t {
@@ -251,6 +255,8 @@ private:
     // footprint): the point to back out to; false when there is none.
     bool findEscape(double footprint, Point2* exit) const;
     void sendEscape(Point2 exit, core::TimeNs now);
+    bool escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
+                     const RememberedHazard* leaving) const;
     void finishQuery(core::TimeNs now);
     // rawPath_[0..count) is the planning run's path (count < 2: none).
     void completePlan(std::size_t count, core::TimeNs now);

@@ -85,7 +85,7 @@ TEST(DeliberativeRecovery, ANoPathReplanPlansRoundTheSeenHazardsAndSendsNoLegEnd
     rig->sendHazards(hazard, 1);
     rig->run();
     LONGS_EQUAL(1, rig->task.hazards().count);
-    rig->x = 6.0;
+    rig->x = 5.0;
     rig->y = 0.3;
     rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
     rig->run();
@@ -104,7 +104,7 @@ TEST(DeliberativeRecovery, ANoPathReplanPlansRoundTheSeenHazardsAndSendsNoLegEnd
     CHECK(std::hypot(rig->lastLeg.goalXM - 8.0, rig->lastLeg.goalYM) >=
           0.8 + footprint + deliberative::kLegEndMarginM);
     CHECK_TRUE(contains(rig->seenText(ev::kPlanStarted), "obstacles, 1 seen"));
-    CHECK_TRUE(contains(rig->seenText(ev::kReplan), "from (6.00, 0.30): goals 0..0 left, 1 hazards"));
+    CHECK_TRUE(contains(rig->seenText(ev::kReplan), "from (5.00, 0.30): goals 0..0 left, 1 hazards"));
 }
 
 TEST(DeliberativeRecovery, ALegInForceEndingInsideANewlySeenHazardMovesOnToTheNextLegEnd) {

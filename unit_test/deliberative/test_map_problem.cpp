@@ -482,8 +482,8 @@ TEST(MapProblem, DefaultTablesSmallerRiskKeepsMoreClearance) {
 
 // Seen hazards (KnownHazardsMsg discs) become octagons circumscribing the disc
 // grown by the footprint; one that would swallow the start is grown only as far
-// as the start allows, one whose bare disc holds the start is left out, and a
-// non-finite one is left out.
+// as the start's room (end clearance and its chance tightening) allows, one
+// that leaves no such room is left out, and a non-finite one is left out.
 TEST(MapProblem, SeenHazardsAreOctagonsRoundTheGrownDiscShrunkForTheStartOrLeftOut) {
     const CoarseMapTable map = emptyMap();
     const rse::msg::KnownHazard hazards[] = {
@@ -493,6 +493,7 @@ TEST(MapProblem, SeenHazardsAreOctagonsRoundTheGrownDiscShrunkForTheStartOrLeftO
         {0.0F, 9.0F, NAN, 10, {}},     // not finite: out
     };
     PlanRequest r = request(-2.75, 1.0, 8.0, 0.0, 1e-3);
+    r.startCov[0] = r.startCov[3] = 1e-4;  // a well-fixed start: little tightening
     r.hazards = hazards;
     r.hazardCount = 4;
     CcProblem p;
@@ -516,8 +517,13 @@ TEST(MapProblem, SeenHazardsAreOctagonsRoundTheGrownDiscShrunkForTheStartOrLeftO
             DOUBLES_EQUAL(reach, o.offset[k] - (o.normalX[k] * cx + o.normalY[k] * cy), 1e-9);
         }
         if (o.id == 8) {
-            // 0.75 from the centre along a face normal: room for 0.75 - 0.5 - 0.05 of growth.
-            DOUBLES_EQUAL(0.75 - rse::deliberative::kHazardEndClearanceM, reach, 1e-6);
+            // 0.75 from the centre along a face normal, less the start's room.
+            const double delta = 1e-3 / (2.0 * 12.0 * static_cast<double>(kMaxPlanObstacles));
+            const double room =
+                rse::deliberative::kHazardEndClearanceM + rse::deliberative::tighteningMargin(delta, 2e-4);
+            CHECK(room > rse::deliberative::kHazardEndClearanceM);
+            DOUBLES_EQUAL(0.75 - room, reach, 1e-6);
+            CHECK(reach < static_cast<double>(h.radiusM) + kRadius);
         } else {
             DOUBLES_EQUAL(static_cast<double>(h.radiusM) + kRadius, reach, 1e-6);
         }
@@ -555,3 +561,4 @@ TEST(MapProblem, ASeenHazardOnTheLineTakesTheSlotOfTheFarthestPolygon) {
         CHECK(p.obstacles[i].faceCount == rse::deliberative::kHazardFaces || p.obstacles[i].id != kMaxPlanObstacles - 1);
     }
 }
+
