@@ -25,5 +25,13 @@ constexpr core::EventId kLeftAutonomous = 915;    // INFO: mode left AUTONOMOUS:
 constexpr core::EventId kMalformedInput = 916;    // ERROR: a bus message that does not decode or fails its checks (throttled)
 constexpr core::EventId kInitFailed = 917;        // ERROR: pipe creation or subscription refused at init
 constexpr core::EventId kPublishFailed = 918;     // ERROR: a leg, status or safe request the bus refused (throttled)
+constexpr core::EventId kLegEndSkipped = 919;     // WARN: a leg end lies inside a seen hazard: merged into the next leg (re-sent when in force)
+constexpr core::EventId kMissionHeld = 920;       // WARN: fault protection holds the mission (reasons): no new legs, fail-ups ignored
+constexpr core::EventId kMissionResumed = 921;    // INFO: hold released (resume count): the current leg re-sent from the current pose
+constexpr core::EventId kGoalUnconfirmed = 922;   // WARN: the goal's last leg reached while the pose is uncertain: waiting for a certain pose
+constexpr core::EventId kGoalLegResent = 923;     // WARN: pose certain again but off the goal (distance): the last leg re-sent from the pose
+constexpr core::EventId kBackingUp = 925;         // WARN: no path after the replans: backing up along the driven track (distance, target, n of limit)
+constexpr core::EventId kBackedUp = 926;          // INFO: back-up reached: replanning from there
+constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/habitual/map_builder.hpp"
 
 namespace rse::deliberative {
 
@@ -60,6 +61,20 @@ bool goalListUsable(const msg::GoalListMsg& g) {
     return true;
 }
 
+bool hazardsUsable(const msg::KnownHazardsMsg& h) {
+    if (h.count > msg::kMaxKnownHazards) {
+        return false;
+    }
+    for (std::size_t i = 0; i < h.count; ++i) {
+        const msg::KnownHazard& k = h.hazards[i];
+        if (!std::isfinite(k.xM) || !std::isfinite(k.yM) || !std::isfinite(k.radiusM) || !(k.radiusM > 0.0F) ||
+            k.radiusM > kMaxHazardRadiusM || k.obstacleId == 0) {
+            return false;
+        }
+    }
+    return true;
+}
+
 }  // namespace
 
 DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
@@ -76,7 +91,9 @@ core::Status DeliberativeTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("deliberative", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kGoalList, msg::ids::kLegReport, msg::ids::kDriveModes, msg::ids::kMode};
+    const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kLegReport,   msg::ids::kDriveModes,
+                                  msg::ids::kMode,        msg::ids::kKnownHazards, msg::ids::kMissionHold,
+                                  msg::ids::kFaultStatus};
     for (const core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(inputPipe_, id);
@@ -100,18 +117,23 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
     }
     const core::TimeNs now = frame.actualStart;
     drainFast();
+    recordTrack();
     drainInputs(now);
     const msg::DeliberativeState s = status_.state;
     const bool active = s == msg::DeliberativeState::kWaiting || s == msg::DeliberativeState::kPlanning ||
                         s == msg::DeliberativeState::kExecuting;
-    if (active && autonomous_ && mobilityLost()) {
+    // A hold is fault protection's: a drive under recovery trips the interlock
+    // on purpose, and what the hold stops must not count against the mission.
+    if (active && autonomous_ && !held_ && mobilityLost()) {
         callHome(msg::CallHomeReason::kMobilityLost,
                  interlockTripped_ ? "the drive interlock holds every drive" : "a drive is declared failed", now);
-    } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && goalIndex_ < goals_.count &&
+    } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && !held_ && goalIndex_ < goals_.count &&
                poseUsable(now)) {
         startPlan(now);
     } else if (s == msg::DeliberativeState::kPlanning) {
         stepPlanner(now);
+    } else if (s == msg::DeliberativeState::kExecuting && goalUnconfirmed_ && !held_) {
+        checkUnconfirmedGoal(now);
     }
     ++runs_;
     if (changed_ || runs_ % kStatusPeriodRuns == 0) {
@@ -199,6 +221,33 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
+            case msg::ids::kKnownHazards: {
+                msg::KnownHazardsMsg hazards{};
+                if (core::isOk(inbox_.decode(&hazards)) && hazardsUsable(hazards)) {
+                    onHazards(hazards, now);
+                } else {
+                    malformed("known hazards", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kMissionHold: {
+                msg::MissionHoldMsg hold{};
+                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                    onHold(hold, now);
+                } else {
+                    malformed("mission hold", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kFaultStatus: {
+                msg::FaultStatusMsg faults{};
+                if (core::isOk(inbox_.decode(&faults))) {
+                    faults_ = faults;
+                } else {
+                    malformed("fault status", inbox_.header.id);
+                }
+                break;
+            }
             default:
                 malformed("message", inbox_.header.id);
                 break;
@@ -241,6 +290,10 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     goalIndex_ = 0;
     riskFactor_ = 1.0;
     goalReplans_ = 0;
+    goalUnconfirmed_ = false;
+    replanRequest_.pending = false;
+    backingUp_ = false;
+    goalBackUps_ = 0;
     ++counters_.goalListsAdopted;
     cancelLeg(now);
     status_.callHome = msg::CallHomeReason::kNone;
@@ -262,6 +315,8 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
         return;
     }
     const msg::DeliberativeState s = status_.state;
+    goalUnconfirmed_ = false;
+    backingUp_ = false;
     if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
         cancelLeg(now);
         setState(msg::DeliberativeState::kWaiting);
@@ -274,6 +329,23 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
 void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs now) {
     if (status_.state != msg::DeliberativeState::kExecuting || leg_.legId == 0 || report.legId != leg_.legId) {
         return;  // about an older leg, or the 1 Hz repeat of one already handled
+    }
+    if (report.state == msg::HabitualState::kAchieved && backingUp_) {
+        backingUp_ = false;
+        // The track now ends where the back-up did: a further back-up goes on
+        // back, not over the ground just reversed along.
+        trackCount_ = backUpKeep_ < trackCount_ ? backUpKeep_ : trackCount_;
+        recordTrack();
+        leg_.legId = 0;
+        changed_ = true;
+        events_.report(events::kBackedUp, core::Severity::kInfo,
+                       "deliberative: backed up to (%.2f, %.2f) (%u of %u): replanning goal %u from there", pose_.xM,
+                       pose_.yM, static_cast<unsigned>(goalBackUps_),
+                       static_cast<unsigned>(tables_.planner().no_path_backup_limit),
+                       static_cast<unsigned>(goalIndex_));
+        captureReplanRequest(msg::LegConstraint::kNoPath, now);
+        setState(msg::DeliberativeState::kWaiting);
+        return;
     }
     if (report.state == msg::HabitualState::kAchieved) {
         ++counters_.legsAchieved;
@@ -288,29 +360,204 @@ void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs
             sendLeg(now);
             return;
         }
-        ++counters_.goalsReached;
-        events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
-                       static_cast<unsigned>(goalIndex_), goals_.goals[goalIndex_].xM, goals_.goals[goalIndex_].yM);
-        ++goalIndex_;
-        goalReplans_ = 0;
-        riskFactor_ = 1.0;
-        if (goalIndex_ < goals_.count) {
-            setState(msg::DeliberativeState::kWaiting);
-        } else {
-            setState(msg::DeliberativeState::kComplete);
-            events_.report(events::kMissionComplete, core::Severity::kInfo, "deliberative: every goal reached (%u)",
-                           static_cast<unsigned>(goals_.count));
-        }
+        goalReached();
         return;
     }
     const bool refused = report.state == msg::HabitualState::kIdle && report.violated == msg::LegConstraint::kBadLeg;
     if (report.state == msg::HabitualState::kFailedUp || refused) {
+        if (held_) {
+            ++counters_.failUpsWhileHeld;
+            events_.report(events::kFailUpWhileHeld, core::Severity::kInfo,
+                           "deliberative: leg %u failed up (%s) during a hold (reasons 0x%x): ignored, re-sent on release",
+                           static_cast<unsigned>(report.legId), constraintName(report.violated),
+                           static_cast<unsigned>(holdReasons_));
+            return;
+        }
         onFailUp(report, now);
+    }
+}
+
+bool DeliberativeTask::poseUncertain() const {
+    const bool faulted = ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U;
+    const double limit = static_cast<double>(tables_.estimatorNoise().pose_fault_sigma_m);
+    return faulted || !poseSeen_ || pose_.initialised == 0 || !(pose_.positionSigmaM <= limit);
+}
+
+void DeliberativeTask::goalReached() {
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    if (poseUncertain()) {
+        if (!goalUnconfirmed_) {
+            ++counters_.goalsUnconfirmed;
+            events_.report(events::kGoalUnconfirmed, core::Severity::kWarning,
+                           "deliberative: goal %u (%.2f, %.2f): last leg reached but the pose is uncertain (sigma "
+                           "%.2f m%s): not claimed, waiting",
+                           static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.positionSigmaM,
+                           ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U ? ", fault 19" : "");
+        }
+        goalUnconfirmed_ = true;
+        changed_ = true;
+        return;
+    }
+    goalUnconfirmed_ = false;
+    ++counters_.goalsReached;
+    events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
+                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM);
+    ++goalIndex_;
+    goalReplans_ = 0;
+    goalBackUps_ = 0;
+    riskFactor_ = 1.0;
+    if (goalIndex_ < goals_.count) {
+        setState(msg::DeliberativeState::kWaiting);
+    } else {
+        setState(msg::DeliberativeState::kComplete);
+        events_.report(events::kMissionComplete, core::Severity::kInfo, "deliberative: every goal reached (%u)",
+                       static_cast<unsigned>(goals_.count));
+    }
+}
+
+void DeliberativeTask::checkUnconfirmedGoal(core::TimeNs now) {
+    if (poseUncertain()) {
+        return;
+    }
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    const double off = std::hypot(pose_.xM - goal.xM, pose_.yM - goal.yM);
+    if (off <= static_cast<double>(tables_.habitual().goal_tolerance_m)) {
+        goalReached();
+        return;
+    }
+    goalUnconfirmed_ = false;
+    ++counters_.goalLegsResent;
+    events_.report(events::kGoalLegResent, core::Severity::kWarning,
+                   "deliberative: goal %u: pose certain again %.2f m from the goal: last leg re-sent from (%.2f, %.2f)",
+                   static_cast<unsigned>(goalIndex_), off, pose_.xM, pose_.yM);
+    legIndex_ = legs_.count > 0 ? legs_.count - 1 : 0;
+    resendFromPose(now);
+}
+
+LegParams DeliberativeTask::legParams() const {
+    const tables::HabitualTable& habitual = tables_.habitual();
+    const tables::PlannerTable& planner = tables_.planner();
+    LegParams params;
+    params.spacingM = static_cast<double>(planner.waypoint_spacing_m);
+    params.slackFrac = static_cast<double>(planner.leg_slack_frac);
+    params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
+    params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
+    params.power = habitual::powerModelFrom(habitual);
+    params.meanPowerFactor = meanFactor();
+    params.headingRad = pose_.headingRad;
+    return params;
+}
+
+void DeliberativeTask::resendFromPose(core::TimeNs now) {
+    if (status_.state == msg::DeliberativeState::kExecuting && backingUp_) {
+        sendBackUpLeg(now);
+        return;
+    }
+    if (status_.state != msg::DeliberativeState::kExecuting || legIndex_ >= legs_.count) {
+        return;
+    }
+    msg::PlanLeg& leg = legs_.legs[legIndex_];
+    (void)legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, legParams(), &leg);
+    legBoundFactor_ = 1.0;
+    leg_.legId = 0;
+    sendLeg(now);
+}
+
+bool DeliberativeTask::legEndTooClose(const msg::PlanLeg& leg) const {
+    const double clearance = static_cast<double>(tables_.roverGeometry().footprint_radius_m) + kLegEndMarginM;
+    // The plan keeps its means off the grown polygons only with the chance
+    // margin of the moment, and a polygon grown less for a close start keeps
+    // less: an end the habitual layer could reach only without its planning
+    // margin is not handed to it.
+    if (habitual::MapBuilder::distanceToCoarseMap(tables_.coarseMap(), habitual::Point2{leg.xM, leg.yM}) < clearance) {
+        return true;
+    }
+    for (std::size_t i = 0; i < hazards_.count && i < msg::kMaxKnownHazards; ++i) {
+        const msg::KnownHazard& h = hazards_.hazards[i];
+        const double reach = static_cast<double>(h.radiusM) + clearance;
+        const double dx = leg.xM - static_cast<double>(h.xM);
+        const double dy = leg.yM - static_cast<double>(h.yM);
+        if (dx * dx + dy * dy < reach * reach) {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool DeliberativeTask::skipLegEndsInHazards() {
+    bool moved = false;
+    while (legIndex_ + 1 < legs_.count && legEndTooClose(legs_.legs[legIndex_])) {
+        const msg::PlanLeg skipped = legs_.legs[legIndex_];
+        msg::PlanLeg& next = legs_.legs[legIndex_ + 1];
+        next.lengthM += skipped.lengthM;
+        next.energyJ += skipped.energyJ;
+        next.risk += skipped.risk;
+        legs_.plannedLengthM[legIndex_ + 1] += legs_.plannedLengthM[legIndex_];
+        ++legIndex_;
+        ++counters_.legEndsSkipped;
+        moved = true;
+        events_.report(events::kLegEndSkipped, core::Severity::kWarning,
+                       "deliberative: leg end (%.2f, %.2f) too near a rock: merged into leg %u of %u (to (%.2f, %.2f))",
+                       skipped.xM, skipped.yM, static_cast<unsigned>(legIndex_ + 1), static_cast<unsigned>(legs_.count),
+                       next.xM, next.yM);
+    }
+    return moved;
+}
+
+void DeliberativeTask::onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now) {
+    hazards_ = hazards;
+    ++counters_.hazardMaps;
+    // The leg in force may end inside what was just seen: the habitual layer
+    // could only fail up on it, so move on to the next leg end now.
+    if (status_.state == msg::DeliberativeState::kExecuting && leg_.legId != 0 && !held_ && !backingUp_ &&
+        legIndex_ + 1 < legs_.count && legEndTooClose(legs_.legs[legIndex_])) {
+        leg_.legId = 0;
+        sendLeg(now);
+    }
+}
+
+void DeliberativeTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now) {
+    holdReasons_ = hold.reasons;
+    if (hold.reasons != 0U) {
+        if (!held_) {
+            held_ = true;
+            ++counters_.holds;
+            changed_ = true;
+            events_.report(events::kMissionHeld, core::Severity::kWarning,
+                           "deliberative: mission held (reasons 0x%x%s): no new legs, leg %u kept",
+                           static_cast<unsigned>(hold.reasons), hold.estop != 0 ? ", e-stop" : "",
+                           static_cast<unsigned>(leg_.legId));
+        }
+        resumeCount_ = hold.resumeCount;
+        return;
+    }
+    // Reasons 0 is the release whether or not resumeCount moved: a lost or
+    // inconsistent count must not leave the mission held for good.
+    const bool wasHeld = held_;
+    held_ = false;
+    resumeCount_ = hold.resumeCount;
+    if (!wasHeld) {
+        return;
+    }
+    ++counters_.resumes;
+    changed_ = true;
+    const bool driving = status_.state == msg::DeliberativeState::kExecuting && !goalUnconfirmed_ &&
+                         legIndex_ < legs_.count;
+    events_.report(events::kMissionResumed, core::Severity::kInfo,
+                   "deliberative: hold released (resume %u): %s", static_cast<unsigned>(hold.resumeCount),
+                   driving ? "current leg re-sent from the current pose" : "nothing to re-send");
+    if (driving) {
+        resendFromPose(now);
     }
 }
 
 void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs now) {
     ++counters_.failUps;
+    if (backingUp_) {
+        backingUp_ = false;
+        callHome(msg::CallHomeReason::kReplansExhausted, "the back-up failed up", now);
+        return;
+    }
     events_.report(events::kFailUpReceived, core::Severity::kWarning,
                    "deliberative: leg %u failed up: %s (predicted %.1f, allowed %.1f, excess %.1f)",
                    static_cast<unsigned>(report.legId), constraintName(report.violated),
@@ -347,12 +594,28 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     const tables::PlannerTable& planner = tables_.planner();
     const msg::Goal& goal = goals_.goals[goalIndex_];
     PlanRequest request;
-    request.startX = pose_.xM;
-    request.startY = pose_.yM;
-    request.startCov[0] = pose_.covariance[0];
-    request.startCov[1] = pose_.covariance[1];
-    request.startCov[2] = pose_.covariance[3];
-    request.startCov[3] = pose_.covariance[4];
+    ReplanRequest& rr = replanRequest_;
+    const bool replanning = rr.pending;
+    if (replanning && now - rr.poseTimeNs > kReplanMaxAgeNs) {
+        // Too old to start from: the rover may stand elsewhere now.
+        rr.poseTimeNs = pose_.timeNs;
+        rr.xM = pose_.xM;
+        rr.yM = pose_.yM;
+        rr.headingRad = pose_.headingRad;
+        rr.cov[0] = pose_.covariance[0];
+        rr.cov[1] = pose_.covariance[1];
+        rr.cov[2] = pose_.covariance[3];
+        rr.cov[3] = pose_.covariance[4];
+    }
+    rr.pending = false;
+    request.startX = replanning ? rr.xM : pose_.xM;
+    request.startY = replanning ? rr.yM : pose_.yM;
+    request.startCov[0] = replanning ? rr.cov[0] : pose_.covariance[0];
+    request.startCov[1] = replanning ? rr.cov[1] : pose_.covariance[1];
+    request.startCov[2] = replanning ? rr.cov[2] : pose_.covariance[3];
+    request.startCov[3] = replanning ? rr.cov[3] : pose_.covariance[4];
+    request.hazards = hazards_.hazards;
+    request.hazardCount = hazards_.count;
     request.goalX = goal.xM;
     request.goalY = goal.yM;
     const double risk = goals_.riskBound * riskFactor_;
@@ -363,7 +626,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
                        "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s", static_cast<unsigned>(goalIndex_),
-                       goal.xM, goal.yM, pose_.xM, pose_.yM, toString(report.error));
+                       goal.xM, goal.yM, request.startX, request.startY, toString(report.error));
         callHome(msg::CallHomeReason::kGoalUnreachable, toString(report.error), now);
         return;
     }
@@ -389,10 +652,10 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     status_.riskInForce = request.riskBound;
     setState(msg::DeliberativeState::kPlanning);
     events_.report(events::kPlanStarted, core::Severity::kInfo,
-                   "deliberative: planning goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u steps, %u obstacles%s",
-                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.xM, pose_.yM, request.riskBound,
-                   static_cast<unsigned>(problem_.steps), static_cast<unsigned>(problem_.obstacleCount),
-                   report.startInObstacle ? " (start inside a grown obstacle)" : "");
+                   "deliberative: plan goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u obstacles, %u seen%s",
+                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
+                   request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
+                   static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
 }
 
 void DeliberativeTask::stepPlanner(core::TimeNs now) {
@@ -416,16 +679,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
     plan_ = planner_.plan();
     const bool hasPath = plan_.status == CcStatus::kOptimal || plan_.status == CcStatus::kFeasible;
     if (hasPath) {
-        const tables::HabitualTable& habitual = tables_.habitual();
-        const tables::PlannerTable& planner = tables_.planner();
-        LegParams params;
-        params.spacingM = static_cast<double>(planner.waypoint_spacing_m);
-        params.slackFrac = static_cast<double>(planner.leg_slack_frac);
-        params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
-        params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
-        params.power = habitual::powerModelFrom(habitual);
-        params.meanPowerFactor = meanFactor();
-        params.headingRad = pose_.headingRad;
+        const LegParams params = legParams();
         if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
             ++counters_.plansFound;
             events_.report(events::kPlanFound, core::Severity::kInfo,
@@ -463,6 +717,9 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     leg_.legId = 0;
     const std::uint32_t limit = tables_.planner().replan_limit;
     if (goalReplans_ >= limit) {
+        if (why == msg::LegConstraint::kNoPath && startBackUp(now)) {
+            return;
+        }
         callHome(why == msg::LegConstraint::kEnergy ? msg::CallHomeReason::kInsufficientPower
                                                     : msg::CallHomeReason::kReplansExhausted,
                  constraintName(why), now);
@@ -470,17 +727,149 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
     }
     ++goalReplans_;
     ++counters_.replans;
+    captureReplanRequest(why, now);
+    const ReplanRequest& rr = replanRequest_;
     events_.report(events::kReplan, core::Severity::kWarning,
-                   "deliberative: replanning goal %u from the current estimate after %s (%u of %u)",
-                   static_cast<unsigned>(goalIndex_), constraintName(why), static_cast<unsigned>(goalReplans_),
-                   static_cast<unsigned>(limit));
+                   "deliberative: replan %u/%u (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
+                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(limit), constraintName(why),
+                   static_cast<double>(now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
+                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
+                   static_cast<unsigned>(hazards_.count));
     setState(msg::DeliberativeState::kWaiting);
+}
+
+void DeliberativeTask::captureReplanRequest(msg::LegConstraint why, core::TimeNs now) {
+    ReplanRequest& rr = replanRequest_;
+    rr.timeNs = now;
+    rr.poseTimeNs = pose_.timeNs;
+    rr.xM = pose_.xM;
+    rr.yM = pose_.yM;
+    rr.headingRad = pose_.headingRad;
+    rr.cov[0] = pose_.covariance[0];
+    rr.cov[1] = pose_.covariance[1];
+    rr.cov[2] = pose_.covariance[3];
+    rr.cov[3] = pose_.covariance[4];
+    rr.firstGoal = goalIndex_;
+    rr.unfinished = static_cast<std::uint8_t>(goals_.count > goalIndex_ ? goals_.count - goalIndex_ : 0);
+    rr.why = why;
+    rr.pending = true;
+}
+
+void DeliberativeTask::recordTrack() {
+    if (backingUp_ || !poseSeen_ || pose_.initialised == 0 || !std::isfinite(pose_.xM) || !std::isfinite(pose_.yM)) {
+        return;
+    }
+    if (trackCount_ > 0) {
+        const std::size_t newest = (trackHead_ + trackCount_ - 1) % kTrackPoints;
+        if (std::hypot(pose_.xM - trackX_[newest], pose_.yM - trackY_[newest]) < kTrackStepM) {
+            return;
+        }
+    }
+    const std::size_t slot = (trackHead_ + trackCount_) % kTrackPoints;
+    trackX_[slot] = pose_.xM;
+    trackY_[slot] = pose_.yM;
+    if (trackCount_ < kTrackPoints) {
+        ++trackCount_;
+    } else {
+        trackHead_ = (trackHead_ + 1) % kTrackPoints;
+    }
+}
+
+bool DeliberativeTask::backUpTarget(double distanceM, msg::PlanLeg* out, std::size_t* keep) const {
+    // Walk back from the pose through the track, newest first; the first point
+    // at or beyond distanceM (then every kTrackStepM, up to twice it) that is
+    // clear of every seen hazard.
+    double fromX = pose_.xM;
+    double fromY = pose_.yM;
+    double walked = 0.0;
+    double want = distanceM;
+    const double farthest = 2.0 * distanceM;
+    for (std::size_t k = 0; k < trackCount_; ++k) {
+        const std::size_t i = (trackHead_ + trackCount_ - 1 - k) % kTrackPoints;
+        const double seg = std::hypot(trackX_[i] - fromX, trackY_[i] - fromY);
+        // At most farthest / kTrackStepM candidates in all (80 for 10 m).
+        for (std::uint32_t c = 0; c < 100 && seg > 0.0 && walked + seg >= want; ++c) {
+            const double f = (want - walked) / seg;
+            msg::PlanLeg p{};
+            p.xM = fromX + f * (trackX_[i] - fromX);
+            p.yM = fromY + f * (trackY_[i] - fromY);
+            if (!legEndTooClose(p)) {
+                *out = p;
+                *keep = trackCount_ - 1 - k;  // the points beyond the target are driven back over
+                return true;
+            }
+            want += kTrackStepM;
+            if (want > farthest) {
+                return false;
+            }
+        }
+        walked += seg;
+        fromX = trackX_[i];
+        fromY = trackY_[i];
+    }
+    return false;
+}
+
+bool DeliberativeTask::startBackUp(core::TimeNs now) {
+    const tables::PlannerTable& planner = tables_.planner();
+    const double distance = static_cast<double>(planner.no_path_backup_m);
+    msg::PlanLeg target{};
+    std::size_t keep = 0;
+    if (goalBackUps_ >= planner.no_path_backup_limit || !(distance > 0.0) ||
+        !backUpTarget(distance, &target, &keep)) {
+        return false;
+    }
+    backUpKeep_ = keep;
+    ++goalBackUps_;
+    ++counters_.backUps;
+    backingUp_ = true;
+    backUpLeg_ = target;
+    events_.report(events::kBackingUp, core::Severity::kWarning,
+                   "deliberative: no path after %u replans: backing up %.1f m along the track to (%.2f, %.2f), %u of %u",
+                   static_cast<unsigned>(goalReplans_), std::hypot(target.xM - pose_.xM, target.yM - pose_.yM),
+                   target.xM, target.yM, static_cast<unsigned>(goalBackUps_),
+                   static_cast<unsigned>(planner.no_path_backup_limit));
+    setState(msg::DeliberativeState::kExecuting);
+    sendBackUpLeg(now);
+    return true;
+}
+
+void DeliberativeTask::sendBackUpLeg(core::TimeNs now) {
+    if (held_) {
+        leg_ = msg::LegCommandMsg{};
+        changed_ = true;
+        return;
+    }
+    (void)legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, legParams(), &backUpLeg_);
+    leg_ = msg::LegCommandMsg{};
+    leg_.timeNs = now;
+    leg_.legId = nextLegId_;
+    nextLegId_ = nextLegId_ == UINT32_MAX ? 1 : nextLegId_ + 1;
+    leg_.finalLeg = 0;
+    leg_.goalXM = backUpLeg_.xM;
+    leg_.goalYM = backUpLeg_.yM;
+    leg_.maxPathLengthM = backUpLeg_.lengthM;
+    leg_.maxEnergyJ = backUpLeg_.energyJ;
+    published(bus_.publish(leg_), "back-up leg");
+    ++counters_.legsSent;
+    changed_ = true;
+    events_.report(events::kLegSent, core::Severity::kInfo,
+                   "deliberative: leg %u (back-up) to (%.2f, %.2f): <= %.2f m, <= %.0f J",
+                   static_cast<unsigned>(leg_.legId), backUpLeg_.xM, backUpLeg_.yM, backUpLeg_.lengthM,
+                   backUpLeg_.energyJ);
 }
 
 // ---------------------------------------------------------------------------
 // Outputs
 
 void DeliberativeTask::sendLeg(core::TimeNs now) {
+    (void)skipLegEndsInHazards();
+    if (held_) {
+        // Sent from the pose of the moment when the hold is released.
+        leg_ = msg::LegCommandMsg{};
+        changed_ = true;
+        return;
+    }
     const msg::PlanLeg& leg = legs_.legs[legIndex_];
     leg_ = msg::LegCommandMsg{};
     leg_.timeNs = now;

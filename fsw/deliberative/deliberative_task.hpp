@@ -4,8 +4,10 @@
 //
 //   in:  GoalListMsg (goals and the risk bound: GOTO, ADD_TARGET, CLEAR_GOALS,
 //        SET_RISK_BOUND), PoseEstimateMsg (start mean and covariance),
-//        LegReportMsg, DriveModesMsg (power factors, failed drives),
-//        DriveStatusMsg (the drive interlock), ModeMsg
+//        LegReportMsg, KnownHazardsMsg (hazards the habitual layer has seen),
+//        DriveModesMsg (power factors, failed drives), DriveStatusMsg (the
+//        drive interlock), ModeMsg, MissionHoldMsg (fault protection),
+//        FaultStatusMsg (pose uncertainty)
 //   out: LegCommandMsg, PlanStatusMsg (PLAN telemetry), SafeRequestMsg (call home)
 //
 // States (DeliberativeState, deliberative_msgs.hpp):
@@ -38,6 +40,35 @@
 //                or the interlock tripped    every drive on a drive fault and latches, so
 //                                            the rover cannot drive on five wheels, nor at
 //                                            all once it has tripped)
+//   kExecuting --goal's last leg reached, --> no goal claimed: waits (kExecuting, no leg) until
+//                pose uncertain (fault 19  the pose is certain, then claims the goal if the pose
+//                or sigma > pose_fault_     is within HABITUAL.goal_tolerance_m of it, else
+//                sigma_m)                   re-sends the last leg from the pose
+//   held (MissionHoldMsg reasons != 0): no leg sent, no plan started, fail-ups
+//              and mobility loss ignored (fault protection owns the response);
+//              planning already under way finishes and its first leg waits.
+//              Released (reasons 0, resumeCount grown): when executing, the
+//              current leg is re-sent from the current pose (new legId, bounds
+//              recomputed: plan_legs.hpp legBoundsFrom).
+//   seen hazards (KnownHazardsMsg): every plan includes them as obstacles
+//              (map_problem.hpp); a leg end inside one, or near a coarse-map
+//              polygon (within the footprint and kLegEndMarginM), is merged into
+//              the next leg, also for the leg in force on a new sighting
+//              (re-sent as a new leg).
+//   no path the replans cannot fix (a kNoPath fail-up with PLANNER.replan_limit
+//              replans spent): back up PLANNER.no_path_backup_m along the driven
+//              track (recorded every kTrackStepM, kTrackPoints deep; not while
+//              backing up, and cut back to the back-up's end when reached), to the
+//              first point there clear of seen hazards, as a leg of its own;
+//              reached, a replan from there (not counted against replan_limit);
+//              at most PLANNER.no_path_backup_limit per goal, then call home
+//              kReplansExhausted. No track to back along, or no clear point
+//              within twice the distance: call home. A back-up leg that fails
+//              up calls home.
+//   replan: a ReplanRequest records the unfinished goals, the time and the
+//              position (and covariance) at the fail-up; the plan starts from
+//              that position (refreshed from the pose if that position is older
+//              than kReplanMaxAgeNs when planning starts) and event 911 gives them.
 //   call home: leg cancelled (legId 0: the habitual layer stops and holds),
 //   SafeRequestMsg (the mode owner goes to SAFE), CRITICAL event 912, PLAN
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
@@ -62,6 +93,7 @@
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
@@ -79,12 +111,37 @@ constexpr std::uint64_t kSliceWork = 2500000;
 constexpr std::uint32_t kMaxUnitsPerRun = 64;
 // Poses and drive status come at 100 Hz: 20 per run, 40 survive one skipped run.
 constexpr std::uint16_t kFastPipeDepth = 40;
-constexpr std::uint16_t kInputPipeDepth = 12;
+constexpr std::uint16_t kInputPipeDepth = 16;
 constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz
 constexpr core::TimeNs kPoseMaxAgeNs = 500 * core::kNsPerMs;
 constexpr double kRiskRelaxStep = 10.0;          // each relaxation multiplies the risk bound by this
 constexpr double kMaxRiskInForce = 0.49;         // the planner needs Delta < 0.5
 constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was predicted + 5 %
+// A leg end must clear a seen hazard's disc by the footprint and this: the
+// habitual layer plans with habitual::kPlanMarginM beyond the footprint, and a
+// disc grows as more of its rock comes into view.
+constexpr double kLegEndMarginM = 0.25;
+// A replan request's position older than this when planning starts is
+// refreshed from the pose (the pose was stale at the fail-up, or the rover
+// moved while planning waited for a usable pose).
+constexpr core::TimeNs kReplanMaxAgeNs = 1000 * core::kNsPerMs;
+// The driven track kept for backing up: a point every kTrackStepM, the last kTrackPoints.
+constexpr double kTrackStepM = 0.25;
+constexpr std::size_t kTrackPoints = 64;
+// Largest hazard radius believed (the habitual layer merges no disc beyond 2 m).
+constexpr float kMaxHazardRadiusM = 10.0F;
+
+// What a replan starts from: the unfinished goals, the time and the position.
+struct ReplanRequest {
+    core::TimeNs timeNs = 0;         // when the replan was asked for
+    core::TimeNs poseTimeNs = 0;     // when the rover was at (xM, yM)
+    double xM = 0.0, yM = 0.0, headingRad = 0.0;
+    double cov[4] = {};              // (x, y) covariance at that time
+    std::uint8_t firstGoal = 0;      // goals_[firstGoal .. firstGoal + unfinished) remain
+    std::uint8_t unfinished = 0;
+    msg::LegConstraint why = msg::LegConstraint::kNone;
+    bool pending = false;            // consumed when the plan starts
+};
 
 struct DeliberativeCounters {
     std::uint32_t goalListsAdopted = 0;
@@ -104,6 +161,14 @@ struct DeliberativeCounters {
     std::uint32_t malformedInputs = 0;
     std::uint32_t publishFailures = 0;
     std::uint32_t planningRuns = 0;      // task runs that stepped the planner
+    std::uint32_t hazardMaps = 0;        // KnownHazardsMsg adopted
+    std::uint32_t legEndsSkipped = 0;    // leg ends inside a seen hazard, merged into the next leg
+    std::uint32_t holds = 0;             // holds begun
+    std::uint32_t resumes = 0;           // holds released
+    std::uint32_t failUpsWhileHeld = 0;
+    std::uint32_t goalsUnconfirmed = 0;  // goal's last leg reached with the pose uncertain
+    std::uint32_t goalLegsResent = 0;    // ... and then re-sent from a certain pose off the goal
+    std::uint32_t backUps = 0;           // back-ups along the track after "no path"
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -113,7 +178,8 @@ public:
     DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
     // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
-    // (kInputPipeDepth: goals, leg reports, drive modes, mode). A refusal is
+    // (kInputPipeDepth: goals, leg reports, known hazards, drive modes, mode,
+    // mission hold, fault status). A refusal is
     // evented (917) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
@@ -127,6 +193,10 @@ public:
     const LegPlan& legs() const { return legs_; }
     const msg::LegCommandMsg& lastLeg() const { return leg_; }
     std::uint32_t plannerSlices() const { return slices_; }
+    bool held() const { return held_; }
+    bool backingUp() const { return backingUp_; }
+    const ReplanRequest& lastReplanRequest() const { return replanRequest_; }
+    const msg::KnownHazardsMsg& hazards() const { return hazards_; }
 
 private:
     void drainFast();
@@ -140,6 +210,27 @@ private:
     void onMode(const msg::ModeMsg& mode, core::TimeNs now);
     void onLegReport(const msg::LegReportMsg& report, core::TimeNs now);
     void onFailUp(const msg::LegReportMsg& report, core::TimeNs now);
+    void onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now);
+    void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
+    bool poseUncertain() const;
+    bool legEndTooClose(const msg::PlanLeg& leg) const;
+    // A leg end within the footprint + kLegEndMarginM of a seen hazard's disc or
+    // a coarse-map polygon.
+    // Merges such leg ends into their next leg, from legIndex_ on
+    // while they are not the last leg; true when legIndex_ moved.
+    bool skipLegEndsInHazards();
+    void goalReached();
+    void checkUnconfirmedGoal(core::TimeNs now);
+    void resendFromPose(core::TimeNs now);
+    LegParams legParams() const;
+    void captureReplanRequest(msg::LegConstraint why, core::TimeNs now);
+    void recordTrack();
+    // The point no_path_backup_m back along the track from the pose, clear of
+    // seen hazards; false when there is none.
+    // *keep: the track points older than the target.
+    bool backUpTarget(double distanceM, msg::PlanLeg* out, std::size_t* keep) const;
+    bool startBackUp(core::TimeNs now);
+    void sendBackUpLeg(core::TimeNs now);
 
     void startPlan(core::TimeNs now);
     void stepPlanner(core::TimeNs now);
@@ -167,6 +258,22 @@ private:
     msg::DriveModesMsg modes_{};
     bool modesSeen_ = false;
     bool interlockTripped_ = false;
+    msg::FaultStatusMsg faults_{};
+    msg::KnownHazardsMsg hazards_{};
+    bool held_ = false;
+    std::uint32_t holdReasons_ = 0;
+    std::uint32_t resumeCount_ = 0;
+    bool goalUnconfirmed_ = false;   // the goal's last leg reached, pose uncertain: waiting
+    ReplanRequest replanRequest_{};
+    // The driven track: track_[(trackHead_ + k) % kTrackPoints], k < trackCount_, oldest first.
+    double trackX_[kTrackPoints] = {};
+    double trackY_[kTrackPoints] = {};
+    std::size_t trackHead_ = 0;
+    std::size_t trackCount_ = 0;
+    bool backingUp_ = false;         // the leg in force is a back-up
+    msg::PlanLeg backUpLeg_{};
+    std::size_t backUpKeep_ = 0;     // track points kept when the back-up is reached
+    std::uint32_t goalBackUps_ = 0;  // back-ups of the current goal
 
     // Goals.
     msg::GoalListMsg goals_{};

@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "fsw/deliberative/cc_lp.hpp"
+#include "fsw/deliberative/gaussian.hpp"
 #include "fsw/habitual/geometry2d.hpp"
 #include "fsw/habitual/map_builder.hpp"
 
@@ -85,6 +86,33 @@ double rankDistance(const tables::CoarseMapTable& map, std::size_t slot, std::si
     return best;
 }
 
+// The octagon that circumscribes the disc (centre, radius): face k's outward
+// normal at angle 2 pi k / kHazardFaces.
+void hazardOctagon(Point2 centre, double radius, std::uint8_t id, PlanObstacle* out) {
+    constexpr double kTwoPi = 6.283185307179586;
+    out->id = id;
+    out->faceCount = static_cast<std::uint8_t>(kHazardFaces);
+    for (std::size_t k = 0; k < kHazardFaces; ++k) {
+        const double a = kTwoPi * static_cast<double>(k) / static_cast<double>(kHazardFaces);
+        out->normalX[k] = std::cos(a);
+        out->normalY[k] = std::sin(a);
+        out->offset[k] = out->normalX[k] * centre.x + out->normalY[k] * centre.y + radius;
+    }
+}
+
+// How far p lies from centre in the octagon's gauge: p is inside the octagon of
+// radius r about centre exactly when this is below r.
+double octagonGauge(Point2 centre, Point2 p) {
+    constexpr double kTwoPi = 6.283185307179586;
+    double worst = -INFINITY;
+    for (std::size_t k = 0; k < kHazardFaces; ++k) {
+        const double a = kTwoPi * static_cast<double>(k) / static_cast<double>(kHazardFaces);
+        const double d = std::cos(a) * (p.x - centre.x) + std::sin(a) * (p.y - centre.y);
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
 bool finite(const PlanRequest& r) {
     bool ok = std::isfinite(r.startX) && std::isfinite(r.startY) && std::isfinite(r.goalX) &&
               std::isfinite(r.goalY) && std::isfinite(r.riskBound);
@@ -147,13 +175,21 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         return fail(MapProblemError::kGoalOffSite);
     }
 
-    // Grow every polygon in use; rank by distance to the straight line.
-    PlanObstacle grown[kCoarseMapSlots];
-    double rank[kCoarseMapSlots] = {};
+    // Grow every polygon in use and every seen hazard; rank by distance to the straight line.
+    constexpr std::size_t kCandidates = kCoarseMapSlots + msg::kMaxKnownHazards;
+    PlanObstacle grown[kCandidates];
+    double rank[kCandidates] = {};
     std::size_t count = 0;
     const std::size_t slots = map.obstacle_count <= kCoarseMapSlots ? map.obstacle_count : kCoarseMapSlots;
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
+    // Room the start needs beyond an obstacle it stands close to: the end
+    // clearance and its own chance-constraint tightening at the even split of
+    // the largest problem (the trace bounds every face's variance).
+    const double startDelta = p.riskBound / (2.0 * static_cast<double>(p.steps > 0 ? p.steps : 1) *
+                                             static_cast<double>(kMaxPlanObstacles));
+    const double startMargin =
+        kHazardEndClearanceM + tighteningMargin(startDelta, p.startCov[0] + p.startCov[3]);
     for (std::size_t slot = 0; slot < slots; ++slot) {
         const std::size_t n = map.vertex_count[slot];
         if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &grown[count])) {
@@ -167,8 +203,35 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         ++count;
     }
     report->obstaclesOnMap = static_cast<std::uint8_t>(count);
+    const std::size_t hazards =
+        request.hazards == nullptr ? 0 : (request.hazardCount < msg::kMaxKnownHazards ? request.hazardCount : msg::kMaxKnownHazards);
+    for (std::size_t h = 0; h < hazards; ++h) {
+        const msg::KnownHazard& hz = request.hazards[h];
+        const Point2 c{static_cast<double>(hz.xM), static_cast<double>(hz.yM)};
+        const double r = static_cast<double>(hz.radiusM);
+        if (!habitual::isFinite(c) || !std::isfinite(r) || !(r > 0.0)) {
+            ++report->hazardsLeftOut;
+            continue;
+        }
+        ++report->hazardsSeen;
+        // The growth that keeps the start and the goal outside (see the header).
+        const double room =
+            std::fmin(octagonGauge(c, s) - startMargin, octagonGauge(c, g) - kHazardEndClearanceM) - r;
+        if (room < 0.0) {
+            ++report->hazardsLeftOut;
+            continue;
+        }
+        const double growth = room < radius ? room : radius;
+        if (growth < radius) {
+            ++report->hazardsShrunk;
+        }
+        hazardOctagon(c, r + growth, hz.obstacleId, &grown[count]);
+        const double gap = std::sqrt(habitual::pointSegmentDistanceSquared(c, s, g)) - r;
+        rank[count] = gap > 0.0 ? gap * gap : 0.0;
+        ++count;
+    }
     // Keep the kMaxPlanObstacles nearest (selection, ties to the lower slot).
-    bool taken[kCoarseMapSlots] = {};
+    bool taken[kCandidates] = {};
     const std::size_t keep = count < kMaxPlanObstacles ? count : kMaxPlanObstacles;
     for (std::size_t k = 0; k < keep; ++k) {
         std::size_t pick = count;
@@ -184,8 +247,14 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
             p.obstacles[p.obstacleCount++] = grown[i];
         }
     }
-    report->obstaclesUsed = p.obstacleCount;
-    report->obstaclesDropped = static_cast<std::uint8_t>(count - p.obstacleCount);
+    const std::size_t polygons = report->obstaclesOnMap;
+    std::size_t polygonsUsed = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        polygonsUsed += (taken[i] && i < polygons) ? 1U : 0U;
+    }
+    report->obstaclesUsed = static_cast<std::uint8_t>(polygonsUsed);
+    report->obstaclesDropped = static_cast<std::uint8_t>(polygons - polygonsUsed);
+    report->hazardsUsed = static_cast<std::uint8_t>(p.obstacleCount - polygonsUsed);
     if (!core::isOk(checkProblem(p))) {
         return fail(MapProblemError::kBadProblem);
     }

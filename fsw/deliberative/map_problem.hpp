@@ -10,6 +10,16 @@
 //   are counted as dropped: the habitual layer still avoids every polygon
 //   (its local map holds them all), so a dropped one costs a local detour, not
 //   a collision.
+// - Seen hazards (KnownHazardsMsg: the habitual layer's remembered discs): each
+//   disc grown by the footprint radius becomes the regular octagon that
+//   circumscribes it (kHazardFaces faces), so the plan and its legs keep the
+//   rover's disc off everything the rover has seen, not only the orbital map.
+//   They compete with the polygons for the planner's kMaxPlanObstacles slots by
+//   the same ranking. A grown hazard that would contain the start or the goal
+//   is grown less, so a rover that stopped close to a rock can still plan away
+//   from it: the goal keeps kHazardEndClearanceM, the start that plus its own
+//   chance-constraint tightening (PhiInv(1 - Delta / (2 N kMaxPlanObstacles))
+//   sqrt(trace Sigma_0)); one that leaves no such room is left out (counted).
 // - Site: the coarse map's bounds shrunk by the footprint radius.
 // - Plant: PLANNER.horizon_steps steps, PLANNER.process_noise_sigma_m per step,
 //   Sigma_0 the estimate's (x, y) covariance block; allocation from the table.
@@ -21,15 +31,22 @@
 
 #include "fsw/core/status.hpp"
 #include "fsw/deliberative/cc_problem.hpp"
+#include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
 
 namespace rse::deliberative {
+
+constexpr std::size_t kHazardFaces = 8;
+// Clearance a start or goal keeps from an obstacle grown less for it.
+constexpr double kHazardEndClearanceM = 0.05;
 
 struct PlanRequest {
     double startX = 0.0, startY = 0.0;
     double startCov[4] = {};   // (x, y) covariance, row major, m^2
     double goalX = 0.0, goalY = 0.0;
     double riskBound = 0.0;    // Delta
+    const msg::KnownHazard* hazards = nullptr;  // seen hazards (site frame), hazardCount of them
+    std::size_t hazardCount = 0;                // at most msg::kMaxKnownHazards are read
 };
 
 // Why a problem could not be built.
@@ -50,6 +67,10 @@ struct MapProblemReport {
     std::uint8_t obstaclesUsed = 0;
     std::uint8_t obstaclesDropped = 0;   // on the map, beyond kMaxPlanObstacles, farthest from the line
     bool startInObstacle = false;        // the start lies inside a grown obstacle (the planner will find no plan)
+    std::uint8_t hazardsSeen = 0;        // usable hazards in the request
+    std::uint8_t hazardsUsed = 0;        // of them, in the problem
+    std::uint8_t hazardsShrunk = 0;      // grown less than the footprint (start or goal close by)
+    std::uint8_t hazardsLeftOut = 0;     // bare disc on the start or goal, or not finite / not positive
 };
 
 // kOk and *out filled, or kInvalidArgument with report->error saying why.

@@ -101,4 +101,21 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
     return core::Status::kOk;
 }
 
+core::Status legBoundsFrom(double fromX, double fromY, double headingRad, const LegParams& params,
+                           msg::PlanLeg* leg) {
+    const Point2 from{fromX, fromY};
+    const Point2 to{leg->xM, leg->yM};
+    if (!paramsUsable(params) || !habitual::isFinite(from) || !habitual::isFinite(to) || !std::isfinite(headingRad)) {
+        return core::Status::kInvalidArgument;
+    }
+    const double length = habitual::distance(from, to);
+    const double turn = length > 0.0 ? std::fabs(habitual::wrapAngleRad(headingOf(from, to) - headingRad)) : 0.0;
+    const double slack = 1.0 + params.slackFrac;
+    leg->lengthM = (length + kLengthAllowanceM) * slack / (1.0 - params.distanceMarginFrac);
+    leg->energyJ = habitual::motionEnergyJ(params.power, length + kLengthAllowanceM, turn + kTurnAllowanceRad,
+                                           params.meanPowerFactor) *
+                   slack / (1.0 - params.powerMarginFrac);
+    return core::Status::kOk;
+}
+
 }  // namespace rse::deliberative

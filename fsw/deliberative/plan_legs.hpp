@@ -60,4 +60,12 @@ struct LegPlan {
 // legs than corners: a plan has at most kMaxPlanSteps corners).
 core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegPlan* out);
 
+// The bounds of *leg (its end kept) for a rover at (fromX, fromY) heading
+// headingRad: the formulas above with L the straight distance to the leg's end
+// and Theta the turn towards it. Used when a leg is re-sent from where the
+// rover stands (after a mission hold, or to confirm a goal). kInvalidArgument
+// (leg unchanged) for non-finite input or unusable params.
+core::Status legBoundsFrom(double fromX, double fromY, double headingRad, const LegParams& params,
+                           msg::PlanLeg* leg);
+
 }  // namespace rse::deliberative

@@ -27,5 +27,8 @@ constexpr core::EventId kHazardRemembered = 816;   // INFO: first sighting of an
 constexpr core::EventId kMapRefused = 817;         // ERROR: the local map refused the coarse map or a disc (throttled)
 constexpr core::EventId kPlannerRefused = 818;     // WARN: RRT* refused the query (start or goal not free) (throttled)
 constexpr core::EventId kInitFailed = 819;         // ERROR: pipe creation or subscription refused at init
+constexpr core::EventId kMissionHeld = 820;        // WARN: fault protection holds the mission (reasons): rover stopped, leg kept
+constexpr core::EventId kMissionReleased = 821;    // INFO: hold released: waiting for the leg to be re-sent (planning resumes)
+constexpr core::EventId kEscape = 822;             // WARN: start inside a seen hazard's footprint: backing out to a free point, then replan
 
 }  // namespace rse::habitual::events

@@ -94,8 +94,8 @@ core::Status HabitualTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("habitual", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kLegCommand, msg::ids::kHazards, msg::ids::kDriveModes,
-                                  msg::ids::kFollowerStatus, msg::ids::kMode};
+    const core::MsgId inputs[] = {msg::ids::kLegCommand,     msg::ids::kHazards, msg::ids::kDriveModes,
+                                  msg::ids::kFollowerStatus, msg::ids::kMode,    msg::ids::kMissionHold};
     for (const core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(inputPipe_, id);
@@ -119,7 +119,10 @@ void HabitualTask::run(const core::FrameContext& frame) {
     drainPoses();
     drainInputs(now);
     updateOdometry();
-    switch (state_) {
+    if (held_) {
+        ++counters_.heldRuns;
+    }
+    switch (held_ ? msg::HabitualState::kIdle : state_) {
         case msg::HabitualState::kPlanning:
         case msg::HabitualState::kRepairing:
             stepPlanning(now);
@@ -133,8 +136,12 @@ void HabitualTask::run(const core::FrameContext& frame) {
             break;
     }
     modesChanged_ = false;
-    if (runs_ % kReportPeriodRuns == 0) {
+    const bool periodic = runs_ % kReportPeriodRuns == 0;
+    if (periodic) {
         publishReport(now);
+    }
+    if (periodic || mapBuilder_.revision() != hazardsRevision_) {
+        publishHazards(now);
     }
 }
 
@@ -212,10 +219,42 @@ void HabitualTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
+            case msg::ids::kMissionHold: {
+                msg::MissionHoldMsg hold{};
+                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                    onHold(hold, now);
+                } else {
+                    malformed("mission hold", inbox_.header.id);
+                }
+                break;
+            }
             default:
                 malformed("message", inbox_.header.id);
                 break;
         }
+    }
+}
+
+void HabitualTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now) {
+    if (hold.reasons != 0U && !held_) {
+        held_ = true;
+        ++counters_.holds;
+        queryActive_ = false;  // a planning run restarts from the pose of the release
+        const bool moving = legActive_;
+        if (moving) {
+            sendStop(now);
+        }
+        events_.report(events::kMissionHeld, core::Severity::kWarning,
+                       "habitual: mission held (reasons 0x%x): %s, leg %u kept", static_cast<unsigned>(hold.reasons),
+                       moving ? "rover stopped" : "nothing under way", static_cast<unsigned>(leg_.legId));
+    } else if (hold.reasons == 0U && held_) {
+        held_ = false;
+        ++counters_.releases;
+        restWaitRuns_ = 0;
+        events_.report(events::kMissionReleased, core::Severity::kInfo,
+                       "habitual: hold released (resume %u): leg %u %s", static_cast<unsigned>(hold.resumeCount),
+                       static_cast<unsigned>(leg_.legId),
+                       state_ == msg::HabitualState::kDriving ? "waits for the re-sent leg" : "goes on");
     }
 }
 
@@ -316,6 +355,7 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
 
     leg_ = leg;
     legActive_ = true;
+    escapesThisLeg_ = 0;
     drivenLengthM_ = 0.0;
     drivenEnergyJ_ = 0.0;
     anchorSet_ = false;
@@ -401,9 +441,14 @@ void HabitualTask::onDriveModes(const msg::DriveModesMsg& modes) {
 }
 
 void HabitualTask::onFollower(const msg::FollowerStatusMsg& status, core::TimeNs now) {
-    if (state_ != msg::HabitualState::kDriving || trajectory_.count == 0 ||
+    if (held_ || state_ != msg::HabitualState::kDriving || trajectory_.count == 0 ||
         status.trajectoryId != trajectory_.trajectoryId) {
         return;  // about a trajectory no longer in force
+    }
+    if (status.state == msg::FollowerState::kReached && escaping_) {
+        escaping_ = false;
+        beginSession(PlanTrigger::kPathBlocked, 0, now);  // from where the escape ended
+        return;
     }
     if (status.state == msg::FollowerState::kReached) {
         ++counters_.legsAchieved;
@@ -465,8 +510,7 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
             return;  // finished at once: straight line, or refused
         }
     }
-    const tables::HabitualTable& hab = tables_.habitual();
-    const std::uint32_t budget = hab.rrt_iterations;
+    const std::uint32_t budget = queryBudget();
     const std::uint32_t done = rrt_.iterations();
     const std::uint32_t remaining = budget > done ? budget - done : 0;
     const std::uint32_t slice = remaining < kRrtIterationsPerRun ? remaining : kRrtIterationsPerRun;
@@ -478,6 +522,17 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
         lastQuery_.earlyStop = early;
         finishQuery(now);
     }
+}
+
+std::uint32_t HabitualTask::queryBudget() const {
+    const tables::HabitualTable& hab = tables_.habitual();
+    if (trigger_ == PlanTrigger::kNewLeg && attempt_ == 0) {
+        return hab.rrt_iterations;
+    }
+    // A local replan (the rover stopped mid-leg, or a repair) is bounded in time
+    // as well: the table's milliseconds as iterations at the calibrated rate.
+    const std::uint32_t timed = static_cast<std::uint32_t>(hab.replan_budget_ms) * kRrtIterationsPerMs;
+    return timed < hab.rrt_iterations ? timed : hab.rrt_iterations;
 }
 
 bool HabitualTask::startQuery(core::TimeNs now) {
@@ -498,6 +553,11 @@ bool HabitualTask::startQuery(core::TimeNs now) {
     lastQuery_.marginDropped = lastQuery_.marginDropped || bareFootprint_;
     if (!mapOk) {
         completePlan(0, now);
+        return false;
+    }
+    Point2 exit{0.0, 0.0};
+    if (!planMap_.pointFree(queryStart_) && escapesThisLeg_ < kMaxEscapesPerLeg && findEscape(footprint, &exit)) {
+        sendEscape(exit, now);
         return false;
     }
     if (planMap_.segmentFree(queryStart_, goal)) {
@@ -528,6 +588,101 @@ bool HabitualTask::startQuery(core::TimeNs now) {
     }
     queryActive_ = true;
     return true;
+}
+
+bool HabitualTask::findEscape(double footprint, Point2* exit) const {
+    // The seen hazard the start lies deepest inside (planMap_ is at the bare
+    // footprint here: its discs are the remembered ones plus the footprint).
+    const RememberedHazard* deepest = nullptr;
+    double depth = 0.0;
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (!h.used) {
+            continue;
+        }
+        const double d = h.radiusM + footprint - distance(queryStart_, h.centre);
+        if (d > depth) {
+            depth = d;
+            deepest = &h;
+        }
+    }
+    if (deepest == nullptr) {
+        return false;  // blocked by a coarse-map polygon or the bounds: no escape from a disc
+    }
+    const double away = distance(queryStart_, deepest->centre);
+    const double base = away > 1e-6 ? std::atan2(queryStart_.y - deepest->centre.y, queryStart_.x - deepest->centre.x)
+                                    : queryHeading_ + 3.141592653589793;
+    // Straight away first; then turned either way, in case that runs towards
+    // another obstacle.
+    const double turns[] = {0.0, 0.5236, -0.5236, 1.0472, -1.0472, 1.5708, -1.5708};
+    const tables::CoarseMapTable& coarse = tables_.coarseMap();
+    const double keep = footprint + kPlanMarginM;
+    for (const double turn : turns) {
+        const Point2 u{std::cos(base + turn), std::sin(base + turn)};
+        double reach = deepest->radiusM + keep + kEscapeExtraM;
+        for (std::uint32_t i = 0; i < kEscapeSteps; ++i, reach += kEscapeStepM) {
+            const Point2 p = deepest->centre + reach * u;
+            if (distance(p, queryStart_) > kMaxEscapeM) {
+                break;
+            }
+            if (planMap_.pointFree(p) && escapeClear(coarse, p, keep, deepest)) {
+                *exit = p;
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
+                               const RememberedHazard* leaving) const {
+    // The end keeps the planning margin from every other obstacle; the way
+    // there keeps the bare footprint from the mapped rocks.
+    if (MapBuilder::distanceToCoarseMap(coarse, exit) < keep) {
+        return false;
+    }
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (h.used && &h != leaving && distance(exit, h.centre) < h.radiusM + keep) {
+            return false;
+        }
+    }
+    const double length = distance(queryStart_, exit);
+    const double footprint = static_cast<double>(tables_.roverGeometry().footprint_radius_m);
+    for (std::uint32_t i = 1; i <= kEscapeChecks; ++i) {
+        const double f = static_cast<double>(i) / static_cast<double>(kEscapeChecks);
+        const Point2 q = queryStart_ + f * (exit - queryStart_);
+        if (length > 0.0 && MapBuilder::distanceToCoarseMap(coarse, q) < footprint) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
+    ++escapesThisLeg_;
+    ++counters_.escapes;
+    const tables::HabitualTable& hab = tables_.habitual();
+    trajectory_ = msg::TrajectoryMsg{};
+    trajectory_.timeNs = now;
+    trajectory_.trajectoryId = nextTrajectoryId_++;
+    if (nextTrajectoryId_ == 0) {
+        nextTrajectoryId_ = 1;
+    }
+    trajectory_.legId = leg_.legId;
+    trajectory_.speedMS = static_cast<double>(hab.cruise_speed_m_s);
+    trajectory_.count = 2;
+    trajectory_.points[0] = msg::TrajectoryPoint{queryStart_.x, queryStart_.y};
+    trajectory_.points[1] = msg::TrajectoryPoint{exit.x, exit.y};
+    (void)bus_.publish(trajectory_);
+    progressIndex_ = 0;
+    escaping_ = true;
+    events_.report(events::kEscape, core::Severity::kWarning,
+                   "habitual: leg %u: rover within the footprint of a seen hazard at (%.2f, %.2f): backing out %.2f m "
+                   "to (%.2f, %.2f), then replanning (%u of %u this leg)",
+                   static_cast<unsigned>(leg_.legId), queryStart_.x, queryStart_.y, distance(queryStart_, exit), exit.x,
+                   exit.y, static_cast<unsigned>(escapesThisLeg_), static_cast<unsigned>(kMaxEscapesPerLeg));
+    setState(msg::HabitualState::kDriving, now);
 }
 
 void HabitualTask::finishQuery(core::TimeNs now) {
@@ -668,6 +823,7 @@ void HabitualTask::acceptPlan(std::size_t count, const Evaluation& evaluation, c
         trajectory_.points[i] = msg::TrajectoryPoint{rawPath_[i].x, rawPath_[i].y};
     }
     (void)bus_.publish(trajectory_);
+    escaping_ = false;
     ++counters_.plansSent;
     progressIndex_ = 0;
     plan_ = evaluation;
@@ -783,7 +939,8 @@ std::size_t HabitualTask::remainingPath(Point2* out) {
 }
 
 void HabitualTask::superviseDriving(core::TimeNs now) {
-    if (trajectory_.count < 2 || !poseSeen_) {
+    // An escape starts inside an inflated disc and only moves away from it.
+    if (trajectory_.count < 2 || !poseSeen_ || escaping_) {
         return;
     }
     Point2 remaining[msg::kMaxTrajectoryPoints];
@@ -882,6 +1039,7 @@ void HabitualTask::onCannotFollow(const msg::FollowerStatusMsg& status, core::Ti
 // ---- Outputs ----------------------------------------------------------------------
 
 void HabitualTask::sendStop(core::TimeNs now) {
+    escaping_ = false;
     trajectory_ = msg::TrajectoryMsg{};
     trajectory_.timeNs = now;
     trajectory_.trajectoryId = nextTrajectoryId_++;
@@ -892,6 +1050,26 @@ void HabitualTask::sendStop(core::TimeNs now) {
     trajectory_.count = 0;
     (void)bus_.publish(trajectory_);
     ++counters_.stopsSent;
+}
+
+void HabitualTask::publishHazards(core::TimeNs now) {
+    static_assert(msg::kMaxKnownHazards == kMaxMapDiscs, "KnownHazardsMsg carries the whole disc table");
+    msg::KnownHazardsMsg m{};
+    m.timeNs = now;
+    m.revision = mapBuilder_.revision();
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = mapBuilder_.slot(k);
+        if (h.used) {
+            msg::KnownHazard& out = m.hazards[m.count++];
+            out.xM = static_cast<float>(h.centre.x);
+            out.yM = static_cast<float>(h.centre.y);
+            out.radiusM = static_cast<float>(h.radiusM);
+            out.obstacleId = h.obstacleId;
+        }
+    }
+    (void)bus_.publish(m);
+    ++counters_.hazardMapsSent;
+    hazardsRevision_ = m.revision;
 }
 
 void HabitualTask::setState(msg::HabitualState state, core::TimeNs now) {

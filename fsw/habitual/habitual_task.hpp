@@ -2,9 +2,11 @@
 // deliberative layer's legs and the reflexive layer's trajectory follower.
 //
 //   in:  LegCommandMsg (a waypoint and its not-to-exceed length and energy),
-//        PoseEstimateMsg, HazardMsg, DriveModesMsg, FollowerStatusMsg, ModeMsg
+//        PoseEstimateMsg, HazardMsg, DriveModesMsg, FollowerStatusMsg, ModeMsg,
+//        MissionHoldMsg (fault protection)
 //   out: TrajectoryMsg (a plan, or count 0 = stop), LegReportMsg (on every state
-//        change and at 1 Hz)
+//        change and at 1 Hz), KnownHazardsMsg (the remembered hazard discs, when
+//        they change and at 1 Hz: the deliberative layer plans round them)
 //
 // State machine (HabitualState, habitual_msgs.hpp):
 //   any     --leg refused-----------> (unchanged; a one-off report: kIdle + kBadLeg)
@@ -25,11 +27,18 @@
 //                                                       then kFailedUp (drives held: at once)
 //             follower kReached ---------------------> kAchieved
 //   kFailedUp / kAchieved: wait for the next leg.
+//   held (MissionHoldMsg reasons != 0, any state): stop sent once, the leg and
+//           the state kept, no planning, no supervision, no fail-up; hazards are
+//           still remembered. Released (reasons 0): a session in planning goes
+//           on; a leg being driven waits stopped for the deliberative layer to
+//           re-send it from the current pose (a new leg).
 //
 // Planning run: if the straight segment to the goal is free it is the shortest
 // path and is taken without sampling; otherwise RRT* (rrt_star.hpp) from the
 // estimated position, at most kRrtIterationsPerRun iterations per task run and
-// HABITUAL.rrt_iterations in all, stopping early once the cost is within 1 % of
+// HABITUAL.rrt_iterations in all (a local replan - any session not started by a
+// new leg, and every repair run - at most HABITUAL.replan_budget_ms x
+// kRrtIterationsPerMs of them), stopping early once the cost is within 1 % of
 // the straight-line distance; then line-of-sight shortcutting, the exact goal
 // appended when the path ends within the goal tolerance, at most
 // kMaxTrajectoryPoints points (else it counts as no path). Plans keep
@@ -38,7 +47,17 @@
 // without it a fresh plan grazing a disc is "blocked" again by the next
 // sighting. The margin is dropped (bare footprint) for a run whose start or goal
 // lies inside it, and for the runs after one that found no path with it. Paths
-// are checked while driving against the bare footprint.
+// are checked while driving against the bare footprint. A planning run whose
+// start lies inside a seen hazard's disc grown by the footprint (the disc grew
+// as more of the rock came into view after the rover stopped) first backs out:
+// a straight trajectory directly away from that disc's centre (or turned by up
+// to 90 degrees either way when that runs towards another obstacle) to the
+// first point clear of that disc by footprint + kPlanMarginM + kEscapeExtraM
+// and of everything else by footprint + kPlanMarginM (kEscapeSteps of
+// kEscapeStepM further out, at most kMaxEscapeM away), the way there clear of
+// the mapped rocks, not checked against the disc it leaves; reached, the session plans again from
+// there. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
+// leg fails up (no path).
 //
 // Constraints (step 3 of the policy), re-evaluated for the remaining leg:
 //   allowed length = (maxPathLengthM - driven length) * (1 - distance_margin_frac)
@@ -71,6 +90,7 @@
 #include "fsw/habitual/power_model.hpp"
 #include "fsw/habitual/rrt_star.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
@@ -86,6 +106,11 @@ namespace rse::habitual {
 // so a run stays within about 2 ms (docs/habitual.md, "Time per run"); the
 // default 2000 iterations take two runs.
 constexpr std::uint32_t kRrtIterationsPerRun = 1000;
+// RRT* iterations per millisecond of HABITUAL.replan_budget_ms: the slowest of
+// the figures above (1.3 ms per 1000 near 7000 nodes), rounded down, so a
+// replan of N ms stays within about N ms on the development host. Recalibrate
+// on the flight computer.
+constexpr std::uint32_t kRrtIterationsPerMs = 750;
 // Raw RRT* path points taken (a path needing more counts as no path). Bounds the
 // shortcutting work at one plan completion: < kMaxRawPathPoints^2 / 2 checks.
 constexpr std::size_t kMaxRawPathPoints = 128;
@@ -109,6 +134,14 @@ constexpr std::uint32_t kMaxRestWaitRuns = 30;
 // Driven-distance and heading accumulation steps (filter pose jitter at rest).
 constexpr double kOdometryStepM = 0.05;
 constexpr double kOdometryStepRad = 0.05;
+// Backing out of a seen hazard's footprint (see the file comment).
+constexpr double kEscapeExtraM = 0.05;
+constexpr double kEscapeStepM = 0.25;
+constexpr std::uint32_t kEscapeSteps = 8;
+constexpr double kMaxEscapeM = 3.0;
+constexpr std::uint32_t kMaxEscapesPerLeg = 3;
+// Points checked along the way out against the mapped rocks (3 m / 30: 0.1 m apart).
+constexpr std::uint32_t kEscapeChecks = 30;
 
 // Why a planning session started.
 enum class PlanTrigger : std::uint8_t {
@@ -154,6 +187,11 @@ struct HabitualCounters {
     std::uint32_t malformedInputs = 0;
     std::uint32_t hazardsUnplaced = 0;  // hazard messages with no usable pose to place them
     std::uint32_t mapRefused = 0;       // local map refusals while building
+    std::uint32_t hazardMapsSent = 0;   // KnownHazardsMsg published
+    std::uint32_t escapes = 0;          // back-outs of a seen hazard's footprint
+    std::uint32_t holds = 0;            // holds begun
+    std::uint32_t releases = 0;         // holds released
+    std::uint32_t heldRuns = 0;         // runs spent held
 };
 
 class HabitualTask final : public core::Task {
@@ -162,7 +200,7 @@ public:
 
     // Pipes "habitual_pose" (depth kPosePipeDepth: PoseEstimateMsg) and
     // "habitual" (kInputPipeDepth: leg, hazards, drive modes, follower status,
-    // mode). A refusal is evented (819) and returned; run() then does nothing.
+    // mode, mission hold). A refusal is evented (819) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
@@ -179,6 +217,8 @@ public:
     double drivenLengthM() const { return drivenLengthM_; }
     double drivenEnergyJ() const { return drivenEnergyJ_; }
     bool autonomous() const { return autonomous_; }
+    bool held() const { return held_; }
+    bool escaping() const { return escaping_; }
 
 private:
     struct Evaluation {
@@ -199,6 +239,7 @@ private:
     void onHazards(const msg::HazardMsg& hazards, core::TimeNs now);
     void onDriveModes(const msg::DriveModesMsg& modes);
     void onFollower(const msg::FollowerStatusMsg& status, core::TimeNs now);
+    void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
     void malformed(const char* what, core::MsgId id);
     bool poseUsable(core::TimeNs now) const;
     double meanFactor() const;
@@ -208,6 +249,14 @@ private:
     void beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, core::TimeNs now);
     void stepPlanning(core::TimeNs now);
     bool startQuery(core::TimeNs now);
+    // RRT* iterations the planning run may take (see the file comment).
+    std::uint32_t queryBudget() const;
+    // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
+    // footprint): the point to back out to; false when there is none.
+    bool findEscape(double footprint, Point2* exit) const;
+    void sendEscape(Point2 exit, core::TimeNs now);
+    bool escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
+                     const RememberedHazard* leaving) const;
     void finishQuery(core::TimeNs now);
     // rawPath_[0..count) is the planning run's path (count < 2: none).
     void completePlan(std::size_t count, core::TimeNs now);
@@ -229,6 +278,7 @@ private:
     void sendStop(core::TimeNs now);
     void setState(msg::HabitualState state, core::TimeNs now);
     void publishReport(core::TimeNs now);
+    void publishHazards(core::TimeNs now);
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -244,6 +294,7 @@ private:
     bool poseSeen_ = false;
     msg::DriveModesMsg modes_{};
     bool modesChanged_ = false;
+    bool held_ = false;
 
     // The leg.
     msg::HabitualState state_ = msg::HabitualState::kIdle;
@@ -255,6 +306,8 @@ private:
     double anchorHeading_ = 0.0;
     bool anchorSet_ = false;
     std::uint32_t cannotFollowReplans_ = 0;
+    std::uint32_t escapesThisLeg_ = 0;
+    bool escaping_ = false;  // the trajectory in force backs out of a seen hazard
 
     // The planning session.
     PlanTrigger trigger_ = PlanTrigger::kNewLeg;
@@ -285,6 +338,7 @@ private:
     msg::LegConstraint reportViolated_ = msg::LegConstraint::kNone;
     double reportExcess_ = 0.0;
     std::uint32_t runs_ = 0;
+    std::uint32_t hazardsRevision_ = 0;  // map revision last published in KnownHazardsMsg
     HabitualCounters counters_{};
 
     // Large members last.

@@ -3,6 +3,7 @@
 // report back (achieved, or failed up with the violated constraint and by how much).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "fsw/msg/msg_ids.hpp"
@@ -58,6 +59,31 @@ struct LegReportMsg {
     std::uint32_t failUps;
     std::uint32_t replans;          // local replans (new obstacle on the path, or repair)
     std::uint32_t minorAnomalies;   // replans that kept the constraints: logged, not failed up
+};
+
+// What the rover has seen that the coarse map does not show: the hazard discs
+// the habitual layer remembers (map_builder.hpp), so that a replan after a
+// fail-up plans round them and puts no leg end inside one. Site frame; the
+// radius is the remembered disc's, not grown by the rover's footprint.
+constexpr std::size_t kMaxKnownHazards = 32;  // the habitual layer's disc table (kMaxMapDiscs)
+
+struct KnownHazard {
+    float xM;
+    float yM;
+    float radiusM;
+    std::uint8_t obstacleId;   // the hazard detector's id (nonzero)
+    std::uint8_t pad[3];
+};
+
+// Published when the remembered set changes (at most once per habitual run)
+// and at 1 Hz with the leg report.
+struct KnownHazardsMsg {
+    static constexpr core::MsgId kMsgId = ids::kKnownHazards;
+    std::int64_t timeNs;
+    std::uint32_t revision;    // the habitual layer's map revision: grows with every change
+    std::uint8_t count;        // hazards[0..count) in use
+    std::uint8_t pad[3];
+    KnownHazard hazards[kMaxKnownHazards];
 };
 
 }  // namespace rse::msg

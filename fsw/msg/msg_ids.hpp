@@ -29,6 +29,7 @@ constexpr core::MsgId kDriveModes = 0x0152;    // DriveModesMsg, 10 Hz, drive_mo
 // deliberative <-> habitual (habitual_msgs.hpp)
 constexpr core::MsgId kLegCommand = 0x0160;    // LegCommandMsg, per leg, deliberative -> habitual
 constexpr core::MsgId kLegReport = 0x0161;     // LegReportMsg, on change and 1 Hz, habitual -> deliberative, telemetry
+constexpr core::MsgId kKnownHazards = 0x0162;  // KnownHazardsMsg, on change and 1 Hz, habitual -> deliberative
 
 // habitual <-> reflexive (trajectory_msgs.hpp)
 constexpr core::MsgId kTrajectory = 0x0170;      // TrajectoryMsg, per plan or repair, habitual -> reflexive

@@ -16,6 +16,7 @@
 #include "fsw/core/software_bus.hpp"
 #include "fsw/deliberative/deliberative_task.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
@@ -85,6 +86,34 @@ public:
         }
         (void)bus.publish(m);
     }
+    // The habitual layer's remembered hazards: {x, y, radius} each, ids 1, 2, ...
+    void sendHazards(const double (*xyr)[3], std::size_t count) {
+        msg::KnownHazardsMsg m{};
+        m.timeNs = clock.now();
+        m.revision = ++hazardRevision;
+        m.count = static_cast<std::uint8_t>(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            m.hazards[i].xM = static_cast<float>(xyr[i][0]);
+            m.hazards[i].yM = static_cast<float>(xyr[i][1]);
+            m.hazards[i].radiusM = static_cast<float>(xyr[i][2]);
+            m.hazards[i].obstacleId = static_cast<std::uint8_t>(i + 1);
+        }
+        (void)bus.publish(m);
+    }
+    // Fault protection's mission hold (reasons 0: released).
+    void sendHold(std::uint32_t reasons, std::uint32_t resumeCount) {
+        msg::MissionHoldMsg h{};
+        h.timeNs = clock.now();
+        h.reasons = reasons;
+        h.resumeCount = resumeCount;
+        (void)bus.publish(h);
+    }
+    void sendFaults(std::uint64_t activeMask) {
+        msg::FaultStatusMsg f{};
+        f.timeNs = clock.now();
+        f.activeMask = activeMask;
+        (void)bus.publish(f);
+    }
     void report(msg::HabitualState state, msg::LegConstraint violated = msg::LegConstraint::kNone,
                 double predicted = 0.0, double allowed = 0.0) {
         msg::LegReportMsg r{};
@@ -122,6 +151,7 @@ public:
             p.covariance[4] = positionVariance;
             p.covariance[8] = 1e-4;
             p.initialised = 1;
+            p.positionSigmaM = positionSigma;
             (void)bus.publish(p);
         }
         core::FrameContext frame{};
@@ -172,12 +202,14 @@ public:
     core::PipeId probe = 0;
     std::uint64_t frames = 0;
     std::uint32_t goalRevision = 0;
+    std::uint32_t hazardRevision = 0;
 
     // The synthetic estimate.
     double x = 0.0;
     double y = 0.0;
     double heading = 0.0;
     double positionVariance = 0.01;  // m^2 on each axis (0.1 m 1-sigma)
+    double positionSigma = 0.1;      // PoseEstimateMsg::positionSigmaM
     bool publishPose = true;
 
     // What the task published.

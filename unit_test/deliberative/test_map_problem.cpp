@@ -479,3 +479,86 @@ TEST(MapProblem, DefaultTablesSmallerRiskKeepsMoreClearance) {
     CHECK(c6 >= z6 * kDemoSigma0 - 1e-9);
     CHECK_TEXT(c6 > c2 + (z6 - z2) * kDemoSigma0, "1e-6 keeps visibly farther from the rocks");
 }
+
+// Seen hazards (KnownHazardsMsg discs) become octagons circumscribing the disc
+// grown by the footprint; one that would swallow the start is grown only as far
+// as the start's room (end clearance and its chance tightening) allows, one
+// that leaves no such room is left out, and a non-finite one is left out.
+TEST(MapProblem, SeenHazardsAreOctagonsRoundTheGrownDiscShrunkForTheStartOrLeftOut) {
+    const CoarseMapTable map = emptyMap();
+    const rse::msg::KnownHazard hazards[] = {
+        {4.0F, 0.0F, 1.0F, 7, {}},     // on the line, clear of start and goal: full growth
+        {-2.0F, 1.0F, 0.5F, 8, {}},    // start (-2.75, 1) at 0.75 from the centre: grown less
+        {-8.0F, -8.0F, 0.5F, 9, {}},   // off to the side, full growth
+        {0.0F, 9.0F, NAN, 10, {}},     // not finite: out
+    };
+    PlanRequest r = request(-2.75, 1.0, 8.0, 0.0, 1e-3);
+    r.startCov[0] = r.startCov[3] = 1e-4;  // a well-fixed start: little tightening
+    r.hazards = hazards;
+    r.hazardCount = 4;
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(0), geometry(), r, &p, &report) == Status::kOk);
+    LONGS_EQUAL(3, report.hazardsSeen);
+    LONGS_EQUAL(3, report.hazardsUsed);
+    LONGS_EQUAL(1, report.hazardsShrunk);
+    LONGS_EQUAL(1, report.hazardsLeftOut);
+    LONGS_EQUAL(3, p.obstacleCount);
+    for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+        const PlanObstacle& o = p.obstacles[i];
+        LONGS_EQUAL(rse::deliberative::kHazardFaces, o.faceCount);
+        const rse::msg::KnownHazard& h = hazards[o.id - 7];
+        const double cx = static_cast<double>(h.xM);
+        const double cy = static_cast<double>(h.yM);
+        // Every face is tangent to one circle about the centre.
+        const double reach = o.offset[0] - (o.normalX[0] * cx + o.normalY[0] * cy);
+        for (std::size_t k = 0; k < o.faceCount; ++k) {
+            DOUBLES_EQUAL(1.0, std::hypot(o.normalX[k], o.normalY[k]), 1e-12);
+            DOUBLES_EQUAL(reach, o.offset[k] - (o.normalX[k] * cx + o.normalY[k] * cy), 1e-9);
+        }
+        if (o.id == 8) {
+            // 0.75 from the centre along a face normal, less the start's room.
+            const double delta = 1e-3 / (2.0 * 12.0 * static_cast<double>(kMaxPlanObstacles));
+            const double room =
+                rse::deliberative::kHazardEndClearanceM + rse::deliberative::tighteningMargin(delta, 2e-4);
+            CHECK(room > rse::deliberative::kHazardEndClearanceM);
+            DOUBLES_EQUAL(0.75 - room, reach, 1e-6);
+            CHECK(reach < static_cast<double>(h.radiusM) + kRadius);
+        } else {
+            DOUBLES_EQUAL(static_cast<double>(h.radiusM) + kRadius, reach, 1e-6);
+        }
+    }
+    CHECK_FALSE(report.startInObstacle);
+
+    // The start on the bare disc of hazard 8: it is left out, not planned into.
+    r.startX = -2.3;
+    CHECK(buildMapProblem(map, plannerTable(0), geometry(), r, &p, &report) == Status::kOk);
+    LONGS_EQUAL(2, report.hazardsUsed);
+    LONGS_EQUAL(2, report.hazardsLeftOut);
+}
+
+// Hazards compete with the polygons for the planner's slots by distance to the
+// straight line: one on the line displaces the farthest polygon.
+TEST(MapProblem, ASeenHazardOnTheLineTakesTheSlotOfTheFarthestPolygon) {
+    CoarseMapTable map = emptyMap();
+    for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
+        const float y = 2.0F + static_cast<float>(i) * 0.9F;
+        addPolygon(&map, {{-1.0F, y}, {0.0F, y}, {0.0F, y + 0.5F}, {-1.0F, y + 0.5F}});
+    }
+    const rse::msg::KnownHazard onLine[] = {{4.0F, 0.0F, 0.5F, 1, {}}};
+    PlanRequest r = request(-6.0, 0.0, 8.0, 0.0, 1e-3);
+    r.hazards = onLine;
+    r.hazardCount = 1;
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(0), geometry(), r, &p, &report) == Status::kOk);
+    LONGS_EQUAL(kMaxPlanObstacles, p.obstacleCount);
+    LONGS_EQUAL(1, report.hazardsUsed);
+    LONGS_EQUAL(kMaxPlanObstacles - 1, report.obstaclesUsed);
+    LONGS_EQUAL(1, report.obstaclesDropped);
+    // The one left out is the highest (farthest) polygon, slot kMaxPlanObstacles - 1.
+    for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+        CHECK(p.obstacles[i].faceCount == rse::deliberative::kHazardFaces || p.obstacles[i].id != kMaxPlanObstacles - 1);
+    }
+}
+

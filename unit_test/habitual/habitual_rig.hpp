@@ -42,7 +42,8 @@ public:
         }
         if (!core::isOk(bus.createPipe("probe", 32, &probe)) ||
             !core::isOk(bus.subscribe(probe, msg::ids::kTrajectory)) ||
-            !core::isOk(bus.subscribe(probe, msg::ids::kLegReport))) {
+            !core::isOk(bus.subscribe(probe, msg::ids::kLegReport)) ||
+            !core::isOk(bus.subscribe(probe, msg::ids::kKnownHazards))) {
             return false;
         }
         if (!core::isOk(task.init())) {
@@ -58,6 +59,15 @@ public:
         m.timeNs = clock.now();
         m.mode = mode;
         (void)bus.publish(m);
+    }
+    // Fault protection's mission hold (reasons 0: released).
+    void sendHold(std::uint32_t reasons, std::uint32_t resumeCount, std::uint8_t estop = 0) {
+        msg::MissionHoldMsg h{};
+        h.timeNs = clock.now();
+        h.reasons = reasons;
+        h.resumeCount = resumeCount;
+        h.estop = estop;
+        (void)bus.publish(h);
     }
     void sendLeg(std::uint32_t legId, double gx, double gy, double maxLengthM, double maxEnergyJ) {
         msg::LegCommandMsg leg{};
@@ -189,6 +199,8 @@ public:
     msg::LegReportMsg reports[kMaxReports] = {};
     std::size_t reportCount = 0;  // all received; reports[] keeps the latest kMaxReports
     msg::LegReportMsg lastReport{};
+    msg::KnownHazardsMsg lastHazards{};
+    unsigned hazardMaps = 0;
     unsigned seen[1000] = {};
     char texts[1000][core::kEventTextSize] = {};
 
@@ -212,7 +224,11 @@ private:
         for (int i = 0; i < 64 && core::isOk(bus.receive(probe, &inbox)); ++i) {
             msg::TrajectoryMsg t{};
             msg::LegReportMsg r{};
-            if (core::isOk(inbox.decode(&t))) {
+            msg::KnownHazardsMsg k{};
+            if (core::isOk(inbox.decode(&k))) {
+                lastHazards = k;
+                ++hazardMaps;
+            } else if (core::isOk(inbox.decode(&t))) {
                 trajectory = t;
                 ++trajectories;
                 if (t.count == 0) {
