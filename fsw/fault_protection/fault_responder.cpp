@@ -222,7 +222,17 @@ void FaultResponder::stepWheel(std::size_t w, const ResponderInputs& in, const R
     const bool resting = r.tlm.state == ResponseState::kIdle || r.tlm.state == ResponseState::kRecovered;
     if (resting && trouble) {
         if (kind == FaultResponseKind::kRecoverDrive) {
+            // A drive back in trouble within attempt_memory_ms of its last
+            // recovery spends a try even when it recovers by itself again (a
+            // worn motor tripping on every turn must not loop for ever).
+            const bool again =
+                r.tlm.state == ResponseState::kRecovered && in.now - r.clearSince < limits.attemptMemory;
             begin(r, c, lostId, ResponseState::kSettling, limits, in.now);
+            if (again && r.tlm.attemptsUsed >= limits.attempts[idx(c)]) {
+                giveUp(r, in.now, "back too soon: drive failed, deliberative decides", out, false);
+            } else if (again) {
+                ++r.tlm.attemptsUsed;
+            }
         } else {
             begin(r, c, lostId, ResponseState::kWaiting, limits, in.now);
             ++r.tlm.attemptsUsed;
@@ -323,6 +333,9 @@ void FaultResponder::stepFault(std::uint8_t id, FaultClass c, const ResponderInp
         case ResponseState::kRecovered:
             if (active) {
                 begin(r, c, id, ResponseState::kWaiting, limits, in.now);
+                if (kind == FaultResponseKind::kEventOnly) {
+                    break;  // evented by begin(); nothing to try, nothing to give up
+                }
                 if (r.tlm.attemptsUsed >= limits.attempts[idx(c)]) {
                     giveUp(r, in.now, "back too soon: call home", out, true);
                     break;
@@ -388,7 +401,13 @@ void FaultResponder::step(const ResponderInputs& in, const ResponderLimits& limi
         allHealthy = healthyDrive(in.health[w]) &&
                      !bit(in.activeFaults, static_cast<std::uint32_t>(msg::fault::kDriveHeartbeatLost + w));
     }
-    if (in.interlockTripped && allHealthy) {
+    // A drive given up on stays out: its interlock stays latched for the
+    // deliberative layer to decide (replan or call home), until it recovers.
+    bool gaveUpOnADrive = false;
+    for (const Response& w : wheels_) {
+        gaveUpOnADrive = gaveUpOnADrive || w.tlm.state == ResponseState::kGaveUp;
+    }
+    if (in.interlockTripped && allHealthy && !gaveUpOnADrive) {
         askInterlockReset(in, out);
     } else if (!in.interlockTripped) {
         interlockAskedAt_ = -1;

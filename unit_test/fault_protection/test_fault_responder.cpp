@@ -335,3 +335,45 @@ TEST(FaultResponder, EveryFaultIdHasAClass) {
     CHECK_FALSE(fault_protection::classOf(0, &c));
     CHECK_FALSE(fault_protection::classOf(msg::fault::kCount, &c));
 }
+
+TEST(FaultResponder, AnEventOnlyFaultThatComesAndGoesNeverCallsHome) {
+    Rig rig;
+    rig.limits.response[static_cast<std::size_t>(FaultClass::kDriveOvercurrent)] = FaultResponseKind::kEventOnly;
+    std::size_t callHomes = 0;
+    for (int i = 0; i < 10; ++i) {
+        rig.in.activeFaults = bitOf(msg::fault::kDriveOvercurrent + 1);
+        rig.runFor(300 * kMs, &callHomes);
+        CHECK_EQUAL(0u, rig.out.holdReasons);
+        rig.in.activeFaults = 0;
+        rig.runFor(100 * kMs, &callHomes);
+    }
+    LONGS_EQUAL(0, callHomes);
+    LONGS_EQUAL(10, rig.drain(fault_protection::events::kResponseStarted));
+}
+
+TEST(FaultResponder, ADriveThatKeepsFaultingAndRecoveringByItselfIsGivenUpAndItsInterlockLeftLatched) {
+    Rig rig;
+    unsigned interlockAsks = 0;
+    for (int trip = 0; trip < 6; ++trip) {
+        rig.in.health[1] = DriveHealth::kFaulted;  // trips, the CAN master's own reset clears it
+        rig.in.interlockTripped = true;
+        rig.runFor(50 * kMs);
+        rig.in.health[1] = DriveHealth::kOperational;
+        for (int f = 0; f < 30; ++f) {
+            rig.clock.advance(kFrame);
+            rig.step();
+            for (std::size_t i = 0; i < rig.out.driveActions.size(); ++i) {
+                if (rig.out.driveActions.at(i)->action == DriveRecoveryAction::kResetInterlock) {
+                    ++interlockAsks;
+                    rig.in.interlockTripped = false;  // CAN I/O releases it
+                }
+            }
+        }
+    }
+    // Occurrences 1..4 are recovered (the 2nd..4th spend a try each); the 5th
+    // finds the tries used: declared failed, the interlock left latched.
+    LONGS_EQUAL(static_cast<int>(ResponseState::kGaveUp), static_cast<int>(rig.responder.wheel(1)->state));
+    LONGS_EQUAL(4, interlockAsks);
+    CHECK(rig.in.interlockTripped);
+    LONGS_EQUAL(0, rig.out.holdReasons);
+}
