@@ -41,7 +41,7 @@
 //     the health task's).
 //   40..45 drive over-temperature: a reported (temperatureValid) motor
 //     temperature > drive_overtemp_c held fault_persist_ms on the DriveStatusMsg
-//     samples; clears below drive_overtemp_c - 5 degC held as long.
+//     samples; clears below drive_overtemp_c - 15 degC held as long.
 //   36..39 sensor stale (DeviceNode IMU, power, hazard, position fix): no
 //     data from the device for its stale time (imu_stale_ms, power_stale_ms,
 //     hazard_stale_ms, fix_stale_ms), whether its heartbeat goes on (a
@@ -101,7 +101,10 @@ HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const ta
 // Fraction of an over-current limit below which the current must fall to clear.
 constexpr double kOvercurrentClearFraction = 0.9;
 // Degrees below drive_overtemp_c a motor must cool to clear its fault.
-constexpr double kOvertempClearMarginC = 5.0;
+// A motor must cool this far below drive_overtemp_c to clear: with the
+// drives' ~60 s thermal time constant that is about 20 s of rest, so a rover
+// resumed after an over-temperature hold does not reach the limit again at once.
+constexpr double kOvertempClearMarginC = 15.0;
 
 class HealthMonitor {
 public:

@@ -72,7 +72,7 @@ TEST(LockstepCanFaults, AnOverheatingMotorRaisesOnlyItsOverTemperatureFault) {
     UT_PRINT(figures);
     rig.runFor(200 * kNsPerMs);  // the console writes events at 10 Hz
     LONGS_EQUAL(1, rig.consoleCount("EVT 736 "));
-    // Stopped, it cools below 75 degC and the fault clears.
+    // Stopped, it cools below 65 degC and the fault clears.
     rig.commandAllWheels(0.0);
     CHECK_TRUE(rig.runUntil([&] { return !rig.fsw().health().active(ml); }, 120 * kNsPerSec));
     rig.runFor(200 * kNsPerMs);
