@@ -1,5 +1,7 @@
 #include "fsw/deliberative/deliberative_task.hpp"
 
+#include "fsw/geometry/rover_footprint.hpp"
+
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
@@ -464,7 +466,7 @@ void DeliberativeTask::resendFromPose(core::TimeNs now) {
 }
 
 bool DeliberativeTask::legEndTooClose(const msg::PlanLeg& leg) const {
-    const double clearance = static_cast<double>(tables_.roverGeometry().footprint_radius_m) + kLegEndMarginM;
+    const double clearance = rse::geometry::clearanceRadiusM(tables_.roverGeometry()) + kLegEndMarginM;
     // The plan keeps its means off the grown polygons only with the chance
     // margin of the moment, and a polygon grown less for a close start keeps
     // less: an end the habitual layer could reach only without its planning

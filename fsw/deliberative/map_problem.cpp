@@ -1,5 +1,7 @@
 #include "fsw/deliberative/map_problem.hpp"
 
+#include "fsw/geometry/rover_footprint.hpp"
+
 #include <cmath>
 #include <cstddef>
 
@@ -148,7 +150,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5)) {
         return fail(MapProblemError::kBadRequest);
     }
-    const double radius = static_cast<double>(geometry.footprint_radius_m);
+    const double radius = rse::geometry::clearanceRadiusM(geometry);
     CcProblem p{};
     p.steps = static_cast<std::uint8_t>(planner.horizon_steps <= kMaxPlanSteps ? planner.horizon_steps : 0);
     p.startX = request.startX;

@@ -1,5 +1,7 @@
 #include "fsw/habitual/habitual_task.hpp"
 
+#include "fsw/geometry/rover_footprint.hpp"
+
 #include <cmath>
 
 #include "fsw/habitual/habitual_events.hpp"
@@ -537,7 +539,7 @@ std::uint32_t HabitualTask::queryBudget() const {
 
 bool HabitualTask::startQuery(core::TimeNs now) {
     const tables::HabitualTable& hab = tables_.habitual();
-    const double footprint = static_cast<double>(tables_.roverGeometry().footprint_radius_m);
+    const double footprint = rse::geometry::clearanceRadiusM(tables_.roverGeometry());
     queryStart_ = Point2{pose_.xM, pose_.yM};
     queryHeading_ = pose_.headingRad;
     const Point2 goal{leg_.goalXM, leg_.goalYM};
@@ -648,7 +650,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
         }
     }
     const double length = distance(queryStart_, exit);
-    const double footprint = static_cast<double>(tables_.roverGeometry().footprint_radius_m);
+    const double footprint = rse::geometry::clearanceRadiusM(tables_.roverGeometry());
     for (std::uint32_t i = 1; i <= kEscapeChecks; ++i) {
         const double f = static_cast<double>(i) / static_cast<double>(kEscapeChecks);
         const Point2 q = queryStart_ + f * (exit - queryStart_);
@@ -712,7 +714,7 @@ void HabitualTask::completePlan(std::size_t count, core::TimeNs now) {
     }
     if (count >= 2) {
         // Sightings may have come in while the query ran on its frozen map.
-        (void)rebuildMap(&checkMap_, static_cast<double>(tables_.roverGeometry().footprint_radius_m));
+        (void)rebuildMap(&checkMap_, rse::geometry::clearanceRadiusM(tables_.roverGeometry()));
         checkedRevision_ = mapBuilder_.revision();
         for (std::size_t i = 0; i + 1 < count; ++i) {
             if (!checkMap_.segmentFree(rawPath_[i], rawPath_[i + 1])) {
@@ -945,7 +947,7 @@ void HabitualTask::superviseDriving(core::TimeNs now) {
     }
     Point2 remaining[msg::kMaxTrajectoryPoints];
     if (mapBuilder_.revision() != checkedRevision_) {
-        (void)rebuildMap(&checkMap_, static_cast<double>(tables_.roverGeometry().footprint_radius_m));
+        (void)rebuildMap(&checkMap_, rse::geometry::clearanceRadiusM(tables_.roverGeometry()));
         checkedRevision_ = mapBuilder_.revision();
         const std::size_t n = remainingPath(remaining);
         for (std::size_t i = 0; i + 1 < n; ++i) {
