@@ -49,6 +49,15 @@ core::Status AppCommandHandler::init() {
     return core::Status::kOk;
 }
 
+void AppCommandHandler::refuseMalformedRequest() {
+    ++malformedRequests_;
+    if (core::isReportableOccurrence(malformedRequests_)) {
+        parts_.events.report(events::kBusMessageMalformed, core::Severity::kError,
+                             "app: command handlers ignored a malformed onboard request 0x%04x (%u so far)",
+                             static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformedRequests_));
+    }
+}
+
 void AppCommandHandler::serviceOnboardRequests() {
     for (std::uint16_t i = 0; requestsReady_ && i < kRequestPipeDepth && core::isOk(parts_.bus.receive(requestPipe_, &inbox_));
          ++i) {
@@ -58,12 +67,7 @@ void AppCommandHandler::serviceOnboardRequests() {
         }
         msg::SafeRequestMsg request{};
         if (!core::isOk(inbox_.decode(&request))) {
-            ++malformedRequests_;
-            if (core::isReportableOccurrence(malformedRequests_)) {
-                parts_.events.report(events::kBusMessageMalformed, core::Severity::kError,
-                                     "app: command handlers ignored a malformed onboard request 0x%04x (%u so far)",
-                                     static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformedRequests_));
-            }
+            refuseMalformedRequest();
             continue;
         }
         ++safeRequests_;
@@ -79,12 +83,7 @@ void AppCommandHandler::serviceOnboardRequests() {
 void AppCommandHandler::restartTask() {
     msg::TaskRestartMsg request{};
     if (!core::isOk(inbox_.decode(&request))) {
-        ++malformedRequests_;
-        if (core::isReportableOccurrence(malformedRequests_)) {
-            parts_.events.report(events::kBusMessageMalformed, core::Severity::kError,
-                                 "app: command handlers ignored a malformed onboard request 0x%04x (%u so far)",
-                                 static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformedRequests_));
-        }
+        refuseMalformedRequest();
         return;
     }
     // The executive's rows stop only by being disabled (a hung task is the

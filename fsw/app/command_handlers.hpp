@@ -61,6 +61,7 @@ private:
     void publishMode();
     void publishGoals();
     void restartTask();  // a TaskRestartMsg in inbox_
+    void refuseMalformedRequest();  // inbox_ did not decode: counted and evented (throttled)
 
     Parts parts_;
     cmdtlm::CommandTask* commands_ = nullptr;

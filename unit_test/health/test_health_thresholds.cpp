@@ -69,7 +69,7 @@ TEST(HealthThresholds, DriveOvercurrentRaisesAfterPersistenceAndClearsBelowTheHy
     CHECK(rig.health.status().activeMask == (std::uint64_t{1} << 15));
     LONGS_EQUAL(1, rig.eventCount(ev::kHealthDriveOvercurrent));
     CHECK(core::Severity::kError == rig.event(ev::kHealthDriveOvercurrent).lastSeverity);
-    STRCMP_CONTAINS("fault 15: drive MR over-current -3.00 A", rig.event(ev::kHealthDriveOvercurrent).lastText);
+    STRCMP_CONTAINS("fault 15: drive MR over-current -3.30 A", rig.event(ev::kHealthDriveOvercurrent).lastText);
 
     // Between 0.9 x limit and the limit: stays raised.
     rig.feed.drives.wheels[4].currentA = 0.95 * driveLimit;
