@@ -547,10 +547,19 @@ bool HabitualTask::startQuery(core::TimeNs now) {
     lastQuery_.attempt = attempt_;
     lastQuery_.rawCostM = INFINITY;
 
-    bool mapOk = rebuildMap(&planMap_, bareFootprint_ ? footprint : footprint + kPlanMarginM);
-    if (mapOk && !bareFootprint_ && (!planMap_.pointFree(queryStart_) || !planMap_.pointFree(goal))) {
-        mapOk = rebuildMap(&planMap_, footprint);
-        lastQuery_.marginDropped = true;
+    // The margin is given up by halves, only as far as the start and goal need:
+    // a path planned at the bare footprint leaves pure pursuit no room.
+    const double margins[] = {kPlanMarginM, 0.5 * kPlanMarginM, 0.0};
+    bool mapOk = false;
+    for (double margin : margins) {
+        if (bareFootprint_ && margin > 0.0) {
+            continue;
+        }
+        mapOk = rebuildMap(&planMap_, footprint + margin);
+        lastQuery_.marginDropped = margin < kPlanMarginM;
+        if (!mapOk || margin == 0.0 || (planMap_.pointFree(queryStart_) && planMap_.pointFree(goal))) {
+            break;
+        }
     }
     lastQuery_.marginDropped = lastQuery_.marginDropped || bareFootprint_;
     if (!mapOk) {
@@ -833,10 +842,10 @@ void HabitualTask::acceptPlan(std::size_t count, const Evaluation& evaluation, c
     reportViolated_ = msg::LegConstraint::kNone;
     reportExcess_ = 0.0;
     events_.report(events::kPlanSent, core::Severity::kInfo,
-                   "habitual: leg %u trajectory %u: %u pts, %.1f/%.1f m, %.0f/%.0f J",
+                   "habitual: leg %u trajectory %u: %u pts, %.1f/%.1f m, %.0f/%.0f J%s",
                    static_cast<unsigned>(leg_.legId), static_cast<unsigned>(trajectory_.trajectoryId),
                    static_cast<unsigned>(count), evaluation.lengthM, evaluation.allowedLengthM, evaluation.energyJ,
-                   evaluation.allowedEnergyJ);
+                   evaluation.allowedEnergyJ, lastQuery_.marginDropped ? ", margin cut" : "");
     if (trigger_ != PlanTrigger::kNewLeg || attempt_ > 0) {
         ++counters_.minorAnomalies;
         events_.report(events::kMinorAnomaly, core::Severity::kWarning,

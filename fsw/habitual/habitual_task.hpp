@@ -45,8 +45,9 @@
 // kPlanMarginM more than the footprint from every obstacle: pure pursuit cuts
 // corners, and a remembered disc grows as more of its obstacle comes into view;
 // without it a fresh plan grazing a disc is "blocked" again by the next
-// sighting. The margin is dropped (bare footprint) for a run whose start or goal
-// lies inside it, and for the runs after one that found no path with it. Paths
+// sighting. For a run whose start or goal lies inside it the margin is halved,
+// and dropped (bare footprint) only if they lie inside that too; it is dropped
+// for the runs after one that found no path with it. Paths
 // are checked while driving against the bare footprint. A planning run whose
 // start lies inside a seen hazard's disc grown by the footprint (the disc grew
 // as more of the rock came into view after the rover stopped) first backs out:

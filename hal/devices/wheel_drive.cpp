@@ -214,6 +214,12 @@ bool WheelDrive::checkHeartbeat(core::TimeNs now) {
         ++stats_.losses;
         events_.report(events::kDriveLost, Severity::kError, "drive %s (node %u): lost (was %s)", name_,
                        static_cast<unsigned>(nodeId_), toString(state_));
+        // No PDOs go to a lost node, so one that is alive but unheard would
+        // keep turning at its last target while every other wheel stops:
+        // send it to pre-operational, where a CiA 402 drive aborts the
+        // connection (0x6007) and disables its output. Heard again, it is
+        // configured and started afresh.
+        sendNmt(NmtCommand::kEnterPreOperational);
         enter(DriveState::kLost, now);
         return false;
     }
@@ -229,16 +235,20 @@ bool WheelDrive::checkHeartbeat(core::TimeNs now) {
     return true;
 }
 
+void WheelDrive::sendNmt(NmtCommand command) {
+    CanFrame f;
+    f.id = canopen::kNmt;
+    f.dlc = 2;
+    f.data[0] = static_cast<std::uint8_t>(command);
+    f.data[1] = nodeId_;
+    (void)bus_.send(f);  // refusals are counted by the bus and evented by its link monitor
+}
+
 void WheelDrive::stepConfiguring(core::TimeNs now) {
     if (configStep_ >= kConfigStepCount) {
         events_.report(events::kDriveConfigured, Severity::kInfo, "drive %s (node %u): configured",
                        name_, static_cast<unsigned>(nodeId_));
-        CanFrame start;
-        start.id = canopen::kNmt;
-        start.dlc = 2;
-        start.data[0] = static_cast<std::uint8_t>(NmtCommand::kStart);
-        start.data[1] = nodeId_;
-        (void)bus_.send(start);  // checked by waiting for the operational heartbeat
+        sendNmt(NmtCommand::kStart);  // checked by waiting for the operational heartbeat
         enter(DriveState::kStarting, now);
         return;
     }

@@ -116,6 +116,7 @@ private:
     void declareFailed(core::TimeNs now);
     void fault(const char* why, std::uint16_t code, core::TimeNs now);
     bool checkHeartbeat(core::TimeNs now);
+    void sendNmt(canopen::NmtCommand command);
 
     CanBus& bus_;
     core::EventLog& events_;

@@ -110,6 +110,8 @@ int main(int argc, char** argv) {
     }
     const char* demo = rse::sim::kDefaultMissionScenario;
     const std::vector<FaultCase> cases = {
+        // The same missions without a fault: what the fault cases are measured against.
+        {"none (baseline)", demo, 300.0, true, [](double, std::mt19937_64&) { return std::vector<FaultSpec>{}; }},
         {"drive heartbeat gap 0.2 s", demo, 300.0, true,
          [](double at, std::mt19937_64& rng) {
              return std::vector<FaultSpec>{wheelFault(FaultType::kDriveHeartbeatLoss, rng() % 6, at, at + 0.2)};
@@ -170,7 +172,16 @@ int main(int argc, char** argv) {
                 s.seed = seed;
                 s.faults = faults;
             };
-            measure(rse::sim::runMission(o, nullptr), at, &t);
+            const MissionSummary summary = rse::sim::runMission(o, nullptr);
+            measure(summary, at, &t);
+            const bool clean = summary.outcome == rse::sim::MissionOutcome::kGoalReached && summary.collisions == 0;
+            if (!clean && std::getenv("BENCH_VERBOSE") != nullptr) {
+                std::printf("  %s: fault at %.2f s (wheel %zu), seed %llu: %s at %.1f s (%s), %u collisions, end (%.2f, %.2f)\n",
+                            c.name, at, faults.empty() ? 0 : faults[0].wheel, static_cast<unsigned long long>(seed),
+                            rse::sim::toString(summary.outcome),
+                            summary.outcomeTimeS, summary.callHomeText.c_str(), summary.collisions, summary.finalX,
+                            summary.finalY);
+            }
         }
         auto maxOf = [](const std::vector<double>& v) { return v.empty() ? NAN : *std::max_element(v.begin(), v.end()); };
         std::printf("%-32s %5u %8.0f%% %9u %6.2f/%-6.2f %12.0f %6.0f/%-7.0f %6.1f/%-6.1f%s\n", c.name, t.runs,
