@@ -478,8 +478,8 @@ void HabitualTask::beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, 
     setState(trigger == PlanTrigger::kNewLeg ? msg::HabitualState::kPlanning : msg::HabitualState::kRepairing, now);
 }
 
-bool HabitualTask::rebuildMap(LocalMap* map, double clearanceM) {
-    const core::Status status = mapBuilder_.build(tables_.coarseMap(), clearanceM, map);
+bool HabitualTask::rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief) {
+    const core::Status status = mapBuilder_.build(tables_.coarseMap(), clearanceM, map, relief);
     if (!core::isOk(status)) {
         ++counters_.mapRefused;
         if (core::isReportableOccurrence(counters_.mapRefused)) {
@@ -547,19 +547,28 @@ bool HabitualTask::startQuery(core::TimeNs now) {
     lastQuery_.attempt = attempt_;
     lastQuery_.rawCostM = INFINITY;
 
-    // The margin is given up by halves, only as far as the start and goal need:
-    // a path planned at the bare footprint leaves pure pursuit no room.
-    const double margins[] = {kPlanMarginM, 0.5 * kPlanMarginM, 0.0};
+    // A path planned at the bare footprint leaves pure pursuit no room, so the
+    // margin is given up no further than the start and goal need: first only
+    // for the seen hazards they lie in; then by halves for everything.
     bool mapOk = false;
+    if (!bareFootprint_) {
+        mapOk = rebuildMap(&planMap_, footprint + kPlanMarginM);
+        if (mapOk && (!planMap_.pointFree(queryStart_) || !planMap_.pointFree(goal))) {
+            const MapRelief relief{{queryStart_, goal}, 2, kPlanMarginM};
+            mapOk = rebuildMap(&planMap_, footprint + kPlanMarginM, &relief);
+            lastQuery_.marginDropped = true;
+        }
+    }
+    const double margins[] = {0.5 * kPlanMarginM, 0.0};
     for (double margin : margins) {
+        if (mapOk && !bareFootprint_ && planMap_.pointFree(queryStart_) && planMap_.pointFree(goal)) {
+            break;
+        }
         if (bareFootprint_ && margin > 0.0) {
             continue;
         }
         mapOk = rebuildMap(&planMap_, footprint + margin);
-        lastQuery_.marginDropped = margin < kPlanMarginM;
-        if (!mapOk || margin == 0.0 || (planMap_.pointFree(queryStart_) && planMap_.pointFree(goal))) {
-            break;
-        }
+        lastQuery_.marginDropped = true;
     }
     lastQuery_.marginDropped = lastQuery_.marginDropped || bareFootprint_;
     if (!mapOk) {

@@ -267,7 +267,7 @@ private:
     void failUp(msg::LegConstraint reason, const Evaluation& evaluation, core::TimeNs now);
     Evaluation evaluate(const Point2* path, std::size_t count, double headingRad) const;
     void keepCandidate(const Point2* path, std::size_t count, const Evaluation& evaluation);
-    bool rebuildMap(LocalMap* map, double clearanceM);
+    bool rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief = nullptr);
 
     // Driving.
     void updateOdometry();

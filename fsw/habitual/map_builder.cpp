@@ -143,7 +143,8 @@ std::size_t MapBuilder::rememberedCount() const {
     return n;
 }
 
-core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map) const {
+core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
+                              const MapRelief* relief) const {
     if (map == nullptr) {
         return core::Status::kInvalidArgument;
     }
@@ -172,7 +173,13 @@ core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clea
         if (!h.used) {
             continue;
         }
-        const core::Status st = map->addDisc(h.centre, h.radiusM);
+        double radius = h.radiusM;
+        for (std::size_t i = 0; relief != nullptr && i < relief->count && i < 2; ++i) {
+            if (distance(relief->at[i], h.centre) < h.radiusM + clearanceM) {
+                radius = h.radiusM > relief->marginM ? h.radiusM - relief->marginM : 0.0;
+            }
+        }
+        const core::Status st = map->addDisc(h.centre, radius);
         if (!core::isOk(st) && core::isOk(first)) {
             first = st;
         }

@@ -88,6 +88,17 @@ struct RememberedHazard {
     bool used;
 };
 
+// Points (the rover's start, its goal) round which remembered discs give up
+// part of the clearance: a disc whose inflated radius contains one of them is
+// added marginM smaller (not below 0), every other obstacle keeps the whole
+// clearance. A rover that stopped inside a grown disc's planning margin can
+// then plan away from it without the margin being cut for every obstacle.
+struct MapRelief {
+    Point2 at[2] = {};
+    std::size_t count = 0;
+    double marginM = 0.0;
+};
+
 class MapBuilder {
 public:
     // Turns one sighting into a disc and remembers it (see the file comment).
@@ -99,7 +110,8 @@ public:
     // map reset to the coarse-map bounds with clearanceM, then every coarse
     // polygon and remembered disc. The first refusal of the map is returned (the
     // map then holds what was added before it); kOk otherwise.
-    core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map) const;
+    core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
+                       const MapRelief* relief = nullptr) const;
 
     // Distance from p to the nearest coarse-map polygon (0 inside one); +inf
     // without polygons.

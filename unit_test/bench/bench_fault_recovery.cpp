@@ -175,7 +175,7 @@ int main(int argc, char** argv) {
             const MissionSummary summary = rse::sim::runMission(o, nullptr);
             measure(summary, at, &t);
             const bool clean = summary.outcome == rse::sim::MissionOutcome::kGoalReached && summary.collisions == 0;
-            if (!clean && std::getenv("BENCH_VERBOSE") != nullptr) {
+            if (!clean && c.recoverable && std::getenv("BENCH_VERBOSE") != nullptr) {
                 std::printf("  %s: fault at %.2f s (wheel %zu), seed %llu: %s at %.1f s (%s), %u collisions, end (%.2f, %.2f)\n",
                             c.name, at, faults.empty() ? 0 : faults[0].wheel, static_cast<unsigned long long>(seed),
                             rse::sim::toString(summary.outcome),

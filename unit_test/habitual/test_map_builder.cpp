@@ -208,3 +208,24 @@ TEST(MapBuilder, ForgetAllEmptiesTheMemory) {
 TEST(MapBuilder, BuildRefusesANullMap) {
     CHECK(core::Status::kInvalidArgument == builder.build(coarse, 0.6, nullptr));
 }
+
+TEST(MapBuilder, ReliefTakesTheMarginOffOnlyTheDiscsRoundTheGivenPoints) {
+    // Two seen rocks on open ground south of the route (well clear of the coarse rocks).
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, -5.0}, 0.0, sighting(3, 2.0, 0.0, 0.3)));
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{10.0, -5.0}, 0.0, sighting(4, 2.0, 0.0, 0.3)));
+    const habitual::RememberedHazard* near = findId(builder, 3);
+    const habitual::RememberedHazard* far = findId(builder, 4);
+    CHECK(near != nullptr && far != nullptr);
+    const double footprint = 0.6;
+    const double margin = 0.25;
+    // A start inside the near disc's margin but outside its bare footprint.
+    const Point2 start = near->centre + Point2{0.0, near->radiusM + footprint + 0.1};
+    const Point2 besideFar = far->centre + Point2{0.0, far->radiusM + footprint + 0.1};
+    CHECK(core::isOk(builder.build(coarse, footprint + margin, &map)));
+    CHECK_FALSE(map.pointFree(start));
+    CHECK_FALSE(map.pointFree(besideFar));
+    const habitual::MapRelief relief{{start, start}, 1, margin};
+    CHECK(core::isOk(builder.build(coarse, footprint + margin, &map, &relief)));
+    CHECK_TRUE(map.pointFree(start));        // the disc it is in keeps the bare footprint only
+    CHECK_FALSE(map.pointFree(besideFar));   // every other obstacle keeps the whole margin
+}
