@@ -356,7 +356,7 @@ void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs
                        static_cast<unsigned>(legs_.count));
         leg_.legId = 0;
         ++legIndex_;
-        legBoundFactor_ = 1.0;
+        legBoundFactor_ = legEnergyFactor_ = legLengthFactor_ = 1.0;
         changed_ = true;
         if (legIndex_ < legs_.count) {
             sendLeg(now);
@@ -460,7 +460,10 @@ void DeliberativeTask::resendFromPose(core::TimeNs now) {
     }
     msg::PlanLeg& leg = legs_.legs[legIndex_];
     (void)legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, legParams(), &leg);
-    legBoundFactor_ = 1.0;
+    // The bounds are new (from here), the relaxation the leg earned is not:
+    // losing it fails the re-sent leg up again at once.
+    leg.energyJ *= legEnergyFactor_;
+    leg.lengthM *= legLengthFactor_;
     leg_.legId = 0;
     sendLeg(now);
 }
@@ -576,6 +579,7 @@ void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs no
         if (std::isfinite(needed) && allowed > 0.0 && needed > 1.0 && grown <= limit) {
             msg::PlanLeg& leg = legs_.legs[legIndex_];
             (energy ? leg.energyJ : leg.lengthM) *= needed;
+            (energy ? legEnergyFactor_ : legLengthFactor_) *= needed;
             legBoundFactor_ = grown;
             ++counters_.boundRelaxations;
             events_.report(events::kBoundRelaxed, core::Severity::kWarning,
@@ -690,7 +694,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
                            static_cast<unsigned>(legs_.count), static_cast<unsigned>(planner_.nodes()),
                            static_cast<unsigned>(slices_));
             legIndex_ = 0;
-            legBoundFactor_ = 1.0;
+            legBoundFactor_ = legEnergyFactor_ = legLengthFactor_ = 1.0;
             setState(msg::DeliberativeState::kExecuting);
             sendLeg(now);
             return;

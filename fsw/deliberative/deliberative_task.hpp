@@ -288,6 +288,8 @@ private:
     LegPlan legs_{};
     std::size_t legIndex_ = 0;
     double legBoundFactor_ = 1.0;    // growth of the current leg's bounds by relaxation
+    double legEnergyFactor_ = 1.0;   // ... of its energy bound alone (kept when the leg is re-sent after a hold)
+    double legLengthFactor_ = 1.0;   // ... of its length bound alone
     msg::LegCommandMsg leg_{};       // the leg in force (legId 0: none)
     std::uint32_t nextLegId_ = 1;
     std::uint32_t slices_ = 0;       // runs the current plan has taken

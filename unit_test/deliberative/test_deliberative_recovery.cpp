@@ -207,6 +207,26 @@ TEST(DeliberativeRecovery, AHoldSendsNoLegIgnoresFailUpsAndDriveLossAndItsReleas
     LONGS_EQUAL(1, rig->task.counters().legsAchieved);
 }
 
+TEST(DeliberativeRecovery, ALegReSentAfterAHoldKeepsTheEnergyRelaxationItEarned) {
+    autonomousToFirstLeg();
+    const msg::LegCommandMsg first = rig->lastLeg;
+    // An energy fail-up 20 % over: the bound grows x1.2 x 1.05 and the leg is re-sent.
+    rig->report(HabitualState::kFailedUp, LegConstraint::kEnergy, 1.2 * 1000.0, 1000.0);
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().boundRelaxations);
+    const msg::LegCommandMsg relaxed = rig->lastLeg;
+    DOUBLES_EQUAL(first.maxEnergyJ * 1.2 * deliberative::kBoundRelaxHeadroom, relaxed.maxEnergyJ, 1e-6);
+    // A hold and its release where the rover stands (it has not moved): the
+    // bounds from here are the planned ones, and the relaxation still applies.
+    rig->sendHold(1U << msg::hold::kDriveRecovery, 0);
+    rig->run();
+    rig->sendHold(0, 1);
+    rig->run();
+    CHECK(rig->lastLeg.legId != relaxed.legId);
+    DOUBLES_EQUAL(relaxed.maxEnergyJ, rig->lastLeg.maxEnergyJ, 1e-6 * relaxed.maxEnergyJ);
+    DOUBLES_EQUAL(first.maxPathLengthM, rig->lastLeg.maxPathLengthM, 1e-6 * first.maxPathLengthM);  // length was not relaxed
+}
+
 TEST(DeliberativeRecovery, AHeldMissionStartsNoPlanAndALegPlannedDuringTheHoldWaitsForTheRelease) {
     rig->sendHold(1U << msg::hold::kBatteryLow, 0);
     rig->setMode(DeliberativeRig::kAutonomous);
