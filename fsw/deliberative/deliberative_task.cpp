@@ -127,8 +127,7 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
     // A hold is fault protection's: a drive under recovery trips the interlock
     // on purpose, and what the hold stops must not count against the mission.
     if (active && autonomous_ && !held_ && mobilityLost()) {
-        callHome(msg::CallHomeReason::kMobilityLost,
-                 interlockTripped_ ? "the drive interlock holds every drive" : "a drive is declared failed", now);
+        callHome(msg::CallHomeReason::kMobilityLost, "the drive interlock holds every drive", now);
     } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && !held_ && goalIndex_ < goals_.count &&
                poseUsable(now)) {
         startPlan(now);
@@ -268,20 +267,12 @@ double DeliberativeTask::meanFactor() const {
     return habitual::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
 }
 
-bool DeliberativeTask::mobilityLost() const {
-    if (interlockTripped_) {
-        return true;
-    }
-    if (!modesSeen_) {
-        return false;
-    }
-    for (const msg::DriveModeBelief& d : modes_.drives) {
-        if (d.declared == msg::DriveMode::kFailed) {
-            return true;
-        }
-    }
-    return false;
-}
+// Only a latched interlock stops every wheel. A drive the mode estimator
+// declares failed while its wheels are free (a locked wheel dragged, or a
+// fault report fault protection has already reset) is planned with
+// HABITUAL.failed_drive_power_factor: the legs' energy bounds grow, and a leg
+// that cannot meet them fails up and is relaxed or replanned as any other.
+bool DeliberativeTask::mobilityLost() const { return interlockTripped_; }
 
 void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) {
     if (goalsSeen_ && goals.revision == goals_.revision) {

@@ -36,10 +36,11 @@
 //              replan: at most PLANNER.replan_limit per goal, then call home
 //                                            (kInsufficientPower when it was energy,
 //                                            kReplansExhausted otherwise)
-//   any active --a drive declared failed, --> call home kMobilityLost (the interlock holds
-//                or the interlock tripped    every drive on a drive fault and latches, so
-//                                            the rover cannot drive on five wheels, nor at
-//                                            all once it has tripped)
+//   any active --the interlock tripped   --> call home kMobilityLost (the interlock holds
+//                (not during a hold)         every drive and latches: fault protection leaves
+//                                            it latched once it gives a drive up). A drive
+//                                            declared failed with the wheels free is planned
+//                                            with HABITUAL.failed_drive_power_factor instead
 //   kExecuting --goal's last leg reached, --> no goal claimed: waits (kExecuting, no leg) until
 //                pose uncertain (fault 19  the pose is certain, then claims the goal if the pose
 //                or sigma > pose_fault_     is within HABITUAL.goal_tolerance_m of it, else

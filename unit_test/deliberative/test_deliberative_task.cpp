@@ -265,9 +265,32 @@ TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome)
     DOUBLES_EQUAL(kRisk, rig->lastStatus.riskBound, 0.0);
 }
 
-TEST(DeliberativeTask, ADriveDeclaredFailedCallsHomeForLostMobility) {
+TEST(DeliberativeTask, ADriveDeclaredFailedWithTheWheelsFreeIsPlannedWithItsPowerFactorNotACallHome) {
     autonomousToFirstLeg();
+    const msg::LegCommandMsg first = rig->lastLeg;
     rig->sendDriveModes(msg::DriveMode::kFailed, 2, 4.5);
+    for (int i = 0; i < 5; ++i) {
+        rig->run();
+    }
+    CHECK(DeliberativeState::kExecuting == rig->task.state());
+    LONGS_EQUAL(0, rig->task.counters().callHomes);
+    // Driving goes on: the next leg is handed down (its energy bound from the
+    // power model with the failed drive's factor, test_plan_legs).
+    rig->achieveLeg();
+    rig->run();
+    CHECK(rig->lastLeg.legId != first.legId);
+    CHECK(rig->lastLeg.legId != 0);
+}
+
+TEST(DeliberativeTask, TheInterlockHoldingEveryDriveCallsHomeForLostMobility) {
+    autonomousToFirstLeg();
+    msg::DriveStatusMsg status{};
+    for (msg::WheelStatus& w : status.wheels) {
+        w.health = msg::DriveHealth::kOperational;
+    }
+    status.wheels[2].health = msg::DriveHealth::kFailed;
+    status.interlockTripped = 1;
+    (void)rig->bus.publish(status);
     rig->run();
     CHECK(DeliberativeState::kCalledHome == rig->task.state());
     CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
