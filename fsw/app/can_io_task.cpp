@@ -172,7 +172,7 @@ void CanIoTask::takeRecovery(core::TimeNs now) {
 
 void CanIoTask::takeHold() {
     msg::MissionHoldMsg hold{};
-    if (!core::isOk(inbox_.decode(&hold))) {
+    if (!core::isOk(inbox_.decode(&hold)) || !msg::holdUsable(hold)) {
         refuse("malformed mission hold (hold state unchanged)");
         return;
     }

@@ -11,7 +11,6 @@ namespace rse::deliberative {
 
 namespace {
 
-constexpr std::uint8_t kModeAutonomous = 2;  // cmdtlm::Mode::kAutonomous
 constexpr std::uint8_t kLargestMode = 3;
 constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
 constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kBadLeg);
@@ -233,7 +232,7 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
             }
             case msg::ids::kMissionHold: {
                 msg::MissionHoldMsg hold{};
-                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                if (core::isOk(inbox_.decode(&hold)) && msg::holdUsable(hold)) {
                     onHold(hold, now);
                 } else {
                     malformed("mission hold", inbox_.header.id);
@@ -303,7 +302,7 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
 
 void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
     const bool was = autonomous_;
-    autonomous_ = mode.mode == kModeAutonomous;
+    autonomous_ = mode.mode == msg::mode::kAutonomous;
     if (!was || autonomous_) {
         return;
     }

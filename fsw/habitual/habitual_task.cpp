@@ -12,7 +12,6 @@ namespace rse::habitual {
 namespace {
 
 // ModeMsg::mode numbering (cmdtlm::Mode): 2 is AUTONOMOUS, 3 the largest.
-constexpr std::uint8_t kModeAutonomous = 2;
 constexpr std::uint8_t kLargestMode = 3;
 // A power factor beyond this is no estimate (the drive would be far over its
 // current limit): the message is refused as malformed.
@@ -223,7 +222,7 @@ void HabitualTask::drainInputs(core::TimeNs now) {
             }
             case msg::ids::kMissionHold: {
                 msg::MissionHoldMsg hold{};
-                if (core::isOk(inbox_.decode(&hold)) && (hold.reasons >> msg::hold::kCount) == 0U && hold.estop <= 1) {
+                if (core::isOk(inbox_.decode(&hold)) && msg::holdUsable(hold)) {
                     onHold(hold, now);
                 } else {
                     malformed("mission hold", inbox_.header.id);
@@ -270,7 +269,7 @@ double HabitualTask::meanFactor() const {
 
 void HabitualTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
     const bool was = autonomous_;
-    autonomous_ = mode.mode == kModeAutonomous;
+    autonomous_ = mode.mode == msg::mode::kAutonomous;
     if (!was || autonomous_ || state_ == msg::HabitualState::kIdle) {
         return;
     }
@@ -679,10 +678,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
     return true;
 }
 
-void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
-    ++escapesThisLeg_;
-    ++counters_.escapes;
-    const tables::HabitualTable& hab = tables_.habitual();
+void HabitualTask::beginTrajectory(core::TimeNs now) {
     trajectory_ = msg::TrajectoryMsg{};
     trajectory_.timeNs = now;
     trajectory_.trajectoryId = nextTrajectoryId_++;
@@ -690,7 +686,13 @@ void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
         nextTrajectoryId_ = 1;
     }
     trajectory_.legId = leg_.legId;
-    trajectory_.speedMS = static_cast<double>(hab.cruise_speed_m_s);
+    trajectory_.speedMS = static_cast<double>(tables_.habitual().cruise_speed_m_s);
+}
+
+void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
+    ++escapesThisLeg_;
+    ++counters_.escapes;
+    beginTrajectory(now);
     trajectory_.count = 2;
     trajectory_.points[0] = msg::TrajectoryPoint{queryStart_.x, queryStart_.y};
     trajectory_.points[1] = msg::TrajectoryPoint{exit.x, exit.y};
@@ -829,15 +831,7 @@ void HabitualTask::finishAttempt(std::size_t count, const Evaluation& evaluation
 }
 
 void HabitualTask::acceptPlan(std::size_t count, const Evaluation& evaluation, core::TimeNs now) {
-    const tables::HabitualTable& hab = tables_.habitual();
-    trajectory_ = msg::TrajectoryMsg{};
-    trajectory_.timeNs = now;
-    trajectory_.trajectoryId = nextTrajectoryId_++;
-    if (nextTrajectoryId_ == 0) {
-        nextTrajectoryId_ = 1;
-    }
-    trajectory_.legId = leg_.legId;
-    trajectory_.speedMS = static_cast<double>(hab.cruise_speed_m_s);
+    beginTrajectory(now);
     trajectory_.count = static_cast<std::uint8_t>(count);
     for (std::size_t i = 0; i < count; ++i) {
         trajectory_.points[i] = msg::TrajectoryPoint{rawPath_[i].x, rawPath_[i].y};

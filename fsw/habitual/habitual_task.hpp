@@ -268,6 +268,8 @@ private:
     Evaluation evaluate(const Point2* path, std::size_t count, double headingRad) const;
     void keepCandidate(const Point2* path, std::size_t count, const Evaluation& evaluation);
     bool rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief = nullptr);
+    // A fresh trajectory_ for the leg in force: id, time, cruise speed; no points yet.
+    void beginTrajectory(core::TimeNs now);
 
     // Driving.
     void updateOdometry();

@@ -39,6 +39,9 @@ struct MissionHoldMsg {
     std::uint8_t pad[7];
 };
 
+// A hold every consumer may act on: only known reason bits, estop 0 or 1.
+inline bool holdUsable(const MissionHoldMsg& h) { return (h.reasons >> hold::kCount) == 0U && h.estop <= 1; }
+
 // What fault protection asks CAN I/O to do to one drive.
 enum class DriveRecoveryAction : std::uint8_t {
     kFaultReset = 1,      // CiA 402 fault reset (controlword edge; by SDO while pre-operational)
