@@ -225,6 +225,16 @@ void RoverSim::babble(std::uint32_t cobId, double framesPerSecond, bool on) {
     ++stats_.faultsApplied;
 }
 
+void RoverSim::slideRover(double offsetM, double bearingRad, double durationS) {
+    if (!(offsetM > 0.0) || !std::isfinite(offsetM) || !(durationS > 0.0) || !std::isfinite(durationS) ||
+        !std::isfinite(bearingRad)) {
+        ++stats_.faultsUnhandled;
+        return;
+    }
+    world_.startSlide(offsetM, bearingRad, durationS);
+    ++stats_.faultsApplied;
+}
+
 void RoverSim::positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) {
     if (fix_.injectOutlier(offsetM, bearingRad, count)) {
         ++stats_.faultsApplied;

@@ -111,6 +111,7 @@ public:
     void babble(std::uint32_t cobId, double framesPerSecond, bool on) override;
     // Displaces the next `count` fixes (see PositionFixEmulator::injectOutlier).
     void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override;
+    void slideRover(double offsetM, double bearingRad, double durationS) override;
 
 private:
     struct Babbler {

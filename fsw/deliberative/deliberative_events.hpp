@@ -32,6 +32,8 @@ constexpr core::EventId kGoalUnconfirmed = 922;   // WARN: the goal's last leg r
 constexpr core::EventId kGoalLegResent = 923;     // WARN: pose certain again but off the goal (distance): the last leg re-sent from the pose
 constexpr core::EventId kBackingUp = 925;         // WARN: no path after the replans: backing up along the driven track (distance, target, n of limit)
 constexpr core::EventId kBackedUp = 926;          // INFO: back-up reached: replanning from there
+constexpr core::EventId kOffMapReplan = 927;      // WARN: off the map (fault protection's request): waypoint cancelled, replanning from the pose
+constexpr core::EventId kPlannedFromReentry = 928; // WARN: the start lies off the site: planned from the nearest point on it (the habitual layer drives there)
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

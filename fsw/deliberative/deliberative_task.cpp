@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/geometry/site_bounds.hpp"
 #include "fsw/habitual/map_builder.hpp"
 
 namespace rse::deliberative {
@@ -94,7 +95,7 @@ core::Status DeliberativeTask::init() {
     }
     const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kLegReport,   msg::ids::kDriveModes,
                                   msg::ids::kMode,        msg::ids::kKnownHazards, msg::ids::kMissionHold,
-                                  msg::ids::kFaultStatus};
+                                  msg::ids::kFaultStatus, msg::ids::kReplanRequest};
     for (const core::MsgId id : inputs) {
         if (core::isOk(status)) {
             status = bus_.subscribe(inputPipe_, id);
@@ -245,6 +246,16 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                     faults_ = faults;
                 } else {
                     malformed("fault status", inbox_.header.id);
+                }
+                break;
+            }
+            case msg::ids::kReplanRequest: {
+                msg::ReplanRequestMsg request{};
+                if (core::isOk(inbox_.decode(&request)) && request.faultId == msg::fault::kOffMap &&
+                    request.attempt >= 1) {
+                    onReplanRequest(request, now);
+                } else {
+                    malformed("replan request", inbox_.header.id);
                 }
                 break;
             }
@@ -546,6 +557,41 @@ void DeliberativeTask::onHold(const msg::MissionHoldMsg& hold, core::TimeNs now)
     }
 }
 
+void DeliberativeTask::onReplanRequest(const msg::ReplanRequestMsg& request, core::TimeNs now) {
+    const msg::DeliberativeState s = status_.state;
+    const bool active = s == msg::DeliberativeState::kWaiting || s == msg::DeliberativeState::kPlanning ||
+                        s == msg::DeliberativeState::kExecuting;
+    if (!active || !autonomous_ || goalIndex_ >= goals_.count) {
+        ++counters_.offMapIgnored;
+        events_.report(events::kOffMapReplan, core::Severity::kWarning,
+                       "deliberative: off the map at (%.2f, %.2f) (fault %u, attempt %u): no mission to replan "
+                       "(state %u%s)",
+                       pose_.xM, pose_.yM, static_cast<unsigned>(request.faultId),
+                       static_cast<unsigned>(request.attempt), static_cast<unsigned>(s),
+                       autonomous_ ? "" : ", not AUTONOMOUS");
+        return;
+    }
+    ++counters_.offMapReplans;
+    ++counters_.replans;  // a replan in PLAN telemetry; not one of the goal's replan_limit
+    // The waypoint in force led off the map (or the rover was carried off):
+    // it is dropped, whatever the leg was doing, and the goals planned again
+    // from where the rover stands. A plan under way started from elsewhere.
+    cancelLeg(now);
+    backingUp_ = false;
+    goalUnconfirmed_ = false;
+    captureReplanRequest(msg::LegConstraint::kNone, now);
+    setState(msg::DeliberativeState::kWaiting);
+    changed_ = true;
+    const ReplanRequest& rr = replanRequest_;
+    events_.report(events::kOffMapReplan, core::Severity::kWarning,
+                   "deliberative: off the map at (%.2f, %.2f) t=%.2f s (fault %u, attempt %u): waypoint cancelled, "
+                   "goals %u..%u replanned from here%s",
+                   rr.xM, rr.yM, static_cast<double>(now) / static_cast<double>(core::kNsPerSec),
+                   static_cast<unsigned>(request.faultId), static_cast<unsigned>(request.attempt),
+                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
+                   held_ ? " once the hold is released" : "");
+}
+
 void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs now) {
     ++counters_.failUps;
     if (backingUp_) {
@@ -610,6 +656,24 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     request.startCov[1] = replanning ? rr.cov[1] : pose_.covariance[1];
     request.startCov[2] = replanning ? rr.cov[2] : pose_.covariance[3];
     request.startCov[3] = replanning ? rr.cov[3] : pose_.covariance[4];
+    // A start off the planning site (off the map, or pushed against its edge)
+    // has no plan: plan from the nearest point well on it instead; the
+    // habitual layer drives the rover there on the first leg.
+    const double footprint = rse::geometry::clearanceRadiusM(tables_.roverGeometry());
+    const geometry::SiteBox planSite = geometry::siteBox(tables_.coarseMap(), footprint);
+    const geometry::SiteBox reentrySite = geometry::siteBox(tables_.coarseMap(), footprint + kReentryInsetM);
+    double inX = request.startX;
+    double inY = request.startY;
+    fromReentry_ = geometry::outsideBy(planSite, request.startX, request.startY) > 0.0 &&
+                   geometry::nearestInside(reentrySite, request.startX, request.startY, &inX, &inY);
+    if (fromReentry_) {
+        ++counters_.reentryPlans;
+        events_.report(events::kPlannedFromReentry, core::Severity::kWarning,
+                       "deliberative: start (%.2f, %.2f) off the site: planned from (%.2f, %.2f) on it, %.2f m away",
+                       request.startX, request.startY, inX, inY, std::hypot(inX - request.startX, inY - request.startY));
+        request.startX = inX;
+        request.startY = inY;
+    }
     request.hazards = hazards_.hazards;
     request.hazardCount = hazards_.count;
     request.goalX = goal.xM;
@@ -685,6 +749,9 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
                            static_cast<unsigned>(slices_));
             legIndex_ = 0;
             legBoundFactor_ = legEnergyFactor_ = legLengthFactor_ = 1.0;
+            if (fromReentry_) {
+                widenFirstLegFromPose(params);
+            }
             setState(msg::DeliberativeState::kExecuting);
             sendLeg(now);
             return;
@@ -707,6 +774,17 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
         return;
     }
     callHome(msg::CallHomeReason::kNoPlanWithinRisk, "no plan at the relaxed risk limit", now);
+}
+
+void DeliberativeTask::widenFirstLegFromPose(const LegParams& params) {
+    // The plan starts at the re-entry point; the rover drives there first, so
+    // the first leg gets the bounds from where it stands when they are larger.
+    msg::PlanLeg& first = legs_.legs[0];
+    msg::PlanLeg fromRover = first;
+    if (core::isOk(legBoundsFrom(pose_.xM, pose_.yM, pose_.headingRad, params, &fromRover))) {
+        first.lengthM = fromRover.lengthM > first.lengthM ? fromRover.lengthM : first.lengthM;
+        first.energyJ = fromRover.energyJ > first.energyJ ? fromRover.energyJ : first.energyJ;
+    }
 }
 
 void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {

@@ -70,6 +70,15 @@
 //              position (and covariance) at the fail-up; the plan starts from
 //              that position (refreshed from the pose if that position is older
 //              than kReplanMaxAgeNs when planning starts) and event 911 gives them.
+//   off the map (ReplanRequestMsg from fault protection, fault 46): the
+//              waypoint is cancelled (the habitual layer stops) and the
+//              unfinished goals replanned from the pose at once (not counted
+//              against replan_limit: fault protection's attempts bound it).
+//              A start off the site shrunk by the footprint (an off-map rover,
+//              or one that slid against the edge) is planned from the nearest
+//              point kReentryInsetM inside that site (event 928); the first
+//              leg's bounds are those from the rover itself, and the habitual
+//              layer drives back on the straight way (its escape).
 //   call home: leg cancelled (legId 0: the habitual layer stops and holds),
 //   SafeRequestMsg (the mode owner goes to SAFE), CRITICAL event 912, PLAN
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
@@ -122,6 +131,11 @@ constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was pr
 // habitual layer plans with habitual::kPlanMarginM beyond the footprint, and a
 // disc grows as more of its rock comes into view.
 constexpr double kLegEndMarginM = 0.25;
+// How far inside the planning site (the site shrunk by the footprint) the
+// re-entry point of an off-site start lies: the planner's start must be on the
+// site, and a point on its very edge would sit at the wall of the habitual
+// layer's planning margin.
+constexpr double kReentryInsetM = 0.3;
 // A replan request's position older than this when planning starts is
 // refreshed from the pose (the pose was stale at the fail-up, or the rover
 // moved while planning waited for a usable pose).
@@ -170,6 +184,9 @@ struct DeliberativeCounters {
     std::uint32_t goalsUnconfirmed = 0;  // goal's last leg reached with the pose uncertain
     std::uint32_t goalLegsResent = 0;    // ... and then re-sent from a certain pose off the goal
     std::uint32_t backUps = 0;           // back-ups along the track after "no path"
+    std::uint32_t offMapReplans = 0;     // fault protection's off-map replan requests acted on
+    std::uint32_t offMapIgnored = 0;     // ... that came with no mission to replan (counted, evented)
+    std::uint32_t reentryPlans = 0;      // plans started from the re-entry point of an off-site start
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -180,7 +197,7 @@ public:
 
     // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
     // (kInputPipeDepth: goals, leg reports, known hazards, drive modes, mode,
-    // mission hold, fault status). A refusal is
+    // mission hold, fault status, replan requests). A refusal is
     // evented (917) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
@@ -213,6 +230,7 @@ private:
     void onFailUp(const msg::LegReportMsg& report, core::TimeNs now);
     void onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now);
     void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
+    void onReplanRequest(const msg::ReplanRequestMsg& request, core::TimeNs now);
     bool poseUncertain() const;
     bool legEndTooClose(const msg::PlanLeg& leg) const;
     // A leg end within the footprint + kLegEndMarginM of a seen hazard's disc or
@@ -236,6 +254,7 @@ private:
     void startPlan(core::TimeNs now);
     void stepPlanner(core::TimeNs now);
     void onPlanFinished(core::TimeNs now);
+    void widenFirstLegFromPose(const LegParams& params);
     void sendLeg(core::TimeNs now);
     void replan(msg::LegConstraint why, core::TimeNs now);
     void callHome(msg::CallHomeReason reason, const char* detail, core::TimeNs now);
@@ -272,6 +291,7 @@ private:
     std::size_t trackHead_ = 0;
     std::size_t trackCount_ = 0;
     bool backingUp_ = false;         // the leg in force is a back-up
+    bool fromReentry_ = false;       // the plan being made starts at the re-entry point, not at the rover
     msg::PlanLeg backUpLeg_{};
     std::size_t backUpKeep_ = 0;     // track points kept when the back-up is reached
     std::uint32_t goalBackUps_ = 0;  // back-ups of the current goal

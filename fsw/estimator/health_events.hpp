@@ -28,6 +28,8 @@ constexpr core::EventId kHealthDriveOvertemp = 736;           // faults 40..45: 
 constexpr core::EventId kHealthDriveOvertempCleared = 737;    // cooled drive_overtemp_c - 5 degC, held
 constexpr core::EventId kHealthSensorStale = 734;             // faults 36..39: no data from a device for its stale time
 constexpr core::EventId kHealthSensorStaleCleared = 735;      // its data arrives again (time it was silent)
+constexpr core::EventId kHealthOffMap = 738;                  // fault 46: the pose lies outside the site (COARSE_MAP bounds)
+constexpr core::EventId kHealthOffMapCleared = 739;           // back on the map, kOffMapClearMarginM inside
 constexpr core::EventId kHealthInputRejected = 740;           // malformed bus message or non-finite value (throttled)
 
 }  // namespace rse::estimator::events

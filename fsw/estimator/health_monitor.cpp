@@ -14,7 +14,8 @@ long long toMs(core::TimeNs t) { return static_cast<long long>(t / core::kNsPerM
 
 }  // namespace
 
-HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise) {
+HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise,
+                              const tables::CoarseMapTable& site) {
     HealthLimits l;
     l.persist = static_cast<core::TimeNs>(faults.fault_persist_ms) * core::kNsPerMs;
     l.driveOvercurrentA = static_cast<double>(faults.drive_overcurrent_a);
@@ -31,6 +32,7 @@ HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const ta
     for (std::size_t i = 0; i < msg::kDeviceNodeCount; ++i) {
         l.sensorStale[i] = static_cast<core::TimeNs>(staleMs[i]) * core::kNsPerMs;
     }
+    l.site = geometry::siteBox(site, 0.0);
     return l;
 }
 
@@ -198,6 +200,12 @@ void HealthMonitor::onPose(const msg::PoseEstimateMsg& pose) {
         rejectValue("pose", "positionSigmaM");
         return;
     }
+    if (!std::isfinite(pose.xM) || !std::isfinite(pose.yM)) {
+        rejectValue("pose", "position");
+        return;
+    }
+    poseX_ = pose.xM;
+    poseY_ = pose.yM;
     poseSeen_ = true;
     poseInitialised_ = pose.initialised != 0;
     poseInconsistent_ = pose.inconsistent != 0;
@@ -235,6 +243,26 @@ void HealthMonitor::checkPose(const HealthLimits& limits, core::TimeNs now) {
         events_.report(events::kHealthPoseUncertainCleared, core::Severity::kInfo,
                        "health: fault %u cleared: position sigma %.2f m < %.2f m",
                        static_cast<unsigned>(msg::fault::kPoseUncertain), poseSigmaM_, limits.poseClearSigmaM);
+    }
+}
+
+void HealthMonitor::checkOffMap(const HealthLimits& limits, core::TimeNs now) {
+    const bool known = poseSeen_ && poseInitialised_ && !poseInconsistent_ && poseSigmaM_ <= limits.poseFaultSigmaM;
+    const double outside = geometry::outsideBy(limits.site, poseX_, poseY_);
+    const PersistenceFilter::Edge edge =
+        offMap_.update(now, known && outside > 0.0, known && outside <= -kOffMapClearMarginM, 0);
+    if (edge == PersistenceFilter::Edge::kRaised) {
+        (void)faults_.set(msg::fault::kOffMap, true, now);
+        events_.report(events::kHealthOffMap, core::Severity::kError,
+                       "health: fault %u: off the map, pose (%.2f, %.2f) %.2f m outside the site [%.1f, %.1f] x [%.1f, "
+                       "%.1f]",
+                       static_cast<unsigned>(msg::fault::kOffMap), poseX_, poseY_, outside, limits.site.minX,
+                       limits.site.maxX, limits.site.minY, limits.site.maxY);
+    } else if (edge == PersistenceFilter::Edge::kCleared) {
+        (void)faults_.set(msg::fault::kOffMap, false, now);
+        events_.report(events::kHealthOffMapCleared, core::Severity::kInfo,
+                       "health: fault %u cleared: pose (%.2f, %.2f) back on the map, %.2f m inside",
+                       static_cast<unsigned>(msg::fault::kOffMap), poseX_, poseY_, -outside);
     }
 }
 

@@ -39,6 +39,13 @@
 //     task_stall_periods * period + 10 ms of its last run's end; cleared in the
 //     first health run after it runs again (the same frame when its row is above
 //     the health task's).
+//   46 off the map: an initialised, consistent estimate (sigma <=
+//     pose_fault_sigma_m) whose position lies outside the site, the COARSE_MAP
+//     bounds; clears once such an estimate lies kOffMapClearMarginM inside
+//     them. An uncertain estimate neither raises nor clears it (where the
+//     rover stands is then not known well enough to say). Judged every frame
+//     on the latest PoseEstimateMsg; raised (cleared) in the second
+//     consecutive frame that shows it, as fault 19.
 //   40..45 drive over-temperature: a reported (temperatureValid) motor
 //     temperature > drive_overtemp_c held fault_persist_ms on the DriveStatusMsg
 //     samples; clears below drive_overtemp_c - 15 degC held as long.
@@ -69,6 +76,7 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/estimator/fault_book.hpp"
 #include "fsw/estimator/persistence_filter.hpp"
+#include "fsw/geometry/site_bounds.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
@@ -95,8 +103,15 @@ struct HealthLimits {
     core::TimeNs firstFixWait = 0;
     double driveOvertempC = 0.0;        // raise above; clear kOvertempClearMarginC below
     core::TimeNs sensorStale[msg::kDeviceNodeCount] = {};  // by DeviceNode: *_stale_ms
+    geometry::SiteBox site;             // COARSE_MAP bounds
 };
-HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise);
+HealthLimits healthLimitsFrom(const tables::FaultResponseTable& faults, const tables::EstimatorNoiseTable& noise,
+                              const tables::CoarseMapTable& site);
+
+// How far inside the site an off-map rover must be before fault 46 clears:
+// a rover driving back along the edge must not raise and clear it on the
+// estimate's noise.
+constexpr double kOffMapClearMarginM = 0.1;
 
 // Fraction of an over-current limit below which the current must fall to clear.
 constexpr double kOvercurrentClearFraction = 0.9;
@@ -119,6 +134,7 @@ public:
     void onPower(const msg::PowerMsg& power, const HealthLimits& limits, core::TimeNs now);
     void onPose(const msg::PoseEstimateMsg& pose);  // kept for checkPose()
     void checkPose(const HealthLimits& limits, core::TimeNs now);
+    void checkOffMap(const HealthLimits& limits, core::TimeNs now);
     // Data from a device arrived (sampleTime: its receive time); for checkSensors().
     void onSensorData(msg::DeviceNode device, core::TimeNs sampleTime);
     // The hazard detector's data: new when detectorFrames moved since the last HazardMsg.
@@ -145,6 +161,7 @@ private:
     PersistenceFilter batteryLow_;
     PersistenceFilter busCurrent_;
     PersistenceFilter pose_;
+    PersistenceFilter offMap_;
     bool started_ = false;
     core::TimeNs start_ = 0;
     bool poseSeen_ = false;
@@ -152,6 +169,8 @@ private:
     bool poseInconsistent_ = false;
     std::uint32_t poseRejections_ = 0;  // consecutive fixes refused, for the event text
     double poseSigmaM_ = 0.0;
+    double poseX_ = 0.0;
+    double poseY_ = 0.0;
     core::TimeNs sensorDataAt_[msg::kDeviceNodeCount] = {};  // latest data time, 0: none yet
     bool hazardFramesSeen_ = false;
     std::uint32_t hazardFrames_ = 0;

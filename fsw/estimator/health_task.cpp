@@ -101,7 +101,7 @@ void HealthTask::run(const core::FrameContext& frame) {
     const bool firstRun = !monitor_.started();
     monitor_.start(now);
     ++runs_;
-    const HealthLimits limits = healthLimitsFrom(tables_.faultResponse(), tables_.estimatorNoise());
+    const HealthLimits limits = healthLimitsFrom(tables_.faultResponse(), tables_.estimatorNoise(), tables_.coarseMap());
     const std::uint32_t transitionsBefore = monitor_.faults().raisedTotal() + monitor_.faults().clearedTotal();
 
     haveNodes_ = false;
@@ -118,6 +118,7 @@ void HealthTask::run(const core::FrameContext& frame) {
         monitor_.onPose(pose_);
     }
     monitor_.checkPose(limits, now);
+    monitor_.checkOffMap(limits, now);
     monitor_.checkSensors(limits, now);
     monitor_.checkTasks(executive_, this, limits, now);
 

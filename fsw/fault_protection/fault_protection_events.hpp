@@ -18,5 +18,6 @@ constexpr core::EventId kMalformedInput = 938;    // ERROR: a bus message that d
 constexpr core::EventId kInitFailed = 939;        // ERROR: pipe creation or subscription refused at init
 constexpr core::EventId kPublishFailed = 940;     // ERROR: the bus refused a hold, action or status (throttled)
 constexpr core::EventId kCallHome = 941;          // CRIT: safe request sent (reason: the class that gave up)
+constexpr core::EventId kReplanRequested = 942;   // WARN: off the map: waypoint cancelled, replan from the pose asked, attempt k of n
 
 }  // namespace rse::fault_protection::events

@@ -126,6 +126,9 @@ void FaultProtectionTask::run(const core::FrameContext& frame) {
         m.row = *actions.taskRestarts.at(i);
         publish(bus_.publish(m));
     }
+    for (std::size_t i = 0; i < actions.replans.size(); ++i) {
+        publish(bus_.publish(*actions.replans.at(i)));
+    }
     if (actions.callHome) {
         ++callHomes_;
         events_.report(events::kCallHome, core::Severity::kCritical,
@@ -140,7 +143,7 @@ void FaultProtectionTask::run(const core::FrameContext& frame) {
 
     const std::uint32_t after = responder_.responsesStarted() + responder_.recoveries() + responder_.gaveUp();
     const bool statusChanged = after != startedBefore || status_.holdReasons != hold_.reasons ||
-                               !actions.driveActions.empty() || !actions.taskRestarts.empty();
+                               !actions.driveActions.empty() || !actions.taskRestarts.empty() || !actions.replans.empty();
     if (statusChanged || periodic) {
         runsSincePublish_ = 0;
         status_.timeNs = now;

@@ -25,17 +25,20 @@ std::uint32_t holdBitFor(FaultClass c) {
         case FaultClass::kPoseUncertain: return msg::hold::kPoseUncertain;
         case FaultClass::kTaskStalled: return msg::hold::kTaskRestart;
         case FaultClass::kDriveOvertemp: return msg::hold::kDriveOvertemp;
+        case FaultClass::kOffMap: return msg::hold::kOffMap;
     }
     return msg::hold::kDriveRecovery;
 }
 
 // What a response kind means for a class it cannot apply to: a drive recovery
-// needs a drive, a task restart a task. Such a class is held instead (the
+// needs a drive, a task restart a task, a replan from the pose a rover off the
+// map (a replan mends no drive or sensor). Such a class is held instead (the
 // table's description says so), never ignored.
 FaultResponseKind effectiveKind(FaultClass c, FaultResponseKind k) {
     const bool drive = c == FaultClass::kDriveLost || c == FaultClass::kDriveFaulted;
     if ((k == FaultResponseKind::kRecoverDrive && !drive) ||
-        (k == FaultResponseKind::kRestartTask && c != FaultClass::kTaskStalled)) {
+        (k == FaultResponseKind::kRestartTask && c != FaultClass::kTaskStalled) ||
+        (k == FaultResponseKind::kReplanFromPose && c != FaultClass::kOffMap)) {
         return FaultResponseKind::kHoldUntilClear;
     }
     return k;
@@ -65,6 +68,8 @@ bool classOf(std::uint8_t id, FaultClass* out) {
         *out = FaultClass::kSensorLost;
     } else if (id >= f::kDriveOvertemp && id < f::kDriveOvertemp + msg::kWheelCount) {
         *out = FaultClass::kDriveOvertemp;
+    } else if (id == f::kOffMap) {
+        *out = FaultClass::kOffMap;
     } else {
         return false;
     }
@@ -82,6 +87,7 @@ const char* toString(FaultClass c) {
         case FaultClass::kPoseUncertain: return "pose uncertain";
         case FaultClass::kTaskStalled: return "task stalled";
         case FaultClass::kDriveOvertemp: return "drive over-temperature";
+        case FaultClass::kOffMap: return "off the map";
     }
     return "?";
 }
@@ -93,6 +99,7 @@ const char* toString(FaultResponseKind k) {
         case FaultResponseKind::kRecoverDrive: return "recover the drive";
         case FaultResponseKind::kRestartTask: return "restart the task";
         case FaultResponseKind::kSafeAndCallHome: return "safe and call home";
+        case FaultResponseKind::kReplanFromPose: return "replan from the pose";
     }
     return "?";
 }
@@ -308,9 +315,10 @@ void FaultResponder::stepFault(std::uint8_t id, FaultClass c, const ResponderInp
     Response& r = faults_[id];
     const bool active = bit(in.activeFaults, id);
     const FaultResponseKind kind = effectiveKind(c, limits.response[idx(c)]);
-    // A hold is a mission response: outside AUTONOMOUS there is no mission to
-    // hold, and a rover booting in SAFE before its first fix must not call home.
-    const bool missionOnly = kind == FaultResponseKind::kHoldUntilClear;
+    // A hold or a replan is a mission response: outside AUTONOMOUS there is no
+    // mission to hold or replan, and a rover booting in SAFE before its first
+    // fix must not call home.
+    const bool missionOnly = kind == FaultResponseKind::kHoldUntilClear || kind == FaultResponseKind::kReplanFromPose;
     if (missionOnly && !in.autonomous) {
         if (r.tlm.state == ResponseState::kWaiting) {
             enter(r, ResponseState::kIdle, in.now);
@@ -326,6 +334,17 @@ void FaultResponder::stepFault(std::uint8_t id, FaultClass c, const ResponderInp
         events_.report(events::kTaskRestart, core::Severity::kWarning,
                        "fault protection: rate-group row %u stalled: restart, attempt %u of %u",
                        static_cast<unsigned>(row), static_cast<unsigned>(r.tlm.attemptsUsed),
+                       static_cast<unsigned>(limits.attempts[idx(c)]));
+    };
+    auto replan = [&]() {
+        if (core::isOk(out->replans.push_back(
+                msg::ReplanRequestMsg{in.now, id, r.tlm.attemptsUsed, {}}))) {
+            ++actions_;
+        }
+        r.tlm.lastAction = 3;
+        events_.report(events::kReplanRequested, core::Severity::kWarning,
+                       "fault protection: %s (fault %u): waypoint cancelled, replan from the pose asked, attempt %u of %u",
+                       toString(c), static_cast<unsigned>(id), static_cast<unsigned>(r.tlm.attemptsUsed),
                        static_cast<unsigned>(limits.attempts[idx(c)]));
     };
     switch (r.tlm.state) {
@@ -345,6 +364,8 @@ void FaultResponder::stepFault(std::uint8_t id, FaultClass c, const ResponderInp
                     giveUp(r, in.now, "call home", out, true);
                 } else if (kind == FaultResponseKind::kRestartTask) {
                     restart();
+                } else if (kind == FaultResponseKind::kReplanFromPose) {
+                    replan();
                 } else if (kind == FaultResponseKind::kHoldUntilClear) {
                     r.tlm.lastAction = 1;
                 }
@@ -370,6 +391,8 @@ void FaultResponder::stepFault(std::uint8_t id, FaultClass c, const ResponderInp
             enter(r, ResponseState::kWaiting, in.now);
             if (kind == FaultResponseKind::kRestartTask) {
                 restart();
+            } else if (kind == FaultResponseKind::kReplanFromPose) {
+                replan();
             }
             break;
         case ResponseState::kGaveUp:

@@ -21,6 +21,11 @@
 //                    (replan or call home; the interlock still holds).
 //   restart task     the stalled rate-group row is run again (TaskRestartMsg),
 //                    the mission held meanwhile; `attempts` tries, then call home.
+//   replan from pose the deliberative layer cancels the waypoint and replans the
+//                    unfinished goals from where the rover stands
+//                    (ReplanRequestMsg), in AUTONOMOUS only; no hold (the
+//                    rover must drive to get back on); each try waits
+//                    max_wait_ms; after `attempts` tries it calls home.
 //   safe, call home  at once.
 // A fault that clears after a response keeps its attempt count for
 // attempt_memory_ms, so a fault that comes back at once cannot retry forever.
@@ -73,6 +78,7 @@ struct ResponderActions {
     std::uint32_t holdReasons = 0;  // bit per msg::hold:: reason
     core::StaticVector<msg::DriveRecoveryMsg, msg::kWheelCount + 1> driveActions;
     core::StaticVector<std::uint8_t, kRestartableRows> taskRestarts;
+    core::StaticVector<msg::ReplanRequestMsg, 1> replans;  // only the off-map fault asks for one
     bool callHome = false;
 };
 

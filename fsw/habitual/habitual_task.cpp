@@ -1,6 +1,7 @@
 #include "fsw/habitual/habitual_task.hpp"
 
 #include "fsw/geometry/rover_footprint.hpp"
+#include "fsw/geometry/site_bounds.hpp"
 
 #include <cmath>
 
@@ -575,9 +576,13 @@ bool HabitualTask::startQuery(core::TimeNs now) {
         return false;
     }
     Point2 exit{0.0, 0.0};
-    if (!planMap_.pointFree(queryStart_) && escapesThisLeg_ < kMaxEscapesPerLeg && findEscape(footprint, &exit)) {
-        sendEscape(exit, now);
-        return false;
+    if (!planMap_.pointFree(queryStart_) && escapesThisLeg_ < kMaxEscapesPerLeg) {
+        const bool offMap =
+            geometry::outsideBy(geometry::siteBox(tables_.coarseMap(), 0.0), queryStart_.x, queryStart_.y) > 0.0;
+        if (offMap ? findReentry(footprint, &exit) : findEscape(footprint, &exit)) {
+            sendEscape(exit, offMap, now);
+            return false;
+        }
     }
     if (planMap_.segmentFree(queryStart_, goal)) {
         // The shortest path there is: nothing to sample.
@@ -653,6 +658,33 @@ bool HabitualTask::findEscape(double footprint, Point2* exit) const {
     return false;
 }
 
+bool HabitualTask::findReentry(double footprint, Point2* exit) const {
+    const tables::CoarseMapTable& coarse = tables_.coarseMap();
+    const double keep = footprint + kPlanMarginM;
+    const geometry::SiteBox site = geometry::siteBox(coarse, keep + kEscapeExtraM);
+    Point2 nearest{0.0, 0.0};
+    if (!geometry::nearestInside(site, queryStart_.x, queryStart_.y, &nearest.x, &nearest.y)) {
+        return false;  // a site narrower than the rover's keep: nowhere to go
+    }
+    // Along the edge either way from the nearest point, in case a rock stands there.
+    const Point2 inward = nearest - queryStart_;
+    const double length = std::hypot(inward.x, inward.y);
+    const Point2 along = length > 1e-9 ? Point2{-inward.y / length, inward.x / length} : Point2{1.0, 0.0};
+    for (std::uint32_t i = 0; i <= 2 * kEscapeSteps; ++i) {
+        const double step = static_cast<double>((i + 1) / 2) * kEscapeStepM * ((i % 2 == 1) ? 1.0 : -1.0);
+        const Point2 slid = nearest + step * along;
+        Point2 p{0.0, 0.0};
+        if (!geometry::nearestInside(site, slid.x, slid.y, &p.x, &p.y) || distance(p, queryStart_) > kMaxEscapeM) {
+            continue;
+        }
+        if (planMap_.pointFree(p) && escapeClear(coarse, p, keep, nullptr)) {
+            *exit = p;
+            return true;
+        }
+    }
+    return false;
+}
+
 bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
                                const RememberedHazard* leaving) const {
     // The end keeps the planning margin from every other obstacle; the way
@@ -689,7 +721,7 @@ void HabitualTask::beginTrajectory(core::TimeNs now) {
     trajectory_.speedMS = static_cast<double>(tables_.habitual().cruise_speed_m_s);
 }
 
-void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
+void HabitualTask::sendEscape(Point2 exit, bool offMap, core::TimeNs now) {
     ++escapesThisLeg_;
     ++counters_.escapes;
     beginTrajectory(now);
@@ -700,10 +732,11 @@ void HabitualTask::sendEscape(Point2 exit, core::TimeNs now) {
     progressIndex_ = 0;
     escaping_ = true;
     events_.report(events::kEscape, core::Severity::kWarning,
-                   "habitual: leg %u: rover within the footprint of a seen hazard at (%.2f, %.2f): backing out %.2f m "
-                   "to (%.2f, %.2f), then replanning (%u of %u this leg)",
-                   static_cast<unsigned>(leg_.legId), queryStart_.x, queryStart_.y, distance(queryStart_, exit), exit.x,
-                   exit.y, static_cast<unsigned>(escapesThisLeg_), static_cast<unsigned>(kMaxEscapesPerLeg));
+                   "habitual: leg %u: rover %s at (%.2f, %.2f): backing out %.2f m to (%.2f, %.2f), then replanning "
+                   "(%u of %u this leg)",
+                   static_cast<unsigned>(leg_.legId), offMap ? "off the site" : "within the footprint of a seen hazard",
+                   queryStart_.x, queryStart_.y, distance(queryStart_, exit), exit.x, exit.y,
+                   static_cast<unsigned>(escapesThisLeg_), static_cast<unsigned>(kMaxEscapesPerLeg));
     setState(msg::HabitualState::kDriving, now);
 }
 

@@ -57,7 +57,11 @@
 // and of everything else by footprint + kPlanMarginM (kEscapeSteps of
 // kEscapeStepM further out, at most kMaxEscapeM away), the way there clear of
 // the mapped rocks, not checked against the disc it leaves; reached, the session plans again from
-// there. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
+// there. A start off the site (outside the COARSE_MAP bounds: the rover slid or
+// was driven off the map) backs in the same way: straight to the nearest point
+// footprint + kPlanMarginM + kEscapeExtraM inside the site (or one slid along
+// the edge by kEscapeStepM steps when that is blocked), at most kMaxEscapeM
+// away. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
 // leg fails up (no path).
 //
 // Constraints (step 3 of the policy), re-evaluated for the remaining leg:
@@ -255,7 +259,8 @@ private:
     // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
     // footprint): the point to back out to; false when there is none.
     bool findEscape(double footprint, Point2* exit) const;
-    void sendEscape(Point2 exit, core::TimeNs now);
+    bool findReentry(double footprint, Point2* exit) const;
+    void sendEscape(Point2 exit, bool offMap, core::TimeNs now);
     bool escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
                      const RememberedHazard* leaving) const;
     void finishQuery(core::TimeNs now);

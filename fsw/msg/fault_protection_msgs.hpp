@@ -1,8 +1,9 @@
 // Fault protection <-> the rest of the rover (fsw/fault_protection/): the
-// mission hold it puts on the planning layers and the wheels, and the recovery
-// actions it asks the CAN I/O task to take on one drive. Fault protection
-// reads FaultStatusMsg, DriveStatusMsg, DriveModesMsg, LegReportMsg and answers
-// only through these messages (and SafeRequestMsg for a call home).
+// mission hold it puts on the planning layers and the wheels, the recovery
+// actions it asks the CAN I/O task to take on one drive, the task restarts and
+// the replans it asks for. Fault protection reads FaultStatusMsg,
+// DriveStatusMsg and ModeMsg and answers only through these messages (and
+// SafeRequestMsg for a call home).
 #pragma once
 
 #include <cstddef>
@@ -20,7 +21,8 @@ constexpr std::uint32_t kBatteryLow = 2;      // waiting for the battery to rech
 constexpr std::uint32_t kSensorLost = 3;      // a sensor that safety rests on is silent
 constexpr std::uint32_t kTaskRestart = 4;     // a stalled flight task is being restarted
 constexpr std::uint32_t kDriveOvertemp = 5;   // a drive is cooling
-constexpr std::uint32_t kCount = 6;
+constexpr std::uint32_t kOffMap = 6;          // off the map with a response set to hold (not the default: it replans)
+constexpr std::uint32_t kCount = 7;
 }  // namespace hold
 
 // Published on every change and at 1 Hz. While reasons != 0:
@@ -66,6 +68,17 @@ struct TaskRestartMsg {
     std::uint8_t pad[7];
 };
 
+// Fault protection -> the deliberative layer: the leg in progress cannot be
+// kept (the rover is off the map): cancel it and replan the unfinished goals
+// from the current pose, now. One per try of a kReplanFromPose response.
+struct ReplanRequestMsg {
+    static constexpr core::MsgId kMsgId = ids::kReplanRequest;
+    std::int64_t timeNs;
+    std::uint8_t faultId;   // the fault answered (msg::fault::kOffMap)
+    std::uint8_t attempt;   // try 1..attempts of this occurrence
+    std::uint8_t pad[6];
+};
+
 // The fault classes fault protection answers, one row each of FAULT_PROTECTION.
 enum class FaultClass : std::uint8_t {
     kDriveLost = 0,        // drive heartbeat lost (fault ids 1..6)
@@ -77,8 +90,9 @@ enum class FaultClass : std::uint8_t {
     kPoseUncertain = 6,    // 19
     kTaskStalled = 7,      // 20..35
     kDriveOvertemp = 8,    // 40..45
+    kOffMap = 9,           // 46
 };
-constexpr std::size_t kFaultClassCount = 9;
+constexpr std::size_t kFaultClassCount = 10;
 
 // What fault protection does about one class (FAULT_PROTECTION.response).
 enum class FaultResponseKind : std::uint8_t {
@@ -87,6 +101,7 @@ enum class FaultResponseKind : std::uint8_t {
     kRecoverDrive = 2,
     kRestartTask = 3,
     kSafeAndCallHome = 4,
+    kReplanFromPose = 5,   // cancel the waypoint, replan the unfinished goals from where the rover stands
 };
 
 // Where one response stands.
@@ -104,7 +119,7 @@ struct ResponseTlm {
     FaultClass faultClass;
     ResponseState state;
     std::uint8_t attemptsUsed;
-    std::uint8_t lastAction;   // DriveRecoveryAction for drives, 1 hold, 2 restart; 0 none yet
+    std::uint8_t lastAction;   // DriveRecoveryAction for drives, 1 hold, 2 restart, 3 replan; 0 none yet
     std::uint8_t pad[3];
     std::int64_t sinceNs;      // when the current state was entered
 };

@@ -22,7 +22,8 @@ constexpr std::uint8_t kTaskStalled = 20;         // + rate-group row 0..15 -> 2
 constexpr std::uint8_t kTaskStalledCount = 16;
 constexpr std::uint8_t kSensorStale = 36;         // + DeviceNode 0..3 -> 36..39: heartbeat on, data silent
 constexpr std::uint8_t kDriveOvertemp = 40;       // + wheel 0..5      -> 40..45
-constexpr std::uint8_t kCount = 46;               // ids 1..45; 0 is "no fault"
+constexpr std::uint8_t kOffMap = 46;              // the pose estimate lies outside the site (COARSE_MAP bounds)
+constexpr std::uint8_t kCount = 47;               // ids 1..46; 0 is "no fault"
 }  // namespace fault
 
 struct FaultStatusMsg {

@@ -50,5 +50,6 @@ constexpr core::MsgId kMissionHold = 0x0180;    // MissionHoldMsg, on change and
 constexpr core::MsgId kDriveRecovery = 0x0181;  // DriveRecoveryMsg, per action, fault protection -> can_io
 constexpr core::MsgId kTaskRestart = 0x0182;    // TaskRestartMsg, per action, fault protection -> command handlers (executive owner)
 constexpr core::MsgId kFaultProtectionStatus = 0x0183;  // FaultProtectionStatusMsg, on change and 1 Hz, fault protection -> telemetry
+constexpr core::MsgId kReplanRequest = 0x0184;  // ReplanRequestMsg, per try, fault protection -> deliberative
 
 }  // namespace rse::msg::ids

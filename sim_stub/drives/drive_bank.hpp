@@ -58,6 +58,7 @@ public:
     void addBusFault(const hal::CanFaultRule&) override {}
     void babble(std::uint32_t, double, bool) override {}
     void positionFixOutlier(double, double, std::uint32_t) override {}
+    void slideRover(double, double, double) override {}
 
 private:
     // One drive seen as a wheel: the emulator's units converted to the world's.

@@ -136,20 +136,24 @@ public:
                 ++responses_;
                 firstResponseNs_ = firstResponseNs_ < 0 ? e.time : firstResponseNs_;
             }
-            const bool raise = e.id >= 720 && e.id < 738 && e.id % 2 == 0;  // health raise events
+            const bool raise = e.id >= 720 && e.id <= 738 && e.id % 2 == 0;  // health raise events
             if (raise) {
                 mark(MarkKind::kFaultRaised, e.id, e.time);
             } else if (e.id == fp::kResponseStarted) {
                 mark(MarkKind::kResponseStarted, e.id, e.time);
-            } else if (e.id == fp::kDriveAction || e.id == fp::kTaskRestart) {
+            } else if (isRecoveryAction(e.id)) {
                 mark(MarkKind::kRecoveryAction, e.id, e.time);
             } else if (e.id == fp::kGaveUp) {
                 mark(MarkKind::kGaveUp, e.id, e.time);
             }
             recovered_ += e.id == fp::kRecovered ? 1 : 0;
             gaveUp_ += e.id == fp::kGaveUp ? 1 : 0;
-            actions_ += e.id == fp::kDriveAction || e.id == fp::kTaskRestart ? 1 : 0;
+            actions_ += isRecoveryAction(e.id) ? 1U : 0U;
         }
+    }
+    static bool isRecoveryAction(core::EventId id) {
+        namespace fp = fault_protection::events;
+        return id == fp::kDriveAction || id == fp::kTaskRestart || id == fp::kReplanRequested;
     }
     void fill(MissionSummary* s) const {
         s->faultProtectionCalledHome = fpCalledHome_;

@@ -61,7 +61,7 @@ const char* toString(MissionOutcome outcome);
 enum class MarkKind : std::uint8_t {
     kFaultRaised,      // a health raise event (720..738, even ids)
     kResponseStarted,  // fault protection event 930
-    kRecoveryAction,   // 931 (drive fault reset / node reset) or 935 (task restart)
+    kRecoveryAction,   // 931 (drive fault reset / node reset), 935 (task restart) or 942 (replan from the pose)
     kHoldSet,          // MissionHoldMsg reasons went from 0 to non-zero
     kHoldReleased,     // ... back to 0
     kGaveUp,           // 933
@@ -109,7 +109,7 @@ struct MissionSummary {
     std::uint32_t responsesStarted = 0;      // events 930
     std::uint32_t responsesRecovered = 0;    // events 932
     std::uint32_t responsesGaveUp = 0;       // events 933
-    std::uint32_t recoveryActions = 0;       // events 931 (drive fault reset / node reset) and 935 (task restart)
+    std::uint32_t recoveryActions = 0;       // events 931 (drive fault reset / node reset), 935 (task restart), 942 (replan)
     std::uint32_t holdsReleased = 0;         // MissionHoldMsg resumeCount at the end
     double firstResponseTimeS = -1.0;        // first event 930 (-1: none)
     double firstHoldTimeS = -1.0;            // first MissionHoldMsg with a reason set

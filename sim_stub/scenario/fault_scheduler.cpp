@@ -57,6 +57,9 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kDriveFault:
                 add(f.at, FaultAction::kDriveFault);
                 break;
+            case FaultType::kSlide:
+                add(f.at, FaultAction::kSlide);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -124,6 +127,9 @@ void FaultScheduler::fire(const FaultEvent& e) {
             break;
         case FaultAction::kPositionFixOutlier:
             target_.positionFixOutlier(f.value, f.bearingRad, f.count);
+            break;
+        case FaultAction::kSlide:
+            target_.slideRover(f.value, f.bearingRad, static_cast<double>(f.until - f.at) * 1e-9);
             break;
     }
 }

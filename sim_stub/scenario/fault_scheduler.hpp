@@ -35,6 +35,7 @@ enum class FaultAction : std::uint8_t {
     kPositionFixOutlier,
     kOverheatMotor,
     kDriveFault,
+    kSlide,
 };
 
 struct FaultEvent {

@@ -50,6 +50,9 @@ public:
     // The next `count` position fixes are displaced by offsetM towards bearingRad
     // (map frame, counter-clockwise from +x), on top of their normal noise.
     virtual void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) = 0;
+    // The ground gives way: the rover slides offsetM towards bearingRad (map
+    // frame, CCW from +x) over durationS (World::startSlide).
+    virtual void slideRover(double offsetM, double bearingRad, double durationS) = 0;
 
 protected:
     ~FaultTarget() = default;

@@ -42,6 +42,8 @@ const char* toString(FaultType type) {
             return "motor_overheat";
         case FaultType::kDriveFault:
             return "drive_fault";
+        case FaultType::kSlide:
+            return "slide";
     }
     return "?";
 }

@@ -37,8 +37,9 @@ enum class FaultType : std::uint8_t {
     kPositionFixOutlier,  // value = offset, m; bearingRad; count = how many fixes
     kMotorOverheat,     // wheel, value = heat gain factor (the motor heats that many times faster)
     kDriveFault,        // wheel, cobId = EMCY code: a one-shot fault a fault reset clears
+    kSlide,             // value = offset, m; bearingRad; until = end of the slide
 };
-constexpr FaultType kLastFaultType = FaultType::kDriveFault;
+constexpr FaultType kLastFaultType = FaultType::kSlide;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 
@@ -52,7 +53,7 @@ struct FaultSpec {
     hal::CanFaultRule busRule;
     std::uint32_t cobId = 0;
     std::uint32_t count = 1;  // position_fix_outlier: how many fixes
-    double bearingRad = 0.0;  // position_fix_outlier: direction of the offset (map frame, CCW from +x)
+    double bearingRad = 0.0;  // position_fix_outlier, slide: direction of the offset (map frame, CCW from +x)
 };
 
 // Measurement noise of the six wheel drives' reports (scenario [drives]; see

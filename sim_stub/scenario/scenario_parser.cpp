@@ -479,10 +479,14 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
         }
     }
     if (!known) {
-        fail(join(p, "type"), "unknown fault type \"" + type +
-                                  "\" (expected motor_degradation, motor_failure, drive_heartbeat_loss, "
-                                  "drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-                                  "babbling_node, position_fix_outlier, motor_overheat or drive_fault)");
+        // The list is the enum's, so a new fault type cannot be left out of it.
+        std::string expected;
+        const auto last = static_cast<std::uint8_t>(kLastFaultType);
+        for (std::uint8_t i = 0; i <= last; ++i) {
+            expected += (i == 0 ? "" : (i == last ? " or " : ", "));
+            expected += toString(static_cast<FaultType>(i));
+        }
+        fail(join(p, "type"), "unknown fault type \"" + type + "\" (expected " + expected + ")");
     }
     const double atS = ranged(t, p, "at_s", 0.0, 0.0, kMaxTimeS, true);
     f.at = toNs(atS);
@@ -594,6 +598,12 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
             f.bearingRad = ranged(t, p, "bearing_deg", 0.0, -360.0, 360.0) * kPi / 180.0;
             break;
         }
+        case FaultType::kSlide:
+            onlyKeys(t, p, {"type", "at_s", "offset_m", "bearing_deg", "duration_s", "until_s"}, ctx);
+            f.value = positive(t, p, "offset_m", 0.0, 100.0, true);
+            f.bearingRad = ranged(t, p, "bearing_deg", 0.0, -360.0, 360.0) * kPi / 180.0;
+            f.until = intervalEnd(t, p, atS);
+            break;
     }
     return f;
 }

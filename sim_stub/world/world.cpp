@@ -35,6 +35,15 @@ void World::placeRover(const Pose2& pose) {
     truth_.blocked = false;
 }
 
+void World::startSlide(double offsetM, double bearingRad, double durationS) {
+    if (!(offsetM > 0.0) || !(durationS > 0.0) || !std::isfinite(bearingRad)) {
+        return;  // the scenario parser refuses such a slide; nothing to do
+    }
+    slideVx_ = offsetM / durationS * std::cos(bearingRad);
+    slideVy_ = offsetM / durationS * std::sin(bearingRad);
+    slideUntil_ = time_ + static_cast<core::TimeNs>(durationS * 1e9);
+}
+
 bool World::checkContacts(Vec2 centre) {
     bool overlapping = false;
     bool anyContact = false;
@@ -71,7 +80,11 @@ void World::subStep(double dtS, const BodyRates& commanded) {
     }
     const double v = commanded.speedMS * slipV_;
     const double w = commanded.yawRateRadS * slipW_;
-    const Pose2 candidate = integrateUnicycle(truth_.pose, v, w, dtS);
+    Pose2 candidate = integrateUnicycle(truth_.pose, v, w, dtS);
+    if (time_ < slideUntil_) {
+        candidate.x += slideVx_ * dtS;
+        candidate.y += slideVy_ * dtS;
+    }
     const bool blocked = checkContacts({candidate.x, candidate.y});
     if (blocked) {
         truth_.pose.theta = candidate.theta;  // turning on the spot never moves the disc

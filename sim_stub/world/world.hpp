@@ -63,6 +63,13 @@ public:
 
     // Test harness: moves the rover (no collision check; contact state cleared).
     void placeRover(const Pose2& pose);
+    // The ground gives way (a slide down a sandy slope): from the current time
+    // the rover is carried offsetM towards bearingRad (map frame, CCW from +x)
+    // at a constant rate over durationS, on top of its own motion, with the
+    // usual contact checks (a rock or the world's edge stops the slide). The
+    // wheels and the IMU feel nothing of it; only position fixes see it.
+    void startSlide(double offsetM, double bearingRad, double durationS);
+    bool sliding() const { return slideUntil_ > time_; }
 
 private:
     void subStep(double dtS, const BodyRates& commanded);
@@ -77,6 +84,9 @@ private:
     core::TimeNs nextSlipDraw_;
     double slipV_ = 1.0;
     double slipW_ = 1.0;
+    core::TimeNs slideUntil_ = 0;
+    double slideVx_ = 0.0;  // m/s while sliding
+    double slideVy_ = 0.0;
     std::vector<std::uint8_t> contact_;  // per obstacle: touched in the last sub-step
     bool edgeContact_ = false;
     WheelArray loads_{};

@@ -150,6 +150,54 @@ TEST(LockstepFaultProtection, AnOverheatingMotorStopsTheRoverUntilItCoolsAndCall
     LONGS_EQUAL(0, s.collisions);
 }
 
+// Off the map: the rover drives along the south edge of the site (the
+// orbital map's y_min, -10 m; the world goes on beyond it) and the ground
+// gives way, carrying it 2.5 m south, off the map. The estimator refuses the
+// fixes that show the jump, then re-anchors (pose uncertain: held); the
+// re-anchored pose lies off the site (fault 46); fault protection has the
+// waypoint cancelled and the goal replanned from there; the deliberative layer
+// plans from the nearest point on the site, the habitual layer drives back on,
+// and the rover reaches its goal.
+TEST(LockstepFaultProtection, ARoverCarriedOffTheMapIsReplannedFromWhereItStandsAndReachesItsGoal) {
+    MissionOptions o;
+    const char* argv[] = {"rse-demo", "--no-faults", "--goto", "18,-8.6"};
+    std::string error;
+    CHECK_TRUE_TEXT(sim::parseMissionArgs(4, argv, &o, &error) == sim::ParseOutcome::kRun, error.c_str());
+    o.durationS = 300.0;
+    o.quiet = !printConsole();
+    o.editScenario = [](Scenario& sc) {
+        sc.start.x = 0.0;
+        sc.start.y = -8.6;
+        sc.map.yMin = -20.0;  // the world goes on south of the orbital map
+        FaultSpec f;
+        f.type = FaultType::kSlide;
+        f.at = at(25.0);
+        f.until = at(27.0);
+        f.value = 2.5;
+        f.bearingRad = -0.5 * 3.141592653589793;
+        sc.faults.push_back(f);
+    };
+    const MissionSummary s = sim::runMission(o, printConsole() ? stdout : nullptr);
+    report("slid 2.5 m south off the map at 25-27 s", s);
+    double offMapAtS = -1.0;  // health event 738: fault 46 raised
+    for (std::size_t i = 0; i < s.markCount && offMapAtS < 0.0; ++i) {
+        offMapAtS = s.marks[i].kind == sim::MarkKind::kFaultRaised && s.marks[i].eventId == 738 ? s.marks[i].timeS
+                                                                                                 : -1.0;
+    }
+    std::printf("\n  off the map (fault 46) raised at %.2f s", offMapAtS);
+    CHECK(offMapAtS >= 25.0 && offMapAtS < 35.0);
+    CHECK_TRUE_TEXT(s.outcome == MissionOutcome::kGoalReached, s.callHomeText.c_str());
+    CHECK(s.goalDistanceM < 0.6);
+    LONGS_EQUAL(0, s.collisions);
+    CHECK(s.responsesStarted >= 2);    // pose uncertain (held), then off the map (replan)
+    CHECK(s.responsesRecovered >= 2);
+    LONGS_EQUAL(0, s.responsesGaveUp);
+    CHECK(s.replans >= 1);
+    CHECK(s.recoveryActions >= 1);  // the replan asked for (event 942)
+    const sim::MissionMark* replan = s.firstMark(sim::MarkKind::kRecoveryAction, 25.0);
+    CHECK(replan != nullptr && replan->timeS >= offMapAtS && replan->timeS < offMapAtS + 0.011);  // same frame
+}
+
 // 1.3x the current for the same torque: the drive trips (3 A held 100 ms)
 // only in the tightest manoeuvres. Each trip is recovered (drive reset,
 // interlock released, leg re-sent). Where the plan has one such turn (x86-64)

@@ -36,6 +36,9 @@ public:
     void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override {
         add("fix-outlier %.2f %.4f x%u", offsetM, bearingRad, static_cast<unsigned>(count));
     }
+    void slideRover(double offsetM, double bearingRad, double durationS) override {
+        add("slide %.2f %.4f %.2f s", offsetM, bearingRad, durationS);
+    }
 
 private:
     static const char* onOff(bool on) { return on ? "on" : "off"; }

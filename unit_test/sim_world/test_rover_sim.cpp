@@ -68,6 +68,9 @@ public:
     void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override {
         record.positionFixOutlier(offsetM, bearingRad, count);
     }
+    void slideRover(double offsetM, double bearingRad, double durationS) override {
+        record.slideRover(offsetM, bearingRad, durationS);
+    }
 
 private:
     bool note() {

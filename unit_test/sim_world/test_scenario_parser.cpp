@@ -280,7 +280,7 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
         {kBase + "\n[[faults]]\ntype = \"meteor\"\nat_s = 1\n",
          "inline.toml: faults[0].type: unknown fault type \"meteor\" (expected motor_degradation, motor_failure, "
          "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-         "babbling_node, position_fix_outlier, motor_overheat or drive_fault)"},
+         "babbling_node, position_fix_outlier, motor_overheat, drive_fault or slide)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = -1\nwheel = 1\ncurrent_factor = 2\n",
          "inline.toml: faults[0].at_s: must be in [0, 1e+07] (got -1)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = 1\nwheel = 1\n",
