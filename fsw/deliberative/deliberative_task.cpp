@@ -564,10 +564,8 @@ void DeliberativeTask::onReplanRequest(const msg::ReplanRequestMsg& request, cor
     if (!active || !autonomous_ || goalIndex_ >= goals_.count) {
         ++counters_.offMapIgnored;
         events_.report(events::kOffMapReplan, core::Severity::kWarning,
-                       "deliberative: off the map at (%.2f, %.2f) (fault %u, attempt %u): no mission to replan "
-                       "(state %u%s)",
-                       pose_.xM, pose_.yM, static_cast<unsigned>(request.faultId),
-                       static_cast<unsigned>(request.attempt), static_cast<unsigned>(s),
+                       "deliberative: off the map at (%.2f, %.2f), try %u: no mission to replan (state %u%s)",
+                       pose_.xM, pose_.yM, static_cast<unsigned>(request.attempt), static_cast<unsigned>(s),
                        autonomous_ ? "" : ", not AUTONOMOUS");
         return;
     }
@@ -584,12 +582,8 @@ void DeliberativeTask::onReplanRequest(const msg::ReplanRequestMsg& request, cor
     changed_ = true;
     const ReplanRequest& rr = replanRequest_;
     events_.report(events::kOffMapReplan, core::Severity::kWarning,
-                   "deliberative: off the map at (%.2f, %.2f) t=%.2f s (fault %u, attempt %u): waypoint cancelled, "
-                   "goals %u..%u replanned from here%s",
-                   rr.xM, rr.yM, static_cast<double>(now) / static_cast<double>(core::kNsPerSec),
-                   static_cast<unsigned>(request.faultId), static_cast<unsigned>(request.attempt),
-                   static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
-                   held_ ? " once the hold is released" : "");
+                   "deliberative: off the map at (%.2f, %.2f), try %u: waypoint cancelled, replan %s",
+                   rr.xM, rr.yM, static_cast<unsigned>(request.attempt), held_ ? "after hold" : "from here");
 }
 
 void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs now) {
@@ -669,7 +663,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     if (fromReentry_) {
         ++counters_.reentryPlans;
         events_.report(events::kPlannedFromReentry, core::Severity::kWarning,
-                       "deliberative: start (%.2f, %.2f) off the site: planned from (%.2f, %.2f) on it, %.2f m away",
+                       "deliberative: start (%.2f, %.2f) off the site: planned from (%.2f, %.2f) (%.2f m)",
                        request.startX, request.startY, inX, inY, std::hypot(inX - request.startX, inY - request.startY));
         request.startX = inX;
         request.startY = inY;

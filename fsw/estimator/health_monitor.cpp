@@ -254,10 +254,8 @@ void HealthMonitor::checkOffMap(const HealthLimits& limits, core::TimeNs now) {
     if (edge == PersistenceFilter::Edge::kRaised) {
         (void)faults_.set(msg::fault::kOffMap, true, now);
         events_.report(events::kHealthOffMap, core::Severity::kError,
-                       "health: fault %u: off the map, pose (%.2f, %.2f) %.2f m outside the site [%.1f, %.1f] x [%.1f, "
-                       "%.1f]",
-                       static_cast<unsigned>(msg::fault::kOffMap), poseX_, poseY_, outside, limits.site.minX,
-                       limits.site.maxX, limits.site.minY, limits.site.maxY);
+                       "health: fault %u: off the map, pose (%.2f, %.2f) %.2f m outside the site",
+                       static_cast<unsigned>(msg::fault::kOffMap), poseX_, poseY_, outside);
     } else if (edge == PersistenceFilter::Edge::kCleared) {
         (void)faults_.set(msg::fault::kOffMap, false, now);
         events_.report(events::kHealthOffMapCleared, core::Severity::kInfo,

@@ -732,9 +732,8 @@ void HabitualTask::sendEscape(Point2 exit, bool offMap, core::TimeNs now) {
     progressIndex_ = 0;
     escaping_ = true;
     events_.report(events::kEscape, core::Severity::kWarning,
-                   "habitual: leg %u: rover %s at (%.2f, %.2f): backing out %.2f m to (%.2f, %.2f), then replanning "
-                   "(%u of %u this leg)",
-                   static_cast<unsigned>(leg_.legId), offMap ? "off the site" : "within the footprint of a seen hazard",
+                   "habitual: leg %u: %s at (%.2f, %.2f): out %.2f m to (%.2f, %.2f) (%u of %u)",
+                   static_cast<unsigned>(leg_.legId), offMap ? "off the site" : "in a hazard disc",
                    queryStart_.x, queryStart_.y, distance(queryStart_, exit), exit.x, exit.y,
                    static_cast<unsigned>(escapesThisLeg_), static_cast<unsigned>(kMaxEscapesPerLeg));
     setState(msg::HabitualState::kDriving, now);

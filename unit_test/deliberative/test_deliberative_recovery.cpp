@@ -7,6 +7,7 @@
 
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/deliberative/plan_legs.hpp"
+#include "fsw/geometry/rover_footprint.hpp"
 #include "unit_test/deliberative/deliberative_rig.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -456,4 +457,93 @@ TEST(DeliberativeRecovery, NoBackUpWithoutATrackOrWithTheLimitZero) {
     rig->run();
     CHECK(DeliberativeState::kCalledHome == rig->task.state());
     LONGS_EQUAL(0, rig->task.counters().backUps);
+}
+
+// ---- off the map (fault 46): fault protection's ReplanRequestMsg ------------
+
+namespace {
+void sendReplanRequest(DeliberativeRig& rig, std::uint8_t faultId, std::uint8_t attempt) {
+    msg::ReplanRequestMsg r{};
+    r.timeNs = rig.clock.now();
+    r.faultId = faultId;
+    r.attempt = attempt;
+    (void)rig.bus.publish(r);
+}
+}  // namespace
+
+TEST(DeliberativeRecovery, OffTheMapCancelsTheWaypointAndReplansFromTheRoverPlanningFromTheNearestPointOnTheSite) {
+    autonomousToFirstLeg();
+    const unsigned cancels = rig->cancels;
+    const unsigned legs = rig->legs;
+    const std::uint32_t plans = rig->task.counters().plansStarted;
+    // Carried 1.5 m south of the site's south edge.
+    const tables::CoarseMapTable& site = rig->tables.coarseMap();
+    rig->x = 3.0;
+    rig->y = static_cast<double>(site.y_min_m) - 1.5;
+    rig->run();
+    sendReplanRequest(*rig, msg::fault::kOffMap, 1);
+    rig->run();
+    LONGS_EQUAL(cancels + 1, rig->cancels);  // the waypoint is dropped at once
+    LONGS_EQUAL(1, rig->task.counters().offMapReplans);
+    LONGS_EQUAL(1, rig->seenCount(ev::kOffMapReplan));
+    CHECK(contains(rig->seenText(ev::kOffMapReplan), "waypoint cancelled"));
+    const deliberative::ReplanRequest& rr = rig->task.lastReplanRequest();
+    DOUBLES_EQUAL(3.0, rr.xM, 1e-9);
+    DOUBLES_EQUAL(rig->y, rr.yM, 1e-9);
+    LONGS_EQUAL(0, rr.firstGoal);
+    LONGS_EQUAL(1, rr.unfinished);
+
+    CHECK_TRUE(rig->runUntil([&] { return rig->legs > legs; }, kPlanRuns));
+    CHECK(rig->task.counters().plansStarted > plans);
+    LONGS_EQUAL(1, rig->task.counters().reentryPlans);
+    LONGS_EQUAL(1, rig->seenCount(ev::kPlannedFromReentry));
+    // Planned from the nearest point of the site shrunk by the footprint and the inset.
+    const double onSite = static_cast<double>(site.y_min_m) +
+                          rse::geometry::clearanceRadiusM(rig->tables.roverGeometry()) + deliberative::kReentryInsetM;
+    DOUBLES_EQUAL(3.0, rig->task.problem().startX, 1e-9);
+    DOUBLES_EQUAL(onSite, rig->task.problem().startY, 1e-9);
+    // The first leg's bounds are those from the rover, which stands farther off.
+    const double fromRover = std::hypot(rig->lastLeg.goalXM - rig->x, rig->lastLeg.goalYM - rig->y);
+    CHECK(rig->lastLeg.maxPathLengthM >= fromRover);
+    LONGS_EQUAL(0, rig->task.counters().callHomes);
+    LONGS_EQUAL(0, rig->task.counters().problemsRefused);
+}
+
+TEST(DeliberativeRecovery, AStartOnTheSiteIsPlannedFromTheRoverItself) {
+    autonomousToFirstLeg();
+    LONGS_EQUAL(0, rig->task.counters().reentryPlans);
+    DOUBLES_EQUAL(rig->x, rig->task.problem().startX, 1e-9);
+    DOUBLES_EQUAL(rig->y, rig->task.problem().startY, 1e-9);
+}
+
+TEST(DeliberativeRecovery, AReplanRequestWithNoMissionIsCountedAndAMalformedOneRefused) {
+    rig->run();
+    sendReplanRequest(*rig, msg::fault::kOffMap, 1);  // idle: no goals
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().offMapIgnored);
+    CHECK(contains(rig->seenText(ev::kOffMapReplan), "no mission to replan"));
+    LONGS_EQUAL(0, rig->task.counters().offMapReplans);
+
+    sendReplanRequest(*rig, msg::fault::kPoseUncertain, 1);  // only the off-map fault asks for a replan
+    sendReplanRequest(*rig, msg::fault::kOffMap, 0);         // tries count from 1
+    rig->run();
+    LONGS_EQUAL(2, rig->task.counters().malformedInputs);
+    LONGS_EQUAL(1, rig->task.counters().offMapIgnored);
+}
+
+TEST(DeliberativeRecovery, AnOffMapReplanDuringAHoldWaitsForTheRelease) {
+    autonomousToFirstLeg();
+    rig->sendHold(1U << msg::hold::kPoseUncertain, 0);
+    rig->run();
+    const unsigned legs = rig->legs;
+    rig->y = static_cast<double>(rig->tables.coarseMap().y_min_m) - 1.0;
+    sendReplanRequest(*rig, msg::fault::kOffMap, 1);
+    for (int i = 0; i < 20; ++i) {
+        rig->run();
+    }
+    LONGS_EQUAL(legs, rig->legs);  // nothing sent while held
+    CHECK_TEXT(contains(rig->seenText(ev::kOffMapReplan), "after hold"), rig->seenText(ev::kOffMapReplan));
+    rig->sendHold(0, 1);
+    CHECK_TRUE(rig->runUntil([&] { return rig->legs > legs; }, kPlanRuns));
+    LONGS_EQUAL(1, rig->task.counters().reentryPlans);
 }

@@ -151,6 +151,25 @@ TEST(FaultProtectionTask, TheTableIsReadAtEveryRun) {
     LONGS_EQUAL(0, rig.hold.reasons);
 }
 
+TEST(FaultProtectionTask, OffTheMapSendsTheDefaultTablesReplanRequestInAutonomous) {
+    core::PipeId replans = 0;
+    CHECK(core::isOk(rig.bus.createPipe("replans", 4, &replans)));
+    CHECK(core::isOk(rig.bus.subscribe(replans, msg::ids::kReplanRequest)));
+    rig.mode(msg::mode::kAutonomous);
+    rig.faults.activeMask = std::uint64_t{1} << msg::fault::kOffMap;
+    rig.runFrame();
+    msg::ReplanRequestMsg request{};
+    CHECK(core::isOk(rig.bus.receive(replans, &rig.inbox)));
+    CHECK(core::isOk(rig.inbox.decode(&request)));
+    LONGS_EQUAL(msg::fault::kOffMap, request.faultId);
+    LONGS_EQUAL(1, request.attempt);
+    LONGS_EQUAL(0, rig.hold.reasons);
+    LONGS_EQUAL(1, rig.task.status().actionsSent);
+    CHECK_FALSE(core::isOk(rig.bus.receive(replans, &rig.inbox)));  // one per try, not one per frame
+    rig.runFrame();
+    CHECK_FALSE(core::isOk(rig.bus.receive(replans, &rig.inbox)));
+}
+
 TEST(FaultProtectionTask, MalformedInputIsCountedAndIgnored) {
     std::uint8_t junk[3] = {1, 2, 3};
     (void)rig.bus.publish(msg::ids::kFaultStatus, junk, sizeof junk);

@@ -47,6 +47,7 @@ struct Rig {
         limits.response[static_cast<std::size_t>(FaultClass::kDriveLost)] = FaultResponseKind::kRecoverDrive;
         limits.response[static_cast<std::size_t>(FaultClass::kDriveFaulted)] = FaultResponseKind::kRecoverDrive;
         limits.response[static_cast<std::size_t>(FaultClass::kTaskStalled)] = FaultResponseKind::kRestartTask;
+        limits.response[static_cast<std::size_t>(FaultClass::kOffMap)] = FaultResponseKind::kReplanFromPose;
         limits.attemptMemory = 5000 * kMs;
         limits.driveLostSettle = 500 * kMs;
         in.haveDrives = true;
@@ -296,13 +297,76 @@ TEST(FaultResponder, ALatchedInterlockWithEveryDriveHealthyIsResetEvenWithoutARe
     CHECK(rig.held(msg::hold::kDriveRecovery));
 }
 
+TEST(FaultResponder, OffTheMapAsksForAReplanEachTryWithoutAHoldThenCallsHome) {
+    Rig rig;
+    rig.in.activeFaults = bitOf(msg::fault::kOffMap);
+    rig.step();
+    LONGS_EQUAL(1, rig.out.replans.size());
+    LONGS_EQUAL(msg::fault::kOffMap, rig.out.replans.at(0)->faultId);
+    LONGS_EQUAL(1, rig.out.replans.at(0)->attempt);
+    LONGS_EQUAL(0, rig.out.holdReasons);  // the rover must drive to get back on
+    LONGS_EQUAL(3, rig.responder.fault(msg::fault::kOffMap)->lastAction);
+    LONGS_EQUAL(1, rig.drain(fault_protection::events::kReplanRequested));
+
+    // Still off after max_wait_ms: another replan; after the third try, call home.
+    std::size_t replans = 0;
+    std::size_t callHomes = 0;
+    for (core::TimeNs t = 0; t < 3100 * kMs; t += kFrame) {
+        rig.clock.advance(kFrame);
+        rig.step();
+        replans += rig.out.replans.size();
+        callHomes += rig.out.callHome ? 1U : 0U;
+        LONGS_EQUAL(0, rig.out.holdReasons);
+    }
+    LONGS_EQUAL(2, replans);
+    LONGS_EQUAL(1, callHomes);
+    LONGS_EQUAL(static_cast<int>(ResponseState::kGaveUp),
+                static_cast<int>(rig.responder.fault(msg::fault::kOffMap)->state));
+}
+
+TEST(FaultResponder, BackOnTheMapIsARecoveryAndNoReplanIsAskedOutsideAutonomous) {
+    Rig rig;
+    rig.in.activeFaults = bitOf(msg::fault::kOffMap);
+    rig.step();
+    rig.runFor(200 * kMs);
+    rig.in.activeFaults = 0;
+    rig.step();
+    LONGS_EQUAL(static_cast<int>(ResponseState::kRecovered),
+                static_cast<int>(rig.responder.fault(msg::fault::kOffMap)->state));
+
+    Rig manual;
+    manual.in.autonomous = false;  // no mission to replan: nothing asked, no call home
+    manual.in.activeFaults = bitOf(msg::fault::kOffMap);
+    std::size_t callHomes = 0;
+    manual.step();
+    LONGS_EQUAL(0, manual.out.replans.size());
+    manual.runFor(5000 * kMs, &callHomes);
+    LONGS_EQUAL(0, callHomes);
+}
+
+TEST(FaultResponder, AReplanAskedForAnyOtherClassHoldsInsteadAndAHoldOffTheMapHolds) {
+    Rig rig;
+    rig.limits.response[static_cast<std::size_t>(FaultClass::kSensorLost)] = FaultResponseKind::kReplanFromPose;
+    rig.in.activeFaults = bitOf(msg::fault::kSensorStale + 2);
+    rig.step();
+    CHECK(rig.held(msg::hold::kSensorLost));
+    LONGS_EQUAL(0, rig.out.replans.size());
+
+    Rig hold;
+    hold.limits.response[static_cast<std::size_t>(FaultClass::kOffMap)] = FaultResponseKind::kHoldUntilClear;
+    hold.in.activeFaults = bitOf(msg::fault::kOffMap);
+    hold.step();
+    CHECK(hold.held(msg::hold::kOffMap));
+    LONGS_EQUAL(0, hold.out.replans.size());
+}
+
 TEST(FaultResponder, LimitsAreTheTablesFields) {
     core::VirtualClock clock;
     core::EventLog events(clock);
     tables::FaultProtectionTable protection{};
     tables::FaultResponseTable faults{};
     for (std::size_t c = 0; c < msg::kFaultClassCount; ++c) {
-        protection.response[c] = static_cast<std::uint8_t>(c % 5);
+        protection.response[c] = static_cast<std::uint8_t>(c % 6);
         protection.attempts[c] = static_cast<std::uint8_t>(c + 1);
         protection.max_wait_ms[c] = static_cast<std::uint32_t>(100 * (c + 1));
     }
@@ -310,7 +374,7 @@ TEST(FaultResponder, LimitsAreTheTablesFields) {
     faults.heartbeat_loss_ms = 321;
     const ResponderLimits l = fault_protection::responderLimitsFrom(protection, faults);
     for (std::size_t c = 0; c < msg::kFaultClassCount; ++c) {
-        LONGS_EQUAL(c % 5, static_cast<int>(l.response[c]));
+        LONGS_EQUAL(c % 6, static_cast<int>(l.response[c]));
         LONGS_EQUAL(c + 1, l.attempts[c]);
         CHECK_EQUAL(static_cast<core::TimeNs>(100 * (c + 1)) * kMs, l.maxWait[c]);
     }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "fsw/geometry/rover_footprint.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "unit_test/habitual/habitual_rig.hpp"
 
@@ -212,4 +213,38 @@ TEST(HabitualRecovery, TheReplanBudgetBoundsTheIterationsOfALocalReplanButNotOfA
     CHECK_TRUE(rig->runUntil([&] { return driving(); }, 40));
     CHECK_FALSE(rig->task.lastQuery().straightLine);
     CHECK(rig->task.lastQuery().iterations > habitual::kRrtIterationsPerMs);
+}
+
+// ---- off the map: back onto the site ----------------------------------------------
+
+TEST(HabitualRecovery, AStartOffTheSiteDrivesStraightBackOnToTheNearestPointThenOnToTheLegEnd) {
+    const double yMin = static_cast<double>(rig->tables.coarseMap().y_min_m);
+    rig->x = 3.0;
+    rig->y = yMin - 1.2;  // slid off the south edge
+    rig->sendLeg(1, 6.0, yMin + 2.0, 40.0, 5000.0);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 10));
+    CHECK_TRUE(rig->task.escaping());
+    LONGS_EQUAL(1, rig->seenCount(ev::kEscape));
+    STRCMP_CONTAINS("off the site", rig->seenText(ev::kEscape));
+    const msg::TrajectoryMsg in = rig->trajectory;
+    LONGS_EQUAL(2, in.count);
+    DOUBLES_EQUAL(3.0, in.points[0].xM, 1e-9);
+    // Straight north to the nearest point that keeps the planning margin from the edge.
+    const double keep = rse::geometry::clearanceRadiusM(rig->tables.roverGeometry()) + habitual::kPlanMarginM +
+                        habitual::kEscapeExtraM;
+    DOUBLES_EQUAL(3.0, in.points[1].xM, 1e-9);
+    DOUBLES_EQUAL(yMin + keep, in.points[1].yM, 1e-9);
+    CHECK_TRUE(rig->runUntil([&] { return driving() && !rig->task.escaping(); }, 400));
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 900));
+    LONGS_EQUAL(0, rig->task.counters().failUps);
+}
+
+TEST(HabitualRecovery, AStartFartherOffTheSiteThanAnEscapeReachesFailsUp) {
+    const double yMin = static_cast<double>(rig->tables.coarseMap().y_min_m);
+    rig->x = 3.0;
+    rig->y = yMin - habitual::kMaxEscapeM;  // the way back on is longer than kMaxEscapeM
+    rig->sendLeg(1, 6.0, yMin + 2.0, 40.0, 5000.0);
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kFailedUp); }, 40));
+    LONGS_EQUAL(0, rig->task.counters().escapes);
+    CHECK(LegConstraint::kNoPath == rig->lastReport.violated);
 }

@@ -164,3 +164,19 @@ TEST(SimFaultScheduler, AnEmptyScheduleDoesNothing) {
     LONGS_EQUAL(0, scheduler.eventCount());
     CHECK(target.log.empty());
 }
+
+TEST(SimFaultScheduler, ASlideFiresOnceAtItsStartWithItsDuration) {
+    std::vector<FaultSpec> faults(1);
+    faults[0].type = FaultType::kSlide;
+    faults[0].at = 25 * core::kNsPerSec;
+    faults[0].until = 27 * core::kNsPerSec;
+    faults[0].value = 2.5;
+    faults[0].bearingRad = -1.5;
+    test::RecordingFaultTarget target;
+    FaultScheduler scheduler(faults, target);
+    LONGS_EQUAL(1, scheduler.eventCount());
+    target.now = 30 * core::kNsPerSec;
+    scheduler.step(target.now);
+    LONGS_EQUAL(1, target.log.size());
+    STRCMP_CONTAINS("slide 2.50 -1.5000 2.00 s", target.log[0].c_str());
+}

@@ -363,6 +363,31 @@ bearing_deg = -90
     DOUBLES_EQUAL(-kPi / 2.0, s.faults[1].bearingRad, 1e-12);
 }
 
+TEST(SimScenario, SlidesParseAndBadOnesAreRejectedWithTheKeyPath) {
+    const Scenario s = parseScenario(kBase + R"(
+[[faults]]
+type = "slide"
+at_s = 25
+offset_m = 2.5
+bearing_deg = -90
+duration_s = 2
+)",
+                                     "slide.toml");
+    LONGS_EQUAL(1, s.faults.size());
+    CHECK(FaultType::kSlide == s.faults[0].type);
+    STRCMP_EQUAL("slide", toString(s.faults[0].type));
+    CHECK_EQUAL(25 * core::kNsPerSec, s.faults[0].at);
+    CHECK_EQUAL(27 * core::kNsPerSec, s.faults[0].until);
+    DOUBLES_EQUAL(2.5, s.faults[0].value, 0.0);
+    DOUBLES_EQUAL(-kPi / 2.0, s.faults[0].bearingRad, 1e-12);
+    const std::string head = kBase + "\n[[faults]]\ntype = \"slide\"\nat_s = 1\n";
+    STRCMP_EQUAL("inline.toml: faults[0]: needs duration_s or until_s", errorOf(head + "offset_m = 1\n").c_str());
+    STRCMP_EQUAL("inline.toml: faults[0].offset_m: missing (required)", errorOf(head + "duration_s = 1\n").c_str());
+    STRCMP_CONTAINS("faults[0].offset_m", errorOf(head + "offset_m = 0\nduration_s = 1\n").c_str());
+    STRCMP_CONTAINS("faults[0].offset_m", errorOf(head + "offset_m = 101\nduration_s = 1\n").c_str());
+    STRCMP_CONTAINS("faults[0].wheel", errorOf(head + "offset_m = 1\nduration_s = 1\nwheel = 2\n").c_str());
+}
+
 TEST(SimScenario, BadDriveNoiseAndOutlierKeysAreRejectedWithTheKeyPath) {
     struct Case {
         std::string text;

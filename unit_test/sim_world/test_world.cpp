@@ -46,6 +46,31 @@ void advanceWorld(World& w, core::TimeNs until, const WheelArray& speeds, const 
 
 TEST_GROUP(SimWorld){};
 
+TEST(SimWorld, ASlideCarriesTheStandingRoverItsOffsetOverItsDurationAndThenStops) {
+    World w(openGround());
+    advanceWorld(w, core::kNsPerSec, WheelArray{});
+    w.startSlide(2.0, -0.5 * kPi, 2.0);
+    CHECK_TRUE(w.sliding());
+    advanceWorld(w, 2 * core::kNsPerSec, WheelArray{});
+    DOUBLES_EQUAL(-1.0, w.truth().pose.y, 1e-6);  // half way after half the time
+    advanceWorld(w, 5 * core::kNsPerSec, WheelArray{});
+    CHECK_FALSE(w.sliding());
+    DOUBLES_EQUAL(0.0, w.truth().pose.x, 1e-9);
+    DOUBLES_EQUAL(-2.0, w.truth().pose.y, 1e-6);
+    DOUBLES_EQUAL(0.0, w.truth().pose.theta, 1e-12);  // the IMU feels no turn
+}
+
+TEST(SimWorld, ASlideIntoARockStopsAtContact) {
+    WorldConfig c = openGround();
+    c.obstacles.push_back(box(1, -1.0, -3.0, 1.0, -2.0));
+    World w(c);
+    w.startSlide(5.0, -0.5 * kPi, 2.0);
+    advanceWorld(w, 3 * core::kNsPerSec, WheelArray{});
+    CHECK(w.truth().pose.y > -2.0 + 0.0);  // stopped at the rock, disc outside it
+    CHECK(w.truth().pose.y < -1.0);
+    LONGS_EQUAL(1, w.truth().collisions);
+}
+
 TEST(SimWorld, EqualWheelSpeedsDriveStraightTenMetresInTheExpectedTime) {
     World w(openGround());
     const RoverParams& r = w.rover();
