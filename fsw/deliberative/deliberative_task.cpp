@@ -11,7 +11,6 @@ namespace rse::deliberative {
 
 namespace {
 
-constexpr std::uint8_t kLargestMode = 3;
 constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
 constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kBadLeg);
 
@@ -184,7 +183,7 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
         switch (inbox_.header.id) {
             case msg::ids::kMode: {
                 msg::ModeMsg mode{};
-                if (core::isOk(inbox_.decode(&mode)) && mode.mode <= kLargestMode) {
+                if (core::isOk(inbox_.decode(&mode)) && mode.mode < msg::mode::kCount) {
                     onMode(mode, now);
                 } else {
                     malformed("mode", inbox_.header.id);

@@ -11,8 +11,6 @@ namespace rse::habitual {
 
 namespace {
 
-// ModeMsg::mode numbering (cmdtlm::Mode): 2 is AUTONOMOUS, 3 the largest.
-constexpr std::uint8_t kLargestMode = 3;
 // A power factor beyond this is no estimate (the drive would be far over its
 // current limit): the message is refused as malformed.
 constexpr float kLargestPowerFactor = 100.0F;
@@ -175,7 +173,7 @@ void HabitualTask::drainInputs(core::TimeNs now) {
         switch (inbox_.header.id) {
             case msg::ids::kMode: {
                 msg::ModeMsg mode{};
-                if (core::isOk(inbox_.decode(&mode)) && mode.mode <= kLargestMode) {
+                if (core::isOk(inbox_.decode(&mode)) && mode.mode < msg::mode::kCount) {
                     onMode(mode, now);
                 } else {
                     malformed("mode", inbox_.header.id);
