@@ -5,7 +5,8 @@
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
-#include "fsw/habitual/map_builder.hpp"
+#include "fsw/geometry/coarse_map.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 namespace rse::deliberative {
 
@@ -262,7 +263,7 @@ double DeliberativeTask::meanFactor() const {
     if (!modesSeen_) {
         return 1.0;
     }
-    return habitual::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
+    return rover_model::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
 }
 
 // Only a latched interlock stops every wheel. A drive the mode estimator
@@ -433,7 +434,7 @@ LegParams DeliberativeTask::legParams() const {
     params.slackFrac = static_cast<double>(planner.leg_slack_frac);
     params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
     params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
-    params.power = habitual::powerModelFrom(habitual);
+    params.power = rover_model::powerModelFrom(habitual);
     params.meanPowerFactor = meanFactor();
     params.headingRad = pose_.headingRad;
     return params;
@@ -463,7 +464,7 @@ bool DeliberativeTask::legEndTooClose(const msg::PlanLeg& leg) const {
     // margin of the moment, and a polygon grown less for a close start keeps
     // less: an end the habitual layer could reach only without its planning
     // margin is not handed to it.
-    if (habitual::MapBuilder::distanceToCoarseMap(tables_.coarseMap(), habitual::Point2{leg.xM, leg.yM}) < clearance) {
+    if (geometry::distanceToCoarseMap(tables_.coarseMap(), geometry::Point2{leg.xM, leg.yM}) < clearance) {
         return true;
     }
     for (std::size_t i = 0; i < hazards_.count && i < msg::kMaxKnownHazards; ++i) {

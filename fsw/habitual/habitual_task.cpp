@@ -4,10 +4,21 @@
 
 #include <cmath>
 
+#include "fsw/geometry/coarse_map.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 namespace rse::habitual {
+
+using geometry::distanceToCoarseMap;
+using geometry::Point2;
+using geometry::wrapAngleRad;
+using rover_model::meanPowerFactor;
+using rover_model::motionEnergyJ;
+using rover_model::pathEnergyJ;
+using rover_model::PowerModel;
+using rover_model::powerModelFrom;
 
 namespace {
 
@@ -655,7 +666,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
                                const RememberedHazard* leaving) const {
     // The end keeps the planning margin from every other obstacle; the way
     // there keeps the bare footprint from the mapped rocks.
-    if (MapBuilder::distanceToCoarseMap(coarse, exit) < keep) {
+    if (distanceToCoarseMap(coarse, exit) < keep) {
         return false;
     }
     for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
@@ -669,7 +680,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
     for (std::uint32_t i = 1; i <= kEscapeChecks; ++i) {
         const double f = static_cast<double>(i) / static_cast<double>(kEscapeChecks);
         const Point2 q = queryStart_ + f * (exit - queryStart_);
-        if (length > 0.0 && MapBuilder::distanceToCoarseMap(coarse, q) < footprint) {
+        if (length > 0.0 && distanceToCoarseMap(coarse, q) < footprint) {
             return false;
         }
     }
