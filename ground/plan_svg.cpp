@@ -7,7 +7,7 @@
 #include <initializer_list>
 
 #include "fsw/deliberative/gaussian.hpp"
-#include "fsw/habitual/map_builder.hpp"
+#include "fsw/geometry/coarse_map.hpp"
 
 namespace rse::ground {
 
@@ -15,7 +15,7 @@ using deliberative::CcPlan;
 using deliberative::CcProblem;
 using deliberative::CcStatus;
 using deliberative::PlanObstacle;
-using habitual::Point2;
+using geometry::Point2;
 
 std::vector<Point2> obstacleCorners(const PlanObstacle& obstacle) {
     constexpr double kTolerance = 1e-9;
@@ -35,7 +35,7 @@ std::vector<Point2> obstacleCorners(const PlanObstacle& obstacle) {
                 onPolygon = obstacle.normalX[f] * c.x + obstacle.normalY[f] * c.y <= obstacle.offset[f] + kTolerance;
             }
             const bool seen = std::any_of(corners.begin(), corners.end(), [&c](Point2 q) {
-                return habitual::distanceSquared(c, q) < kTolerance * kTolerance;
+                return geometry::distanceSquared(c, q) < kTolerance * kTolerance;
             });
             if (onPolygon && !seen) {
                 corners.push_back(c);
@@ -61,12 +61,12 @@ double segmentPolygonDistance(Point2 p, Point2 q, const std::vector<Point2>& cor
     if (n == 0) {
         return INFINITY;
     }
-    if (habitual::pointInConvexPolygon(p, corners.data(), n)) {
+    if (geometry::pointInConvexPolygon(p, corners.data(), n)) {
         return 0.0;
     }
     double best = INFINITY;
     for (std::size_t i = 0; i < n; ++i) {
-        const double d = habitual::segmentSegmentDistanceSquared(p, q, corners[i], corners[(i + 1) % n]);
+        const double d = geometry::segmentSegmentDistanceSquared(p, q, corners[i], corners[(i + 1) % n]);
         best = std::min(best, d);
     }
     return std::sqrt(best);
@@ -169,15 +169,14 @@ std::string pointsAttribute(const std::vector<Point2>& points, const Frame& f) {
 }
 
 bool finitePoints(const std::vector<Point2>& points) {
-    return std::all_of(points.begin(), points.end(), [](Point2 p) { return habitual::isFinite(p); });
+    return std::all_of(points.begin(), points.end(), [](Point2 p) { return geometry::isFinite(p); });
 }
 
 std::vector<Point2> mapPolygon(const tables::CoarseMapTable& map, std::size_t slot) {
     std::vector<Point2> points;
-    const std::size_t n = std::min<std::size_t>(map.vertex_count[slot], habitual::kCoarseMapVerticesPerSlot);
+    const std::size_t n = geometry::coarseMapVerticesUsed(map, slot);
     for (std::size_t v = 0; v < n; ++v) {
-        const std::size_t i = slot * habitual::kCoarseMapVerticesPerSlot + v;
-        points.push_back(Point2{static_cast<double>(map.vertex_x_m[i]), static_cast<double>(map.vertex_y_m[i])});
+        points.push_back(geometry::coarseMapVertex(map, slot, v));
     }
     return points;
 }
@@ -264,7 +263,7 @@ void writePanel(const PlanPicture& picture, std::size_t index, double left, doub
              "\" font-size=\"9\" text-anchor=\"end\" fill=\"#777\">" + fixed(y, 0) + "</text>\n";
     }
     // The coarse map's rocks, filled.
-    const std::size_t slots = std::min<std::size_t>(map.obstacle_count, habitual::kCoarseMapSlots);
+    const std::size_t slots = geometry::coarseMapSlotsUsed(map);
     for (std::size_t slot = 0; slot < slots; ++slot) {
         const std::vector<Point2> rock = mapPolygon(map, slot);
         if (rock.size() >= 3 && finitePoints(rock)) {

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "fsw/deliberative/cc_problem.hpp"
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/tables/table_types.hpp"
 
 namespace rse::ground {
@@ -32,11 +32,11 @@ namespace rse::ground {
 // The corners of a convex obstacle given by its faces, counter-clockwise:
 // every point where two face lines meet that lies on or below every other
 // face (within 1e-9 m). Empty when the faces bound no polygon.
-std::vector<habitual::Point2> obstacleCorners(const deliberative::PlanObstacle& obstacle);
+std::vector<geometry::Point2> obstacleCorners(const deliberative::PlanObstacle& obstacle);
 
 // Euclidean distance between the closed segment [p, q] and the closed convex
 // polygon (corners counter-clockwise); 0 when they meet.
-double segmentPolygonDistance(habitual::Point2 p, habitual::Point2 q, const std::vector<habitual::Point2>& corners);
+double segmentPolygonDistance(geometry::Point2 p, geometry::Point2 q, const std::vector<geometry::Point2>& corners);
 
 // The least clearance of a plan: the least, over the mean path's segments
 // mu_t -> mu_{t+1} and the problem's obstacles (grown by the footprint), of

@@ -3,7 +3,16 @@
 #include <cmath>
 #include <cstring>
 
+#include "fsw/msg/mode_msgs.hpp"
+
 namespace rse::cmdtlm {
+
+// The layers read ModeMsg::mode through msg::mode (they include no cmdtlm header).
+static_assert(static_cast<std::uint8_t>(Mode::kSafe) == msg::mode::kSafe, "msg::mode mirrors cmdtlm::Mode");
+static_assert(static_cast<std::uint8_t>(Mode::kStandby) == msg::mode::kStandby, "msg::mode mirrors cmdtlm::Mode");
+static_assert(static_cast<std::uint8_t>(Mode::kAutonomous) == msg::mode::kAutonomous, "msg::mode mirrors cmdtlm::Mode");
+static_assert(static_cast<std::uint8_t>(Mode::kManual) == msg::mode::kManual, "msg::mode mirrors cmdtlm::Mode");
+static_assert(kModeCount == msg::mode::kCount, "msg::mode mirrors cmdtlm::Mode");
 
 const char* toString(FieldType type) {
     switch (type) {

@@ -5,14 +5,14 @@
 #include <cmath>
 
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/geometry/coarse_map.hpp"
 #include "fsw/geometry/site_bounds.hpp"
-#include "fsw/habitual/map_builder.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 namespace rse::deliberative {
 
 namespace {
 
-constexpr std::uint8_t kLargestMode = 3;
 constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
 constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kBadLeg);
 
@@ -185,7 +185,7 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
         switch (inbox_.header.id) {
             case msg::ids::kMode: {
                 msg::ModeMsg mode{};
-                if (core::isOk(inbox_.decode(&mode)) && mode.mode <= kLargestMode) {
+                if (core::isOk(inbox_.decode(&mode)) && mode.mode < msg::mode::kCount) {
                     onMode(mode, now);
                 } else {
                     malformed("mode", inbox_.header.id);
@@ -274,7 +274,7 @@ double DeliberativeTask::meanFactor() const {
     if (!modesSeen_) {
         return 1.0;
     }
-    return habitual::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
+    return rover_model::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
 }
 
 // Only a latched interlock stops every wheel. A drive the mode estimator
@@ -445,7 +445,7 @@ LegParams DeliberativeTask::legParams() const {
     params.slackFrac = static_cast<double>(planner.leg_slack_frac);
     params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
     params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
-    params.power = habitual::powerModelFrom(habitual);
+    params.power = rover_model::powerModelFrom(habitual);
     params.meanPowerFactor = meanFactor();
     params.headingRad = pose_.headingRad;
     return params;
@@ -475,7 +475,7 @@ bool DeliberativeTask::legEndTooClose(const msg::PlanLeg& leg) const {
     // margin of the moment, and a polygon grown less for a close start keeps
     // less: an end the habitual layer could reach only without its planning
     // margin is not handed to it.
-    if (habitual::MapBuilder::distanceToCoarseMap(tables_.coarseMap(), habitual::Point2{leg.xM, leg.yM}) < clearance) {
+    if (geometry::distanceToCoarseMap(tables_.coarseMap(), geometry::Point2{leg.xM, leg.yM}) < clearance) {
         return true;
     }
     for (std::size_t i = 0; i < hazards_.count && i < msg::kMaxKnownHazards; ++i) {

@@ -7,21 +7,16 @@
 
 #include "fsw/deliberative/cc_lp.hpp"
 #include "fsw/deliberative/gaussian.hpp"
-#include "fsw/habitual/geometry2d.hpp"
-#include "fsw/habitual/map_builder.hpp"
+#include "fsw/geometry/coarse_map.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 
 namespace rse::deliberative {
 
 namespace {
 
-using habitual::Point2;
-using habitual::kCoarseMapSlots;
-using habitual::kCoarseMapVerticesPerSlot;
-
-Point2 vertexOf(const tables::CoarseMapTable& map, std::size_t slot, std::size_t vertex) {
-    const std::size_t i = slot * kCoarseMapVerticesPerSlot + vertex;
-    return Point2{static_cast<double>(map.vertex_x_m[i]), static_cast<double>(map.vertex_y_m[i])};
-}
+using geometry::coarseMapVertex;
+using geometry::kCoarseMapSlots;
+using geometry::Point2;
 
 // Slot grown by radius: faces with outward unit normals. False for a polygon
 // that is not strictly convex (a zero-length edge, a reflex or straight corner,
@@ -30,7 +25,7 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
                    PlanObstacle* out) {
     double twiceArea = 0.0;
     for (std::size_t v = 0; v < count; ++v) {
-        twiceArea += habitual::cross(vertexOf(map, slot, v), vertexOf(map, slot, (v + 1) % count));
+        twiceArea += geometry::cross(coarseMapVertex(map, slot, v), coarseMapVertex(map, slot, (v + 1) % count));
     }
     if (!(std::fabs(twiceArea) > 0.0)) {
         return false;
@@ -39,10 +34,10 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
     out->id = static_cast<std::uint8_t>(slot);
     out->faceCount = static_cast<std::uint8_t>(count);
     for (std::size_t v = 0; v < count; ++v) {
-        const Point2 a = vertexOf(map, slot, v);
-        const Point2 b = vertexOf(map, slot, (v + 1) % count);
-        const Point2 c = vertexOf(map, slot, (v + 2) % count);
-        if (winding * habitual::cross(b - a, c - b) <= 0.0) {
+        const Point2 a = coarseMapVertex(map, slot, v);
+        const Point2 b = coarseMapVertex(map, slot, (v + 1) % count);
+        const Point2 c = coarseMapVertex(map, slot, (v + 2) % count);
+        if (winding * geometry::cross(b - a, c - b) <= 0.0) {
             return false;
         }
         // Every other vertex strictly inside this edge: turns of one sign
@@ -50,12 +45,12 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
         // faces bound only its inner pentagon.
         for (std::size_t w = 0; w < count; ++w) {
             const bool onEdge = w == v || w == (v + 1) % count;
-            if (!onEdge && winding * habitual::cross(b - a, vertexOf(map, slot, w) - a) <= 0.0) {
+            if (!onEdge && winding * geometry::cross(b - a, coarseMapVertex(map, slot, w) - a) <= 0.0) {
                 return false;
             }
         }
         const Point2 e = b - a;
-        const double length = std::sqrt(habitual::dot(e, e));
+        const double length = std::sqrt(geometry::dot(e, e));
         // Outward normal: the edge turned clockwise for a counter-clockwise polygon.
         const double nx = winding * e.y / length;
         const double ny = -winding * e.x / length;
@@ -81,8 +76,8 @@ bool inside(const PlanObstacle& o, double x, double y) {
 double rankDistance(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, Point2 s, Point2 g) {
     double best = INFINITY;
     for (std::size_t v = 0; v < count; ++v) {
-        const double d = habitual::segmentSegmentDistanceSquared(s, g, vertexOf(map, slot, v),
-                                                                  vertexOf(map, slot, (v + 1) % count));
+        const double d = geometry::segmentSegmentDistanceSquared(s, g, coarseMapVertex(map, slot, v),
+                                                                 coarseMapVertex(map, slot, (v + 1) % count));
         best = d < best ? d : best;
     }
     return best;
@@ -182,7 +177,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     PlanObstacle grown[kCandidates];
     double rank[kCandidates] = {};
     std::size_t count = 0;
-    const std::size_t slots = map.obstacle_count <= kCoarseMapSlots ? map.obstacle_count : kCoarseMapSlots;
+    const std::size_t slots = rse::geometry::coarseMapSlotsUsed(map);
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
     // Room the start needs beyond an obstacle it stands close to: the end
@@ -211,7 +206,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         const msg::KnownHazard& hz = request.hazards[h];
         const Point2 c{static_cast<double>(hz.xM), static_cast<double>(hz.yM)};
         const double r = static_cast<double>(hz.radiusM);
-        if (!habitual::isFinite(c) || !std::isfinite(r) || !(r > 0.0)) {
+        if (!geometry::isFinite(c) || !std::isfinite(r) || !(r > 0.0)) {
             ++report->hazardsLeftOut;
             continue;
         }
@@ -228,7 +223,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
             ++report->hazardsShrunk;
         }
         hazardOctagon(c, r + growth, hz.obstacleId, &grown[count]);
-        const double gap = std::sqrt(habitual::pointSegmentDistanceSquared(c, s, g)) - r;
+        const double gap = std::sqrt(geometry::pointSegmentDistanceSquared(c, s, g)) - r;
         rank[count] = gap > 0.0 ? gap * gap : 0.0;
         ++count;
     }

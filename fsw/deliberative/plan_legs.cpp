@@ -2,11 +2,13 @@
 
 #include <cmath>
 
+#include "fsw/geometry/geometry2d.hpp"
+
 namespace rse::deliberative {
 
 namespace {
 
-using habitual::Point2;
+using geometry::Point2;
 
 bool paramsUsable(const LegParams& p) {
     return std::isfinite(p.spacingM) && p.spacingM > 0.0 && std::isfinite(p.slackFrac) && p.slackFrac >= 0.0 &&
@@ -42,24 +44,24 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
     double pendingRisk = 0.0;
     for (std::size_t t = 1; t <= plan.steps; ++t) {
         const Point2 p{plan.meanX[t], plan.meanY[t]};
-        if (!habitual::isFinite(p)) {
+        if (!geometry::isFinite(p)) {
             return core::Status::kInvalidArgument;
         }
         pendingRisk += segmentRisk(plan, t - 1);
         const bool last = t == plan.steps;
-        if (habitual::distance(p, corner[corners - 1]) < kMinLegM && !last) {
+        if (geometry::distance(p, corner[corners - 1]) < kMinLegM && !last) {
             continue;  // coincident or too close: merged into the next corner
         }
         if (corners >= 2 && !last) {
             // Straight on through the previous corner? Drop it (its risk moves on).
-            const double turn = habitual::wrapAngleRad(headingOf(corner[corners - 1], p) -
+            const double turn = geometry::wrapAngleRad(headingOf(corner[corners - 1], p) -
                                                        headingOf(corner[corners - 2], corner[corners - 1]));
             if (std::fabs(turn) < kCornerRad) {
                 pendingRisk += risk[corners - 1];
                 --corners;
             }
         }
-        if (last && corners >= 2 && habitual::distance(p, corner[corners - 1]) < kMinLegM) {
+        if (last && corners >= 2 && geometry::distance(p, corner[corners - 1]) < kMinLegM) {
             pendingRisk += risk[corners - 1];
             --corners;  // the goal replaces a corner just before it
         }
@@ -74,7 +76,7 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
     for (std::size_t k = 1; k <= runs; ++k) {
         const Point2 a = corner[k - 1];
         const Point2 b = corner[k];
-        const double length = habitual::distance(a, b);
+        const double length = geometry::distance(a, b);
         const std::size_t capacity = kMaxPlanLegs - out->count - (runs - k);  // one per later run kept
         double wanted = std::ceil(length / params.spacingM);
         wanted = wanted < 1.0 ? 1.0 : wanted;
@@ -83,15 +85,15 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
         for (std::size_t j = 1; j <= pieces; ++j) {
             const double f = static_cast<double>(j) / static_cast<double>(pieces);
             const double legLength = length / static_cast<double>(pieces);
-            const double turn = j == 1 ? std::fabs(habitual::wrapAngleRad(runHeading - heading)) : 0.0;
+            const double turn = j == 1 ? std::fabs(geometry::wrapAngleRad(runHeading - heading)) : 0.0;
             msg::PlanLeg& leg = out->legs[out->count];
             leg.xM = j == pieces ? b.x : a.x + f * (b.x - a.x);
             leg.yM = j == pieces ? b.y : a.y + f * (b.y - a.y);
             leg.risk = risk[k] / static_cast<double>(pieces);
             const double slack = 1.0 + params.slackFrac;
             leg.lengthM = (legLength + kLengthAllowanceM) * slack / (1.0 - params.distanceMarginFrac);
-            leg.energyJ = habitual::motionEnergyJ(params.power, legLength + kLengthAllowanceM, turn + kTurnAllowanceRad,
-                                                  params.meanPowerFactor) *
+            leg.energyJ = rover_model::motionEnergyJ(params.power, legLength + kLengthAllowanceM,
+                                                     turn + kTurnAllowanceRad, params.meanPowerFactor) *
                           slack / (1.0 - params.powerMarginFrac);
             out->plannedLengthM[out->count] = legLength;
             ++out->count;
@@ -105,15 +107,15 @@ core::Status legBoundsFrom(double fromX, double fromY, double headingRad, const 
                            msg::PlanLeg* leg) {
     const Point2 from{fromX, fromY};
     const Point2 to{leg->xM, leg->yM};
-    if (!paramsUsable(params) || !habitual::isFinite(from) || !habitual::isFinite(to) || !std::isfinite(headingRad)) {
+    if (!paramsUsable(params) || !geometry::isFinite(from) || !geometry::isFinite(to) || !std::isfinite(headingRad)) {
         return core::Status::kInvalidArgument;
     }
-    const double length = habitual::distance(from, to);
-    const double turn = length > 0.0 ? std::fabs(habitual::wrapAngleRad(headingOf(from, to) - headingRad)) : 0.0;
+    const double length = geometry::distance(from, to);
+    const double turn = length > 0.0 ? std::fabs(geometry::wrapAngleRad(headingOf(from, to) - headingRad)) : 0.0;
     const double slack = 1.0 + params.slackFrac;
     leg->lengthM = (length + kLengthAllowanceM) * slack / (1.0 - params.distanceMarginFrac);
-    leg->energyJ = habitual::motionEnergyJ(params.power, length + kLengthAllowanceM, turn + kTurnAllowanceRad,
-                                           params.meanPowerFactor) *
+    leg->energyJ = rover_model::motionEnergyJ(params.power, length + kLengthAllowanceM, turn + kTurnAllowanceRad,
+                                              params.meanPowerFactor) *
                    slack / (1.0 - params.powerMarginFrac);
     return core::Status::kOk;
 }

@@ -12,7 +12,8 @@
 // direction; the first leg from the rover's heading):
 //   maxPathLengthM = (L + kLengthAllowanceM) (1 + slack) / (1 - HABITUAL.distance_margin_frac)
 //   maxEnergyJ     = E(L + kLengthAllowanceM, Theta + kTurnAllowanceRad) (1 + slack) / (1 - HABITUAL.power_margin_frac)
-// with E the habitual layer's power model (power_model.hpp) at the drives'
+// with E the rover's power model (fsw/rover_model/power_model.hpp, the one the
+// habitual layer checks its plans with) at the drives'
 // present mean power factor and slack = PLANNER.leg_slack_frac: the habitual
 // layer holds its own margin back from what it is given, so the division hands
 // it the planned figure plus the slack after its reserve. The allowances cover
@@ -26,8 +27,8 @@
 
 #include "fsw/core/status.hpp"
 #include "fsw/deliberative/cc_problem.hpp"
-#include "fsw/habitual/power_model.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 namespace rse::deliberative {
 
@@ -42,7 +43,7 @@ struct LegParams {
     double slackFrac = 0.3;           // PLANNER.leg_slack_frac
     double distanceMarginFrac = 0.1;  // HABITUAL.distance_margin_frac
     double powerMarginFrac = 0.2;     // HABITUAL.power_margin_frac
-    habitual::PowerModel power{};
+    rover_model::PowerModel power{};
     double meanPowerFactor = 1.0;     // the drives' present mean factor (>= 1)
     double headingRad = 0.0;          // the rover's heading at the plan's start
 };

@@ -69,7 +69,7 @@ double probabilityOfYes(std::size_t mode, double nominal, double degraded, doubl
 
 bool isFiniteWheel(const msg::WheelStatus& w) {
     return std::isfinite(w.targetRadS) && std::isfinite(w.velocityRadS) && std::isfinite(w.currentA) &&
-           static_cast<std::uint8_t>(w.health) <= static_cast<std::uint8_t>(msg::DriveHealth::kLost);
+           msg::isKnownDriveHealth(w.health);
 }
 
 // CiA 301 / 402 error code family 0x23xx: "current, device output side" (0x2310

@@ -43,7 +43,8 @@ void FaultProtectionTask::drainInputs() {
             case msg::ids::kDriveStatus: {
                 msg::DriveStatusMsg d{};
                 decoded = inbox_.decode(&d);
-                if (core::isOk(decoded)) {
+                // A wheel health outside DriveHealth: refused whole, the previous status stands.
+                if (core::isOk(decoded) && !refuseUnknownHealth(d)) {
                     inputs_.haveDrives = true;
                     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
                         inputs_.health[w] = d.wheels[w].health;
@@ -72,6 +73,29 @@ void FaultProtectionTask::drainInputs() {
             }
         }
     }
+}
+
+// True (counted with the malformed messages, event 938) when a wheel's health
+// is none of DriveHealth's values. The message is then refused as a whole: its
+// producer wrote a value it has no meaning for, so its other wheels and its
+// interlock flag cannot be trusted either; fault protection keeps acting on the
+// last good status (a drive that was faulted stays faulted, none is taken for
+// recovered), as it does for a message that does not decode.
+bool FaultProtectionTask::refuseUnknownHealth(const msg::DriveStatusMsg& d) {
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (!msg::isKnownDriveHealth(d.wheels[w].health)) {
+            ++malformed_;
+            if (core::isReportableOccurrence(malformed_)) {
+                events_.report(events::kMalformedInput, core::Severity::kError,
+                               "fault protection: drive status refused: wheel %zu (%s) health %u is not a drive "
+                               "state (%u malformed so far)",
+                               w, msg::wheelName(w), static_cast<unsigned>(d.wheels[w].health),
+                               static_cast<unsigned>(malformed_));
+            }
+            return true;
+        }
+    }
+    return false;
 }
 
 void FaultProtectionTask::publish(core::Status s) {

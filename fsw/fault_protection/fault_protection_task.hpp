@@ -4,7 +4,10 @@
 // decisions are FaultResponder's (fault_responder.hpp, where each response is
 // described); this task feeds it from the bus and publishes what it decides.
 //   in:  FaultStatusMsg (health), DriveStatusMsg (drive states, interlock),
-//        ModeMsg (holds apply in AUTONOMOUS); the latest of each per run.
+//        ModeMsg (holds apply in AUTONOMOUS); the latest of each per run. A
+//        message that does not decode, or a drive status with a wheel health
+//        outside DriveHealth, is refused whole: counted (malformedMessages())
+//        and evented (938), the previous one stands.
 //   out: MissionHoldMsg on every change and at 1 Hz (CAN I/O holds the wheels,
 //        the habitual and deliberative layers hold the mission);
 //        DriveRecoveryMsg (CAN I/O: fault reset, NMT reset node, interlock reset);
@@ -22,6 +25,7 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/fault_protection/fault_responder.hpp"
+#include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
@@ -48,6 +52,7 @@ public:
 
 private:
     void drainInputs();
+    bool refuseUnknownHealth(const msg::DriveStatusMsg& d);
     void publish(core::Status s);
     void publishHold(core::TimeNs now, std::uint32_t reasons, bool force);
 

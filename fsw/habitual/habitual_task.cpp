@@ -5,15 +5,24 @@
 
 #include <cmath>
 
+#include "fsw/geometry/coarse_map.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 namespace rse::habitual {
 
+using geometry::distanceToCoarseMap;
+using geometry::Point2;
+using geometry::wrapAngleRad;
+using rover_model::meanPowerFactor;
+using rover_model::motionEnergyJ;
+using rover_model::pathEnergyJ;
+using rover_model::PowerModel;
+using rover_model::powerModelFrom;
+
 namespace {
 
-// ModeMsg::mode numbering (cmdtlm::Mode): 2 is AUTONOMOUS, 3 the largest.
-constexpr std::uint8_t kLargestMode = 3;
 // A power factor beyond this is no estimate (the drive would be far over its
 // current limit): the message is refused as malformed.
 constexpr float kLargestPowerFactor = 100.0F;
@@ -176,7 +185,7 @@ void HabitualTask::drainInputs(core::TimeNs now) {
         switch (inbox_.header.id) {
             case msg::ids::kMode: {
                 msg::ModeMsg mode{};
-                if (core::isOk(inbox_.decode(&mode)) && mode.mode <= kLargestMode) {
+                if (core::isOk(inbox_.decode(&mode)) && mode.mode < msg::mode::kCount) {
                     onMode(mode, now);
                 } else {
                     malformed("mode", inbox_.header.id);
@@ -689,7 +698,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
                                const RememberedHazard* leaving) const {
     // The end keeps the planning margin from every other obstacle; the way
     // there keeps the bare footprint from the mapped rocks.
-    if (MapBuilder::distanceToCoarseMap(coarse, exit) < keep) {
+    if (distanceToCoarseMap(coarse, exit) < keep) {
         return false;
     }
     for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
@@ -703,7 +712,7 @@ bool HabitualTask::escapeClear(const tables::CoarseMapTable& coarse, Point2 exit
     for (std::uint32_t i = 1; i <= kEscapeChecks; ++i) {
         const double f = static_cast<double>(i) / static_cast<double>(kEscapeChecks);
         const Point2 q = queryStart_ + f * (exit - queryStart_);
-        if (length > 0.0 && MapBuilder::distanceToCoarseMap(coarse, q) < footprint) {
+        if (length > 0.0 && distanceToCoarseMap(coarse, q) < footprint) {
             return false;
         }
     }

@@ -69,7 +69,7 @@
 //   allowed energy = (maxEnergyJ - driven energy) * (1 - power_margin_frac)
 // driven length: sum of pose displacements (each step >= kOdometryStepM, so
 // pose jitter at rest adds nothing); driven energy: the power model on it with
-// the power factors of the moment. Predicted energy: power_model.hpp.
+// the power factors of the moment. Predicted energy: fsw/rover_model/power_model.hpp.
 // Among failed attempts the least violating (smallest relative excess) is kept
 // for the fail-up report.
 //
@@ -92,7 +92,6 @@
 #include "fsw/core/software_bus.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/habitual/map_builder.hpp"
-#include "fsw/habitual/power_model.hpp"
 #include "fsw/habitual/rrt_star.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
@@ -258,10 +257,11 @@ private:
     std::uint32_t queryBudget() const;
     // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
     // footprint): the point to back out to; false when there is none.
-    bool findEscape(double footprint, Point2* exit) const;
-    bool findReentry(double footprint, Point2* exit) const;
-    void sendEscape(Point2 exit, bool offMap, core::TimeNs now);
-    bool escapeClear(const tables::CoarseMapTable& coarse, Point2 exit, double keep,
+    bool findEscape(double footprint, geometry::Point2* exit) const;
+    // queryStart_ off the site: the point on it to drive back to; false when none within kMaxEscapeM.
+    bool findReentry(double footprint, geometry::Point2* exit) const;
+    void sendEscape(geometry::Point2 exit, bool offMap, core::TimeNs now);
+    bool escapeClear(const tables::CoarseMapTable& coarse, geometry::Point2 exit, double keep,
                      const RememberedHazard* leaving) const;
     void finishQuery(core::TimeNs now);
     // rawPath_[0..count) is the planning run's path (count < 2: none).
@@ -270,8 +270,8 @@ private:
     void finishAttempt(std::size_t count, const Evaluation& evaluation, core::TimeNs now);
     void acceptPlan(std::size_t count, const Evaluation& evaluation, core::TimeNs now);
     void failUp(msg::LegConstraint reason, const Evaluation& evaluation, core::TimeNs now);
-    Evaluation evaluate(const Point2* path, std::size_t count, double headingRad) const;
-    void keepCandidate(const Point2* path, std::size_t count, const Evaluation& evaluation);
+    Evaluation evaluate(const geometry::Point2* path, std::size_t count, double headingRad) const;
+    void keepCandidate(const geometry::Point2* path, std::size_t count, const Evaluation& evaluation);
     bool rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief = nullptr);
     // A fresh trajectory_ for the leg in force: id, time, cruise speed; no points yet.
     void beginTrajectory(core::TimeNs now);
@@ -279,7 +279,7 @@ private:
     // Driving.
     void updateOdometry();
     void superviseDriving(core::TimeNs now);
-    std::size_t remainingPath(Point2* out);
+    std::size_t remainingPath(geometry::Point2* out);
     void onCannotFollow(const msg::FollowerStatusMsg& status, core::TimeNs now);
 
     // Outputs.
@@ -310,7 +310,7 @@ private:
     bool legActive_ = false;  // planning, repairing or driving
     double drivenLengthM_ = 0.0;
     double drivenEnergyJ_ = 0.0;
-    Point2 anchor_{0.0, 0.0};
+    geometry::Point2 anchor_{0.0, 0.0};
     double anchorHeading_ = 0.0;
     bool anchorSet_ = false;
     std::uint32_t cannotFollowReplans_ = 0;
@@ -325,11 +325,11 @@ private:
     bool bareFootprint_ = false;  // plan without kPlanMarginM for the rest of the session
     std::uint32_t restWaitRuns_ = 0;
     std::uint32_t queryCount_ = 0;
-    Point2 queryStart_{0.0, 0.0};
+    geometry::Point2 queryStart_{0.0, 0.0};
     double queryHeading_ = 0.0;
     bool haveCandidate_ = false;
     Evaluation candidate_{};
-    Point2 candidatePath_[msg::kMaxTrajectoryPoints] = {};
+    geometry::Point2 candidatePath_[msg::kMaxTrajectoryPoints] = {};
     std::size_t candidateCount_ = 0;
     PlannerQueryStats lastQuery_{};
 
@@ -350,7 +350,7 @@ private:
     HabitualCounters counters_{};
 
     // Large members last.
-    Point2 rawPath_[kMaxRawPathPoints] = {};
+    geometry::Point2 rawPath_[kMaxRawPathPoints] = {};
     MapBuilder mapBuilder_;
     LocalMap planMap_;
     LocalMap checkMap_;

@@ -4,6 +4,8 @@
 
 namespace rse::habitual {
 
+using geometry::Point2;
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

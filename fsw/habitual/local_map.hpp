@@ -21,7 +21,7 @@
 #include <cstdint>
 
 #include "fsw/core/status.hpp"
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 
 namespace rse::habitual {
 
@@ -45,23 +45,23 @@ public:
     // rover centre must stay in; clearanceM: the footprint radius every obstacle is
     // inflated by. kInvalidArgument for non-finite values, min >= max on either
     // axis or clearance < 0 (the map then is empty and unusable: nothing is free).
-    core::Status reset(Point2 min, Point2 max, double clearanceM);
+    core::Status reset(geometry::Point2 min, geometry::Point2 max, double clearanceM);
 
     // A convex polygon, either winding, 3..kMaxPolygonVertices finite vertices,
     // no repeated consecutive vertex, positive area (collinear middle vertices are
     // accepted). kInvalidArgument otherwise, kFull when kMaxMapPolygons are held,
     // kNotInitialized before a successful reset(). The map is unchanged on error.
-    core::Status addPolygon(const Point2* vertices, std::size_t count);
+    core::Status addPolygon(const geometry::Point2* vertices, std::size_t count);
     // A disc of radius > 0 (finite). Errors as addPolygon.
-    core::Status addDisc(Point2 centre, double radiusM);
+    core::Status addDisc(geometry::Point2 centre, double radiusM);
 
-    bool pointFree(Point2 p) const;
-    bool segmentFree(Point2 a, Point2 b) const;
+    bool pointFree(geometry::Point2 p) const;
+    bool segmentFree(geometry::Point2 a, geometry::Point2 b) const;
 
     std::size_t polygonCount() const { return polygonCount_; }
     std::size_t discCount() const { return discCount_; }
-    Point2 min() const { return min_; }
-    Point2 max() const { return max_; }
+    geometry::Point2 min() const { return min_; }
+    geometry::Point2 max() const { return max_; }
     double clearance() const { return clearance_; }
     bool valid() const { return valid_; }
 
@@ -70,18 +70,18 @@ public:
 
 private:
     struct Box {
-        Point2 lo;
-        Point2 hi;
+        geometry::Point2 lo;
+        geometry::Point2 hi;
     };
     struct Polygon {
-        Point2 vertices[kMaxPolygonVertices];  // counter-clockwise
-        Point2 normals[kMaxPolygonVertices];   // outward unit normal of edge i (vertex i -> i + 1)
+        geometry::Point2 vertices[kMaxPolygonVertices];  // counter-clockwise
+        geometry::Point2 normals[kMaxPolygonVertices];   // outward unit normal of edge i (vertex i -> i + 1)
         double offsets[kMaxPolygonVertices];   // normals[i] . vertices[i]
         Box inflatedBox;
         std::size_t count;
     };
     struct Disc {
-        Point2 centre;
+        geometry::Point2 centre;
         double inflatedRadius;  // radius + clearance
         Box inflatedBox;
     };
@@ -93,18 +93,18 @@ private:
         std::size_t x0, x1, y0, y1;
     };
 
-    bool inBounds(Point2 p) const;
+    bool inBounds(geometry::Point2 p) const;
     std::size_t cellIndex(double v, double lo, double inverseCell) const;
     CellRange cellsOf(const Box& box) const;
     void markCells(const Box& box, std::uint64_t polygonBit, std::uint32_t discBit);
     CellMask gather(const Box& box) const;
-    bool polygonBlocksPoint(const Polygon& poly, Point2 p) const;
-    bool polygonBlocksSegment(const Polygon& poly, Point2 a, Point2 b) const;
+    bool polygonBlocksPoint(const Polygon& poly, geometry::Point2 p) const;
+    bool polygonBlocksSegment(const Polygon& poly, geometry::Point2 a, geometry::Point2 b) const;
     core::Status refuse(core::Status status);
 
-    Point2 min_{0.0, 0.0};
-    Point2 max_{0.0, 0.0};
-    Point2 inverseCell_{0.0, 0.0};
+    geometry::Point2 min_{0.0, 0.0};
+    geometry::Point2 max_{0.0, 0.0};
+    geometry::Point2 inverseCell_{0.0, 0.0};
     double clearance_ = 0.0;
     bool valid_ = false;
     Polygon polygons_[kMaxMapPolygons] = {};

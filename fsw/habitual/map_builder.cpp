@@ -2,57 +2,16 @@
 
 #include <cmath>
 
+#include "fsw/geometry/coarse_map.hpp"
+
 namespace rse::habitual {
 
-namespace {
-
-std::size_t usedVertices(const tables::CoarseMapTable& coarse, std::size_t slot) {
-    const std::size_t n = coarse.vertex_count[slot];
-    return n >= 3 && n <= kCoarseMapVerticesPerSlot ? n : 0;
-}
-
-std::size_t usedSlots(const tables::CoarseMapTable& coarse) {
-    const std::size_t n = coarse.obstacle_count;
-    return n <= kCoarseMapSlots ? n : kCoarseMapSlots;
-}
-
-Point2 vertexOf(const tables::CoarseMapTable& coarse, std::size_t slot, std::size_t vertex) {
-    const std::size_t i = slot * kCoarseMapVerticesPerSlot + vertex;
-    return Point2{static_cast<double>(coarse.vertex_x_m[i]), static_cast<double>(coarse.vertex_y_m[i])};
-}
-
-// Distance from p to one convex polygon of the table, either winding; 0 inside.
-double distanceToPolygon(const tables::CoarseMapTable& coarse, std::size_t slot, std::size_t count, Point2 p) {
-    bool left = true;   // p left of (or on) every edge
-    bool right = true;  // p right of (or on) every edge
-    double best = INFINITY;
-    for (std::size_t v = 0; v < count; ++v) {
-        const Point2 a = vertexOf(coarse, slot, v);
-        const Point2 b = vertexOf(coarse, slot, v + 1 == count ? 0 : v + 1);
-        const double side = cross(b - a, p - a);
-        left = left && side >= 0.0;
-        right = right && side <= 0.0;
-        const double d2 = pointSegmentDistanceSquared(p, a, b);
-        best = d2 < best ? d2 : best;
-    }
-    return (left || right) ? 0.0 : std::sqrt(best);
-}
-
-}  // namespace
-
-double MapBuilder::distanceToCoarseMap(const tables::CoarseMapTable& coarse, Point2 p) {
-    double best = INFINITY;
-    const std::size_t slots = usedSlots(coarse);
-    for (std::size_t s = 0; s < slots; ++s) {
-        const std::size_t n = usedVertices(coarse, s);
-        if (n == 0) {
-            continue;
-        }
-        const double d = distanceToPolygon(coarse, s, n, p);
-        best = d < best ? d : best;
-    }
-    return best;
-}
+using geometry::coarseMapSlotsUsed;
+using geometry::coarseMapVertex;
+using geometry::coarseMapVerticesUsed;
+using geometry::distanceToCoarseMap;
+using geometry::kCoarseMapVerticesPerSlot;
+using geometry::Point2;
 
 SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point2 roverPosition,
                                      double roverHeadingRad, const msg::HazardSightingTlm& sighting) {
@@ -154,15 +113,15 @@ core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clea
     if (!core::isOk(first)) {
         return first;
     }
-    const std::size_t slots = usedSlots(coarse);
+    const std::size_t slots = coarseMapSlotsUsed(coarse);
     for (std::size_t s = 0; s < slots; ++s) {
-        const std::size_t n = usedVertices(coarse, s);
+        const std::size_t n = coarseMapVerticesUsed(coarse, s);
         if (n == 0) {
             continue;
         }
         Point2 vertices[kCoarseMapVerticesPerSlot];
         for (std::size_t v = 0; v < n; ++v) {
-            vertices[v] = vertexOf(coarse, s, v);
+            vertices[v] = coarseMapVertex(coarse, s, v);
         }
         const core::Status st = map->addPolygon(vertices, n);
         if (!core::isOk(st) && core::isOk(first)) {

@@ -36,7 +36,8 @@
 //
 // build() fills a LocalMap from scratch: bounds and polygons from the coarse-map
 // table (already checked convex at table validation), the remembered discs, every
-// obstacle inflated by the caller's clearance.
+// obstacle inflated by the caller's clearance. The coarse map is read through
+// fsw/geometry/coarse_map.hpp (shared with the deliberative layer).
 //
 // Pure data: no bus, no events; counters say what happened. No heap; loops
 // bounded by kMaxMapDiscs, the table's 16 slots and 8 vertices per slot.
@@ -46,7 +47,7 @@
 #include <cstdint>
 
 #include "fsw/core/status.hpp"
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
@@ -67,9 +68,6 @@ constexpr double kMaxSightingRangeM = 50.0;
 // Largest disc a merge may produce: about twice the rocks a hazard detector
 // reports on its own (the coarse map holds anything larger).
 constexpr double kMaxMergedRadiusM = 2.0;
-// Coarse-map slots and vertices per slot (table 9 layout).
-constexpr std::size_t kCoarseMapSlots = 16;
-constexpr std::size_t kCoarseMapVerticesPerSlot = 8;
 
 enum class SightingOutcome : std::uint8_t {
     kAdded = 0,           // a new obstacle id, in a free slot
@@ -81,7 +79,7 @@ enum class SightingOutcome : std::uint8_t {
 };
 
 struct RememberedHazard {
-    Point2 centre;
+    geometry::Point2 centre;
     double radiusM;
     std::uint32_t lastSeen;  // remember() call count when last sighted (larger is newer)
     std::uint8_t obstacleId;
@@ -94,7 +92,7 @@ struct RememberedHazard {
 // clearance. A rover that stopped inside a grown disc's planning margin can
 // then plan away from it without the margin being cut for every obstacle.
 struct MapRelief {
-    Point2 at[2] = {};
+    geometry::Point2 at[2] = {};
     std::size_t count = 0;
     double marginM = 0.0;
 };
@@ -103,8 +101,8 @@ class MapBuilder {
 public:
     // Turns one sighting into a disc and remembers it (see the file comment).
     // roverPosition / roverHeadingRad: the pose estimate the sighting is relative to.
-    SightingOutcome remember(const tables::CoarseMapTable& coarse, Point2 roverPosition, double roverHeadingRad,
-                             const msg::HazardSightingTlm& sighting);
+    SightingOutcome remember(const tables::CoarseMapTable& coarse, geometry::Point2 roverPosition,
+                             double roverHeadingRad, const msg::HazardSightingTlm& sighting);
     void forgetAll();
 
     // map reset to the coarse-map bounds with clearanceM, then every coarse
@@ -112,10 +110,6 @@ public:
     // map then holds what was added before it); kOk otherwise.
     core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
                        const MapRelief* relief = nullptr) const;
-
-    // Distance from p to the nearest coarse-map polygon (0 inside one); +inf
-    // without polygons.
-    static double distanceToCoarseMap(const tables::CoarseMapTable& coarse, Point2 p);
 
     std::size_t rememberedCount() const;
     const RememberedHazard& slot(std::size_t index) const { return slots_[index < kMaxMapDiscs ? index : 0]; }

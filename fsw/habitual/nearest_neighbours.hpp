@@ -24,7 +24,7 @@
 #include <cstdint>
 
 #include "fsw/core/status.hpp"
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 
 namespace rse::habitual {
 
@@ -49,7 +49,8 @@ public:
     // axis x (p - origin)) for a unit axis; box [lo, hi] in local coordinates,
     // cut into at most `cells` (1..kMaxCells) square cells. kInvalidArgument for
     // a non-finite value, an axis not of unit length, an empty box or a bad count.
-    core::Status reset(Point2 origin, Point2 axis, Point2 lo, Point2 hi, std::size_t cells) {
+    core::Status reset(geometry::Point2 origin, geometry::Point2 axis, geometry::Point2 lo, geometry::Point2 hi,
+                       std::size_t cells) {
         size_ = 0;
         nx_ = 0;
         ny_ = 0;
@@ -65,11 +66,11 @@ public:
 
     // Appends p; its id is the insertion index. kFull at capacity,
     // kInvalidArgument outside the box (or before a successful reset).
-    core::Status insert(Point2 p, std::uint32_t* id) {
+    core::Status insert(geometry::Point2 p, std::uint32_t* id) {
         if (size_ == Capacity) {
             return core::Status::kFull;
         }
-        const Point2 l = toLocal(p);
+        const geometry::Point2 l = toLocal(p);
         if (nx_ == 0 || !(l.x >= lo_.x && l.x <= hi_.x && l.y >= lo_.y && l.y <= hi_.y)) {
             return core::Status::kInvalidArgument;
         }
@@ -85,16 +86,16 @@ public:
     // kept point's new id is the number of kept points before it), over a new
     // box: [lo, hi] widened to hold every kept point, in at most `cells` cells
     // (clamped to 1..kMaxCells). keep covers ids 0..size()-1. O(size + cells).
-    void regrid(const std::uint8_t* keep, Point2 lo, Point2 hi, std::size_t cells) {
+    void regrid(const std::uint8_t* keep, geometry::Point2 lo, geometry::Point2 hi, std::size_t cells) {
         if (nx_ == 0) {
             return;
         }
         const std::size_t old = size_;
         for (std::size_t id = 0; id < old; ++id) {
             if (keep[id] != 0) {
-                const Point2 l = toLocal(points_[id].p);
-                lo = Point2{std::fmin(lo.x, l.x), std::fmin(lo.y, l.y)};
-                hi = Point2{std::fmax(hi.x, l.x), std::fmax(hi.y, l.y)};
+                const geometry::Point2 l = toLocal(points_[id].p);
+                lo = geometry::Point2{std::fmin(lo.x, l.x), std::fmin(lo.y, l.y)};
+                hi = geometry::Point2{std::fmax(hi.x, l.x), std::fmax(hi.y, l.y)};
             }
         }
         if (!(lo.x < hi.x) || !(lo.y < hi.y) || !isFinite(lo) || !isFinite(hi)) {
@@ -114,14 +115,14 @@ public:
     std::size_t cellsY() const { return ny_; }
     std::size_t cellCount() const { return nx_ * ny_; }
     double cellSize() const { return cell_; }
-    Point2 point(std::uint32_t id) const { return points_[id].p; }
-    Point2 toLocal(Point2 p) const {
-        const Point2 d = p - origin_;
-        return Point2{dot(d, axis_), cross(axis_, d)};
+    geometry::Point2 point(std::uint32_t id) const { return points_[id].p; }
+    geometry::Point2 toLocal(geometry::Point2 p) const {
+        const geometry::Point2 d = p - origin_;
+        return geometry::Point2{dot(d, axis_), cross(axis_, d)};
     }
 
     // The nearest point to q (ties: any of them); kNone when empty.
-    std::uint32_t nearest(Point2 q) const {
+    std::uint32_t nearest(geometry::Point2 q) const {
         Neighbour best{kNone, INFINITY};
         search(q, INFINITY, 1, &best);
         return best.id;
@@ -130,7 +131,7 @@ public:
     // The k (>= 1) points nearest to q within radius (distance <= radius), or
     // all there are if fewer, into out[0..k) in no particular order (ties at
     // the k-th distance: any of them). Returns how many.
-    std::size_t nearestWithin(Point2 q, double radius, std::size_t k, Neighbour* out) const {
+    std::size_t nearestWithin(geometry::Point2 q, double radius, std::size_t k, Neighbour* out) const {
         if (k == 0 || out == nullptr || !(radius >= 0.0)) {
             return 0;
         }
@@ -139,13 +140,13 @@ public:
 
 private:
     struct Entry {
-        Point2 p;  // site frame
+        geometry::Point2 p;  // site frame
         std::uint32_t next;
     };
 
     // Square cells, at most `cells` (<= kMaxCells) of them over [lo, hi];
     // empties every list.
-    void shape(Point2 lo, Point2 hi, std::size_t cells) {
+    void shape(geometry::Point2 lo, geometry::Point2 hi, std::size_t cells) {
         const double target = static_cast<double>(cells);
         const double w = hi.x - lo.x;
         const double h = hi.y - lo.y;
@@ -176,8 +177,8 @@ private:
     }
 
     // Appends p (inside the box, room left) as id size_.
-    void link(Point2 p) {
-        const Point2 l = toLocal(p);
+    void link(geometry::Point2 p) {
+        const geometry::Point2 l = toLocal(p);
         const long cx = cellX(l.x);
         const long cy = cellY(l.y);
         const std::size_t cell = static_cast<std::size_t>(cy) * nx_ + static_cast<std::size_t>(cx);
@@ -207,7 +208,7 @@ private:
 
     // Offers the points of one cell to out[0..count), a max-heap on distance of
     // at most k entries (its root is the k-th best once full).
-    std::size_t scanCell(std::size_t cell, Point2 q, double limit2, std::size_t k, Neighbour* out,
+    std::size_t scanCell(std::size_t cell, geometry::Point2 q, double limit2, std::size_t k, Neighbour* out,
                          std::size_t count) const {
         std::size_t guard = 0;  // a list holds each point at most once
         for (std::uint32_t id = heads_[cell]; id != kNone && guard < Capacity; id = points_[id].next, ++guard) {
@@ -239,11 +240,11 @@ private:
         return count;
     }
 
-    std::size_t search(Point2 q, double limit2, std::size_t k, Neighbour* out) const {
+    std::size_t search(geometry::Point2 q, double limit2, std::size_t k, Neighbour* out) const {
         if (size_ == 0) {
             return 0;
         }
-        const Point2 l = toLocal(q);
+        const geometry::Point2 l = toLocal(q);
         const long cx = cellX(l.x);
         const long cy = cellY(l.y);
         // Distance from q to the border of its own cell (0 if q lies outside the grid).
@@ -274,7 +275,7 @@ private:
         return count;
     }
 
-    std::size_t scanRing(Point2 q, long cx, long cy, long r, double limit2, std::size_t k, Neighbour* out,
+    std::size_t scanRing(geometry::Point2 q, long cx, long cy, long r, double limit2, std::size_t k, Neighbour* out,
                          std::size_t count) const {
         const long x0 = cx - r > boxX0_ ? cx - r : boxX0_;
         const long x1 = cx + r < boxX1_ ? cx + r : boxX1_;
@@ -308,10 +309,10 @@ private:
     std::size_t size_ = 0;
     std::size_t nx_ = 0;
     std::size_t ny_ = 0;
-    Point2 origin_{0.0, 0.0};
-    Point2 axis_{1.0, 0.0};
-    Point2 lo_{0.0, 0.0};  // box in the local frame
-    Point2 hi_{0.0, 0.0};
+    geometry::Point2 origin_{0.0, 0.0};
+    geometry::Point2 axis_{1.0, 0.0};
+    geometry::Point2 lo_{0.0, 0.0};  // box in the local frame
+    geometry::Point2 hi_{0.0, 0.0};
     double cell_ = 1.0;
     double inverseCell_ = 1.0;
     long boxX0_ = 0;  // occupied cells: [boxX0_, boxX1_] x [boxY0_, boxY1_]

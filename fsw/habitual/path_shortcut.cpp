@@ -2,6 +2,8 @@
 
 namespace rse::habitual {
 
+using geometry::Point2;
+
 double pathLength(const Point2* path, std::size_t count) {
     double length = 0.0;
     for (std::size_t i = 1; path != nullptr && i < count; ++i) {

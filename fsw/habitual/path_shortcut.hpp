@@ -13,7 +13,7 @@
 
 #include <cstddef>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/habitual/rrt_star.hpp"
 
@@ -22,11 +22,11 @@ namespace rse::habitual {
 constexpr std::size_t kMaxShortcutPoints = kMaxRrtNodes + 1;
 
 // Sum of the segment lengths of path[0..count); 0 for fewer than two points.
-double pathLength(const Point2* path, std::size_t count);
+double pathLength(const geometry::Point2* path, std::size_t count);
 
 // Shortcuts path[0..count) in place and returns the new count (first and last
 // points kept). count < 3 or > kMaxShortcutPoints is returned unchanged; a
 // null path gives 0.
-std::size_t shortcutPath(const LocalMap& map, Point2* path, std::size_t count);
+std::size_t shortcutPath(const LocalMap& map, geometry::Point2* path, std::size_t count);
 
 }  // namespace rse::habitual

@@ -4,6 +4,8 @@
 
 namespace rse::habitual {
 
+using geometry::Point2;
+
 namespace {
 
 // A steered point this close to its nearest node adds nothing (a repeated goal

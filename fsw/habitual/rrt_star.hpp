@@ -55,7 +55,7 @@
 #include <cstdint>
 
 #include "fsw/core/status.hpp"
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/habitual/nearest_neighbours.hpp"
 
@@ -97,7 +97,7 @@ public:
     // start or goal not free (no query is then running: iterate() does nothing
     // and there is no solution). The map must outlive the query and not change
     // during it.
-    core::Status start(const LocalMap& map, Point2 start, Point2 goal, const RrtStarParams& params,
+    core::Status start(const LocalMap& map, geometry::Point2 start, geometry::Point2 goal, const RrtStarParams& params,
                        std::uint64_t seed);
 
     // Runs up to maxIterations samples. Returns the iterations done (fewer only
@@ -108,7 +108,7 @@ public:
     bool solved() const { return bestNode_ != kNone; }
     double bestCost() const { return bestCost_; }
     // start .. goal into out; 0 if unsolved, out is null or the path needs more than maxPoints.
-    std::size_t bestPath(Point2* out, std::size_t maxPoints) const;
+    std::size_t bestPath(geometry::Point2* out, std::size_t maxPoints) const;
     // Points bestPath() would write (0 if unsolved).
     std::size_t bestPathPointCount() const;
 
@@ -116,7 +116,7 @@ public:
     // (ids are renumbered when a full pool is pruned). Out-of-range ids give
     // kNoNode / NaN.
     static constexpr std::uint32_t kNoNode = 0xFFFFFFFFU;
-    Point2 nodePoint(std::size_t id) const;
+    geometry::Point2 nodePoint(std::size_t id) const;
     double nodeCost(std::size_t id) const;
     std::uint32_t nodeParent(std::size_t id) const;  // kNoNode for the start
 
@@ -157,8 +157,8 @@ private:
     };
 
     void step();
-    bool drawSample(Point2* sample);
-    bool drawInformed(Point2* sample);
+    bool drawSample(geometry::Point2* sample);
+    bool drawInformed(geometry::Point2* sample);
     std::uint16_t kFor(std::size_t n);
     void link(std::uint32_t child, std::uint32_t parent);
     void unlink(std::uint32_t child);
@@ -168,24 +168,24 @@ private:
     std::size_t markPromising();
     void compact(std::size_t n);
     bool regridDue();
-    void ellipseBox(Point2* lo, Point2* hi) const;
-    bool segmentFree(Point2 a, Point2 b);
+    void ellipseBox(geometry::Point2* lo, geometry::Point2* hi) const;
+    bool segmentFree(geometry::Point2 a, geometry::Point2 b);
 
     const LocalMap* map_ = nullptr;
     RrtStarParams params_{1.0, 0.0, 0.0, 1};
-    Point2 start_{0.0, 0.0};
-    Point2 goal_{0.0, 0.0};
+    geometry::Point2 start_{0.0, 0.0};
+    geometry::Point2 goal_{0.0, 0.0};
     bool started_ = false;
     bool goalNext_ = false;      // the next sample is the goal
     bool goalNodeExists_ = false;
     Random random_{};
     // Informed-sampling frame: ellipse centre, unit axis start -> goal, |goal - start|.
-    Point2 centre_{0.0, 0.0};
-    Point2 axis_{1.0, 0.0};
+    geometry::Point2 centre_{0.0, 0.0};
+    geometry::Point2 axis_{1.0, 0.0};
     double focalDistance_ = 0.0;
     double boundsArea_ = 0.0;
-    Point2 boundsLo_{0.0, 0.0};  // the bounds' box in the grid's frame
-    Point2 boundsHi_{0.0, 0.0};
+    geometry::Point2 boundsLo_{0.0, 0.0};  // the bounds' box in the grid's frame
+    geometry::Point2 boundsHi_{0.0, 0.0};
 
     std::uint32_t bestNode_ = kNone;
     double bestCost_ = INFINITY;

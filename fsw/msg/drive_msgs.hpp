@@ -28,6 +28,12 @@ enum class DriveHealth : std::uint8_t {
     kLost = 7,
 };
 
+// h is one of DriveHealth's values: a message carrying any other is malformed
+// (it reads as neither healthy nor faulted).
+constexpr bool isKnownDriveHealth(DriveHealth h) {
+    return static_cast<std::uint8_t>(h) <= static_cast<std::uint8_t>(DriveHealth::kLost);
+}
+
 struct WheelStatus {
     double targetRadS;       // target velocity sent to the drive this frame (after the interlock)
     double velocityRadS;     // wheel angular velocity actual

@@ -13,6 +13,7 @@ constexpr std::uint8_t kSafe = 0;
 constexpr std::uint8_t kStandby = 1;
 constexpr std::uint8_t kAutonomous = 2;
 constexpr std::uint8_t kManual = 3;
+constexpr std::uint8_t kCount = 4;  // a value from here up is no mode
 }  // namespace mode
 
 // Published on every change of mode or e-stop, and once at start-up.

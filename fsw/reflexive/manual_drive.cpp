@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/reflexive/reflexive_events.hpp"
 
 namespace rse::reflexive {
@@ -58,7 +57,7 @@ void ManualDrive::run(const core::FrameContext&) {
         msg::ModeMsg mode{};
         msg::ManualDriveMsg request{};
         if (core::isOk(inbox_.decode(&mode))) {
-            manualMode_ = mode.mode == static_cast<std::uint8_t>(cmdtlm::Mode::kManual) && mode.estop == 0;
+            manualMode_ = mode.mode == msg::mode::kManual && mode.estop == 0;
             if (driving_ && !manualMode_) {
                 stop(mode.estop != 0 ? "software e-stop" : "left MANUAL mode");
             }

@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-#include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
@@ -90,10 +89,10 @@ void TrajectoryTask::takeInputs(core::TimeNs now) {
                 msg::ModeMsg mode{};
                 if (!core::isOk(inbox_.decode(&mode))) {
                     malformed("mode message that does not decode");
-                } else if (mode.mode >= cmdtlm::kModeCount) {
+                } else if (mode.mode >= msg::mode::kCount) {
                     malformed("mode message with an unknown mode");
                 } else {
-                    autonomous_ = mode.mode == static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous);
+                    autonomous_ = mode.mode == msg::mode::kAutonomous;
                     estop_ = mode.estop != 0;
                 }
                 break;

@@ -101,7 +101,7 @@ namespace {
 namespace ob = ompl::base;
 namespace og = ompl::geometric;
 using rse::habitual::LocalMap;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kCheckpointsMs[3] = {10.0, 50.0, 200.0};

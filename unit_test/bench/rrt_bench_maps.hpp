@@ -18,8 +18,8 @@ namespace rse::test {
 
 struct RrtBenchMap {
     const char* name;
-    habitual::Point2 start;
-    habitual::Point2 goal;
+    geometry::Point2 start;
+    geometry::Point2 goal;
 };
 
 constexpr double kBenchSizeM = 20.0;
@@ -33,7 +33,7 @@ constexpr RrtBenchMap kBenchMaps[kBenchMapCount] = {
 
 // Builds map `index` of kBenchMaps into map; false if something was refused.
 inline bool buildBenchMap(int index, habitual::LocalMap* map) {
-    using habitual::Point2;
+    using geometry::Point2;
     if (map->reset(Point2{0.0, 0.0}, Point2{kBenchSizeM, kBenchSizeM}, kBenchClearanceM) != core::Status::kOk) {
         return false;
     }
@@ -50,7 +50,7 @@ inline bool buildBenchMap(int index, habitual::LocalMap* map) {
             const double radius = 0.3 + 0.6 * uniform();
             const int n = 3 + static_cast<int>(6.0 * uniform());
             const double reach = radius + kBenchClearanceM + 0.3;
-            if (habitual::distance(c, m.start) < reach || habitual::distance(c, m.goal) < reach) {
+            if (geometry::distance(c, m.start) < reach || geometry::distance(c, m.goal) < reach) {
                 continue;
             }
             Point2 v[habitual::kMaxPolygonVertices];

@@ -34,7 +34,7 @@ LegParams params(double spacing) {
     lp.slackFrac = 0.3;
     lp.distanceMarginFrac = 0.1;
     lp.powerMarginFrac = 0.2;
-    lp.power = habitual::PowerModel{940.0, 1370.0, 4.5};
+    lp.power = rover_model::PowerModel{940.0, 1370.0, 4.5};
     lp.meanPowerFactor = 1.2;
     lp.headingRad = 0.0;
     return lp;
@@ -75,11 +75,11 @@ TEST(PlanLegs, BoundsArePlannedFiguresWithAllowancesAndSlackAfterTheHabitualMarg
     LONGS_EQUAL(2, legs.count);
     const double slack = 1.3;
     DOUBLES_EQUAL((6.0 + kLengthAllowanceM) * slack / 0.9, legs.legs[0].lengthM, 1e-9);
-    DOUBLES_EQUAL(habitual::motionEnergyJ(lp.power, 6.0 + kLengthAllowanceM, kTurnAllowanceRad, 1.2) * slack / 0.8,
+    DOUBLES_EQUAL(rover_model::motionEnergyJ(lp.power, 6.0 + kLengthAllowanceM, kTurnAllowanceRad, 1.2) * slack / 0.8,
                   legs.legs[0].energyJ, 1e-9);
     // The second leg starts with a quarter turn left.
-    DOUBLES_EQUAL(habitual::motionEnergyJ(lp.power, 4.0 + kLengthAllowanceM, M_PI / 2 + kTurnAllowanceRad, 1.2) * slack /
-                      0.8,
+    DOUBLES_EQUAL(rover_model::motionEnergyJ(lp.power, 4.0 + kLengthAllowanceM, M_PI / 2 + kTurnAllowanceRad, 1.2) *
+                      slack / 0.8,
                   legs.legs[1].energyJ, 1e-9);
     // A rover facing the wrong way pays the turn on the first leg.
     LegParams back = lp;

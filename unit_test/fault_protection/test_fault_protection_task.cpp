@@ -178,6 +178,55 @@ TEST(FaultProtectionTask, MalformedInputIsCountedAndIgnored) {
     LONGS_EQUAL(1, test::drainEventsWithId(rig.events, fault_protection::events::kMalformedInput));
 }
 
+// A wheel health outside DriveHealth reads as neither healthy nor faulted: the
+// whole drive status is refused (its other wheels are not acted on), counted
+// and evented; the last good status stands until a good one comes.
+TEST(FaultProtectionTask, ADriveHealthOutsideItsEnumIsRefusedCountedAndEvented) {
+    rig.runFrame();  // a good status: every drive operational
+    LONGS_EQUAL(0, rig.task.malformedMessages());
+    rig.drives.wheels[2].health = static_cast<msg::DriveHealth>(8);  // one past kLost
+    rig.drives.wheels[0].health = msg::DriveHealth::kFailed;         // in range, but in a refused message
+    rig.runFrame();
+    LONGS_EQUAL(1, rig.task.malformedMessages());
+    LONGS_EQUAL(1, test::drainEventsWithId(rig.events, fault_protection::events::kMalformedInput));
+    LONGS_EQUAL(0, rig.recoveries);  // wheel 0's failure was not taken from it
+    LONGS_EQUAL(0, rig.hold.reasons);
+    LONGS_EQUAL(0, rig.task.responder().responsesStarted());
+    rig.drives.wheels[2].health = static_cast<msg::DriveHealth>(255);
+    rig.runFrame();
+    LONGS_EQUAL(2, rig.task.malformedMessages());
+    // The next good status is taken: wheel 0's failure gets its fault reset.
+    rig.drives.wheels[2].health = msg::DriveHealth::kOperational;
+    rig.runFrame();
+    LONGS_EQUAL(2, rig.task.malformedMessages());
+    LONGS_EQUAL(1, rig.recoveries);
+    LONGS_EQUAL(0, rig.lastRecovery.wheel);
+}
+
+// The last good status stands while bad ones come: a faulted drive is not
+// taken for recovered, and its response goes on.
+TEST(FaultProtectionTask, AFaultedDriveStaysFaultedThroughRefusedStatuses) {
+    rig.drives.wheels[4].health = msg::DriveHealth::kFailed;
+    rig.runFrame();
+    LONGS_EQUAL(1, rig.recoveries);  // the first fault reset
+    rig.drives.wheels[4].health = static_cast<msg::DriveHealth>(9);
+    for (int i = 0; i < 300; ++i) {  // well past the 1 s wait for the next try
+        rig.runFrame();
+    }
+    LONGS_EQUAL(300, rig.task.malformedMessages());
+    LONGS_EQUAL(0, rig.task.responder().recoveries());
+    LONGS_EQUAL(1u << msg::hold::kDriveRecovery, rig.hold.reasons);
+    CHECK(rig.task.status().actionsSent >= 2);  // tries went on from the last good status (failed)
+}
+
+// kLost, the last value, is a drive state: taken, not refused.
+TEST(FaultProtectionTask, TheLastDriveHealthIsInRange) {
+    rig.drives.wheels[1].health = msg::DriveHealth::kLost;
+    rig.runFrame();
+    LONGS_EQUAL(0, rig.task.malformedMessages());
+    LONGS_EQUAL(1u << msg::hold::kDriveRecovery, rig.hold.reasons);
+}
+
 TEST(FaultProtectionTask, NoHeapAcrossAFaultedMinute) {
     rig.mode(msg::mode::kAutonomous);
     rig.runFrame();

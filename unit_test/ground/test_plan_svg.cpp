@@ -28,7 +28,7 @@ using rse::ground::obstacleCorners;
 using rse::ground::pathClearance;
 using rse::ground::PlanPicture;
 using rse::ground::segmentPolygonDistance;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 
 namespace {
 
@@ -209,7 +209,7 @@ TEST(PlanSvg, CornersOfABoxCounterClockwise) {
     CHECK_EQUAL(4U, c.size());
     double twiceArea = 0.0;
     for (std::size_t i = 0; i < c.size(); ++i) {
-        twiceArea += rse::habitual::cross(c[i], c[(i + 1) % c.size()]);
+        twiceArea += rse::geometry::cross(c[i], c[(i + 1) % c.size()]);
     }
     DOUBLES_EQUAL(2.0 * 2.0 * 2.5, twiceArea, 1e-12);  // positive: counter-clockwise
     for (const Point2& p : c) {

@@ -12,7 +12,7 @@
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
-using habitual::Point2;
+using geometry::Point2;
 using msg::HabitualState;
 using msg::LegConstraint;
 using test::HabitualRig;

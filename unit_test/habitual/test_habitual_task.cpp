@@ -9,13 +9,14 @@
 
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
+#include "fsw/rover_model/power_model.hpp"
 #include "unit_test/habitual/habitual_rig.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
-using habitual::Point2;
+using geometry::Point2;
 using msg::HabitualState;
 using msg::LegConstraint;
 using test::HabitualRig;
@@ -119,7 +120,8 @@ TEST(HabitualTask, PlansAroundAKnownRockSendsAFreeTrajectoryAndReportsArrival) {
     Point2 pts[msg::kMaxTrajectoryPoints];
     const std::size_t n = trajectoryPoints(t, pts);
     const double length = habitual::pathLength(pts, n);
-    const double energy = habitual::pathEnergyJ(habitual::powerModelFrom(rig->tables.habitual()), pts, n, 0.0, 1.0);
+    const rover_model::PowerModel model = rover_model::powerModelFrom(rig->tables.habitual());
+    const double energy = rover_model::pathEnergyJ(model, pts, n, 0.0, 1.0);
     const msg::LegReportMsg& r = rig->lastReport;
     CHECK(HabitualState::kDriving == r.state);
     LONGS_EQUAL(1, r.legId);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fsw/geometry/coarse_map.hpp"
 #include "fsw/habitual/map_builder.hpp"
 #include "fsw/tables/default_tables.hpp"
 #include "fsw/tables/table_image.hpp"
@@ -11,9 +12,9 @@
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
+using geometry::Point2;
 using habitual::LocalMap;
 using habitual::MapBuilder;
-using habitual::Point2;
 using habitual::SightingOutcome;
 
 namespace {
@@ -158,7 +159,7 @@ TEST(MapBuilder, SightingOnOrNearACoarsePolygonIsAKnownObstacle) {
     // 0.35 m away is something else: added.
     CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.35, 0.0, 0.1)));
     LONGS_EQUAL(1, builder.rememberedCount());
-    DOUBLES_EQUAL(0.35, MapBuilder::distanceToCoarseMap(coarse, findId(builder, 1)->centre), 1e-6);
+    DOUBLES_EQUAL(0.35, geometry::distanceToCoarseMap(coarse, findId(builder, 1)->centre), 1e-6);
 }
 
 TEST(MapBuilder, FullTableReplacesTheSightingSeenLongestAgo) {

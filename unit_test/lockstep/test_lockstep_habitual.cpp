@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "fsw/habitual/power_model.hpp"
+#include "fsw/rover_model/power_model.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
@@ -169,12 +169,13 @@ TEST_GROUP(LockstepHabitual) {
         // Leg 2: 6 m straight on; the energy bound leaves 4 % over what six
         // nominal drives need after the table's power margin.
         const tables::HabitualTable& table = rig->fsw().tables().habitual();
-        const habitual::PowerModel model = habitual::powerModelFrom(table);
+        const rover_model::PowerModel model = rover_model::powerModelFrom(table);
         const msg::PoseEstimateMsg pose = rig->fsw().poseEstimator().latest();
-        const habitual::Point2 path[2] = {{pose.xM, pose.yM}, {10.0, 0.0}};
+        const geometry::Point2 path[2] = {{pose.xM, pose.yM}, {10.0, 0.0}};
         SecondLegOutcome out{};
-        out.nominalEnergyJ = habitual::pathEnergyJ(model, path, 2, pose.headingRad, 1.0);
-        out.meanFactor = habitual::meanPowerFactor(g_watch.modes, static_cast<double>(table.failed_drive_power_factor));
+        out.nominalEnergyJ = rover_model::pathEnergyJ(model, path, 2, pose.headingRad, 1.0);
+        out.meanFactor =
+            rover_model::meanPowerFactor(g_watch.modes, static_cast<double>(table.failed_drive_power_factor));
         const double maxEnergyJ = 1.04 * out.nominalEnergyJ / (1.0 - static_cast<double>(table.power_margin_frac));
         const std::uint32_t repairsBefore = rig->fsw().habitual().counters().repairAttempts;
         sendLeg(2, 10.0, 0.0, 20.0, maxEnergyJ);

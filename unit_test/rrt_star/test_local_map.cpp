@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "unit_test/bench/rrt_bench_maps.hpp"
 
@@ -11,7 +11,7 @@
 
 using rse::core::Status;
 using rse::habitual::LocalMap;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 
 namespace {
 

@@ -5,14 +5,14 @@
 #include <cmath>
 #include <cstdint>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/nearest_neighbours.hpp"
 
 #include "CppUTest/TestHarness.h"
 
 using rse::core::Status;
 using rse::habitual::Neighbour;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 
 namespace {
 
@@ -35,7 +35,7 @@ double kthDistance(Point2 q, std::size_t n, double radius, std::size_t k, std::s
     static double d2[kCapacity];
     std::size_t m = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const double d = rse::habitual::distanceSquared(q, points[i]);
+        const double d = rse::geometry::distanceSquared(q, points[i]);
         if (d <= radius * radius) {
             d2[m++] = d;
         }
@@ -56,7 +56,7 @@ void checkQueries(Random& rng, std::size_t n, Point2 lo, Point2 hi, int queries)
         std::size_t within = 0;
         const std::uint32_t nearest = grid.nearest(q);
         CHECK(nearest < n);
-        DOUBLES_EQUAL(kthDistance(q, n, INFINITY, 1, &within), rse::habitual::distanceSquared(q, points[nearest]), 0.0);
+        DOUBLES_EQUAL(kthDistance(q, n, INFINITY, 1, &within), rse::geometry::distanceSquared(q, points[nearest]), 0.0);
         const double radius = 3.0 * rng.uniform();
         const std::size_t k = 1 + static_cast<std::size_t>(63.0 * rng.uniform());
         const std::size_t got = grid.nearestWithin(q, radius, k, out);
@@ -65,7 +65,7 @@ void checkQueries(Random& rng, std::size_t n, Point2 lo, Point2 hi, int queries)
         double largest = 0.0;
         for (std::size_t i = 0; i < got; ++i) {
             CHECK(out[i].id < n);
-            DOUBLES_EQUAL(rse::habitual::distanceSquared(q, points[out[i].id]), out[i].distanceSquared, 0.0);
+            DOUBLES_EQUAL(rse::geometry::distanceSquared(q, points[out[i].id]), out[i].distanceSquared, 0.0);
             CHECK(out[i].distanceSquared <= radius * radius);
             for (std::size_t j = 0; j < i; ++j) {
                 CHECK(out[i].id != out[j].id);
@@ -114,7 +114,7 @@ TEST(PointGrid, MatchesBruteForceInARotatedFrameAsPointsAreAdded) {
     const Point2 corners[4] = {{0, 0}, {20, 0}, {20, 20}, {0, 20}};
     for (const Point2 c : corners) {
         const Point2 d = c - origin;
-        const Point2 l{rse::habitual::dot(d, axis), rse::habitual::cross(axis, d)};
+        const Point2 l{rse::geometry::dot(d, axis), rse::geometry::cross(axis, d)};
         lo = Point2{std::min(lo.x, l.x), std::min(lo.y, l.y)};
         hi = Point2{std::max(hi.x, l.x), std::max(hi.y, l.y)};
     }

@@ -1,7 +1,7 @@
 // Line-of-sight shortcutting: never longer, never through an obstacle, ends kept.
 #include <cstdint>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
 #include "fsw/habitual/rrt_star.hpp"
@@ -12,7 +12,7 @@
 using rse::core::Status;
 using rse::habitual::LocalMap;
 using rse::habitual::pathLength;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 using rse::habitual::shortcutPath;
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
 #include "fsw/habitual/rrt_star.hpp"
@@ -17,7 +17,7 @@
 using rse::core::Status;
 using rse::habitual::kMaxRrtNodes;
 using rse::habitual::LocalMap;
-using rse::habitual::Point2;
+using rse::geometry::Point2;
 using rse::habitual::RrtStar;
 using rse::habitual::RrtStarParams;
 
@@ -54,7 +54,7 @@ void checkTree(const RrtStar& p, const LocalMap& map) {
     for (std::size_t id = 1; id < n; ++id) {
         const std::uint32_t parent = p.nodeParent(id);
         CHECK(parent < n);
-        const double edge = rse::habitual::distance(p.nodePoint(parent), p.nodePoint(id));
+        const double edge = rse::geometry::distance(p.nodePoint(parent), p.nodePoint(id));
         DOUBLES_EQUAL(p.nodeCost(parent) + edge, p.nodeCost(id), 1e-9 * (1.0 + p.nodeCost(id)));
         CHECK(map.segmentFree(p.nodePoint(parent), p.nodePoint(id)));
         std::size_t hops = 0;
@@ -120,7 +120,7 @@ TEST(RrtStar, StartRefusesBadParametersAndBlockedEnds) {
 TEST(RrtStar, OpenMapCostFallsMonotonicallyToTheStraightLine) {
     const rse::test::RrtBenchMap& m = rse::test::kBenchMaps[0];
     const LocalMap& map = benchMap(0);
-    const double straight = rse::habitual::distance(m.start, m.goal);
+    const double straight = rse::geometry::distance(m.start, m.goal);
     CHECK(Status::kOk == planner.start(map, m.start, m.goal, kParams, 7));
     double previous = INFINITY;
     int improvements = 0;
@@ -251,7 +251,7 @@ TEST(RrtStar, AFullPoolWithASolutionIsPrunedAndKeepsImproving) {
     const double best = planner.bestCost();
     for (std::size_t id = 0; id < planner.nodeCount(); ++id) {
         const Point2 p = planner.nodePoint(id);
-        CHECK(rse::habitual::distance(m.start, p) + rse::habitual::distance(p, m.goal) <= best + 1e-9);
+        CHECK(rse::geometry::distance(m.start, p) + rse::geometry::distance(p, m.goal) <= best + 1e-9);
     }
 }
 

@@ -1,13 +1,11 @@
-#include "fsw/habitual/power_model.hpp"
+#include "fsw/rover_model/power_model.hpp"
 
 #include <cmath>
 
-namespace rse::habitual {
+namespace rse::rover_model {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kTwoPi = 2.0 * kPi;
-}  // namespace
+using geometry::Point2;
+using geometry::wrapAngleRad;
 
 PowerModel powerModelFrom(const tables::HabitualTable& table) {
     return PowerModel{static_cast<double>(table.drive_energy_j_per_m), static_cast<double>(table.turn_energy_j_per_rad),
@@ -29,19 +27,6 @@ double meanPowerFactor(const msg::DriveModesMsg& modes, double failedDrivePowerF
         }
     }
     return sum / static_cast<double>(msg::kWheelCount);
-}
-
-double wrapAngleRad(double radians) {
-    if (!std::isfinite(radians)) {
-        return radians;
-    }
-    double a = std::fmod(radians, kTwoPi);  // (-2 pi, 2 pi)
-    if (a > kPi) {
-        a -= kTwoPi;
-    } else if (a <= -kPi) {
-        a += kTwoPi;
-    }
-    return a;
 }
 
 double totalHeadingChangeRad(const Point2* path, std::size_t count, double headingRad) {
@@ -78,4 +63,4 @@ double pathEnergyJ(const PowerModel& model, const Point2* path, std::size_t coun
     return motionEnergyJ(model, length, totalHeadingChangeRad(path, count, headingRad), meanFactor);
 }
 
-}  // namespace rse::habitual
+}  // namespace rse::rover_model

@@ -1,5 +1,6 @@
-// Plane geometry for the local planner: points in the site frame (metres, x east,
-// y north) and the exact distance tests the collision checks are built from.
+// Plane geometry for the planners (habitual and deliberative; it sits below
+// both): points in the site frame (metres, x east, y north), the exact distance
+// tests the collision checks are built from, and heading differences.
 //
 // Everything works on squared distances where it can, so the hot collision path
 // takes no square root. Touching counts as meeting: a distance of exactly zero is
@@ -10,7 +11,7 @@
 #include <cmath>
 #include <cstddef>
 
-namespace rse::habitual {
+namespace rse::geometry {
 
 struct Point2 {
     double x;
@@ -75,7 +76,7 @@ inline double segmentSegmentDistanceSquared(Point2 a, Point2 b, Point2 c, Point2
 }
 
 // p inside or on the boundary of the convex polygon whose count vertices run
-// counter-clockwise. Callers bound count (LocalMap: kMaxPolygonVertices).
+// counter-clockwise. Callers bound count (habitual::LocalMap: kMaxPolygonVertices).
 inline bool pointInConvexPolygon(Point2 p, const Point2* ccwVertices, std::size_t count) {
     for (std::size_t i = 0; i < count; ++i) {
         const Point2 a = ccwVertices[i];
@@ -87,4 +88,20 @@ inline bool pointInConvexPolygon(Point2 p, const Point2* ccwVertices, std::size_
     return true;
 }
 
-}  // namespace rse::habitual
+// An angle wrapped to (-pi, pi]; non-finite values pass through.
+inline double wrapAngleRad(double radians) {
+    constexpr double kPi = 3.14159265358979323846;
+    constexpr double kTwoPi = 2.0 * kPi;
+    if (!std::isfinite(radians)) {
+        return radians;
+    }
+    double a = std::fmod(radians, kTwoPi);  // (-2 pi, 2 pi)
+    if (a > kPi) {
+        a -= kTwoPi;
+    } else if (a <= -kPi) {
+        a += kTwoPi;
+    }
+    return a;
+}
+
+}  // namespace rse::geometry

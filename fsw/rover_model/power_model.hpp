@@ -1,6 +1,7 @@
-// The habitual layer's power model: the energy the six wheel drives will draw
-// to drive a planned path, so a plan can be checked against the leg's
-// not-to-exceed energy before the rover commits to it.
+// The rover's power model: the energy the six wheel drives will draw to drive
+// a path. The deliberative layer sets each leg's not-to-exceed energy with it;
+// the habitual layer checks a plan against that bound before the rover commits
+// to it. Both layers use it, so it sits below both (fsw/rover_model/).
 //
 //   E = fbar * (e_m * L + e_r * Theta)
 //
@@ -36,7 +37,7 @@
 //   (the base load does not depend on the path).
 // - Energy the drives draw while the rover stands still (no-load current while
 //   planning) is not path energy and is not counted.
-// Calibration against the simulator: unit_test/habitual/test_power_model_calibration.cpp
+// Calibration against the simulator: unit_test/rover_model/test_power_model_calibration.cpp
 // and docs/habitual.md ("Power model").
 //
 // Pure math: no bus, no events, no state.
@@ -44,11 +45,11 @@
 
 #include <cstddef>
 
-#include "fsw/habitual/geometry2d.hpp"
+#include "fsw/geometry/geometry2d.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
 
-namespace rse::habitual {
+namespace rse::rover_model {
 
 struct PowerModel {
     double driveEnergyJPerM;        // e_m
@@ -63,17 +64,14 @@ double meanPowerFactor(const msg::DriveModesMsg& modes, double failedDrivePowerF
 
 // Theta of path[0..count) for a rover at path[0] facing headingRad. Zero-length
 // segments have no direction and are skipped; 0 for fewer than two points.
-double totalHeadingChangeRad(const Point2* path, std::size_t count, double headingRad);
+double totalHeadingChangeRad(const geometry::Point2* path, std::size_t count, double headingRad);
 
 // E for a length and a heading change already known (e.g. the part of a leg
 // already driven).
 double motionEnergyJ(const PowerModel& model, double lengthM, double headingChangeRad, double meanFactor);
 
 // E of path[0..count) for a rover at path[0] facing headingRad.
-double pathEnergyJ(const PowerModel& model, const Point2* path, std::size_t count, double headingRad,
+double pathEnergyJ(const PowerModel& model, const geometry::Point2* path, std::size_t count, double headingRad,
                    double meanFactor);
 
-// An angle wrapped to (-pi, pi]; non-finite values pass through.
-double wrapAngleRad(double radians);
-
-}  // namespace rse::habitual
+}  // namespace rse::rover_model

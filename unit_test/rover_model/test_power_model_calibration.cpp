@@ -1,4 +1,4 @@
-// Calibration of the habitual power model (fsw/habitual/power_model.hpp)
+// Calibration of the habitual power model (fsw/rover_model/power_model.hpp)
 // against the simulated rover, in lockstep: the flight software drives the
 // simulated drives over CAN and the energy is measured as the flight software
 // sees it.
@@ -22,7 +22,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "fsw/habitual/power_model.hpp"
+#include "fsw/rover_model/power_model.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
@@ -87,7 +87,7 @@ void meterFrame(sim::LockstepRig& rig) {
         }
     }
     const double theta = rig.rover().truth().pose.theta;
-    m.turnedRad += std::fabs(habitual::wrapAngleRad(theta - m.lastTheta));
+    m.turnedRad += std::fabs(geometry::wrapAngleRad(theta - m.lastTheta));
     m.lastTheta = theta;
 }
 
@@ -172,8 +172,8 @@ TEST(PowerModelCalibration, StraightDriveAtCruiseSpeedMatchesTheModel) {
     const Measured m = driveStraight(10.0);
     CHECK(m.amount > 10.0);
     DOUBLES_EQUAL(m.truthJ, m.flightJ, 0.02 * m.truthJ);  // the reported currents are the physical ones
-    const habitual::PowerModel model = habitual::powerModelFrom(habitualTable());
-    const double predicted = habitual::motionEnergyJ(model, m.amount, 0.0, 1.0);
+    const rover_model::PowerModel model = rover_model::powerModelFrom(habitualTable());
+    const double predicted = rover_model::motionEnergyJ(model, m.amount, 0.0, 1.0);
     print("straight", m, predicted, "m");
     DOUBLES_EQUAL(m.flightJ, predicted, kTolerance * m.flightJ);
 }
@@ -183,8 +183,8 @@ TEST(PowerModelCalibration, TurnInPlaceMatchesTheModel) {
     CHECK(m.amount > kPi);
     CHECK(rig->rover().truth().distanceM < 0.05);  // in place
     DOUBLES_EQUAL(m.truthJ, m.flightJ, 0.02 * m.truthJ);
-    const habitual::PowerModel model = habitual::powerModelFrom(habitualTable());
-    const double predicted = habitual::motionEnergyJ(model, 0.0, m.amount, 1.0);
+    const rover_model::PowerModel model = rover_model::powerModelFrom(habitualTable());
+    const double predicted = rover_model::motionEnergyJ(model, 0.0, m.amount, 1.0);
     print("turn in place", m, predicted, "rad");
     DOUBLES_EQUAL(m.flightJ, predicted, kTolerance * m.flightJ);
 }
@@ -199,7 +199,7 @@ TEST(PowerModelCalibration, DegradedMotorRaisesTheEnergyByTheEstimatedMeanPowerF
     CHECK_TRUE(g_meter.haveModes);
     const double factorEstimate = static_cast<double>(g_meter.modes.drives[2].powerFactor);
     const double fbar =
-        habitual::meanPowerFactor(g_meter.modes, static_cast<double>(habitualTable().failed_drive_power_factor));
+        rover_model::meanPowerFactor(g_meter.modes, static_cast<double>(habitualTable().failed_drive_power_factor));
     const double measuredRatio = (degraded.flightJ / degraded.amount) / (nominal.flightJ / nominal.amount);
     char line[200];
     std::snprintf(line, sizeof line,
@@ -211,7 +211,7 @@ TEST(PowerModelCalibration, DegradedMotorRaisesTheEnergyByTheEstimatedMeanPowerF
     DOUBLES_EQUAL(1.8, factorEstimate, 0.1);
     DOUBLES_EQUAL(fbar, measuredRatio, kRatioTolerance * measuredRatio);
     // And the model, scaled by the estimate, predicts the degraded drive from the nominal one.
-    const habitual::PowerModel calibrated{nominal.flightJ / nominal.amount, 0.0, 2.0};
-    DOUBLES_EQUAL(degraded.flightJ, habitual::motionEnergyJ(calibrated, degraded.amount, 0.0, fbar),
+    const rover_model::PowerModel calibrated{nominal.flightJ / nominal.amount, 0.0, 2.0};
+    DOUBLES_EQUAL(degraded.flightJ, rover_model::motionEnergyJ(calibrated, degraded.amount, 0.0, fbar),
                   kRatioTolerance * degraded.flightJ);
 }

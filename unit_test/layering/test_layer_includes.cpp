@@ -1,0 +1,130 @@
+// "Layers meet only through fsw/msg/ and the bus: what two layers both need
+// (2-D geometry, the map) lives below both, not inside one that the other
+// includes." This test reads the flight sources (run from the repository root
+// as every suite is) and fails for any #include "..." that breaks the rule:
+//
+// - a file in a layer folder (fsw/estimator, fsw/reflexive, fsw/habitual,
+//   fsw/deliberative, fsw/fault_protection) includes only its own folder and
+//   the folders below every layer: fsw/msg, fsw/core, fsw/geometry, fsw/tables,
+//   fsw/rover_model. Not another layer, not fsw/cmdtlm or fsw/app, not hal/
+//   (no layer uses it), not the simulator or the ground tools;
+// - a file in a folder below the layers includes only folders below the layers
+//   (what sits below both cannot reach back up into either).
+//
+// fsw/app (the composition root) and fsw/cmdtlm are not checked: they may
+// include every layer.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <CppUTest/TestHarness.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", "deliberative", "fault_protection"};
+const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "tables", "rover_model"};
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The quoted include paths of one file, with their line numbers.
+struct Include {
+    std::size_t line;
+    std::string path;
+};
+
+std::vector<Include> quotedIncludes(const fs::path& file) {
+    std::vector<Include> out;
+    std::ifstream in(file);
+    std::string text;
+    for (std::size_t line = 1; std::getline(in, text); ++line) {
+        const std::size_t hash = text.find_first_not_of(" \t");
+        if (hash == std::string::npos || text[hash] != '#') {
+            continue;
+        }
+        const std::size_t word = text.find_first_not_of(" \t", hash + 1);
+        if (word == std::string::npos || text.compare(word, 7, "include") != 0) {
+            continue;
+        }
+        const std::size_t open = text.find('"', word + 7);
+        const std::size_t close = open == std::string::npos ? open : text.find('"', open + 1);
+        if (close != std::string::npos) {
+            out.push_back(Include{line, text.substr(open + 1, close - open - 1)});
+        }
+    }
+    return out;
+}
+
+// The folder under fsw/ a path names ("fsw/habitual/x.hpp" -> "habitual"), or "" outside fsw/.
+std::string fswFolder(const std::string& path) {
+    if (path.rfind("fsw/", 0) != 0) {
+        return "";
+    }
+    const std::size_t slash = path.find('/', 4);
+    return slash == std::string::npos ? "" : path.substr(4, slash - 4);
+}
+
+// What a scan of some folders found: how many files it read, and every include
+// that is not into the file's own folder or an allowed one, as "file:line
+// includes path" lines.
+struct Scan {
+    std::size_t files = 0;
+    std::string violations;
+};
+
+Scan scan(const std::vector<std::string>& folders, const std::vector<std::string>& allowed) {
+    Scan out;
+    for (const std::string& folder : folders) {
+        const fs::path root = fs::path("fsw") / folder;
+        if (!fs::is_directory(root)) {
+            continue;
+        }
+        for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
+            const std::string ext = e.path().extension().string();
+            if (!e.is_regular_file() || (ext != ".cpp" && ext != ".hpp" && ext != ".def")) {
+                continue;
+            }
+            ++out.files;
+            for (const Include& inc : quotedIncludes(e.path())) {
+                const std::string target = fswFolder(inc.path);
+                if (target != folder && !contains(allowed, target)) {
+                    out.violations += "\n  " + e.path().generic_string() + ":" + std::to_string(inc.line) +
+                                      " includes " + inc.path;
+                }
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_GROUP(LayerIncludes){};
+
+TEST(LayerIncludes, ALayerIncludesOnlyItselfAndWhatLiesBelowEveryLayer) {
+    const Scan s = scan(kLayers, kBelowLayers);
+    CHECK_TEXT(s.files > 50, "layer sources not found (run from the repository root)");
+    CHECK_TEXT(s.violations.empty(),
+               ("a layer includes another layer's (or a non-shared) folder:" + s.violations).c_str());
+}
+
+TEST(LayerIncludes, WhatLiesBelowTheLayersIncludesNoLayer) {
+    const Scan s = scan(kBelowLayers, kBelowLayers);
+    CHECK_TEXT(s.files > 20, "shared sources not found (run from the repository root)");
+    CHECK_TEXT(s.violations.empty(), ("a folder below the layers includes a layer:" + s.violations).c_str());
+}
+
+// The folder an include names: the one under fsw/, none outside fsw/ (which is
+// then never an allowed folder: hal/, the simulator, the ground tools, a bare name).
+TEST(LayerIncludes, TheFolderOfAnIncludeIsReadFromItsPath) {
+    STRCMP_EQUAL("habitual", fswFolder("fsw/habitual/local_map.hpp").c_str());
+    STRCMP_EQUAL("geometry", fswFolder("fsw/geometry/geometry2d.hpp").c_str());
+    STRCMP_EQUAL("", fswFolder("hal/can/can_bus.hpp").c_str());
+    STRCMP_EQUAL("", fswFolder("sim_stub/world/world.hpp").c_str());
+    STRCMP_EQUAL("", fswFolder("local.hpp").c_str());
+}
