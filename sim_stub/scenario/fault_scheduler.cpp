@@ -57,6 +57,10 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kDriveFault:
                 add(f.at, FaultAction::kDriveFault);
                 break;
+            case FaultType::kTaskStall:
+                add(f.at, FaultAction::kTaskStallStart);
+                addEnd(FaultAction::kTaskStallEnd);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -124,6 +128,12 @@ void FaultScheduler::fire(const FaultEvent& e) {
             break;
         case FaultAction::kPositionFixOutlier:
             target_.positionFixOutlier(f.value, f.bearingRad, f.count);
+            break;
+        case FaultAction::kTaskStallStart:
+            target_.stallFlightTask(f.taskRow, f.taskName, true);
+            break;
+        case FaultAction::kTaskStallEnd:
+            target_.stallFlightTask(f.taskRow, f.taskName, false);
             break;
     }
 }

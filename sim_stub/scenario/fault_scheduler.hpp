@@ -35,6 +35,8 @@ enum class FaultAction : std::uint8_t {
     kPositionFixOutlier,
     kOverheatMotor,
     kDriveFault,
+    kTaskStallStart,
+    kTaskStallEnd,
 };
 
 struct FaultEvent {

@@ -42,6 +42,8 @@ const char* toString(FaultType type) {
             return "motor_overheat";
         case FaultType::kDriveFault:
             return "drive_fault";
+        case FaultType::kTaskStall:
+            return "task_stall";
     }
     return "?";
 }

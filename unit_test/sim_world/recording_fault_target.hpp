@@ -36,6 +36,13 @@ public:
     void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override {
         add("fix-outlier %.2f %.4f x%u", offsetM, bearingRad, static_cast<unsigned>(count));
     }
+    void stallFlightTask(std::size_t row, const std::string& name, bool on) override {
+        if (name.empty()) {
+            add("task-stall row %zu %s", row, onOff(on));
+        } else {
+            add("task-stall %s %s", name.c_str(), onOff(on));
+        }
+    }
 
 private:
     static const char* onOff(bool on) { return on ? "on" : "off"; }
