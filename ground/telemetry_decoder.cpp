@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "fsw/app/task_command_refusal.hpp"
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/core/byte_codec.hpp"
@@ -238,6 +239,9 @@ std::string describeAck(const DecodedPacket& ack) {
                    std::string(command->name).rfind("TABLE_", 0) == 0 &&
                    static_cast<std::size_t>(detail) < tables::kTableRejectCount) {
             text += std::string(": table ") + tables::toString(static_cast<tables::TableReject>(detail));
+        } else if (reason == static_cast<unsigned>(cmdtlm::CommandReject::kExecutionFailed) && command != nullptr &&
+                   command->code == cmdtlm::CommandCode::EXEC_SET_TASK && detail < app::kTaskCommandRefusalCount) {
+            text += std::string(": ") + app::toString(static_cast<app::TaskCommandRefusal>(detail));
         } else if (reason == static_cast<unsigned>(cmdtlm::CommandReject::kWrongMode) &&
                    static_cast<std::size_t>(detail) < cmdtlm::kModeCount) {
             text += std::string(": rover in ") + cmdtlm::toString(static_cast<cmdtlm::Mode>(detail));

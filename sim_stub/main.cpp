@@ -6,8 +6,9 @@
 // have), the other devices share one. The world steps at 1 kHz on
 // CLOCK_MONOTONIC with absolute deadlines. Prints the truth once a second (for
 // the operator and integration tests; the flight software never sees it).
-// Exit status: 0 after a clean stop, 1 if the bus or scenario cannot be used,
-// 2 for a bad command line.
+// Exit status: 0 after a clean stop, 1 if the bus or scenario cannot be used
+// (a task_stall fault included: it needs a ground link, which rse-sim has
+// not), 2 for a bad command line.
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -95,6 +96,21 @@ int main(int argc, char** argv) {
     if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {
         std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
         return 1;
+    }
+    // rse-sim only exchanges CAN frames: a flight task stall needs the ground
+    // link (EXEC_SET_TASK), which rse-sim does not have. Refused, not ignored.
+    for (std::size_t i = 0; i < scenario.faults.size(); ++i) {
+        const rse::sim::FaultSpec& f = scenario.faults[i];
+        if (f.type == rse::sim::FaultType::kTaskStall) {
+            std::fprintf(stderr,
+                         "rse-sim: %s: faults[%zu] task_stall (%s%s at %.3f s) is not applicable over CAN: rse-sim "
+                         "has no ground link; send EXEC_SET_TASK with rse-ground instead, or run the scenario "
+                         "in lockstep (rse-demo)\n",
+                         o.scenario, i, f.taskName.empty() ? "row " : "",
+                         f.taskName.empty() ? std::to_string(f.taskRow).c_str() : f.taskName.c_str(),
+                         static_cast<double>(f.at) * 1e-9);
+            return 1;
+        }
     }
     using rse::sim::kWheelCount;
     auto devicesBus = std::make_unique<rse::hal::SocketCanBus>();

@@ -1,6 +1,7 @@
 #include "sim_stub/rover_sim.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace rse::sim {
 
@@ -233,6 +234,25 @@ void RoverSim::slideRover(double offsetM, double bearingRad, double durationS) {
     }
     world_.startSlide(offsetM, bearingRad, durationS);
     ++stats_.faultsApplied;
+}
+
+void RoverSim::stallFlightTask(std::size_t row, const std::string& name, bool on) {
+    if (wiring_.flightTasks != nullptr && wiring_.flightTasks->setFlightTaskEnabled(row, name, !on)) {
+        ++stats_.faultsApplied;
+        return;
+    }
+    ++stats_.faultsUnhandled;
+    ++stats_.taskStallsUnhandled;
+    char task[48];
+    if (name.empty()) {
+        std::snprintf(task, sizeof task, "row %zu", row);
+    } else {
+        std::snprintf(task, sizeof task, "task %s", name.c_str());
+    }
+    std::fprintf(stderr, "rse-sim: [%.3f s] task_stall %s (%s) NOT APPLIED: %s\n", static_cast<double>(time_) * 1e-9,
+                 on ? "start" : "end", task,
+                 wiring_.flightTasks == nullptr ? "no ground link to send EXEC_SET_TASK on"
+                                                : "the ground could not send EXEC_SET_TASK (unknown task or link full)");
 }
 
 void RoverSim::positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) {

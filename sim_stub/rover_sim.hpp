@@ -16,8 +16,12 @@
 // faults go to the in-memory bus (when one is given), babbling nodes send on
 // its bus, and the drive hooks are forwarded to the drive emulators' owner
 // (RoverSimWiring::driveFaults), position-fix outliers to its position-fix
-// emulator. A hook with nobody to act on it (or, for an outlier, with an invalid
-// offset, bearing or count) is counted in stats().faultsUnhandled.
+// emulator, flight task stalls to the ground link's owner (attachFlightTasks:
+// it sends EXEC_SET_TASK). A hook with nobody to act on it (or, for an outlier,
+// with an invalid offset, bearing or count) is counted in
+// stats().faultsUnhandled; a task stall that could not be commanded is also
+// counted in stats().taskStallsUnhandled and written to stderr, because no
+// flight state changed and a test reading only the flight side would not know.
 //
 // The scenario is read only by the constructor (a program may change a loaded
 // Scenario first, e.g. its seed). The drive emulators' measurement noise comes
@@ -61,6 +65,7 @@ struct RoverSimWiring {
     hal::MemoryCanBus* wire = nullptr;          // where bus_fault rules go (lockstep runs)
     FaultTarget* driveFaults = nullptr;         // the drive emulators' fault hooks
     SimFrameListener* frameListener = nullptr;  // gets every frame read from the bus
+    FlightTaskCommander* flightTasks = nullptr; // the ground link's owner (task_stall); also attachFlightTasks
 };
 
 struct RoverSimStats {
@@ -69,6 +74,7 @@ struct RoverSimStats {
     std::uint32_t rxBacklogSteps = 0;   // steps that left frames unread (limit hit)
     std::uint32_t faultsApplied = 0;    // hooks that acted on something
     std::uint32_t faultsUnhandled = 0;  // hooks with nothing to act on (no wire / no drive target / full)
+    std::uint32_t taskStallsUnhandled = 0;  // task_stall starts / ends no ground link commanded (also in faultsUnhandled)
     std::uint32_t babbleFrames = 0;     // babble frames the bus accepted
     std::uint32_t babbleRefused = 0;    // babble frames the bus refused
 };
@@ -93,6 +99,8 @@ public:
     PositionFixEmulator& positionFix() { return fix_; }
     const FaultScheduler& faultSchedule() const { return scheduler_; }
     const RoverSimStats& stats() const { return stats_; }
+    // The ground link's owner, for task stalls (a rig builds its ground after the rover; nullptr: none).
+    void attachFlightTasks(FlightTaskCommander* commander) { wiring_.flightTasks = commander; }
     core::TimeNs time() const { return time_; }
 
     // FaultTarget (also callable directly, e.g. by a test or an operator console).
@@ -112,6 +120,8 @@ public:
     // Displaces the next `count` fixes (see PositionFixEmulator::injectOutlier).
     void positionFixOutlier(double offsetM, double bearingRad, std::uint32_t count) override;
     void slideRover(double offsetM, double bearingRad, double durationS) override;
+    // Forwarded to the ground link's owner as EXEC_SET_TASK (disable when on, enable when off).
+    void stallFlightTask(std::size_t row, const std::string& name, bool on) override;
 
 private:
     struct Babbler {

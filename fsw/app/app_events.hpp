@@ -28,5 +28,7 @@ constexpr core::EventId kTaskRestarted = 220;      // fault protection asked: a 
 constexpr core::EventId kTaskRestartRefused = 221; // a task restart naming no row of the table (row)
 constexpr core::EventId kWatchdogWithheld = 222;   // the watchdog is no longer fed: a task stalled or health silent (CRIT)
 constexpr core::EventId kWatchdogFeeding = 223;    // the watchdog is fed again
+constexpr core::EventId kTaskSetByGround = 224;    // EXEC_SET_TASK: a rate-group row disabled (WARN) or enabled (INFO) by ground
+constexpr core::EventId kTaskSetRefused = 225;     // EXEC_SET_TASK refused: no such row, or a row whose loss could not be undone (why)
 
 }  // namespace rse::app::events

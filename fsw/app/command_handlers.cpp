@@ -27,6 +27,14 @@ CommandOutcome failed(std::int16_t detail) { return CommandOutcome{false, detail
 
 AppCommandHandler::AppCommandHandler(const Parts& parts) : parts_(parts), goals_(1e-3) {}
 
+core::Status AppCommandHandler::protectRow(std::size_t row, TaskCommandRefusal why) {
+    if (row >= core::kMaxTasks || why == TaskCommandRefusal::kNone || why == TaskCommandRefusal::kNoSuchRow) {
+        return core::Status::kInvalidArgument;
+    }
+    protected_[row] = why;
+    return core::Status::kOk;
+}
+
 namespace {
 constexpr std::uint16_t kRequestPipeDepth = 8;  // call homes and task restarts (one per stalled row at most)
 }  // namespace
@@ -170,6 +178,8 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
             request.durationS = static_cast<double>(a.duration);
             return core::isOk(parts_.bus.publish(request)) ? CommandOutcome{} : failed(1);
         }
+        case CommandCode::EXEC_SET_TASK:
+            return setTask(decoded<cmdtlm::EXEC_SET_TASK_Args>(verdict));
         case CommandCode::TABLE_LOAD:
         case CommandCode::TABLE_VALIDATE:
         case CommandCode::TABLE_ACTIVATE:
@@ -179,6 +189,36 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
             break;
     }
     return failed(-1);
+}
+
+CommandOutcome AppCommandHandler::setTask(const cmdtlm::EXEC_SET_TASK_Args& args) {
+    const bool enable = args.enabled != 0;
+    TaskCommandRefusal why = TaskCommandRefusal::kNone;
+    // Enabling is always safe; only a disable can lose a row for good. The
+    // executive alone knows how many rows there are.
+    if (!enable && args.row < core::kMaxTasks && protected_[args.row] != TaskCommandRefusal::kNone) {
+        why = protected_[args.row];
+    } else if (!core::isOk(parts_.executive.setTaskEnabled(args.row, enable))) {
+        why = TaskCommandRefusal::kNoSuchRow;
+    }
+    if (why != TaskCommandRefusal::kNone) {
+        ++taskCommandsRefused_;
+        lastTaskRefusal_ = why;
+        parts_.events.report(events::kTaskSetRefused, core::Severity::kError, "app: EXEC_SET_TASK row %u refused: %s",
+                             static_cast<unsigned>(args.row), toString(why));
+        return failed(static_cast<std::int16_t>(why));
+    }
+    ++taskCommands_;
+    const core::RateGroupEntry* entry = parts_.executive.entry(args.row);
+    if (enable) {
+        parts_.events.report(events::kTaskSetByGround, core::Severity::kInfo, "app: ground enabled rate-group row %u (%s)",
+                             static_cast<unsigned>(args.row), entry->name);
+    } else {
+        parts_.events.report(events::kTaskSetByGround, core::Severity::kWarning,
+                             "app: ground disabled rate-group row %u (%s): it will be seen to stall",
+                             static_cast<unsigned>(args.row), entry->name);
+    }
+    return {};
 }
 
 CommandOutcome AppCommandHandler::executeTable(const cmdtlm::CommandVerdict& verdict) {

@@ -4,9 +4,12 @@
 // list (GoalListMsg), manual drives to the manual-drive task, table commands to
 // the table service, counter resets to everything that counts. Onboard layers
 // may ask for SAFE (SafeRequestMsg, pipe "mode_requests"); fault protection may
-// ask for a stalled rate-group row to run again (TaskRestartMsg, same pipe).
+// ask for a stalled rate-group row to run again (TaskRestartMsg, same pipe);
+// ground may disable or enable a row (EXEC_SET_TASK), except the rows whose
+// loss could not be undone (protectRow).
 #pragma once
 
+#include "fsw/app/task_command_refusal.hpp"
 #include "fsw/app/telemetry_task.hpp"
 #include "fsw/cmdtlm/command_handler.hpp"
 #include "fsw/cmdtlm/command_task.hpp"
@@ -41,6 +44,9 @@ public:
     }
     // Start-up: announces the boot mode; the goal list takes the planner table's default risk bound.
     core::Status init();
+    // Start-up, after the executive's table: a row ground may not disable, and why
+    // (kInvalidArgument for a row beyond kMaxTasks or a reason that is not a row's).
+    core::Status protectRow(std::size_t row, TaskCommandRefusal why);
 
     cmdtlm::Mode mode() const override { return mode_; }
     cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
@@ -50,12 +56,16 @@ public:
     std::uint32_t malformedRequests() const { return malformedRequests_; }
     std::uint32_t taskRestarts() const { return taskRestarts_; }
     std::uint32_t taskRestartsRefused() const { return taskRestartsRefused_; }
+    std::uint32_t taskCommands() const { return taskCommands_; }  // EXEC_SET_TASK carried out
+    std::uint32_t taskCommandsRefused() const { return taskCommandsRefused_; }
+    TaskCommandRefusal lastTaskRefusal() const { return lastTaskRefusal_; }
 
     bool estop() const { return estop_; }
     const deliberative::GoalList& goals() const { return goals_; }
 
 private:
     cmdtlm::CommandOutcome executeTable(const cmdtlm::CommandVerdict& verdict);
+    cmdtlm::CommandOutcome setTask(const cmdtlm::EXEC_SET_TASK_Args& args);
     void setMode(cmdtlm::Mode mode);
     void setEstop(bool set);
     void publishMode();
@@ -75,6 +85,10 @@ private:
     std::uint32_t malformedRequests_ = 0;
     std::uint32_t taskRestarts_ = 0;
     std::uint32_t taskRestartsRefused_ = 0;
+    std::uint32_t taskCommands_ = 0;
+    std::uint32_t taskCommandsRefused_ = 0;
+    TaskCommandRefusal lastTaskRefusal_ = TaskCommandRefusal::kNone;
+    TaskCommandRefusal protected_[core::kMaxTasks] = {};  // kNone: ground may disable the row
     core::Message inbox_{};
 };
 

@@ -155,9 +155,41 @@ core::Status FswApp::init(std::FILE* console) {
                        "app: rate-group table rejected (%s)", core::toString(status));
         return status;
     }
+    status = protectEssentialRows();
+    if (!core::isOk(status)) {
+        events_.report(events::kAppInitFailed, core::Severity::kCritical,
+                       "app: an essential task is not in the rate-group table (%s)", core::toString(status));
+        return status;
+    }
     events_.report(events::kAppStarted, core::Severity::kInfo,
                    "app: rse-fsw initialised, %zu tasks, %zu bytes reserved", executive_.taskCount(),
                    sizeof(FswApp));
+    return core::Status::kOk;
+}
+
+core::Status FswApp::protectEssentialRows() {
+    // The rows EXEC_SET_TASK may not disable: found by task, not by position,
+    // so reordering the table cannot unprotect one. Each must be in the table.
+    const struct {
+        const core::Task* task;
+        TaskCommandRefusal why;
+    } essential[] = {
+        {&commands_, TaskCommandRefusal::kCommandIngest},
+        {&canIo_, TaskCommandRefusal::kCanIo},
+        {&health_, TaskCommandRefusal::kFaultDetection},
+        {&faultProtection_, TaskCommandRefusal::kFaultResponse},
+    };
+    for (const auto& e : essential) {
+        core::Status status = core::Status::kNotFound;
+        for (std::size_t row = 0; row < executive_.taskCount(); ++row) {
+            if (executive_.entry(row)->task == e.task) {
+                status = handler_.protectRow(row, e.why);
+            }
+        }
+        if (!core::isOk(status)) {
+            return status;
+        }
+    }
     return core::Status::kOk;
 }
 

@@ -86,6 +86,7 @@ public:
 
 private:
     core::Status initStep(core::Status status, const char* what);
+    core::Status protectEssentialRows();  // the rows ground may not disable (EXEC_SET_TASK)
 
     core::Clock& clock_;
     core::EventLog events_;

@@ -50,7 +50,7 @@ public:
     void suppressHeartbeat(std::size_t wheel, bool on) override;
     void crashDrive(std::size_t wheel) override;
     void restartDrive(std::size_t wheel) override;
-    // Device and bus hooks belong to RoverSim, which never forwards them here.
+    // Device, bus and flight-task hooks belong to RoverSim, which never forwards them here.
     void setDeviceDropout(SimDevice, bool) override {}
     void crashDevice(SimDevice) override {}
     void restartDevice(SimDevice) override {}
@@ -59,6 +59,7 @@ public:
     void babble(std::uint32_t, double, bool) override {}
     void positionFixOutlier(double, double, std::uint32_t) override {}
     void slideRover(double, double, double) override {}
+    void stallFlightTask(std::size_t, const std::string&, bool) override {}
 
 private:
     // One drive seen as a wheel: the emulator's units converted to the world's.

@@ -3,20 +3,37 @@
 // in-memory packet link, and the downlink drained (counted, not decoded) so it
 // never fills. Add link() to the FswApp before LockstepRig::init(). Host side:
 // HMAC-SHA-256 through mbedTLS (LDLIBS_CRYPTO).
+//
+// It is also the scenario's FlightTaskCommander (RoverSim::attachFlightTasks):
+// a task_stall fault becomes EXEC_SET_TASK, sent like any other command. Task
+// names are resolved as an operator would, from the TASK_TIMING packets the
+// downlink brings (task_index, task_name; one per row each second), so a
+// stall by name before the first TASK_TIMING of that task is not sent.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
+#include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "hal/link/memory_packet_link.hpp"
+#include "sim_stub/scenario/fault_target.hpp"
 
 namespace rse::sim {
 
-class MemoryGround {
+class MemoryGround final : public FlightTaskCommander {
 public:
+    // What the ground knows of one rate-group row, from TASK_TIMING.
+    struct TaskSeen {
+        bool known = false;
+        char name[sizeof(cmdtlm::TASK_TIMING_Tlm{}.task_name) + 1] = {};
+        std::uint32_t runs = 0;  // TASK_TIMING.runs, as of the last packet
+    };
+    static constexpr std::size_t kRows = 256;  // every u8 task_index
+
     hal::MemoryPacketLink& link() { return link_; }
 
     // Queues one command; false when the name is unknown or the packet was not sent.
@@ -45,16 +62,57 @@ public:
         std::size_t length = 0;
         while (core::isOk(link_.groundReceive(buffer_, sizeof buffer_, &length))) {
             ++downlinked_;
+            noteTaskTiming(length);
         }
     }
     std::uint32_t downlinked() const { return downlinked_; }
 
+    // EXEC_SET_TASK for `row`, or for the row TASK_TIMING names `name` when name is not empty.
+    bool setFlightTaskEnabled(std::size_t row, const std::string& name, bool enabled) override {
+        if (!name.empty()) {
+            row = kRows;
+            for (std::size_t i = 0; i < kRows; ++i) {
+                row = tasks_[i].known && name == tasks_[i].name ? i : row;
+            }
+        }
+        if (row >= kRows) {
+            return false;
+        }
+        const std::uint8_t args[2] = {static_cast<std::uint8_t>(row), static_cast<std::uint8_t>(enabled ? 1 : 0)};
+        if (!send("EXEC_SET_TASK", args, sizeof args)) {
+            return false;
+        }
+        ++taskCommandsSent_;
+        lastTaskRow_ = row;
+        return true;
+    }
+    std::uint32_t taskCommandsSent() const { return taskCommandsSent_; }
+    std::size_t lastTaskRow() const { return lastTaskRow_; }
+    const TaskSeen& task(std::size_t row) const { return tasks_[row < kRows ? row : 0]; }
+
 private:
+    // A TASK_TIMING packet in buffer_: the row's name and runs (task_index,
+    // task_name and runs are its first fields, docs/dictionary.md).
+    void noteTaskTiming(std::size_t length) {
+        if (length != cmdtlm::kTelemetryHeaderSize + cmdtlm::kTASK_TIMING_TlmSize ||
+            cmdtlm::decodePrimaryHeader(buffer_).apid != cmdtlm::TASK_TIMING_Tlm::kApid) {
+            return;
+        }
+        core::BeReader r(buffer_ + cmdtlm::kTelemetryHeaderSize, cmdtlm::kTASK_TIMING_TlmSize);
+        TaskSeen& t = tasks_[r.u8()];
+        r.bytes(t.name, sizeof t.name - 1);
+        t.runs = r.u32();
+        t.known = r.ok();
+    }
+
     hal::MemoryPacketLink link_;
     cmdtlm::HmacSha256 hmac_;
     bool hmacReady_ = false;
     std::uint32_t authSequence_ = 1;
     std::uint32_t downlinked_ = 0;
+    std::uint32_t taskCommandsSent_ = 0;
+    std::size_t lastTaskRow_ = kRows;
+    TaskSeen tasks_[kRows] = {};
     std::uint8_t buffer_[hal::kMemoryLinkMaxPacket] = {};
 };
 

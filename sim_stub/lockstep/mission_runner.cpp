@@ -244,12 +244,63 @@ std::string describeScenario(const Scenario& s, const MissionOptions& o) {
     for (const FaultSpec& f : s.faults) {
         const bool onWheel = f.type == FaultType::kMotorDegradation || f.type == FaultType::kMotorFailure ||
                              f.type == FaultType::kDriveHeartbeatLoss || f.type == FaultType::kDriveCrash;
-        std::snprintf(line, sizeof line, "; fault %s%s%s at %.1f s", toString(f.type), onWheel ? " on " : "",
-                      onWheel && f.wheel < msg::kWheelCount ? msg::wheelName(f.wheel) : "", seconds(f.at));
+        if (f.type == FaultType::kTaskStall) {
+            const std::string task = f.taskName.empty() ? "row " + std::to_string(f.taskRow) : f.taskName;
+            std::snprintf(line, sizeof line, "; fault task_stall of %s at %.1f s", task.c_str(), seconds(f.at));
+        } else {
+            std::snprintf(line, sizeof line, "; fault %s%s%s at %.1f s", toString(f.type), onWheel ? " on " : "",
+                          onWheel && f.wheel < msg::kWheelCount ? msg::wheelName(f.wheel) : "", seconds(f.at));
+        }
         text += line;
     }
     return text;
 }
+
+// The scenario's task stalls as the operator's commands: each is sent as
+// EXEC_SET_TASK through the ground link (MemoryGround), narrated and timed.
+class ScheduledTaskCommands final : public FlightTaskCommander {
+public:
+    ScheduledTaskCommands(MemoryGround& ground, LockstepRig& rig, std::FILE* out)
+        : ground_(ground), rig_(rig), out_(out) {}
+    bool setFlightTaskEnabled(std::size_t row, const std::string& name, bool enabled) override {
+        const bool sent = ground_.setFlightTaskEnabled(row, name, enabled);
+        const std::size_t sentRow = ground_.lastTaskRow();
+        char line[160];
+        if (!sent) {
+            std::snprintf(line, sizeof line, "scenario task_stall: EXEC_SET_TASK for %s%s NOT sent (task unknown to "
+                          "the ground, or the link full)", name.empty() ? "row " : "", name.empty()
+                          ? std::to_string(row).c_str() : name.c_str());
+            say(out_, rig_, line);
+            return false;
+        }
+        std::snprintf(line, sizeof line, "ground: EXEC_SET_TASK row=%zu (%s) enabled=%d (scenario task_stall)", sentRow,
+                      ground_.task(sentRow).name, enabled ? 1 : 0);
+        say(out_, rig_, line);
+        if (!enabled && disabledAtS_ < 0.0) {
+            disabledAtS_ = seconds(rig_.clock().now());
+            row_ = sentRow;
+            runsAtDisable_ = ground_.task(sentRow).runs;
+        }
+        return true;
+    }
+    void fill(MissionSummary* s) const {
+        s->taskStallCommands = ground_.taskCommandsSent();
+        s->taskStallTimeS = disabledAtS_;
+        if (disabledAtS_ >= 0.0) {
+            s->stalledRow = static_cast<int>(row_);
+            s->stalledRowRunsAtStall = runsAtDisable_;
+            s->stalledRowRunsAtEnd = ground_.task(row_).runs;
+        }
+    }
+
+private:
+    MemoryGround& ground_;
+    LockstepRig& rig_;
+    std::FILE* out_;
+    double disabledAtS_ = -1.0;
+    std::size_t row_ = 0;
+    std::uint32_t runsAtDisable_ = 0;
+};
 
 MissionSummary setupFailed(MissionSummary summary, const std::string& why) {
     summary.outcome = MissionOutcome::kSetupFailed;
@@ -367,6 +418,8 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
         return setupFailed(summary, "no software-bus pipe for the plan status");
     }
     say(out, *rig, describeScenario(rig->scenario(), o));
+    ScheduledTaskCommands taskCommands(ground, *rig, out);
+    rig->rover().attachFlightTasks(&taskCommands);
     const auto service = [&] {
         ground.drainDownlink();
         watch.drain();
@@ -411,6 +464,8 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     fsw.shutdown("mission demo over");
     summary.callHomeText = watch.callHomeText();
     watch.fill(&summary);
+    taskCommands.fill(&summary);
+    rig->rover().attachFlightTasks(nullptr);  // the commander goes out of scope before the rig
 
     const msg::PlanStatusMsg& last = watch.plan();
     const deliberative::DeliberativeCounters& c = fsw.deliberative().counters();
@@ -491,6 +546,12 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
                      s.firstHoldTimeS, s.lastResumeTimeS);
     }
     std::fprintf(out, "\n");
+    if (s.taskStallCommands > 0) {
+        std::fprintf(out, "task stall: %u EXEC_SET_TASK sent; row %d disabled at %.2f s; its TASK_TIMING runs %u "
+                          "then, %u at the end\n",
+                     s.taskStallCommands, s.stalledRow, s.taskStallTimeS, s.stalledRowRunsAtStall,
+                     s.stalledRowRunsAtEnd);
+    }
     std::fprintf(out, "commands:   %u accepted, %u rejected\n\n", s.commandsAccepted, s.commandsRejected);
 }
 

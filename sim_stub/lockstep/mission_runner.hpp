@@ -104,6 +104,14 @@ struct MissionSummary {
     std::uint32_t commandsAccepted = 0;
     std::uint32_t commandsRejected = 0;
 
+    // The scenario's task stalls, as the ground saw them (EXEC_SET_TASK sent,
+    // the row's runs from TASK_TIMING: up to a second old).
+    std::uint32_t taskStallCommands = 0;   // EXEC_SET_TASK sent for task_stall faults (disable and enable)
+    double taskStallTimeS = -1.0;          // the first disable (-1: none)
+    int stalledRow = -1;                   // its row
+    std::uint32_t stalledRowRunsAtStall = 0;  // TASK_TIMING.runs of the row when it was disabled
+    std::uint32_t stalledRowRunsAtEnd = 0;    // ... at the end of the run
+
     // Fault protection, as the operator sees it: its events and its hold.
     bool faultProtectionCalledHome = false;  // the call home was fault protection's (event 941)
     std::uint32_t responsesStarted = 0;      // events 930

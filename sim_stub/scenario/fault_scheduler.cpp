@@ -60,6 +60,10 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
             case FaultType::kSlide:
                 add(f.at, FaultAction::kSlide);
                 break;
+            case FaultType::kTaskStall:
+                add(f.at, FaultAction::kTaskStallStart);
+                addEnd(FaultAction::kTaskStallEnd);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -130,6 +134,12 @@ void FaultScheduler::fire(const FaultEvent& e) {
             break;
         case FaultAction::kSlide:
             target_.slideRover(f.value, f.bearingRad, static_cast<double>(f.until - f.at) * 1e-9);
+            break;
+        case FaultAction::kTaskStallStart:
+            target_.stallFlightTask(f.taskRow, f.taskName, true);
+            break;
+        case FaultAction::kTaskStallEnd:
+            target_.stallFlightTask(f.taskRow, f.taskName, false);
             break;
     }
 }

@@ -36,6 +36,8 @@ enum class FaultAction : std::uint8_t {
     kOverheatMotor,
     kDriveFault,
     kSlide,
+    kTaskStallStart,
+    kTaskStallEnd,
 };
 
 struct FaultEvent {

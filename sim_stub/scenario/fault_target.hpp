@@ -3,6 +3,12 @@
 // forwards the drive hooks to whoever owns the drive emulators. Tests use a
 // recording fake.
 //
+// A flight task stall is the one fault the simulator cannot cause itself: it
+// only exchanges CAN frames. Whoever owns the ground link stalls the task as an
+// operator would, with the EXEC_SET_TASK command (FlightTaskCommander below);
+// RoverSim forwards stallFlightTask there, and reports the fault as not applied
+// when there is nobody.
+//
 // wheel: 0..5 in ICD node order (0 front-left, 1 middle-left, 2 rear-left,
 // 3 front-right, 4 middle-right, 5 rear-right). Scenario files number the
 // wheels 1..6; the parser subtracts one.
@@ -10,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "hal/can/memory_can_bus.hpp"
 
@@ -53,9 +60,26 @@ public:
     // The ground gives way: the rover slides offsetM towards bearingRad (map
     // frame, CCW from +x) over durationS (World::startSlide).
     virtual void slideRover(double offsetM, double bearingRad, double durationS) = 0;
+    // The flight software's rate-group row stops running (on) or runs again
+    // (off): `row`, or the row of task `name` when name is not empty. No
+    // default: a target that cannot act on it must say so.
+    virtual void stallFlightTask(std::size_t row, const std::string& name, bool on) = 0;
 
 protected:
     ~FaultTarget() = default;
+};
+
+// Who can act on the flight software's rate-group rows: the owner of a ground
+// link, with the authenticated EXEC_SET_TASK command (sim_stub/lockstep/
+// memory_ground.hpp). Returns false when the command was not sent (a name it
+// does not know, the link full); the flight software's own refusals come back
+// in CMD_ACK.
+class FlightTaskCommander {
+public:
+    virtual bool setFlightTaskEnabled(std::size_t row, const std::string& name, bool enabled) = 0;
+
+protected:
+    ~FlightTaskCommander() = default;
 };
 
 }  // namespace rse::sim

@@ -44,6 +44,8 @@ const char* toString(FaultType type) {
             return "drive_fault";
         case FaultType::kSlide:
             return "slide";
+        case FaultType::kTaskStall:
+            return "task_stall";
     }
     return "?";
 }

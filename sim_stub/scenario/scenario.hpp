@@ -38,8 +38,9 @@ enum class FaultType : std::uint8_t {
     kMotorOverheat,     // wheel, value = heat gain factor (the motor heats that many times faster)
     kDriveFault,        // wheel, cobId = EMCY code: a one-shot fault a fault reset clears
     kSlide,             // value = offset, m; bearingRad; until = end of the slide
+    kTaskStall,         // taskRow or taskName, until = the row enabled again (kNever: never by the schedule)
 };
-constexpr FaultType kLastFaultType = FaultType::kSlide;
+constexpr FaultType kLastFaultType = FaultType::kTaskStall;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 
@@ -54,6 +55,8 @@ struct FaultSpec {
     std::uint32_t cobId = 0;
     std::uint32_t count = 1;  // position_fix_outlier: how many fixes
     double bearingRad = 0.0;  // position_fix_outlier, slide: direction of the offset (map frame, CCW from +x)
+    std::size_t taskRow = 0;  // task_stall: the flight software's rate-group row, when taskName is empty
+    std::string taskName;     // task_stall: the row by its task name (TASK_TIMING.task_name), "" for by taskRow
 };
 
 // Measurement noise of the six wheel drives' reports (scenario [drives]; see

@@ -9,6 +9,8 @@
 
 #include <toml++/toml.h>
 
+#include "fsw/cmdtlm/dictionary.hpp"
+
 namespace rse::sim {
 
 namespace {
@@ -207,6 +209,8 @@ private:
     std::uint32_t cobId(const toml::table& t, const std::string& path, std::string_view key, std::uint32_t fallback,
                         bool required) const;
     core::TimeNs intervalEnd(const toml::table& t, const std::string& path, double atS) const;
+    // task_stall's `task`: a rate-group row (integer) or a task name (string).
+    void parseTask(const toml::table& t, const std::string& path, FaultSpec* f) const;
 
     std::string source_;
 };
@@ -446,6 +450,35 @@ std::uint32_t Parser::cobId(const toml::table& t, const std::string& path, std::
     return static_cast<std::uint32_t>(id);
 }
 
+void Parser::parseTask(const toml::table& t, const std::string& p, FaultSpec* f) const {
+    const toml::node* n = node(t, p, "task", true);
+    const std::string path = join(p, "task");
+    if (n->is_integer()) {
+        // The row range is EXEC_SET_TASK's, the command the ground stalls it with;
+        // whether the flight software's table has that row is its to say (CMD_ACK).
+        const cmdtlm::CommandDesc* command = cmdtlm::findCommand("EXEC_SET_TASK");
+        const auto maxRow = static_cast<std::int64_t>(command != nullptr ? command->args[0].max : 0.0);
+        const std::int64_t row = n->as_integer()->get();
+        if (row < 0 || row > maxRow) {
+            fail(path, "a row must be 0.." + std::to_string(maxRow) + " (got " + std::to_string(row) + ")");
+        }
+        f->taskRow = static_cast<std::size_t>(row);
+        return;
+    }
+    if (!n->is_string()) {
+        fail(path, std::string("must be a rate-group row (integer) or a task name (string) (got ") + typeName(*n) + ")");
+    }
+    const std::string name = n->as_string()->get();
+    bool wellFormed = !name.empty() && name.size() < sizeof(cmdtlm::TASK_TIMING_Tlm{}.task_name);
+    for (char c : name) {
+        wellFormed = wellFormed && ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_');
+    }
+    if (!wellFormed) {
+        fail(path, "\"" + name + "\" is not a task name (1 to 15 of a-z, 0-9, _; as TASK_TIMING names it)");
+    }
+    f->taskName = name;
+}
+
 core::TimeNs Parser::intervalEnd(const toml::table& t, const std::string& path, double atS) const {
     const toml::node* duration = t.get("duration_s");
     const toml::node* until = t.get("until_s");
@@ -603,6 +636,14 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
             f.value = positive(t, p, "offset_m", 0.0, 100.0, true);
             f.bearingRad = ranged(t, p, "bearing_deg", 0.0, -360.0, 360.0) * kPi / 180.0;
             f.until = intervalEnd(t, p, atS);
+            break;
+        case FaultType::kTaskStall:
+            onlyKeys(t, p, {"type", "at_s", "task", "duration_s", "until_s"}, ctx);
+            parseTask(t, p, &f);
+            // Without an end the schedule never enables the row again: fault protection must.
+            if (t.get("duration_s") != nullptr || t.get("until_s") != nullptr) {
+                f.until = intervalEnd(t, p, atS);
+            }
             break;
     }
     return f;

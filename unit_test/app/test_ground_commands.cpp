@@ -119,6 +119,24 @@ TEST_GROUP(GroundCommands) {
         LONGS_EQUAL(findCommand(name)->apid, static_cast<long>(field(ack, "apid")));
         LONGS_EQUAL(0, static_cast<long>(field(ack, "reason")));
     }
+    // EVENT packets received with this id.
+    long eventCount(std::uint16_t id) {
+        long n = 0;
+        for (const Packet& p : received) {
+            n += p.apid == findTelemetry("EVENT")->apid && static_cast<std::uint16_t>(field(p, "event_id")) == id ? 1 : 0;
+        }
+        return n;
+    }
+    // The rate-group row of a task, by the name TASK_TIMING gives it.
+    std::size_t rowOf(const char* name) {
+        for (std::size_t i = 0; i < fsw.executive().taskCount(); ++i) {
+            if (std::strcmp(fsw.executive().entry(i)->name, name) == 0) {
+                return i;
+            }
+        }
+        FAIL(name);
+        return 0;
+    }
     std::vector<std::uint8_t> u16(std::uint16_t v) { return {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)}; }
     std::vector<std::uint8_t> f32s(std::initializer_list<float> values) {
         std::vector<std::uint8_t> out(values.size() * 4);
@@ -409,4 +427,116 @@ TEST(GroundCommands, RoverStateAndHealthReportTheEstimatorAndFaults) {
         DOUBLES_EQUAL(1.0, field(health, "power_factor", w), 1e-6);
     }
     DOUBLES_EQUAL(1000.0, field(last("ROVER_STATE"), "position_sigma"), 1e-3);
+}
+
+// EXEC_SET_TASK: ground disables a rate-group row; it stops running, the health
+// monitor sees it stall and fault protection runs it again (FAULT_PROTECTION
+// class 7, restart the task), as documented in docs/fault_protection.md.
+TEST(GroundCommands, ExecSetTaskDisablesARowWhichFaultProtectionThenRestarts) {
+    const std::size_t row = rowOf("habitual");
+    runFrames(50);
+    send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 0});
+    runFrames(1);
+    expectAccepted("EXEC_SET_TASK");
+    CHECK_FALSE(fsw.executive().taskLiveness(row)->enabled);
+    LONGS_EQUAL(1, eventCount(224));
+    LONGS_EQUAL(1, fsw.commandHandler().taskCommands());
+    const std::uint32_t runsWhenDisabled = fsw.executive().taskStats(row)->runs;
+    runFrames(20);  // two of its periods: it has not run
+    LONGS_EQUAL(runsWhenDisabled, fsw.executive().taskStats(row)->runs);
+    runFrames(200);
+    LONGS_EQUAL(1, eventCount(732));  // task stalled, raised once
+    CHECK(fsw.commandHandler().taskRestarts() >= 1);
+    CHECK(fsw.executive().taskLiveness(row)->enabled);
+    CHECK(fsw.executive().taskStats(row)->runs > runsWhenDisabled + 10);
+    // Enabling a row that runs is accepted and changes nothing.
+    send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 1});
+    runFrames(1);
+    expectAccepted("EXEC_SET_TASK");
+    CHECK(fsw.executive().taskLiveness(row)->enabled);
+    LONGS_EQUAL(2, fsw.commandHandler().taskCommands());
+    LONGS_EQUAL(0, fsw.commandHandler().taskCommandsRefused());
+}
+
+// A row the table does not have: the dictionary's range (0..15) lets row 15
+// through, the executive's 15-row table does not (execution_failed, detail 1:
+// no such row); row 16 is outside the dictionary's range (argument_out_of_range,
+// detail 0: the first argument). Each is counted by reason in HK and evented.
+TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
+    LONGS_EQUAL(15, fsw.executive().taskCount());
+    runFrames(50);  // the start-up events downlinked (8 a frame)
+    send("EXEC_SET_TASK", {15, 0});
+    runFrames(1);
+    const Packet& ack = last("CMD_ACK");
+    LONGS_EQUAL(14, static_cast<long>(field(ack, "reason")));
+    LONGS_EQUAL(1, static_cast<long>(field(ack, "detail")));
+    LONGS_EQUAL(1, eventCount(225));
+    LONGS_EQUAL(1, fsw.commandHandler().taskCommandsRefused());
+    CHECK(app::TaskCommandRefusal::kNoSuchRow == fsw.commandHandler().lastTaskRefusal());
+    send("EXEC_SET_TASK", {16, 0});
+    runFrames(1);
+    LONGS_EQUAL(12, static_cast<long>(field(last("CMD_ACK"), "reason")));
+    LONGS_EQUAL(0, static_cast<long>(field(last("CMD_ACK"), "detail")));
+    send("EXEC_SET_TASK", {3, 2});  // enabled is 0 or 1
+    runFrames(1);
+    LONGS_EQUAL(12, static_cast<long>(field(last("CMD_ACK"), "reason")));
+    LONGS_EQUAL(1, static_cast<long>(field(last("CMD_ACK"), "detail")));
+    send("REQUEST_HK");
+    runFrames(1);
+    LONGS_EQUAL(1, static_cast<long>(field(last("HK"), "cmd_rejected_by_reason", 14)));
+    LONGS_EQUAL(2, static_cast<long>(field(last("HK"), "cmd_rejected_by_reason", 12)));
+    LONGS_EQUAL(0, fsw.commandHandler().taskCommands());
+    for (std::size_t i = 0; i < fsw.executive().taskCount(); ++i) {
+        CHECK(fsw.executive().taskLiveness(i)->enabled);
+    }
+}
+
+// The rows whose loss could not be undone are never disabled by ground: the
+// command ingest (nothing could enable it again; it also carries out fault
+// protection's restarts), CAN I/O (the CAN ground link and every drive
+// command), health (its own stall would go unseen) and fault protection (the
+// one that restarts rows). Each refusal names its reason; enabling them is
+// harmless and accepted.
+TEST(GroundCommands, ExecSetTaskRefusesToDisableTheRowsWhoseLossCouldNotBeUndone) {
+    const struct {
+        const char* name;
+        app::TaskCommandRefusal why;
+    } essential[] = {{"commands", app::TaskCommandRefusal::kCommandIngest},
+                     {"can_io", app::TaskCommandRefusal::kCanIo},
+                     {"health", app::TaskCommandRefusal::kFaultDetection},
+                     {"fault_prot", app::TaskCommandRefusal::kFaultResponse}};
+    unsigned refused = 0;
+    runFrames(50);  // the start-up events downlinked (8 a frame)
+    for (const auto& e : essential) {
+        const std::size_t row = rowOf(e.name);
+        const std::uint32_t runs = fsw.executive().taskStats(row)->runs;
+        send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 0});
+        runFrames(2);
+        const Packet& ack = last("CMD_ACK");
+        LONGS_EQUAL(14, static_cast<long>(field(ack, "reason")));
+        LONGS_EQUAL(static_cast<long>(e.why), static_cast<long>(field(ack, "detail")));
+        CHECK_TEXT(fsw.executive().taskLiveness(row)->enabled, e.name);
+        CHECK_TEXT(fsw.executive().taskStats(row)->runs >= runs + 2, e.name);
+        CHECK(e.why == fsw.commandHandler().lastTaskRefusal());
+        LONGS_EQUAL(++refused, fsw.commandHandler().taskCommandsRefused());
+        LONGS_EQUAL(refused, eventCount(225));
+        send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 1});
+        runFrames(1);
+        expectAccepted("EXEC_SET_TASK");
+    }
+    // Every other row may be disabled (and is restarted by fault protection).
+    for (std::size_t row = 0; row < fsw.executive().taskCount(); ++row) {
+        bool isEssential = false;
+        for (const auto& e : essential) {
+            isEssential = isEssential || row == rowOf(e.name);
+        }
+        if (!isEssential) {
+            send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 0});
+            runFrames(1);
+            expectAccepted("EXEC_SET_TASK");
+            send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 1});
+            runFrames(1);
+        }
+    }
+    LONGS_EQUAL(refused, fsw.commandHandler().taskCommandsRefused());
 }

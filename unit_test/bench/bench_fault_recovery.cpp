@@ -147,6 +147,16 @@ int main(int argc, char** argv) {
          [](double at, std::mt19937_64& rng) {
              return std::vector<FaultSpec>{wheelFault(FaultType::kMotorFailure, rng() % 6, at)};
          }},
+        // Last, so the cases above keep their seeds. The ground link's owner
+        // sends EXEC_SET_TASK (disable) for the row; only fault protection enables it.
+        {"habitual layer stalled", demo, 300.0, true,
+         [](double at, std::mt19937_64&) {
+             FaultSpec f;
+             f.type = FaultType::kTaskStall;
+             f.taskName = "habitual";
+             f.at = ns(at);
+             return std::vector<FaultSpec>{f};
+         }},
     };
     std::printf("fault recovery: %d seeded demo missions per fault type, fault at a random time in [5, 60] s\n", runs);
     std::printf("%-32s %5s %9s %9s %12s %12s %14s %10s\n", "fault", "runs", "recovered", "collide", "detect s p50/max",

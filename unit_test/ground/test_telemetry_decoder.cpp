@@ -213,6 +213,18 @@ TEST(GroundTelemetryDecoder, CommandAckRendersTheVerdict) {
     ack.detail = 2;
     STRCMP_EQUAL("GOTO (0x181/0, auth seq 4000000000) rejected: argument_out_of_range (detail 2: argument risk)",
                  ground::describeAck(roundTrip(ack, 5, 0)).c_str());
+    // EXEC_SET_TASK's refusals are named (fsw/app/task_command_refusal.hpp).
+    ack.apid = 0x184;
+    ack.reason = static_cast<std::uint8_t>(cmdtlm::CommandReject::kExecutionFailed);
+    ack.detail = 2;
+    STRCMP_EQUAL("EXEC_SET_TASK (0x184/0, auth seq 4000000000) rejected: execution_failed (detail 2: command "
+                 "ingest: nothing could enable it again)",
+                 ground::describeAck(roundTrip(ack, 5, 0)).c_str());
+    ack.detail = 9;  // not a refusal code: the number only
+    STRCMP_EQUAL("EXEC_SET_TASK (0x184/0, auth seq 4000000000) rejected: execution_failed (detail 9)",
+                 ground::describeAck(roundTrip(ack, 5, 0)).c_str());
+    ack.apid = 0x181;
+    ack.reason = static_cast<std::uint8_t>(cmdtlm::CommandReject::kArgumentOutOfRange);
     ack.detail = -7;  // negative details decode signed
     DOUBLES_EQUAL(-7, *roundTrip(ack, 5, 0).value("detail"), 0.0);
     CHECK_TRUE(ground::renderPacket(roundTrip(ack, 5, 0)).find(" detail=-7 ") != std::string::npos);

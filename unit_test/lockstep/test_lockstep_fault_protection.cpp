@@ -51,6 +51,20 @@ MissionSummary runWith(std::vector<FaultSpec> faults, double durationS = 300.0,
     return sim::runMission(o, printConsole() ? stdout : nullptr);
 }
 
+// A scenario file with its own faults, as rse-demo --scenario runs it.
+MissionSummary runScenario(const char* scenario, double durationS = 300.0) {
+    MissionOptions o;
+    const char* argv[] = {"rse-demo", "--scenario", scenario};
+    std::string error;
+    if (sim::parseMissionArgs(3, argv, &o, &error) != sim::ParseOutcome::kRun) {
+        std::printf("\nbad options: %s\n", error.c_str());
+        return MissionSummary{};
+    }
+    o.durationS = durationS;
+    o.quiet = !printConsole();
+    return sim::runMission(o, printConsole() ? stdout : nullptr);
+}
+
 void report(const char* what, const MissionSummary& s) {
     std::printf("\n  %s: %s at %.1f s (%s), %.2f m from the goal, %u collisions; fault protection: %u responses, "
                 "%u recovered, %u gave up, %u actions, %u holds released, first response %.2f s, last resume %.2f s",
@@ -219,4 +233,53 @@ TEST(LockstepFaultProtection, AMotorWornToOnePointThreeTimesItsCurrentIsRecovere
         LONGS_EQUAL(1, s.responsesGaveUp);
         LONGS_EQUAL(static_cast<int>(rse::msg::CallHomeReason::kMobilityLost), static_cast<int>(s.callHome));
     }
+}
+
+// A flight task stall from the scenario (habitual_stall.toml: the demo site,
+// task_stall of "habitual" at 20 s, no end): the simulator cannot stop a flight
+// task (it only exchanges CAN frames), so its fault scheduler's task_stall is
+// sent by the ground link's owner as the operator's EXEC_SET_TASK, disabling
+// the habitual layer's row mid-leg. The health monitor raises that row's
+// task-stalled fault after FAULT_RESPONSE.task_stall_periods of its 100 ms
+// period; fault protection holds the mission and runs the row again (class 7,
+// restart the task); the fault clears, the hold is released, the leg is
+// re-sent and the rover reaches the goal without contact.
+TEST(LockstepFaultProtection, AStalledHabitualLayerIsRestartedAndTheGoalReached) {
+    const MissionSummary s = runScenario("sim_stub/scenarios/habitual_stall.toml");
+    report("habitual row stalled (EXEC_SET_TASK) at 20 s", s);
+    const sim::MissionMark* raised = s.firstMark(sim::MarkKind::kFaultRaised, 20.0);
+    const sim::MissionMark* started = s.firstMark(sim::MarkKind::kResponseStarted, 20.0);
+    const sim::MissionMark* restarted = s.firstMark(sim::MarkKind::kRecoveryAction, 20.0);
+    const sim::MissionMark* held = s.firstMark(sim::MarkKind::kHoldSet, 20.0);
+    const sim::MissionMark* released = s.firstMark(sim::MarkKind::kHoldReleased, 20.0);
+    CHECK(raised != nullptr && started != nullptr && restarted != nullptr && held != nullptr && released != nullptr);
+    std::printf("\n    stall commanded %.2f s (row %d), task-stalled fault %.2f s, response %.2f s, hold %.2f s, "
+                "restart %.2f s, hold released %.2f s, goal %.2f s; TASK_TIMING runs %u at the stall, %u at the end",
+                s.taskStallTimeS, s.stalledRow, raised->timeS, started->timeS, held->timeS, restarted->timeS,
+                released->timeS, s.outcomeTimeS, static_cast<unsigned>(s.stalledRowRunsAtStall),
+                static_cast<unsigned>(s.stalledRowRunsAtEnd));
+    // The ground's command, at the scheduled time, on the habitual layer's row (12).
+    LONGS_EQUAL(1, s.taskStallCommands);
+    DOUBLES_EQUAL(20.0, s.taskStallTimeS, 0.011);
+    LONGS_EQUAL(12, s.stalledRow);
+    LONGS_EQUAL(0, s.commandsRejected);
+    // Detected as that row's stall: event 732, three 100 ms periods after its last run.
+    LONGS_EQUAL(732, raised->eventId);
+    CHECK(raised->timeS > s.taskStallTimeS + 0.3 - 0.1);
+    CHECK(raised->timeS <= s.taskStallTimeS + 0.3 + 0.02);
+    // Fault protection's response in the same frame (930), the hold, then the
+    // restart (935) once the class's settle time is over.
+    LONGS_EQUAL(930, started->eventId);
+    CHECK(started->timeS - raised->timeS < 0.011);
+    CHECK(held->timeS - raised->timeS < 0.011);
+    LONGS_EQUAL(935, restarted->eventId);
+    CHECK(restarted->timeS >= started->timeS);
+    CHECK(restarted->timeS - raised->timeS <= 1.5);
+    CHECK(released->timeS > restarted->timeS);
+    // The row runs again: the ground sees its runs go on at 10 Hz.
+    CHECK(s.stalledRowRunsAtEnd > s.stalledRowRunsAtStall + static_cast<std::uint32_t>(5.0 * (s.outcomeTimeS - 22.0)));
+    // And the mission: recovered, the goal reached without contact.
+    checkReachedAfterResponse(s, 20.0);
+    LONGS_EQUAL(1, s.responsesStarted);
+    LONGS_EQUAL(1, s.recoveryActions);
 }

@@ -39,6 +39,13 @@ public:
     void slideRover(double offsetM, double bearingRad, double durationS) override {
         add("slide %.2f %.4f %.2f s", offsetM, bearingRad, durationS);
     }
+    void stallFlightTask(std::size_t row, const std::string& name, bool on) override {
+        if (name.empty()) {
+            add("task-stall row %zu %s", row, onOff(on));
+        } else {
+            add("task-stall %s %s", name.c_str(), onOff(on));
+        }
+    }
 
 private:
     static const char* onOff(bool on) { return on ? "on" : "off"; }

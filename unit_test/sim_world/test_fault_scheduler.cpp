@@ -74,6 +74,15 @@ at_s = 9.0
 offset_m = 12.5
 count = 3
 bearing_deg = 90
+[[faults]]
+type = "task_stall"
+at_s = 9.5
+task = "habitual"
+duration_s = 0.4
+[[faults]]
+type = "task_stall"
+at_s = 9.6
+task = 11
 )";
 
 const std::vector<std::string> kExpected = {
@@ -91,6 +100,9 @@ const std::vector<std::string> kExpected = {
     "7.000 babble 0x001 1000 off",
     "8.000 fail 5",
     "9.000 fix-outlier 12.50 1.5708 x3",
+    "9.500 task-stall habitual on",
+    "9.600 task-stall row 11 on",  // no end: the schedule never enables it again
+    "9.900 task-stall habitual off",
 };
 
 void checkLog(const std::vector<std::string>& expected, const std::vector<std::string>& got) {
@@ -108,14 +120,14 @@ TEST(SimFaultScheduler, EventsFireAtTheirTimesInOrder) {
     const Scenario s = parseScenario(kSchedule, "schedule.toml");
     test::RecordingFaultTarget target;
     FaultScheduler scheduler(s.faults, target);
-    LONGS_EQUAL(14, scheduler.eventCount());
+    LONGS_EQUAL(17, scheduler.eventCount());
     CHECK_EQUAL(core::kNsPerSec, scheduler.nextAt());
     for (core::TimeNs t = 0; t <= 10 * core::kNsPerSec; t += 10 * core::kNsPerMs) {
         target.now = t;
         scheduler.step(t);
     }
     checkLog(kExpected, target.log);
-    LONGS_EQUAL(14, scheduler.fired());
+    LONGS_EQUAL(17, scheduler.fired());
     CHECK_EQUAL(kNever, scheduler.nextAt());
 }
 

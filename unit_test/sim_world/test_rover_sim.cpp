@@ -71,6 +71,9 @@ public:
     void slideRover(double offsetM, double bearingRad, double durationS) override {
         record.slideRover(offsetM, bearingRad, durationS);
     }
+    void stallFlightTask(std::size_t row, const std::string& name, bool on) override {
+        record.stallFlightTask(row, name, on);
+    }
 
 private:
     bool note() {
@@ -442,6 +445,73 @@ TEST(SimRover, FaultsWithNothingToActOnAreCounted) {
     Rig* rig = new Rig(s, false);  // no drive owner, no in-memory bus hub
     rig->runUntil(2 * core::kNsPerSec);
     LONGS_EQUAL(2, rig->sim.stats().faultsUnhandled);
+    LONGS_EQUAL(0, rig->sim.stats().faultsApplied);
+    delete rig;
+}
+
+namespace {
+
+// The ground link's owner as the simulator sees it: records each EXEC_SET_TASK
+// it was asked to send, and may refuse (a task it does not know).
+class FakeFlightTasks final : public FlightTaskCommander {
+public:
+    bool accept = true;
+    std::vector<std::string> log;
+    bool setFlightTaskEnabled(std::size_t row, const std::string& name, bool enabled) override {
+        log.push_back((name.empty() ? "row " + std::to_string(row) : name) + (enabled ? " enabled" : " disabled"));
+        return accept;
+    }
+};
+
+Scenario withTaskStall(core::TimeNs until) {
+    Scenario s = openGround();
+    FaultSpec f;
+    f.type = FaultType::kTaskStall;
+    f.taskName = "habitual";
+    f.at = core::kNsPerSec;
+    f.until = until;
+    s.faults.push_back(f);
+    return s;
+}
+
+}  // namespace
+
+// The simulator cannot stall a flight task: it asks the ground link's owner to
+// disable the row at `at` and enable it at `until`; the drive owner never sees it.
+TEST(SimRover, ATaskStallIsHandedToTheGroundLinkOwnerAsDisableThenEnable) {
+    Rig* rig = new Rig(withTaskStall(2 * core::kNsPerSec));
+    FakeFlightTasks ground;
+    rig->sim.attachFlightTasks(&ground);
+    rig->runUntil(1500 * core::kNsPerMs);
+    LONGS_EQUAL(1, ground.log.size());
+    STRCMP_EQUAL("habitual disabled", ground.log[0].c_str());
+    rig->runUntil(3 * core::kNsPerSec);
+    LONGS_EQUAL(2, ground.log.size());
+    STRCMP_EQUAL("habitual enabled", ground.log[1].c_str());
+    LONGS_EQUAL(2, rig->sim.stats().faultsApplied);
+    LONGS_EQUAL(0, rig->sim.stats().faultsUnhandled);
+    CHECK(rig->drives.record.log.empty());
+    delete rig;
+}
+
+// With no ground link (rse-sim over CAN, a rig without a ground), or one that
+// could not send the command, the stall is not applied: counted as unhandled
+// (and written to stderr), never silently dropped.
+TEST(SimRover, ATaskStallNobodyCanCommandIsCountedAsNotApplied) {
+    Rig* rig = new Rig(withTaskStall(2 * core::kNsPerSec));
+    rig->runUntil(3 * core::kNsPerSec);
+    LONGS_EQUAL(2, rig->sim.stats().faultsUnhandled);
+    LONGS_EQUAL(2, rig->sim.stats().taskStallsUnhandled);
+    LONGS_EQUAL(0, rig->sim.stats().faultsApplied);
+    delete rig;
+
+    rig = new Rig(withTaskStall(kNever));
+    FakeFlightTasks ground;
+    ground.accept = false;
+    rig->sim.attachFlightTasks(&ground);
+    rig->runUntil(3 * core::kNsPerSec);
+    LONGS_EQUAL(1, ground.log.size());
+    LONGS_EQUAL(1, rig->sim.stats().taskStallsUnhandled);
     LONGS_EQUAL(0, rig->sim.stats().faultsApplied);
     delete rig;
 }

@@ -280,7 +280,7 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
         {kBase + "\n[[faults]]\ntype = \"meteor\"\nat_s = 1\n",
          "inline.toml: faults[0].type: unknown fault type \"meteor\" (expected motor_degradation, motor_failure, "
          "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-         "babbling_node, position_fix_outlier, motor_overheat, drive_fault or slide)"},
+         "babbling_node, position_fix_outlier, motor_overheat, drive_fault, slide or task_stall)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = -1\nwheel = 1\ncurrent_factor = 2\n",
          "inline.toml: faults[0].at_s: must be in [0, 1e+07] (got -1)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = 1\nwheel = 1\n",
@@ -425,4 +425,81 @@ TEST(SimScenario, BadDriveNoiseAndOutlierKeysAreRejectedWithTheKeyPath) {
         const std::string got = errorOf(c.text);
         STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
     }
+}
+
+// task_stall: the flight task by rate-group row or by the name TASK_TIMING
+// gives it; an optional end (duration_s or until_s) when the schedule enables
+// it again, none when only fault protection may.
+TEST(SimScenario, TaskStallsParseByRowOrByNameWithAnOptionalEnd) {
+    const Scenario s = parseScenario(kBase + R"(
+[[faults]]
+type = "task_stall"
+at_s = 2
+task = "habitual"
+[[faults]]
+type = "task_stall"
+at_s = 3
+task = 11
+duration_s = 1.5
+[[faults]]
+type = "task_stall"
+at_s = 4
+task = "manual_drive"
+until_s = 9
+)",
+                                     "stall.toml");
+    LONGS_EQUAL(3, s.faults.size());
+    const FaultSpec* f = s.faults.data();
+    CHECK(FaultType::kTaskStall == f[0].type);
+    STRCMP_EQUAL("task_stall", toString(f[0].type));
+    STRCMP_EQUAL("habitual", f[0].taskName.c_str());
+    CHECK_EQUAL(2 * kSec, f[0].at);
+    CHECK_EQUAL(kNever, f[0].until);  // no end: fault protection must restart it
+    CHECK(f[1].taskName.empty());
+    LONGS_EQUAL(11, f[1].taskRow);
+    CHECK_EQUAL(4500 * core::kNsPerMs, f[1].until);
+    STRCMP_EQUAL("manual_drive", f[2].taskName.c_str());
+    CHECK_EQUAL(9 * kSec, f[2].until);
+}
+
+TEST(SimScenario, BadTaskStallsAreRejectedWithSpecificMessages) {
+    const std::string head = kBase + "\n[[faults]]\ntype = \"task_stall\"\nat_s = 5\n";
+    const struct {
+        std::string text;
+        const char* message;
+    } cases[] = {
+        {head, "inline.toml: faults[0].task: missing (required)"},
+        {head + "task = 16\n", "inline.toml: faults[0].task: a row must be 0..15 (got 16)"},
+        {head + "task = -1\n", "inline.toml: faults[0].task: a row must be 0..15 (got -1)"},
+        {head + "task = 2.5\n",
+         "inline.toml: faults[0].task: must be a rate-group row (integer) or a task name (string) (got a "
+         "floating-point number)"},
+        {head + "task = \"\"\n",
+         "inline.toml: faults[0].task: \"\" is not a task name (1 to 15 of a-z, 0-9, _; as TASK_TIMING names it)"},
+        {head + "task = \"Habitual\"\n",
+         "inline.toml: faults[0].task: \"Habitual\" is not a task name (1 to 15 of a-z, 0-9, _; as TASK_TIMING "
+         "names it)"},
+        {head + "task = \"a_task_name_too_long\"\n",
+         "inline.toml: faults[0].task: \"a_task_name_too_long\" is not a task name (1 to 15 of a-z, 0-9, _; as "
+         "TASK_TIMING names it)"},
+        {head + "task = 3\nuntil_s = 4\n", "inline.toml: faults[0].until_s: must be after at_s (5) (got 4)"},
+        {head + "task = 3\nduration_s = 1\nuntil_s = 8\n", "inline.toml: faults[0]: give duration_s or until_s, not both"},
+        {head + "task = 3\nwheel = 1\n", "inline.toml: faults[0].wheel: unknown key for fault type task_stall"},
+    };
+    for (const auto& c : cases) {
+        const std::string got = errorOf(c.text);
+        STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
+    }
+}
+
+TEST(SimScenario, TheHabitualStallScenarioLoadsWithItsOneTaskStall) {
+    Scenario s;
+    std::string error;
+    CHECK_TRUE_TEXT(tryLoadScenarioFile("sim_stub/scenarios/habitual_stall.toml", &s, &error), error.c_str());
+    LONGS_EQUAL(1, s.faults.size());
+    CHECK(FaultType::kTaskStall == s.faults[0].type);
+    STRCMP_EQUAL("habitual", s.faults[0].taskName.c_str());
+    CHECK_EQUAL(20 * kSec, s.faults[0].at);
+    CHECK_EQUAL(kNever, s.faults[0].until);
+    LONGS_EQUAL(5, s.obstacles.size());  // the demo's site
 }
