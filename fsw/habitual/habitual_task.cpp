@@ -683,7 +683,7 @@ bool HabitualTask::findReentry(double footprint, Point2* exit) const {
         const double step = static_cast<double>((i + 1) / 2) * kEscapeStepM * ((i % 2 == 1) ? 1.0 : -1.0);
         const Point2 slid = nearest + step * along;
         Point2 p{0.0, 0.0};
-        if (!geometry::nearestInside(site, slid.x, slid.y, &p.x, &p.y) || distance(p, queryStart_) > kMaxEscapeM) {
+        if (!geometry::nearestInside(site, slid.x, slid.y, &p.x, &p.y) || distance(p, queryStart_) > kMaxReentryM) {
             continue;
         }
         if (planMap_.pointFree(p) && escapeClear(coarse, p, keep, nullptr)) {

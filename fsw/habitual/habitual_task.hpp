@@ -60,7 +60,7 @@
 // there. A start off the site (outside the COARSE_MAP bounds: the rover slid or
 // was driven off the map) backs in the same way: straight to the nearest point
 // footprint + kPlanMarginM + kEscapeExtraM inside the site (or one slid along
-// the edge by kEscapeStepM steps when that is blocked), at most kMaxEscapeM
+// the edge by kEscapeStepM steps when that is blocked), at most kMaxReentryM
 // away. At most kMaxEscapesPerLeg per leg; then RRT* refuses the start and the
 // leg fails up (no path).
 //
@@ -143,6 +143,12 @@ constexpr double kEscapeExtraM = 0.05;
 constexpr double kEscapeStepM = 0.25;
 constexpr std::uint32_t kEscapeSteps = 8;
 constexpr double kMaxEscapeM = 3.0;
+// The longest drive back onto the site. A slide or a wander off the orbital map
+// is metres, not tens of metres; a pose farther off is more likely wrong than
+// the rover there, and driving that far over unmapped ground on it is not a
+// recovery: the leg fails up (no path) and fault protection's tries end in a
+// call home.
+constexpr double kMaxReentryM = 10.0;
 constexpr std::uint32_t kMaxEscapesPerLeg = 3;
 // Points checked along the way out against the mapped rocks (3 m / 30: 0.1 m apart).
 constexpr std::uint32_t kEscapeChecks = 30;
@@ -258,7 +264,7 @@ private:
     // queryStart_ inside a seen hazard's inflated disc (planMap_ at the bare
     // footprint): the point to back out to; false when there is none.
     bool findEscape(double footprint, geometry::Point2* exit) const;
-    // queryStart_ off the site: the point on it to drive back to; false when none within kMaxEscapeM.
+    // queryStart_ off the site: the point on it to drive back to; false when none within kMaxReentryM.
     bool findReentry(double footprint, geometry::Point2* exit) const;
     void sendEscape(geometry::Point2 exit, bool offMap, core::TimeNs now);
     bool escapeClear(const tables::CoarseMapTable& coarse, geometry::Point2 exit, double keep,

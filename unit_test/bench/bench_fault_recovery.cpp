@@ -46,6 +46,9 @@ struct FaultCase {
     bool recoverable;
     // The fault for one run (at: its random time), and where its drive is.
     std::function<std::vector<FaultSpec>(double at, std::mt19937_64& rng)> make;
+    const char* gotoXY = "20,0";                           // the mission's GOTO
+    std::function<void(rse::sim::Scenario&)> site = nullptr;  // changes to the site and start
+    std::uint16_t detectEvent = 0;  // the health raise that is this fault's detection (0: the first one)
 };
 
 rse::core::TimeNs ns(double s) { return static_cast<rse::core::TimeNs>(s * 1e9); }
@@ -73,13 +76,29 @@ struct Tally {
     std::vector<double> detect, estopFrames, actionFrames, resumed;
 };
 
-void measure(const MissionSummary& s, double at, Tally* t) {
+// The first raise of event `id` at or after timeS (nullptr: none).
+const MissionMark* firstRaise(const MissionSummary& s, std::uint16_t id, double timeS) {
+    for (std::size_t i = 0; i < s.markCount; ++i) {
+        const MissionMark& m = s.marks[i];
+        if (m.kind == MarkKind::kFaultRaised && m.eventId == id && m.timeS >= timeS) {
+            return &m;
+        }
+    }
+    return nullptr;
+}
+
+void measure(const MissionSummary& s, double at, std::uint16_t detectEvent, Tally* t) {
     ++t->runs;
     const bool reached = s.outcome == rse::sim::MissionOutcome::kGoalReached && s.goalDistanceM < 0.6;
     t->recovered += reached && s.responsesGaveUp == 0 ? 1 : 0;
     t->collisions += s.collisions;
-    const MissionMark* response = s.firstMark(MarkKind::kResponseStarted, at);
-    const MissionMark* raised = s.firstMark(MarkKind::kFaultRaised, at);
+    const MissionMark* raised =
+        detectEvent != 0 ? firstRaise(s, detectEvent, at) : s.firstMark(MarkKind::kFaultRaised, at);
+    if (detectEvent != 0 && raised == nullptr) {
+        ++t->noResponse;
+        return;
+    }
+    const MissionMark* response = s.firstMark(MarkKind::kResponseStarted, detectEvent != 0 ? raised->timeS : at);
     if (response == nullptr) {
         ++t->noResponse;
         return;
@@ -157,6 +176,32 @@ int main(int argc, char** argv) {
              f.at = ns(at);
              return std::vector<FaultSpec>{f};
          }},
+        // Along the south edge of the site (y_min -10 m) to (18, -8.6); the
+        // ground gives way and the rover slides 2.5-3 m southwards (within
+        // 10 degrees of due south) over 2 s, always far enough to leave the map,
+        // off the orbital map (the world goes on to y = -20). Detected by the
+        // off-map fault (fault 46, raise event 738), after the estimator has
+        // refused the jump and re-anchored; fault protection asks for a
+        // replan from the pose (no hold: the rover must drive back on).
+        {"off the map (slide 2.5-3 m)", demo, 300.0, true,
+         [](double at, std::mt19937_64& rng) {
+             std::uniform_real_distribution<double> offset(2.5, 3.0);
+             std::uniform_real_distribution<double> bearingDeg(-100.0, -80.0);
+             FaultSpec f;
+             f.type = FaultType::kSlide;
+             f.at = ns(at);
+             f.until = ns(at + 2.0);
+             f.value = offset(rng);
+             f.bearingRad = bearingDeg(rng) * 3.141592653589793 / 180.0;
+             return std::vector<FaultSpec>{f};
+         },
+         "18,-8.6",
+         [](rse::sim::Scenario& s) {
+             s.start.x = 0.0;
+             s.start.y = -8.6;
+             s.map.yMin = -20.0;
+         },
+         738},
     };
     std::printf("fault recovery: %d seeded demo missions per fault type, fault at a random time in [5, 60] s\n", runs);
     std::printf("%-32s %5s %9s %9s %12s %12s %14s %10s\n", "fault", "runs", "recovered", "collide", "detect s p50/max",
@@ -171,9 +216,9 @@ int main(int argc, char** argv) {
             const std::uint64_t seed = rng();
             const std::vector<FaultSpec> faults = c.make(at, rng);
             rse::sim::MissionOptions o;
-            const char* args[] = {"rse-demo", "--no-faults", "--quiet", "--scenario", c.scenario};
+            const char* args[] = {"rse-demo", "--no-faults", "--quiet", "--scenario", c.scenario, "--goto", c.gotoXY};
             std::string error;
-            if (rse::sim::parseMissionArgs(5, args, &o, &error) != rse::sim::ParseOutcome::kRun) {
+            if (rse::sim::parseMissionArgs(7, args, &o, &error) != rse::sim::ParseOutcome::kRun) {
                 std::fprintf(stderr, "bench_fault_recovery: %s\n", error.c_str());
                 return 1;
             }
@@ -181,9 +226,20 @@ int main(int argc, char** argv) {
             o.editScenario = [&](rse::sim::Scenario& s) {
                 s.seed = seed;
                 s.faults = faults;
+                if (c.site) {
+                    c.site(s);
+                }
             };
             const MissionSummary summary = rse::sim::runMission(o, nullptr);
-            measure(summary, at, &t);
+            const unsigned unanswered = t.noResponse;
+            measure(summary, at, c.detectEvent, &t);
+            if (t.noResponse > unanswered && &c != cases.data() && std::getenv("BENCH_VERBOSE") != nullptr) {
+                std::printf("  %s: fault at %.2f s (value %.3f, bearing %.3f rad), seed %llu: no response; %s at "
+                            "%.1f s, end (%.2f, %.2f)\n",
+                            c.name, at, faults.empty() ? 0.0 : faults[0].value,
+                            faults.empty() ? 0.0 : faults[0].bearingRad, static_cast<unsigned long long>(seed),
+                            rse::sim::toString(summary.outcome), summary.outcomeTimeS, summary.finalX, summary.finalY);
+            }
             const bool clean = summary.outcome == rse::sim::MissionOutcome::kGoalReached && summary.collisions == 0;
             if (!clean && c.recoverable && std::getenv("BENCH_VERBOSE") != nullptr) {
                 std::printf("  %s: fault at %.2f s (wheel %zu), seed %llu: %s at %.1f s (%s), %u collisions, end (%.2f, %.2f)\n",

@@ -239,10 +239,10 @@ TEST(HabitualRecovery, AStartOffTheSiteDrivesStraightBackOnToTheNearestPointThen
     LONGS_EQUAL(0, rig->task.counters().failUps);
 }
 
-TEST(HabitualRecovery, AStartFartherOffTheSiteThanAnEscapeReachesFailsUp) {
+TEST(HabitualRecovery, AStartFartherOffTheSiteThanAReentryReachesFailsUp) {
     const double yMin = static_cast<double>(rig->tables.coarseMap().y_min_m);
     rig->x = 3.0;
-    rig->y = yMin - habitual::kMaxEscapeM;  // the way back on is longer than kMaxEscapeM
+    rig->y = yMin - habitual::kMaxReentryM;  // the way back on is longer than kMaxReentryM
     rig->sendLeg(1, 6.0, yMin + 2.0, 40.0, 5000.0);
     CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kFailedUp); }, 40));
     LONGS_EQUAL(0, rig->task.counters().escapes);
