@@ -4,7 +4,10 @@
 # A suite passes tests per its runner's own summary: CppUTest's "OK (N tests, N ran,
 # ...)" / "Errors (F failures, N tests, N ran, ...)", or a plain "N passed, N failed"
 # line. A suite that crashes, times out, exits non-zero or prints no summary counts
-# one extra failure, so nothing fails silently.
+# one extra failure, and so does a suite whose summary says it ran no test ("0
+# passed, 0 failed", "OK (0 tests, 0 ran, ...)": a filter or a build that lost
+# its tests), so nothing fails silently. unit_test/integration/harness_counts_test.sh
+# feeds this script fake suites and checks these counts.
 #
 # A suite ending in .sh is a script that runs built executables itself; it gets
 # the runner prefix as RSE_RUNNER (and RSE_BIN_DIR from the caller).
@@ -44,6 +47,9 @@ for bin in "$@"; do
   elif ! grep -qE '^(OK \(|Errors \(|([A-Za-z0-9_-]+: )?[0-9]+ passed, [0-9]+ failed)' "$log"; then
     echo "[$label] $suite: printed no test summary"
     failed=$((failed + 1))
+  elif [ $((passed + failed)) -eq 0 ]; then
+    echo "[$label] $suite: ran no test (counted as failed)"
+    failed=1
   fi
   echo "$label/$suite $passed $failed" >> "$results"
 done
