@@ -13,7 +13,11 @@ FUZZ_SECONDS ?= 60
 FUZZ_CXX := clang++
 FUZZ_DIR := build/fuzz
 FUZZ_SRC_DIR := unit_test/fuzz
-FUZZ_TARGETS := command table
+# fuzz_table: the image checks and codecs alone (thousands of inputs a second);
+# fuzz_table_service: those and the table service's whole load sequence (a few
+# hundred a second). A target's seeds and reproducers are those of the name
+# before its first '_' (table_service: corpus/table, regressions/table).
+FUZZ_TARGETS := command table table_service
 FUZZ_CORPUS := $(FUZZ_SRC_DIR)/corpus
 FUZZ_REGRESSIONS := $(FUZZ_SRC_DIR)/regressions
 
@@ -66,8 +70,9 @@ fuzz-build: fuzz-host-only deps $(FUZZ_BINS)
 fuzz: fuzz-build
 	@status=0; \
 	for t in $(FUZZ_TARGETS); do \
-	  $(FUZZ_SRC_DIR)/run_fuzz.sh $$t $(FUZZ_DIR)/bin/fuzz_$$t $(FUZZ_CORPUS)/$$t $(FUZZ_DIR)/work/$$t \
-	    $(FUZZ_SECONDS) $(FUZZ_REGRESSIONS)/$$t || status=1; \
+	  seeds=$${t%%_*}; \
+	  $(FUZZ_SRC_DIR)/run_fuzz.sh $$t $(FUZZ_DIR)/bin/fuzz_$$t $(FUZZ_CORPUS)/$$seeds $(FUZZ_DIR)/work/$$t \
+	    $(FUZZ_SECONDS) $(FUZZ_REGRESSIONS)/$$seeds || status=1; \
 	done; \
 	echo "==== make fuzz summary ($(FUZZ_SECONDS) s per target)"; \
 	for t in $(FUZZ_TARGETS); do cat $(FUZZ_DIR)/work/$$t/summary.txt 2>/dev/null || echo "fuzz $$t: no result"; done; \
