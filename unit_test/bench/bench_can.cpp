@@ -16,6 +16,7 @@
 #include "fsw/app/can_io_task.hpp"
 #include "fsw/core/clock.hpp"
 #include "hal/can/memory_can_bus.hpp"
+#include "unit_test/bench/bench_targets.hpp"
 
 using namespace rse;
 
@@ -36,6 +37,7 @@ struct ScheduledFrame {
 }  // namespace
 
 int main() {
+    rse::bench::Targets targets;
     const int drives = static_cast<int>(msg::kWheelCount);
     const int heartbeatNodes = drives + 4;  // + IMU, power, hazard, position fix
     const ScheduledFrame schedule[] = {
@@ -58,7 +60,7 @@ int main() {
     }
     const double load = total / 1.0e6;
     std::printf("   total %.1f kbit/s = %.1f %% of 1 Mbit/s; target < 40 %% -> %s\n", total / 1000.0, 100.0 * load,
-                load < 0.40 ? "met" : "MISSED");
+                targets.check(load < 0.40) ? "met" : "MISSED");
     std::printf("   (ground ISO-TP traffic comes on top, at the lowest priority but heartbeats)\n");
 
     core::VirtualClock clock;
@@ -101,5 +103,5 @@ int main() {
     std::printf("   frames on the bus in that time: %u (%.0f per cycle)\n",
                 static_cast<unsigned>(rig.wire().stats().framesCarried),
                 static_cast<double>(rig.wire().stats().framesCarried) / io->runs);
-    return 0;
+    return targets.finish();
 }

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "unit_test/lockstep/estimator_runs.hpp"
+#include "unit_test/bench/bench_targets.hpp"
 
 namespace {
 
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: bench_estimator [runs >= 2] [seconds >= 10]\n");
         return 2;
     }
+    rse::bench::Targets targets;
     const rse::sim::Scenario base = rse::sim::loadScenarioFile("sim_stub/scenarios/estimator_drive.toml");
     timespec t0{};
     timespec t1{};
@@ -167,6 +169,6 @@ int main(int argc, char** argv) {
                 otherAlarms);
     const bool modesOk = missedDegrade == 0 && lateDegrade == 0 && missedFail == 0 && modeAlarms == 0 &&
                          otherAlarms == 0 && faultAlarms == 0;
-    std::printf("  every degradation detected before its failure, no false alarm: %s\n", modesOk ? "yes" : "NO");
-    return 0;
+    std::printf("  every degradation detected before its failure, no false alarm: %s\n", targets.check(modesOk) ? "yes" : "NO");
+    return targets.finish();
 }
