@@ -263,6 +263,14 @@ private:
                 break;
             }
             case CommandReject::kSequenceUnsynchronised:
+                if (result.detail == 4 || result.detail == 6) {
+                    err_ << (result.detail == 4
+                                 ? "hint: not the rover's current nonce (it changes at every restart and after each "
+                                   "AUTH_RESYNC accepted): read it again (rse-ground watch --only HK --count 1)\n"
+                                 : "hint: the rover has no nonce (no random source at start-up): AUTH_RESYNC cannot "
+                                   "succeed until it restarts with one\n");
+                    break;
+                }
                 err_ << "hint: the rover does not know this key's anti-replay state (store missing or corrupt, or key "
                         "new to it): read the nonce (rse-ground watch --only HK --count 1: auth_challenge_high, "
                         "auth_challenge_low) and send AUTH_RESYNC challenge_high=H challenge_low=L (docs/ground.md)\n";
