@@ -37,6 +37,11 @@ constexpr const char* kReasonDescriptions[] = {
     "an argument is outside its [min, max] or not finite (detail: argument index, from 0)",
     "the current mode does not allow the command (detail: the rover's mode)",
     "the command was valid but failed when executed (detail: the handler's code, e.g. the table reject code)",
+    "the key's anti-replay state is not known (detail: 1 store missing, 2 store corrupt, 3 key not in the store, "
+    "5 store unreadable; for AUTH_RESYNC 4 wrong nonce, 6 no nonce): refused until AUTH_RESYNC",
+    "the anti-replay sequence number is above 4294966271 (0xFFFFFFFF - 1024): the key's numbers are used up; "
+    "change the key",
+    "the anti-replay reservation could not be written to the store: refused, not acted on (HK.auth_store_write_failures)",
 };
 static_assert(sizeof kReasonDescriptions / sizeof kReasonDescriptions[0] == cmdtlm::kRejectReasonCount,
               "one description per CMD_ACK reason code");

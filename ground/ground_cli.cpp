@@ -250,10 +250,38 @@ private:
         using cmdtlm::CommandReject;
         switch (static_cast<CommandReject>(result.reason)) {
             case CommandReject::kStaleSequence:
-            case CommandReject::kReplayedSequence:
-                err_ << "hint: the rover has seen this anti-replay number (or newer ones) for key "
-                     << (g_.noAuth ? 0 : (g_.keyId ? *g_.keyId : 1)) << "; numbers come from "
-                     << store().directory() << " (another ground station, or a reset state directory?); --auth-seq N jumps ahead\n";
+            case CommandReject::kReplayedSequence: {
+                const std::uint16_t key = g_.noAuth ? 0 : (g_.keyId ? *g_.keyId : 1);
+                err_ << "hint: the rover has seen this anti-replay number (or newer ones) for key " << key
+                     << "; numbers come from " << store().directory()
+                     << " (another ground station, or a reset state directory?); --auth-seq N jumps ahead\n";
+                const std::uint64_t after = std::uint64_t{store().last(key)} + cmdtlm::kReserveBlock + 1;
+                if (after <= cmdtlm::kMaxUsableSequence) {
+                    err_ << "hint: after a rover restart every number up to its stored reservation is refused, at most "
+                         << cmdtlm::kReserveBlock << " above the last one it accepted: --auth-seq " << after << "\n";
+                }
+                break;
+            }
+            case CommandReject::kSequenceUnsynchronised:
+                if (result.detail == 4 || result.detail == 6) {
+                    err_ << (result.detail == 4
+                                 ? "hint: not the rover's current nonce (it changes at every restart and after each "
+                                   "AUTH_RESYNC accepted): read it again (rse-ground watch --only HK --count 1)\n"
+                                 : "hint: the rover has no nonce (no random source at start-up): AUTH_RESYNC cannot "
+                                   "succeed until it restarts with one\n");
+                    break;
+                }
+                err_ << "hint: the rover does not know this key's anti-replay state (store missing or corrupt, or key "
+                        "new to it): read the nonce (rse-ground watch --only HK --count 1: auth_challenge_high, "
+                        "auth_challenge_low) and send AUTH_RESYNC challenge_high=H challenge_low=L (docs/ground.md)\n";
+                break;
+            case CommandReject::kSequenceExhausted:
+                err_ << "hint: this key's anti-replay numbers are used up (above " << cmdtlm::kMaxUsableSequence
+                     << "): load a new key on the rover and use it (docs/ground.md)\n";
+                break;
+            case CommandReject::kSequenceStoreFailed:
+                err_ << "hint: the rover could not write its anti-replay store, so it did not act on the command "
+                        "(HK.auth_store_write_failures, event 545); send it again once the store is writable\n";
                 break;
             case CommandReject::kMacMissing:
                 err_ << "hint: the rover requires authenticated commands: drop --no-auth\n";

@@ -130,6 +130,16 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
                 telemetryTask_->requestHousekeeping();
             }
             return {};
+        case CommandCode::AUTH_RESYNC:
+            // The validator did the work (the nonce matched, the floor moved and
+            // was persisted); unauthenticated, in the lab setting, there is no key to resync.
+            if (verdict.keyId == cmdtlm::kNoKey) {
+                return failed(1);
+            }
+            parts_.events.report(cmdtlm::events::kAuthResynced, core::Severity::kWarning,
+                                 "cmd: AUTH_RESYNC: key %u re-synchronised (seq %u, floor in HK and the store)",
+                                 static_cast<unsigned>(verdict.keyId), static_cast<unsigned>(verdict.authSequence));
+            return {};
         case CommandCode::SET_MODE:
             setMode(static_cast<cmdtlm::Mode>(decoded<cmdtlm::SET_MODE_Args>(verdict).mode));
             return {};

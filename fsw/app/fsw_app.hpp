@@ -51,6 +51,11 @@ public:
     // and the lab setting that accepts unauthenticated commands.
     cmdtlm::KeyStore& keys() { return commands_.keys(); }
     void setAuthRequired(bool required) { commands_.setAuthRequired(required); }
+    // Before init: the persisted anti-replay store (none: RAM only, for in-process
+    // runs that never restart) and whether init may create it (first boot), and
+    // the AUTH_RESYNC nonce's random start (none: AUTH_RESYNC refused).
+    void attachAuthStore(hal::RecordStore* store, bool provision) { commands_.attachAuthStore(store, provision); }
+    void setAuthChallengeSeed(std::uint64_t seed) { commands_.setAuthChallengeSeed(seed); }
 
     // console: where the console task writes (nullptr: quiet).
     core::Status init(std::FILE* console);

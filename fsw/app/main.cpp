@@ -3,6 +3,7 @@
 //   rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
 //           [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]
 //           [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
+//           [--auth-store PATH] [--auth-store-create]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
@@ -11,6 +12,10 @@
 // lab ports). Commands must be authenticated with a key from --key-file (lines
 // "ID:64-hex-digits"), or with the public lab key when no file is given;
 // --lab-no-auth also accepts unauthenticated commands (docs/icd.md).
+// The anti-replay state persists in --auth-store PATH (default rse-fsw-auth.dat
+// in the working directory); a missing or corrupt store refuses commands until
+// the ground re-synchronises (AUTH_RESYNC), except that --auth-store-create
+// creates a missing one at floor 0 (first boot).
 // Real-time mode (default) runs on CLOCK_MONOTONIC until SIGINT/SIGTERM or the
 // duration; lockstep mode runs the same tasks on a virtual clock as fast as the
 // CPU allows (a duration is then required). Exit status: 0 after a clean stop,
@@ -27,6 +32,7 @@
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/can/socketcan_bus.hpp"
 #include "hal/link/udp_packet_link.hpp"
+#include "hal/nvm/file_record_store.hpp"
 #include "hal/watchdog/watchdog_device.hpp"
 
 namespace {
@@ -49,6 +55,8 @@ struct Options {
     std::uint16_t telemetryPort = rse::hal::kDefaultTelemetryPort;
     const char* keyFile = nullptr;
     bool authRequired = true;
+    const char* authStore = "rse-fsw-auth.dat";
+    bool authStoreCreate = false;
     const char* watchdogDevice = nullptr;
     int watchdogTimeoutS = 30;
 };
@@ -58,6 +66,7 @@ void usage(std::FILE* out) {
                  "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
                  "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
                  "               [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
+                 "               [--auth-store PATH] [--auth-store-create]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
                  "                      the ground link runs over ISO-TP on it (rx 0x6F0, tx 0x6F1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
@@ -72,6 +81,10 @@ void usage(std::FILE* out) {
                  "  --key-file FILE     command authentication keys, lines ID:64-hex-digits\n"
                  "                      (default: the public lab key, id 1 - not for flight)\n"
                  "  --lab-no-auth       lab setting: also accept unauthenticated commands\n"
+                 "  --auth-store PATH   where the anti-replay reservations persist (default rse-fsw-auth.dat);\n"
+                 "                      missing or corrupt: commands refused until AUTH_RESYNC\n"
+                 "  --auth-store-create first boot: create a missing store (floor 0) and add loaded keys it lacks;\n"
+                 "                      never touches a corrupt store or a stored reservation\n"
                  "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
                  "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
                  "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n");
@@ -110,8 +123,11 @@ bool parseOptions(int argc, char** argv, Options* options) {
             options->udp = true;
         } else if (std::strcmp(arg, "--lab-no-auth") == 0) {
             options->authRequired = false;
+        } else if (std::strcmp(arg, "--auth-store-create") == 0) {
+            options->authStoreCreate = true;
         } else if (std::strcmp(arg, "--udp-bind") == 0 || std::strcmp(arg, "--tlm-host") == 0 ||
-                   std::strcmp(arg, "--key-file") == 0 || std::strcmp(arg, "--watchdog") == 0) {
+                   std::strcmp(arg, "--key-file") == 0 || std::strcmp(arg, "--watchdog") == 0 ||
+                   std::strcmp(arg, "--auth-store") == 0) {
             if (i + 1 >= argc) {
                 std::fprintf(stderr, "rse-fsw: %s needs a value\n", arg);
                 return false;
@@ -123,6 +139,13 @@ bool parseOptions(int argc, char** argv, Options* options) {
                 options->telemetryHost = value;
             } else if (std::strcmp(arg, "--watchdog") == 0) {
                 options->watchdogDevice = value;
+            } else if (std::strcmp(arg, "--auth-store") == 0) {
+                if (value[0] == '\0' || std::strlen(value) > rse::hal::FileRecordStore::kMaxPath) {
+                    std::fprintf(stderr, "rse-fsw: --auth-store needs a path of 1..%zu characters\n",
+                                 rse::hal::FileRecordStore::kMaxPath);
+                    return false;
+                }
+                options->authStore = value;
             } else {
                 options->keyFile = value;
             }
@@ -214,6 +237,7 @@ rse::core::MonotonicClock g_monotonicClock;
 rse::core::VirtualClock g_virtualClock;
 rse::hal::SocketCanBus g_socketCan;
 rse::hal::MemoryCanBus g_detachedBus(g_virtualClock);  // nothing else attached
+rse::hal::FileRecordStore g_authStore;
 char g_stdoutBuffer[16384];
 
 }  // namespace
@@ -243,6 +267,20 @@ int main(int argc, char** argv) {
         return 1;
     }
     app.setAuthRequired(options.authRequired);
+    // The anti-replay store: always a file (a restart must not reopen numbers).
+    if (!rse::core::isOk(g_authStore.open(options.authStore))) {
+        std::fprintf(stderr, "rse-fsw: cannot use '%s' as the anti-replay store\n", options.authStore);
+        return 1;
+    }
+    app.attachAuthStore(&g_authStore, options.authStoreCreate);
+    std::uint64_t nonce = 0;
+    int randomError = 0;
+    if (rse::core::isOk(rse::hal::readRandom64(&nonce, &randomError))) {
+        app.setAuthChallengeSeed(nonce);
+    } else {
+        std::fprintf(stderr, "rse-fsw: no random source for the AUTH_RESYNC nonce (%s): AUTH_RESYNC refused\n",
+                     std::strerror(randomError));
+    }
     static rse::hal::UdpPacketLink g_udpLink(app.events());
     if (options.udp) {
         if (!rse::core::isOk(g_udpLink.open(options.udpBind, options.commandPort, options.telemetryHost,

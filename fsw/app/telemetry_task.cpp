@@ -173,6 +173,13 @@ void TelemetryTask::sendHousekeeping(core::TimeNs now) {
     hk_.tlm_dropped = output_.dropped();
     hk_.table_activations = sources_.tables.activations();
     hk_.table_rejects = sources_.tables.rejects();
+    const cmdtlm::AntiReplayState& replay = sources_.commands.antiReplay();
+    hk_.auth_store_state = static_cast<std::uint8_t>(replay.state());
+    hk_.auth_keys_unsynced = sources_.commands.keysUnsynced();
+    hk_.auth_challenge_high = static_cast<std::uint32_t>(replay.challenge() >> 32);
+    hk_.auth_challenge_low = static_cast<std::uint32_t>(replay.challenge());
+    hk_.auth_store_writes = replay.writes();
+    hk_.auth_store_write_failures = replay.writeFailures();
     output_.send(hk_);
     ++housekeepingSent_;
 }

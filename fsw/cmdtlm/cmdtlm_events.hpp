@@ -16,7 +16,15 @@ constexpr core::EventId kAuthDisabled = 505;         // start-up: the lab settin
 constexpr core::EventId kCmdInitFailed = 506;        // a command service start-up step failed
 constexpr core::EventId kTelemetryDropped = 507;     // a link refused a telemetry packet (throttled 1,2,4,8..)
 constexpr core::EventId kTelemetryTooLarge = 508;    // a telemetry packet did not fit (a dictionary bug)
-// One event per reject reason: kRejectBase + CommandReject value (521 bad length ... 534 execution failed).
+// The persisted anti-replay state (fsw/cmdtlm/anti_replay_state.hpp), 540-546.
+constexpr core::EventId kAuthStoreLoaded = 540;      // start-up: store read (or created), keys and floors (INFO)
+constexpr core::EventId kAuthStoreUnusable = 541;    // start-up: store missing, corrupt or unreadable: keys refused until AUTH_RESYNC (CRIT)
+constexpr core::EventId kAuthStoreVolatile = 542;    // start-up: no store attached, the window lives in RAM only (WARN)
+constexpr core::EventId kAuthKeyUnsynced = 543;      // start-up: a loaded key without a stored reservation: refused until AUTH_RESYNC (ERROR)
+constexpr core::EventId kAuthResynced = 544;         // AUTH_RESYNC accepted: the key's floor moved (WARN)
+constexpr core::EventId kAuthStoreWriteFailed = 545; // a reservation write failed (ERROR, 1st, 2nd, 4th ... time)
+constexpr core::EventId kAuthNoChallenge = 546;      // start-up: no AUTH_RESYNC nonce (no random source) (WARN)
+// One event per reject reason: kRejectBase + CommandReject value (521 bad length ... 537 sequence store failed).
 constexpr core::EventId kRejectBase = 520;
 constexpr core::EventId rejectEvent(CommandReject reason) {
     return static_cast<core::EventId>(kRejectBase + static_cast<unsigned>(reason));

@@ -139,6 +139,16 @@ void KeyStore::commit(std::uint16_t keyId, std::uint32_t sequence) {
     }
 }
 
+void KeyStore::setFloor(std::uint16_t keyId, std::uint32_t floorSequence) {
+    Slot* s = slot(keyId);
+    if (s == nullptr) {
+        return;
+    }
+    s->anySeen = true;
+    s->highest = floorSequence;
+    s->seenMask = ~std::uint64_t{0};  // nothing below the floor is fresh
+}
+
 std::uint32_t KeyStore::lastSequence(std::uint16_t keyId) const {
     const Slot* s = slot(keyId);
     return s == nullptr ? 0 : s->highest;

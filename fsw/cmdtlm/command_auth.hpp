@@ -54,6 +54,7 @@ public:
     core::Status add(std::uint16_t keyId, const std::uint8_t key[kKeySize]);
     const std::uint8_t* find(std::uint16_t keyId) const;  // nullptr: unknown key
     std::size_t size() const { return count_; }
+    std::uint16_t idAt(std::size_t index) const { return index < count_ ? slots_[index].id : kNoKey; }
     bool labKeyInUse() const { return find(kLabKeyId) != nullptr && labKeyLoaded_; }
     void clear();
 
@@ -62,6 +63,9 @@ public:
     Freshness check(std::uint16_t keyId, std::uint32_t sequence) const;
     void commit(std::uint16_t keyId, std::uint32_t sequence);  // after the MAC verified
     std::uint32_t lastSequence(std::uint16_t keyId) const;
+    // Every number up to `floorSequence` is refused from now on (as replayed or stale):
+    // the floor persisted across a restart, or set by AUTH_RESYNC.
+    void setFloor(std::uint16_t keyId, std::uint32_t floorSequence);
 
 private:
     struct Slot {

@@ -23,6 +23,7 @@ core::Status CommandTask::init() {
                        "cmd: HMAC-SHA-256 engine unavailable (%s)", core::toString(status));
         return status;
     }
+    reportAntiReplayState();
     if (keys_.labKeyInUse()) {
         events_.report(events::kLabKeyInUse, core::Severity::kWarning,
                        "cmd: the public lab key (id %u) authenticates commands: not for flight",
@@ -33,6 +34,55 @@ core::Status CommandTask::init() {
                        "cmd: lab setting: unauthenticated commands (key id 0) accepted");
     }
     return core::Status::kOk;
+}
+
+void CommandTask::reportAntiReplayState() {
+    AntiReplayState& replay = validator_.replay();
+    replay.load(keys_, provisionAuthStore_);
+    switch (replay.state()) {
+        case AuthStoreState::kVolatile:
+            events_.report(events::kAuthStoreVolatile, core::Severity::kWarning,
+                           "cmd: anti-replay state in RAM only (no store): a restart forgets it");
+            return;
+        case AuthStoreState::kOk:
+            break;
+        case AuthStoreState::kMissing:
+        case AuthStoreState::kCorrupt:
+        case AuthStoreState::kUnreadable:
+            events_.report(events::kAuthStoreUnusable, core::Severity::kCritical,
+                           "cmd: anti-replay store %s: commands refused until AUTH_RESYNC (nonce in HK)",
+                           toString(replay.state()));
+            break;
+    }
+    if (!core::isOk(replay.lastWriteStatus())) {
+        events_.report(events::kAuthStoreWriteFailed, core::Severity::kError,
+                       "cmd: anti-replay store could not be created (%s)", core::toString(replay.lastWriteStatus()));
+    }
+    for (std::size_t i = 0; i < keys_.size(); ++i) {
+        const std::uint16_t id = keys_.idAt(i);
+        const Unsynced why = replay.unsynced(id);
+        if (why == Unsynced::kSynced) {
+            events_.report(events::kAuthStoreLoaded, core::Severity::kInfo,
+                           "cmd: key %u: anti-replay numbers up to %u refused (stored reservation)",
+                           static_cast<unsigned>(id), static_cast<unsigned>(replay.reserved(id)));
+        } else if (why == Unsynced::kKeyNotStored) {
+            events_.report(events::kAuthKeyUnsynced, core::Severity::kError,
+                           "cmd: key %u has no anti-replay reservation in the store: refused until AUTH_RESYNC",
+                           static_cast<unsigned>(id));
+        }
+    }
+    if (!replay.challengeReady()) {
+        events_.report(events::kAuthNoChallenge, core::Severity::kWarning,
+                       "cmd: no AUTH_RESYNC nonce (no random source): a key out of sync stays refused");
+    }
+}
+
+std::uint8_t CommandTask::keysUnsynced() const {
+    std::uint8_t n = 0;
+    for (std::size_t i = 0; i < keys_.size(); ++i) {
+        n = static_cast<std::uint8_t>(n + (validator_.replay().unsynced(keys_.idAt(i)) != Unsynced::kSynced ? 1 : 0));
+    }
+    return n;
 }
 
 void CommandTask::run(const core::FrameContext&) {
@@ -118,6 +168,15 @@ void CommandTask::dispatchOne() {
 }
 
 void CommandTask::reject(const CommandVerdict& verdict) {
+    if (verdict.reason == CommandReject::kSequenceStoreFailed) {
+        // Its own event on the 1st, 2nd, 4th ... failure, whatever the rejection throttle does.
+        const std::uint32_t failures = validator_.replay().writeFailures();
+        if (failures != 0 && (failures & (failures - 1)) == 0) {
+            events_.report(events::kAuthStoreWriteFailed, core::Severity::kError,
+                           "cmd: anti-replay reservation write failed (%s), %u failures: commands refused",
+                           core::toString(validator_.replay().lastWriteStatus()), static_cast<unsigned>(failures));
+        }
+    }
     ++counters_.rejected;
     const auto reason = static_cast<std::size_t>(verdict.reason);
     if (reason < kRejectReasonCount) {

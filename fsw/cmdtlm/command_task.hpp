@@ -53,6 +53,19 @@ public:
     KeyStore& keys() { return keys_; }
     void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
     bool authRequired() const { return validator_.authRequired(); }
+    // Before init: where the anti-replay reservations persist (none: volatile,
+    // RAM only), and whether init may create a missing store / add missing keys
+    // at floor 0 (first boot only: rse-fsw --auth-store-create).
+    void attachAuthStore(hal::RecordStore* store, bool provision) {
+        validator_.replay().attach(store);
+        provisionAuthStore_ = provision;
+    }
+    // Before or after init: the AUTH_RESYNC nonce's start (a random value per boot).
+    void setAuthChallengeSeed(std::uint64_t seed) { validator_.replay().setChallengeSeed(seed); }
+    const AntiReplayState& antiReplay() const { return validator_.replay(); }
+    const KeyStore& keys() const { return keys_; }
+    // Loaded keys refused until AUTH_RESYNC.
+    std::uint8_t keysUnsynced() const;
 
     void run(const core::FrameContext& frame) override;
 
@@ -65,6 +78,7 @@ private:
         std::uint16_t length;
     };
 
+    void reportAntiReplayState();  // init: reads the store, events what it found
     void ingest();
     void dispatchOne();
     void acknowledge(const CommandVerdict& verdict);
@@ -88,6 +102,7 @@ private:
     CommandCounters counters_;
     core::TimeNs rejectWindowStart_ = 0;
     std::uint32_t rejectEventsInWindow_ = 0;
+    bool provisionAuthStore_ = false;
 };
 
 }  // namespace rse::cmdtlm

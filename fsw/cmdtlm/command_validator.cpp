@@ -23,6 +23,9 @@ const char* toString(CommandReject reason) {
         case CommandReject::kArgumentOutOfRange: return "argument_out_of_range";
         case CommandReject::kWrongMode: return "wrong_mode";
         case CommandReject::kExecutionFailed: return "execution_failed";
+        case CommandReject::kSequenceUnsynchronised: return "sequence_unsynchronised";
+        case CommandReject::kSequenceExhausted: return "sequence_exhausted";
+        case CommandReject::kSequenceStoreFailed: return "sequence_store_failed";
         case CommandReject::kCount: break;
     }
     return "?";
@@ -54,6 +57,43 @@ std::int16_t firstBadArgument(const CommandDesc& command, const std::uint8_t* ar
 }
 
 }  // namespace
+
+bool CommandValidator::resyncFails(CommandVerdict& v, const std::uint8_t* packet, std::size_t end) {
+    const std::size_t argLength = end - kCommandHeaderSize;
+    if (argLength != v.command->fixedArgBytes) {
+        fail(v, CommandReject::kBadLength, static_cast<std::int16_t>(v.command->fixedArgBytes));
+        return true;
+    }
+    if (v.authSequence > kMaxUsableSequence) {
+        fail(v, CommandReject::kSequenceExhausted);
+        return true;
+    }
+    core::BeReader r(packet + kCommandHeaderSize, argLength);
+    const std::uint64_t high = r.u32();
+    const std::uint64_t nonce = (high << 32) | r.u32();
+    if (!replay_.challengeReady()) {
+        fail(v, CommandReject::kSequenceUnsynchronised, static_cast<std::int16_t>(Unsynced::kNoChallenge));
+        return true;
+    }
+    if (nonce != replay_.challenge()) {
+        fail(v, CommandReject::kSequenceUnsynchronised, static_cast<std::int16_t>(Unsynced::kChallengeMismatch));
+        return true;
+    }
+    // The nonce proves freshness; the new floor is the command's own number,
+    // never below the floor in force for a key that is still synchronised.
+    std::uint32_t newFloor = v.authSequence;
+    if (replay_.unsynced(v.keyId) == Unsynced::kSynced) {
+        const std::uint32_t current = keys_.lastSequence(v.keyId);
+        newFloor = current > newFloor ? current : newFloor;
+    }
+    if (!core::isOk(replay_.resync(v.keyId, newFloor))) {
+        fail(v, CommandReject::kSequenceStoreFailed);
+        return true;
+    }
+    keys_.setFloor(v.keyId, newFloor);
+    replay_.nextChallenge();
+    return false;
+}
 
 CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t length, Mode mode) {
     CommandVerdict v;
@@ -104,12 +144,30 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
         if (!core::isOk(hmac_.packetMac(key, packet, end, expected)) || !macEqual(expected, packet + end)) {
             return fail(v, CommandReject::kBadMac);
         }
-        switch (keys_.check(v.keyId, v.authSequence)) {
-            case KeyStore::Freshness::kReplayed: return fail(v, CommandReject::kReplayedSequence);
-            case KeyStore::Freshness::kStale: return fail(v, CommandReject::kStaleSequence);
-            case KeyStore::Freshness::kFresh: break;
+        if (v.command->code == CommandCode::AUTH_RESYNC) {
+            if (resyncFails(v, packet, end)) {
+                return v;
+            }
+        } else {
+            const Unsynced why = replay_.unsynced(v.keyId);
+            if (why != Unsynced::kSynced) {
+                return fail(v, CommandReject::kSequenceUnsynchronised, static_cast<std::int16_t>(why));
+            }
+            switch (keys_.check(v.keyId, v.authSequence)) {
+                case KeyStore::Freshness::kReplayed: return fail(v, CommandReject::kReplayedSequence);
+                case KeyStore::Freshness::kStale: return fail(v, CommandReject::kStaleSequence);
+                case KeyStore::Freshness::kFresh: break;
+            }
+            if (v.authSequence > kMaxUsableSequence) {
+                return fail(v, CommandReject::kSequenceExhausted);
+            }
+            // Persist before recording: the stored reservation always covers
+            // every number accepted, so a restart cannot reopen one.
+            if (!core::isOk(replay_.reserve(v.keyId, v.authSequence))) {
+                return fail(v, CommandReject::kSequenceStoreFailed);
+            }
+            keys_.commit(v.keyId, v.authSequence);
         }
-        keys_.commit(v.keyId, v.authSequence);
     }
     // 8-9: arguments.
     v.args = packet + kCommandHeaderSize;

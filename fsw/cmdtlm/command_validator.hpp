@@ -1,6 +1,8 @@
 // Every check a command packet passes before it may act, in a fixed order, and
-// the first one it fails. Pure and bounded: no I/O, no events (the dispatcher
-// reports), so the fuzzer can drive it directly.
+// the first one it fails. Bounded, no events (the dispatcher reports), so the
+// fuzzer can drive it directly. Its one I/O is the anti-replay reservation write
+// (at most once per kReserveBlock numbers per key), and only when a store is
+// attached (replay().attach()).
 //
 // Order (docs/icd.md, "Command checks"):
 //   1 length: at least the command headers, at most kMaxCommandPacket, equal to
@@ -12,8 +14,17 @@
 //   5 key id: 0 is refused when authentication is required -> kMacMissing;
 //     otherwise the key must be loaded             -> kUnknownKey
 //   6 MAC over the packet                           -> kBadMac (or kBadLength if no room for it)
-//   7 anti-replay sequence: repeated / too old      -> kReplayedSequence, kStaleSequence
-//     (only now is the sequence number recorded: a forged packet cannot move the window)
+//   7 anti-replay sequence (fsw/cmdtlm/anti_replay_state.hpp):
+//     key refused until AUTH_RESYNC (store missing or corrupt, key not in it)
+//                                                   -> kSequenceUnsynchronised (detail: why)
+//     repeated / too old                            -> kReplayedSequence, kStaleSequence
+//     above kMaxUsableSequence                      -> kSequenceExhausted
+//     above the key's persisted reservation: a new reservation is written first;
+//     when that write fails                         -> kSequenceStoreFailed
+//     (only now is the sequence number recorded: a forged packet cannot move the
+//     window; a command refused by a later check has used its number up)
+//     AUTH_RESYNC is fresh by its challenge instead (anti_replay_state.hpp):
+//     wrong nonce -> kSequenceUnsynchronised (detail 4)
 //   8 argument bytes: exactly the dictionary's size (a blob within its maximum) -> kBadLength
 //   9 each argument within [min, max] and finite    -> kArgumentOutOfRange (detail: argument index)
 //  10 the current mode allows the command           -> kWrongMode
@@ -22,6 +33,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "fsw/cmdtlm/anti_replay_state.hpp"
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
@@ -45,10 +57,13 @@ enum class CommandReject : std::uint8_t {
     kArgumentOutOfRange = 12,
     kWrongMode = 13,
     kExecutionFailed = 14,
+    kSequenceUnsynchronised = 15,
+    kSequenceExhausted = 16,
+    kSequenceStoreFailed = 17,
     kCount
 };
 constexpr std::size_t kRejectReasonCount = static_cast<std::size_t>(CommandReject::kCount);
-static_assert(kRejectReasonCount <= 16, "HK.cmd_rejected_by_reason holds 16 counters");
+static_assert(kRejectReasonCount <= 20, "HK.cmd_rejected_by_reason holds 20 counters");
 const char* toString(CommandReject reason);  // snake_case names, as in docs/dictionary.md
 
 struct CommandVerdict {
@@ -73,9 +88,17 @@ public:
 
     CommandVerdict check(const std::uint8_t* packet, std::size_t length, Mode mode);
 
+    // The persisted side of the anti-replay window (volatile until a store is attached).
+    AntiReplayState& replay() { return replay_; }
+    const AntiReplayState& replay() const { return replay_; }
+
 private:
+    // Check 7 for AUTH_RESYNC: fresh by its challenge; on success the key's floor moves.
+    bool resyncFails(CommandVerdict& v, const std::uint8_t* packet, std::size_t end);
+
     KeyStore& keys_;
     HmacSha256& hmac_;
+    AntiReplayState replay_;
     bool authRequired_ = true;
 };
 

@@ -31,6 +31,11 @@ core::Status LockstepRig::init() {
 core::Status LockstepRig::init(std::FILE* console) { return initWith(console); }
 
 core::Status LockstepRig::initWith(std::FILE* console) {
+    // The anti-replay store in memory, provisioned as on a rover's first boot
+    // (rse-fsw --auth-store-create), so every lockstep run uses the persisted
+    // path; the AUTH_RESYNC nonce from the scenario's seed keeps runs repeatable.
+    fsw_.attachAuthStore(&authStore_, true);
+    fsw_.setAuthChallengeSeed((0x52534541ULL << 32) ^ scenario_.seed);
     const core::Status s = fsw_.init(console);
     if (core::isOk(s)) {
         drives_.powerOn();

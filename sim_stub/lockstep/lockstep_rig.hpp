@@ -19,6 +19,7 @@
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "hal/can/memory_can_bus.hpp"
+#include "hal/nvm/record_store.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
 #include "sim_stub/rover_sim.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
@@ -35,7 +36,8 @@ public:
     LockstepRig(const LockstepRig&) = delete;
     LockstepRig& operator=(const LockstepRig&) = delete;
 
-    // Initialises the flight software and powers the drives. The console
+    // Initialises the flight software (with an in-memory anti-replay store,
+    // provisioned) and powers the drives. The console
     // (housekeeping lines and every event) goes to a memory buffer with a fixed
     // stdio buffer, so writing it allocates nothing (consoleCount, consoleText).
     core::Status init();
@@ -96,6 +98,7 @@ private:
     DriveBank drives_;
     RoverSim rover_;
     app::FswApp fsw_;
+    hal::MemoryRecordStore authStore_;  // the anti-replay store (a rover's file, in memory)
     core::PipeId probe_ = 0;
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};

@@ -4,6 +4,7 @@
 // flight's telemetry matches the dictionary the ground reads).
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "fsw/tables/table_image.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/link/memory_packet_link.hpp"
+#include "hal/nvm/record_store.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -539,4 +541,135 @@ TEST(GroundCommands, ExecSetTaskRefusesToDisableTheRowsWhoseLossCouldNotBeUndone
         }
     }
     LONGS_EQUAL(refused, fsw.commandHandler().taskCommandsRefused());
+}
+
+// Issue 14 item 1: commands captured on the link (SET_MODE MANUAL, DRIVE) must
+// not move the wheels again after rse-fsw restarts. Each boot is a new FswApp
+// over the same anti-replay store, as a restart of the process is.
+namespace {
+
+struct Rover {
+    core::VirtualClock clock;
+    hal::MemoryCanBus can{clock};
+    hal::MemoryPacketLink link;
+    app::FswApp fsw{clock, *can.attach("fsw")};
+    std::vector<Packet> received;
+
+    Rover(hal::RecordStore* store, bool provision, std::uint64_t nonce) {
+        CHECK(core::isOk(fsw.addGroundLink(&link)));
+        fsw.attachAuthStore(store, provision);
+        fsw.setAuthChallengeSeed(nonce);
+        CHECK(core::isOk(fsw.init(nullptr)));
+    }
+    void runFrames(int n) {
+        for (int i = 0; i < n; ++i) {
+            fsw.run(nullptr, 1);
+            std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
+            std::size_t length = 0;
+            while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
+                Packet p;
+                p.apid = decodePrimaryHeader(bytes).apid;
+                p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
+                received.push_back(p);
+            }
+        }
+    }
+    const Packet& last(const char* name) {
+        const TelemetryDesc* t = findTelemetry(name);
+        for (auto it = received.rbegin(); it != received.rend(); ++it) {
+            if (it->apid == t->apid) {
+                return *it;
+            }
+        }
+        FAIL(name);
+        return received.front();
+    }
+    void send(const std::vector<std::uint8_t>& p) { CHECK(core::isOk(link.groundSend(p.data(), p.size()))); }
+};
+
+}  // namespace
+
+TEST_GROUP(GroundCommandsAcrossRestart) {
+    hal::MemoryRecordStore store;
+    HmacSha256 hmac;
+    void setup() override { CHECK(core::isOk(hmac.init())); }
+
+    std::vector<std::uint8_t> packet(const char* name, const std::vector<std::uint8_t>& args, std::uint32_t seq) {
+        const CommandDesc* c = findCommand(name);
+        CHECK(c != nullptr);
+        CommandFields f;
+        f.apid = c->apid;
+        f.functionCode = c->functionCode;
+        f.keyId = kLabKeyId;
+        f.authSequence = seq;
+        std::vector<std::uint8_t> bytes(kMaxCommandPacket);
+        const std::size_t n = encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, bytes.data(), bytes.size());
+        CHECK(n > 0);
+        bytes.resize(n);
+        return bytes;
+    }
+    static std::vector<std::uint8_t> driveArgs() {
+        std::vector<std::uint8_t> a(12);
+        core::BeWriter w(a.data(), a.size());
+        w.f32(0.2F);
+        w.f32(0.0F);
+        w.f32(3.0F);
+        return a;
+    }
+};
+
+TEST(GroundCommandsAcrossRestart, CapturedManualDriveCommandsAreRefusedAfterARestart) {
+    const auto manual = packet("SET_MODE", {3}, 1);
+    const auto drive = packet("DRIVE", driveArgs(), 2);
+    {
+        auto first = std::make_unique<Rover>(&store, true, 42);
+        first->send(manual);
+        first->runFrames(2);
+        first->send(drive);
+        first->runFrames(2);
+        LONGS_EQUAL(0, static_cast<long>(field(first->last("CMD_ACK"), "reason")));
+        first->runFrames(100);
+        LONGS_EQUAL(3, static_cast<long>(field(first->last("HK"), "mode")));
+    }
+    auto second = std::make_unique<Rover>(&store, false, 43);
+    second->send(manual);
+    second->runFrames(2);
+    CHECK(field(second->last("CMD_ACK"), "reason") != 0);
+    second->send(drive);
+    second->runFrames(100);
+    CHECK(field(second->last("CMD_ACK"), "reason") != 0);
+    const Packet& hk = second->last("HK");
+    LONGS_EQUAL(0, static_cast<long>(field(hk, "mode")));  // still SAFE: the wheels did not move
+    LONGS_EQUAL(0, static_cast<long>(field(hk, "cmd_accepted")));
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_store_state")));
+    LONGS_EQUAL(43, static_cast<long>(field(hk, "auth_challenge_low")));
+}
+
+TEST(GroundCommandsAcrossRestart, ALostStoreIsRecoveredWithTheNonceFromHousekeeping) {
+    auto rover = std::make_unique<Rover>(&store, false, 0x0000000700000009ULL);
+    rover->runFrames(100);
+    const Packet& hk = rover->last("HK");
+    LONGS_EQUAL(2, static_cast<long>(field(hk, "auth_store_state")));  // missing
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_keys_unsynced")));
+    const auto high = static_cast<std::uint32_t>(field(hk, "auth_challenge_high"));
+    const auto low = static_cast<std::uint32_t>(field(hk, "auth_challenge_low"));
+    rover->send(packet("SET_MODE", {1}, 500));
+    rover->runFrames(2);
+    LONGS_EQUAL(static_cast<long>(CommandReject::kSequenceUnsynchronised),
+                static_cast<long>(field(rover->last("CMD_ACK"), "reason")));
+    std::vector<std::uint8_t> args(8);
+    core::BeWriter w(args.data(), args.size());
+    w.u32(high);
+    w.u32(low);
+    rover->send(packet("AUTH_RESYNC", args, 1000));
+    rover->runFrames(2);
+    LONGS_EQUAL(0, static_cast<long>(field(rover->last("CMD_ACK"), "reason")));
+    rover->send(packet("SET_MODE", {1}, 1001));
+    rover->runFrames(100);
+    LONGS_EQUAL(0, static_cast<long>(field(rover->last("CMD_ACK"), "reason")));
+    const Packet& after = rover->last("HK");
+    LONGS_EQUAL(1, static_cast<long>(field(after, "mode")));
+    LONGS_EQUAL(1, static_cast<long>(field(after, "auth_store_state")));
+    LONGS_EQUAL(0, static_cast<long>(field(after, "auth_keys_unsynced")));
+    LONGS_EQUAL(10, static_cast<long>(field(after, "auth_challenge_low")));  // moved on after use
 }

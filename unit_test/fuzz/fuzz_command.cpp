@@ -320,7 +320,7 @@ void setSequenceAndSign(Rig& rig, std::uint8_t* packet, std::size_t length, std:
 void replayLadder(Rig& rig, const std::uint8_t* packet, std::size_t length, Mode mode) {
     const CommandVerdict first = checkDirect(rig, packet, length, true, mode);
     if (first.reason != CommandReject::kAccepted || first.keyId != kLabKeyId ||
-        first.authSequence > 0xFFFFFFFFU - 2 * kReplayWindow) {
+        first.authSequence > kMaxUsableSequence - 2 * kReplayWindow) {  // above it: sequence_exhausted
         return;
     }
     const std::uint32_t s = first.authSequence;

@@ -20,6 +20,7 @@
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
+#include "hal/nvm/record_store.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
@@ -57,6 +58,12 @@ public:
     bool answer = true;                       // false: silent (no link)
 
     void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
+    // The flight's persisted anti-replay state over `store` (read now, as at start-up).
+    void attachAuthStore(hal::RecordStore* store, std::uint64_t nonce) {
+        validator_.replay().attach(store);
+        validator_.replay().setChallengeSeed(nonce);
+        validator_.replay().load(keys_, false);
+    }
 
     // The telemetry the flight would send in answer to one command packet.
     std::vector<std::vector<std::uint8_t>> handle(const std::uint8_t* packet, std::size_t length) {

@@ -243,6 +243,10 @@ TEST(GroundCommandEncoder, EveryCommandEncodesAtItsBoundsAndTheValidatorAcceptsI
                     break;
                 }
             }
+            if (all[i].code == cmdtlm::CommandCode::AUTH_RESYNC) {
+                // Accepted only with the rover's current nonce: make it the one at the bound.
+                validator.replay().setChallengeSeed(bound == 0 ? 0 : ~std::uint64_t{0});
+            }
             const cmdtlm::CommandVerdict v = validator.check(packet.data(), packet.size(), allowed);
             CHECK_EQUAL_TEXT(0, static_cast<int>(v.reason), all[i].name);
             CHECK_TRUE(v.command == &all[i]);

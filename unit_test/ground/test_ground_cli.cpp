@@ -160,6 +160,32 @@ TEST(GroundCli, NoRoverMeansExitOneWithTheLinkHint) {
     CHECK_TRUE(contains(r.err, "NOOP: no acknowledgement within 0.2 s: is rse-fsw running and is the link up?"));
 }
 
+TEST(GroundCli, ALostRoverStoreIsExplainedAndResynchronisedWithTheNonce) {
+    CliRig rig;
+    hal::MemoryRecordStore lost;  // nothing in it: the rover's store is missing
+    rig.rover.attachAuthStore(&lost, 0x0000000200000003ULL);
+    CliResult r = rig.run({"send", "NOOP"});
+    CHECK_EQUAL(3, r.rc);
+    CHECK_TRUE(contains(r.out, "rejected: sequence_unsynchronised (detail 1"));
+    CHECK_TRUE(contains(r.err, "send AUTH_RESYNC challenge_high=H challenge_low=L"));
+
+    r = rig.run({"send", "AUTH_RESYNC", "challenge_high=2", "challenge_low=4"});
+    CHECK_EQUAL(3, r.rc);
+    CHECK_TRUE(contains(r.out, "rejected: sequence_unsynchronised (detail 4"));
+    CHECK_TRUE(contains(r.err, "not the rover's current nonce"));
+
+    r = rig.run({"send", "AUTH_RESYNC", "challenge_high=2", "challenge_low=3"});
+    CHECK_EQUAL(0, r.rc);
+    r = rig.run({"send", "NOOP"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(lost.present());
+
+    r = rig.run({"send", "NOOP", "--auth-seq", "4294967295"});
+    CHECK_EQUAL(3, r.rc);
+    CHECK_TRUE(contains(r.out, "rejected: sequence_exhausted"));
+    CHECK_TRUE(contains(r.err, "load a new key"));
+}
+
 TEST(GroundCli, SendAcceptedRejectedAndReplayed) {
     CliRig rig;
     CliResult r = rig.run({"send", "goto", "x=10", "y=-5", "risk=1e-3"});
@@ -176,6 +202,9 @@ TEST(GroundCli, SendAcceptedRejectedAndReplayed) {
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "rejected: replayed_sequence"));
     CHECK_TRUE(contains(r.err, "hint: the rover has seen this anti-replay number"));
+    // After a rover restart its floor is at most 1024 above the last number it accepted.
+    CHECK_TRUE(contains(r.err, "after a rover restart every number up to its stored reservation is refused"));
+    CHECK_TRUE(contains(r.err, "--auth-seq 1027"));
 
     r = rig.run({"--no-auth", "send", "NOOP"});
     CHECK_EQUAL(3, r.rc);

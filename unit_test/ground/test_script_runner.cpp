@@ -131,8 +131,8 @@ TEST(GroundScriptParse, BadLinesAreReportedWithTheirNumbers) {
 
 TEST(GroundScriptParse, ConditionErrors) {
     CHECK_TRUE(contains(conditionError("NOPE.x == 1"), "unknown telemetry packet 'NOPE'"));
-    CHECK_TRUE(contains(conditionError("HK.cmd_rejected_by_reason == 1"), "is an array of 16: write"));
-    CHECK_TRUE(contains(conditionError("HK.cmd_rejected_by_reason[16] == 1"), "index beyond the 16 elements"));
+    CHECK_TRUE(contains(conditionError("HK.cmd_rejected_by_reason == 1"), "is an array of 20: write"));
+    CHECK_TRUE(contains(conditionError("HK.cmd_rejected_by_reason[20] == 1"), "index beyond the 20 elements"));
     CHECK_TRUE(contains(conditionError("HK.mode[x] == 1"), "FIELD[i]"));
     CHECK_TRUE(contains(conditionError("EVENT.text < abc"), "only == and != compare it"));
     CHECK_TRUE(contains(conditionError("HK.mode == fast"), "'fast' is not a number"));

@@ -34,7 +34,8 @@ CANDUMP=$!
 $B/rse-sim --can vcan0 --scenario $D/vcan_session.toml --duration 120 > /tmp/sim.log 2>&1 &
 SIM=$!
 sleep 0.3
-$B/rse-fsw --can vcan0 --no-rt --duration 120 > /tmp/fsw.log 2>&1 &
+# First boot of this rover: --auth-store-create provisions the anti-replay store.
+$B/rse-fsw --can vcan0 --no-rt --duration 120 --auth-store /tmp/auth.dat --auth-store-create > /tmp/fsw.log 2>&1 &
 FSW=$!
 # SIGTERM, up to 10 s to stop, then SIGKILL; its exit status.
 stop() {
