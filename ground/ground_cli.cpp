@@ -53,7 +53,7 @@ constexpr const char* kUsage =
     "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
     "  --tlm-port [ADDR:]PORT   receive telemetry on ADDR:PORT (default 0.0.0.0:1235)\n"
     "  --can IFACE              ISO-TP on a SocketCAN interface instead of UDP\n"
-    "  --can-tx ID --can-rx ID  ISO-TP ids in hex (default 6F0 and 6F1); --pad pads frames to 8 bytes\n"
+    "  --can-tx ID --can-rx ID  ISO-TP ids in hex (default 6C0 and 6C1); --pad pads frames to 8 bytes\n"
     "  --key-file FILE          command keys, one ID:64hex a line (default: the built-in lab key, id 1)\n"
     "  --key-id N               which key of the file (default: its first)\n"
     "  --no-auth                unauthenticated commands (key id 0): only a lab-setting rover takes them\n"

@@ -59,7 +59,7 @@ void usage(std::FILE* out) {
                  "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
                  "               [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
-                 "                      the ground link runs over ISO-TP on it (rx 0x6F0, tx 0x6F1)\n"
+                 "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
                  "  --duration SECONDS  stop after this much executive time (default: until SIGINT/SIGTERM)\n"
                  "  --quiet             no console housekeeping or event lines\n"
