@@ -176,8 +176,15 @@ private:
         PacketAuth a = loadPacketAuth(g_.keyFile, g_.keyId);
         if (g_.keyFile.empty()) {
             err_ << "rse-ground: signing with the built-in lab key (id 1): lab rovers only, never flight\n";
-        } else if (keyFileTooOpen(g_.keyFile)) {
-            err_ << "rse-ground: warning: " << g_.keyFile << " is readable by others (chmod 600 it)\n";
+        } else {
+            if (a.key.size() == cmdtlm::kKeySize && cmdtlm::isLabKey(a.key.data())) {
+                // The lab key's bytes under any key id are still the public lab key.
+                err_ << "rse-ground: key id " << a.keyId << " of " << g_.keyFile
+                     << " is the public lab key: lab rovers only, never flight\n";
+            }
+            if (keyFileTooOpen(g_.keyFile)) {
+                err_ << "rse-ground: warning: " << g_.keyFile << " is readable by others (chmod 600 it)\n";
+            }
         }
         return a;
     }
@@ -260,7 +267,8 @@ private:
                 break;
             case CommandReject::kUnknownKey:
             case CommandReject::kBadMac:
-                err_ << "hint: the rover does not have this key: check --key-file/--key-id against rse-fsw --key-file\n";
+                err_ << "hint: the rover does not have this key, or has another key under this id (the rover does not "
+                        "say which): check --key-file/--key-id against rse-fsw --key-file\n";
                 break;
             default:
                 break;

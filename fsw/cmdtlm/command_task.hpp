@@ -7,7 +7,8 @@
 //     (CommandValidator: length, header, checksum, APID and function code, key,
 //     MAC, anti-replay sequence, argument ranges, mode) and, when they pass,
 //     executed by the application's CommandHandler.
-// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason.
+// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason
+// (an unknown key id acknowledged and evented as bad_mac: linkReason()).
 #pragma once
 
 #include <cstddef>
@@ -53,6 +54,7 @@ public:
     KeyStore& keys() { return keys_; }
     void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
     bool authRequired() const { return validator_.authRequired(); }
+    bool labKeyInUse() const { return keys_.labKeyInUse(); }
 
     void run(const core::FrameContext& frame) override;
 
@@ -68,7 +70,7 @@ private:
     void ingest();
     void dispatchOne();
     void acknowledge(const CommandVerdict& verdict);
-    void reject(const CommandVerdict& verdict);
+    void reject(const CommandVerdict& found);
     // Header fields of a packet we will not validate (queue overflow, too long),
     // read as far as the bytes allow, for the acknowledgement.
     static CommandVerdict claimedFields(const std::uint8_t* packet, std::size_t length);

@@ -34,7 +34,7 @@ CANDUMP=$!
 $B/rse-sim --can vcan0 --scenario $D/vcan_session.toml --duration 120 > /tmp/sim.log 2>&1 &
 SIM=$!
 sleep 0.3
-$B/rse-fsw --can vcan0 --no-rt --duration 120 > /tmp/fsw.log 2>&1 &
+$B/rse-fsw --can vcan0 --no-rt --lab-key --duration 120 > /tmp/fsw.log 2>&1 &
 FSW=$!
 # SIGTERM, up to 10 s to stop, then SIGKILL; its exit status.
 stop() {
