@@ -30,8 +30,10 @@ constexpr const char* kReasonDescriptions[] = {
     "no command has this APID",
     "the APID has no command with this function code",
     "unauthenticated (key id 0) while the rover requires authentication",
-    "the key id names no key loaded on the rover",
-    "the MAC does not verify with the key",
+    "the key id names no key loaded on the rover: counted in HK.cmd_rejected_by_reason[8] only; never in a "
+    "CMD_ACK, which says bad_mac so an unauthenticated sender cannot tell which key ids exist",
+    "the MAC does not verify with the key, or the key id names no key loaded on the rover (the CMD_ACK does "
+    "not tell the two apart; HK.cmd_rejected_by_reason does)",
     "the anti-replay sequence number was already accepted",
     "the anti-replay sequence number is older than the replay window (64 below the highest accepted)",
     "an argument is outside its [min, max] or not finite (detail: argument index, from 0)",

@@ -53,7 +53,7 @@ constexpr const char* kUsage =
     "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
     "  --tlm-port [ADDR:]PORT   receive telemetry on ADDR:PORT (default 0.0.0.0:1235)\n"
     "  --can IFACE              ISO-TP on a SocketCAN interface instead of UDP\n"
-    "  --can-tx ID --can-rx ID  ISO-TP ids in hex (default 6F0 and 6F1); --pad pads frames to 8 bytes\n"
+    "  --can-tx ID --can-rx ID  ISO-TP ids in hex (default 6C0 and 6C1); --pad pads frames to 8 bytes\n"
     "  --key-file FILE          command keys, one ID:64hex a line (default: the built-in lab key, id 1)\n"
     "  --key-id N               which key of the file (default: its first)\n"
     "  --no-auth                unauthenticated commands (key id 0): only a lab-setting rover takes them\n"
@@ -176,8 +176,15 @@ private:
         PacketAuth a = loadPacketAuth(g_.keyFile, g_.keyId);
         if (g_.keyFile.empty()) {
             err_ << "rse-ground: signing with the built-in lab key (id 1): lab rovers only, never flight\n";
-        } else if (keyFileTooOpen(g_.keyFile)) {
-            err_ << "rse-ground: warning: " << g_.keyFile << " is readable by others (chmod 600 it)\n";
+        } else {
+            if (a.key.size() == cmdtlm::kKeySize && cmdtlm::isLabKey(a.key.data())) {
+                // The lab key's bytes under any key id are still the public lab key.
+                err_ << "rse-ground: key id " << a.keyId << " of " << g_.keyFile
+                     << " is the public lab key: lab rovers only, never flight\n";
+            }
+            if (keyFileTooOpen(g_.keyFile)) {
+                err_ << "rse-ground: warning: " << g_.keyFile << " is readable by others (chmod 600 it)\n";
+            }
         }
         return a;
     }
@@ -288,7 +295,8 @@ private:
                 break;
             case CommandReject::kUnknownKey:
             case CommandReject::kBadMac:
-                err_ << "hint: the rover does not have this key: check --key-file/--key-id against rse-fsw --key-file\n";
+                err_ << "hint: the rover does not have this key, or has another key under this id (the rover does not "
+                        "say which): check --key-file/--key-id against rse-fsw --key-file\n";
                 break;
             default:
                 break;

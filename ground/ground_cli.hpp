@@ -12,7 +12,7 @@
 // Global options (anywhere before a table build|show|check|list):
 //   --udp HOST[:PORT]     commands to HOST:PORT (default 127.0.0.1:1234)
 //   --tlm-port [ADDR:]PORT  telemetry received on ADDR:PORT (default 0.0.0.0:1235)
-//   --can IFACE           ISO-TP on SocketCAN instead of UDP (tx 0x6F0, rx 0x6F1)
+//   --can IFACE           ISO-TP on SocketCAN instead of UDP (tx 0x6C0, rx 0x6C1)
 //   --can-tx ID --can-rx ID --pad    ISO-TP ids (hex) and frame padding
 //   --key-file FILE       keys "ID:64hex" per line ('#' comments); the first, or --key-id's
 //   --key-id N            which key (default: the built-in lab key, id 1)

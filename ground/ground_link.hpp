@@ -6,7 +6,7 @@
 // UDP: commands go to HOST:PORT (default 127.0.0.1:1234); telemetry is received
 // on a local port (default 1235, where rse-fsw sends it), bound on 0.0.0.0 or a
 // given address. ISO-TP: normal addressing, 11-bit ids, the ground sends on
-// 0x6F0 and receives on 0x6F1 (docs/icd.md section 2); frames unpadded unless
+// 0x6C0 and receives on 0x6C1 (docs/icd.md section 2); frames unpadded unless
 // asked (padded frames are always accepted on receive).
 #pragma once
 
@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "hal/can/ground_link_ids.hpp"
+
 namespace rse::ground {
 
 class LinkError : public std::runtime_error {
@@ -26,8 +28,8 @@ public:
 
 constexpr std::uint16_t kDefaultCommandPort = 1234;
 constexpr std::uint16_t kDefaultTelemetryPort = 1235;
-constexpr std::uint32_t kGroundIsoTpTxId = 0x6F0;  // the rover receives here
-constexpr std::uint32_t kGroundIsoTpRxId = 0x6F1;  // the rover sends here
+constexpr std::uint32_t kGroundIsoTpTxId = hal::kGroundUplinkCanId;    // 0x6C0: the rover receives here
+constexpr std::uint32_t kGroundIsoTpRxId = hal::kGroundDownlinkCanId;  // 0x6C1: the rover sends here
 
 class GroundLink {
 public:
@@ -37,7 +39,7 @@ public:
     // The next packet received within timeoutSeconds (0: only one already
     // waiting), or nullopt. Throws LinkError on a failing link.
     virtual std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) = 0;
-    // "UDP 127.0.0.1:1234 (telemetry on 0.0.0.0:1235)", "ISO-TP vcan0 tx 0x6F0 rx 0x6F1"
+    // "UDP 127.0.0.1:1234 (telemetry on 0.0.0.0:1235)", "ISO-TP vcan0 tx 0x6C0 rx 0x6C1"
     virtual std::string describe() const = 0;
 };
 

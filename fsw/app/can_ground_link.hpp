@@ -1,5 +1,6 @@
 // The ground link on CAN: CCSDS packets carried as ISO-TP messages (docs/icd.md
-// §2), one packet per message; the rover receives on 0x6F0 and sends on 0x6F1.
+// §2), one packet per message; the rover receives on 0x6C0 and sends on 0x6C1
+// (hal/can/ground_link_ids.hpp).
 // To command ingest and telemetry output it is a PacketLink like the UDP link.
 //
 //   Uplink (commands): receive() hands over the next message the ISO-TP channel
@@ -45,6 +46,7 @@
 
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/core/event_log.hpp"
+#include "hal/can/ground_link_ids.hpp"
 #include "hal/can/isotp.hpp"
 #include "hal/canopen/canopen_master.hpp"
 #include "hal/link/packet_link.hpp"
@@ -52,8 +54,8 @@
 
 namespace rse::app {
 
-constexpr std::uint32_t kGroundUplinkCobId = 0x6F0;
-constexpr std::uint32_t kGroundDownlinkCobId = 0x6F1;
+constexpr std::uint32_t kGroundUplinkCobId = hal::kGroundUplinkCanId;      // 0x6C0
+constexpr std::uint32_t kGroundDownlinkCobId = hal::kGroundDownlinkCanId;  // 0x6C1
 constexpr std::size_t kGroundLinkTxQueueDepth = 16;  // packets waiting for the transmitter, per priority
 constexpr std::size_t kGroundLinkRoutineShare = 4;    // at least 1 in 4 packets is routine while some wait
 
@@ -76,7 +78,7 @@ public:
     // in txDropped. send() queues as routine telemetry.
     core::Status send(const std::uint8_t* data, std::size_t length) override;
     core::Status sendWithPriority(const std::uint8_t* data, std::size_t length, hal::TxPriority priority) override;
-    // Telemetry goes down only once a ground has sent something on 0x6F0: with
+    // Telemetry goes down only once a ground has sent something on 0x6C0: with
     // nobody there every multi-frame packet would wait N_Bs for flow control.
     bool downlinkActive() const override { return groundHeard_; }
     // Once per minor frame: advances ISO-TP (CFs, flow control, timeouts) and starts

@@ -71,7 +71,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(addGroundLink(&canIo_.groundLink()), "adding the CAN ground link");
     }
     if (core::isOk(status) && commands_.keys().size() == 0) {
-        status = initStep(commands_.keys().add(cmdtlm::kLabKeyId, cmdtlm::kLabKey), "loading the lab key");
+        // No key, no commanding: the public lab key is never a silent default.
+        status = initStep(core::Status::kNotInitialized,
+                          "command keys (none: --key-file FILE, or --lab-key in the lab)");
     }
     if (core::isOk(status)) {
         status = initStep(poseEstimator_.init(), "pose estimator init");

@@ -47,9 +47,12 @@ public:
     core::Status addGroundLink(hal::PacketLink* link);
     // The computer's watchdog, fed while every task is live (before init; none: not fed).
     void attachWatchdog(hal::Watchdog* watchdog) { watchdog_.attach(watchdog); }
-    // Before init: keys that authenticate commands (none added: the lab key),
-    // and the lab setting that accepts unauthenticated commands.
+    // Before init: keys that authenticate commands (cmdtlm::loadKeyFile), and the
+    // lab setting that accepts unauthenticated commands. init() refuses to start
+    // with no key: the public lab key is loaded only when asked for, by useLabKey()
+    // (rse-fsw --lab-key, the lockstep rig), under key id 1.
     cmdtlm::KeyStore& keys() { return commands_.keys(); }
+    core::Status useLabKey() { return commands_.keys().add(cmdtlm::kLabKeyId, cmdtlm::kLabKey); }
     void setAuthRequired(bool required) { commands_.setAuthRequired(required); }
     // Before init: the persisted anti-replay store (none: RAM only, for in-process
     // runs that never restart) and whether init may create it (first boot), and

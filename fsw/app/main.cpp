@@ -2,7 +2,8 @@
 //
 //   rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]
 //           [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]
-//           [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
+//           (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)
+//           [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
 //           [--auth-store PATH] [--auth-store-create]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
@@ -10,8 +11,11 @@
 // The ground link always runs over ISO-TP on the rover bus; --udp adds the UDP
 // link (commands on ADDR:1234, telemetry to 127.0.0.1:1235 by default: the cFS
 // lab ports). Commands must be authenticated with a key from --key-file (lines
-// "ID:64-hex-digits"), or with the public lab key when no file is given;
-// --lab-no-auth also accepts unauthenticated commands (docs/icd.md).
+// "ID:64-hex-digits"; the file must not be open to group or others and may hold
+// neither a weak key nor the public lab key, unless an option says so). Without
+// a key file rse-fsw does not start, unless --lab-key asks for the public lab
+// key (lab only: it warns, and HK.lab_key_in_use says so). --lab-no-auth also
+// accepts unauthenticated commands (docs/icd.md §5.3).
 // The anti-replay state persists in --auth-store PATH (default rse-fsw-auth.dat
 // in the working directory); a missing or corrupt store refuses commands until
 // the ground re-synchronises (AUTH_RESYNC), except that --auth-store-create
@@ -27,6 +31,7 @@
 #include <cstring>
 
 #include "fsw/app/fsw_app.hpp"
+#include "fsw/cmdtlm/key_loader.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/realtime_process.hpp"
 #include "hal/can/memory_can_bus.hpp"
@@ -54,6 +59,7 @@ struct Options {
     const char* telemetryHost = "127.0.0.1";
     std::uint16_t telemetryPort = rse::hal::kDefaultTelemetryPort;
     const char* keyFile = nullptr;
+    rse::cmdtlm::KeyLoadOptions keyOptions;  // --lab-key, --allow-weak-key, --allow-readable-key
     bool authRequired = true;
     const char* authStore = "rse-fsw-auth.dat";
     bool authStoreCreate = false;
@@ -65,10 +71,11 @@ void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
                  "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
-                 "               [--key-file FILE] [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
+                 "               (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)\n"
+                 "               [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
                  "               [--auth-store PATH] [--auth-store-create]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
-                 "                      the ground link runs over ISO-TP on it (rx 0x6F0, tx 0x6F1)\n"
+                 "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
                  "  --duration SECONDS  stop after this much executive time (default: until SIGINT/SIGTERM)\n"
                  "  --quiet             no console housekeeping or event lines\n"
@@ -78,8 +85,12 @@ void usage(std::FILE* out) {
                  "  --cmd-port N        UDP command port (default 1234)\n"
                  "  --tlm-host ADDR     where UDP telemetry goes (default 127.0.0.1)\n"
                  "  --tlm-port N        UDP telemetry port (default 1235)\n"
-                 "  --key-file FILE     command authentication keys, lines ID:64-hex-digits\n"
-                 "                      (default: the public lab key, id 1 - not for flight)\n"
+                 "  --key-file FILE     command authentication keys, lines ID:64-hex-digits (chmod 600);\n"
+                 "                      rse-fsw does not start without one unless --lab-key is given\n"
+                 "  --allow-readable-key  load a key file group or others may read or write (warns)\n"
+                 "  --allow-weak-key    load weak keys (all zero, all equal, < 8 distinct bytes; warns)\n"
+                 "  --lab-key           use the PUBLIC lab key (id 1 without a key file; with one, the\n"
+                 "                      file may hold it): lab only, never flight (warns)\n"
                  "  --lab-no-auth       lab setting: also accept unauthenticated commands\n"
                  "  --auth-store PATH   where the anti-replay reservations persist (default rse-fsw-auth.dat);\n"
                  "                      missing or corrupt: commands refused until AUTH_RESYNC\n"
@@ -125,6 +136,12 @@ bool parseOptions(int argc, char** argv, Options* options) {
             options->authRequired = false;
         } else if (std::strcmp(arg, "--auth-store-create") == 0) {
             options->authStoreCreate = true;
+        } else if (std::strcmp(arg, "--lab-key") == 0) {
+            options->keyOptions.labKeyAllowed = true;
+        } else if (std::strcmp(arg, "--allow-weak-key") == 0) {
+            options->keyOptions.weakKeyAllowed = true;
+        } else if (std::strcmp(arg, "--allow-readable-key") == 0) {
+            options->keyOptions.readableFileAllowed = true;
         } else if (std::strcmp(arg, "--udp-bind") == 0 || std::strcmp(arg, "--tlm-host") == 0 ||
                    std::strcmp(arg, "--key-file") == 0 || std::strcmp(arg, "--watchdog") == 0 ||
                    std::strcmp(arg, "--auth-store") == 0) {
@@ -188,40 +205,77 @@ bool parseOptions(int argc, char** argv, Options* options) {
         std::fprintf(stderr, "rse-fsw: --lockstep needs --duration (it would never yield)\n");
         return false;
     }
+    if (options->keyFile == nullptr && !options->keyOptions.labKeyAllowed) {
+        std::fprintf(stderr,
+                     "rse-fsw: no command key: give --key-file FILE, or --lab-key to use the public lab key "
+                     "(lab only, never flight)\n");
+        return false;
+    }
+    if (options->keyFile == nullptr &&
+        (options->keyOptions.weakKeyAllowed || options->keyOptions.readableFileAllowed)) {
+        std::fprintf(stderr, "rse-fsw: --allow-weak-key and --allow-readable-key need --key-file\n");
+        return false;
+    }
     return true;
 }
 
-// Reads the key file into the app's key store (start-up only). Any bad line
-// refuses the whole file: a half-loaded key set is worse than none.
-bool loadKeyFile(const char* path, rse::cmdtlm::KeyStore& keys) {
-    std::FILE* file = std::fopen(path, "r");
-    if (file == nullptr) {
-        std::fprintf(stderr, "rse-fsw: cannot read key file '%s': %s\n", path, std::strerror(errno));
-        return false;
-    }
-    char line[256];
-    unsigned lineNumber = 0;
-    bool ok = true;
-    while (ok && std::fgets(line, sizeof line, file) != nullptr) {
-        ++lineNumber;
-        std::uint16_t id = 0;
-        std::uint8_t key[rse::cmdtlm::kKeySize];
-        bool isKey = false;
-        if (!rse::core::isOk(rse::cmdtlm::parseKeyLine(line, &id, key, &isKey))) {
-            std::fprintf(stderr, "rse-fsw: %s:%u: not a key line (want ID:64-hex-digits)\n", path, lineNumber);
-            ok = false;
-        } else if (isKey && !rse::core::isOk(keys.add(id, key))) {
-            std::fprintf(stderr, "rse-fsw: %s:%u: key id %u refused (at most %zu keys)\n", path, lineNumber,
-                         static_cast<unsigned>(id), rse::cmdtlm::kMaxKeys);
-            ok = false;
+// Loads the key file into the app's key store (start-up only), with the checks of
+// cmdtlm::loadKeyFile; says on stderr why a file is refused, and warns.
+bool loadKeys(const Options& options, rse::app::FswApp& app) {
+    if (options.keyFile == nullptr) {
+        if (!rse::core::isOk(app.useLabKey())) {
+            std::fprintf(stderr, "rse-fsw: cannot load the lab key\n");
+            return false;
         }
+        std::fprintf(stderr, "rse-fsw: warning: --lab-key: the PUBLIC lab key (id %u) authenticates commands: "
+                             "lab only, never flight\n",
+                     static_cast<unsigned>(rse::cmdtlm::kLabKeyId));
+        return true;
     }
-    std::fclose(file);
-    if (ok && keys.size() == 0) {
-        std::fprintf(stderr, "rse-fsw: key file '%s' holds no key\n", path);
-        ok = false;
+    const char* path = options.keyFile;
+    const rse::cmdtlm::KeyLoadResult r = rse::cmdtlm::loadKeyFile(path, options.keyOptions, app.keys(), app.events());
+    using rse::cmdtlm::KeyLoadError;
+    switch (r.error) {
+        case KeyLoadError::kNone: break;
+        case KeyLoadError::kCannotOpen:
+            std::fprintf(stderr, "rse-fsw: cannot read key file '%s': %s\n", path, std::strerror(r.osError));
+            return false;
+        case KeyLoadError::kNotRegularFile:
+        case KeyLoadError::kOpenToOthers:
+        case KeyLoadError::kNoKeyInFile:
+            std::fprintf(stderr, "rse-fsw: key file '%s' refused: %s\n", path, rse::cmdtlm::toString(r.error));
+            return false;
+        case KeyLoadError::kBadLine:
+            std::fprintf(stderr, "rse-fsw: %s:%u: not a key line (want ID:64-hex-digits)\n", path, r.line);
+            return false;
+        case KeyLoadError::kTooManyKeys:
+            std::fprintf(stderr, "rse-fsw: %s:%u: key id %u refused (at most %zu keys)\n", path, r.line,
+                         static_cast<unsigned>(r.keyId), rse::cmdtlm::kMaxKeys);
+            return false;
+        case KeyLoadError::kWeakKeyRefused:
+            std::fprintf(stderr, "rse-fsw: %s:%u: key id %u refused: weak key (%s); --allow-weak-key loads it\n",
+                         path, r.line, static_cast<unsigned>(r.keyId), rse::cmdtlm::toString(r.weakness));
+            return false;
+        case KeyLoadError::kDuplicateKeyId:
+        case KeyLoadError::kLabKeyRefused:
+            std::fprintf(stderr, "rse-fsw: %s:%u: key id %u refused: %s\n", path, r.line,
+                         static_cast<unsigned>(r.keyId), rse::cmdtlm::toString(r.error));
+            return false;
     }
-    return ok;
+    if (r.openFileAccepted) {
+        std::fprintf(stderr, "rse-fsw: warning: key file '%s' is open to group or others (--allow-readable-key)\n",
+                     path);
+    }
+    if (r.weakKeysAccepted > 0) {
+        std::fprintf(stderr, "rse-fsw: warning: %u weak key(s) loaded (--allow-weak-key): not for flight\n",
+                     static_cast<unsigned>(r.weakKeysAccepted));
+    }
+    if (app.keys().labKeyInUse()) {
+        std::fprintf(stderr, "rse-fsw: warning: key id %u of '%s' is the PUBLIC lab key (--lab-key): lab only, "
+                             "never flight\n",
+                     static_cast<unsigned>(app.keys().labKeyId()), path);
+    }
+    return true;
 }
 
 void installStopHandlers() {
@@ -263,7 +317,7 @@ int main(int argc, char** argv) {
         can = &g_socketCan;
     }
     static rse::app::FswApp app(clock, *can);
-    if (options.keyFile != nullptr && !loadKeyFile(options.keyFile, app.keys())) {
+    if (!loadKeys(options, app)) {
         return 1;
     }
     app.setAuthRequired(options.authRequired);

@@ -16,6 +16,10 @@ constexpr core::EventId kAuthDisabled = 505;         // start-up: the lab settin
 constexpr core::EventId kCmdInitFailed = 506;        // a command service start-up step failed
 constexpr core::EventId kTelemetryDropped = 507;     // a link refused a telemetry packet (throttled 1,2,4,8..)
 constexpr core::EventId kTelemetryTooLarge = 508;    // a telemetry packet did not fit (a dictionary bug)
+// Start-up key loading (fsw/cmdtlm/key_loader.hpp).
+constexpr core::EventId kKeyFileRefused = 515;       // the key file was refused (why in the text); rse-fsw exits
+constexpr core::EventId kWeakKeyAccepted = 516;      // a weak key loaded because --allow-weak-key said so (warning)
+constexpr core::EventId kKeyFileOpenAccepted = 517;  // a key file others may read loaded because --allow-readable-key said so (warning)
 // The persisted anti-replay state (fsw/cmdtlm/anti_replay_state.hpp), 540-546.
 constexpr core::EventId kAuthStoreLoaded = 540;      // start-up: store read (or created), keys and floors (INFO)
 constexpr core::EventId kAuthStoreUnusable = 541;    // start-up: store missing, corrupt or unreadable: keys refused until AUTH_RESYNC (CRIT)

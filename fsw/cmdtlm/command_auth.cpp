@@ -10,6 +10,40 @@ const std::uint8_t kLabKey[kKeySize] = {'R', 'S', 'E', ' ', 'l', 'a', 'b', ' ', 
                                         ' ', '-', ' ', 'n', 'o', 't', ' ', 'f', 'o', 'r', ' ',
                                         'f', 'l', 'i', 'g', 'h', 't', ' ', 'u', 's', 'e'};
 
+bool isLabKey(const std::uint8_t key[kKeySize]) {
+    return key != nullptr && std::memcmp(key, kLabKey, kKeySize) == 0;
+}
+
+KeyWeakness keyWeakness(const std::uint8_t key[kKeySize]) {
+    bool seen[256] = {};
+    std::size_t distinct = 0;
+    bool allZero = true;
+    for (std::size_t i = 0; i < kKeySize; ++i) {
+        allZero = allZero && key[i] == 0;
+        if (!seen[key[i]]) {
+            seen[key[i]] = true;
+            ++distinct;
+        }
+    }
+    if (allZero) {
+        return KeyWeakness::kAllZero;
+    }
+    if (distinct == 1) {
+        return KeyWeakness::kAllEqual;
+    }
+    return distinct < kMinDistinctKeyBytes ? KeyWeakness::kFewDistinct : KeyWeakness::kNone;
+}
+
+const char* toString(KeyWeakness weakness) {
+    switch (weakness) {
+        case KeyWeakness::kNone: return "none";
+        case KeyWeakness::kAllZero: return "all bytes zero";
+        case KeyWeakness::kAllEqual: return "all bytes equal";
+        case KeyWeakness::kFewDistinct: return "fewer than 8 distinct byte values";
+    }
+    return "?";
+}
+
 HmacSha256::HmacSha256() { mbedtls_md_init(&context_); }
 
 HmacSha256::~HmacSha256() { mbedtls_md_free(&context_); }
@@ -26,25 +60,54 @@ core::Status HmacSha256::init() {
     return core::Status::kOk;
 }
 
+core::Status HmacSha256::compute(const std::uint8_t* key, std::size_t keyLength, const Part* parts,
+                                 std::size_t partCount, std::uint8_t out[kHmacSha256Size]) {
+    if (!ready_) {
+        return core::Status::kNotInitialized;
+    }
+    if (key == nullptr || out == nullptr || (parts == nullptr && partCount > 0)) {
+        return core::Status::kInvalidArgument;
+    }
+    for (std::size_t i = 0; i < partCount; ++i) {
+        if (parts[i].data == nullptr && parts[i].length > 0) {
+            return core::Status::kInvalidArgument;
+        }
+    }
+    if (mbedtls_md_hmac_starts(&context_, key, keyLength) != 0) {
+        return core::Status::kProtocolError;
+    }
+    for (std::size_t i = 0; i < partCount; ++i) {
+        if (parts[i].length > 0 && mbedtls_md_hmac_update(&context_, parts[i].data, parts[i].length) != 0) {
+            return core::Status::kProtocolError;
+        }
+    }
+    return mbedtls_md_hmac_finish(&context_, out) == 0 ? core::Status::kOk : core::Status::kProtocolError;
+}
+
+core::Status HmacSha256::compute(const std::uint8_t* key, std::size_t keyLength, const std::uint8_t* data,
+                                 std::size_t length, std::uint8_t out[kHmacSha256Size]) {
+    const Part part{data, length};
+    return compute(key, keyLength, &part, 1, out);
+}
+
 core::Status HmacSha256::packetMac(const std::uint8_t key[kKeySize], const std::uint8_t* packet,
                                    std::size_t length, std::uint8_t mac[kMacSize]) {
     if (!ready_) {
         return core::Status::kNotInitialized;
     }
-    if (length <= kChecksumOffset) {
+    if (packet == nullptr || mac == nullptr || length <= kChecksumOffset) {
         return core::Status::kInvalidArgument;
     }
     const std::uint8_t zero = 0;
-    std::uint8_t full[32];
-    if (mbedtls_md_hmac_starts(&context_, key, kKeySize) != 0 ||
-        mbedtls_md_hmac_update(&context_, packet, kChecksumOffset) != 0 ||
-        mbedtls_md_hmac_update(&context_, &zero, 1) != 0 ||
-        mbedtls_md_hmac_update(&context_, packet + kChecksumOffset + 1, length - kChecksumOffset - 1) != 0 ||
-        mbedtls_md_hmac_finish(&context_, full) != 0) {
-        return core::Status::kProtocolError;
+    const Part parts[] = {{packet, kChecksumOffset},
+                          {&zero, 1},
+                          {packet + kChecksumOffset + 1, length - kChecksumOffset - 1}};
+    std::uint8_t full[kHmacSha256Size];
+    const core::Status status = compute(key, kKeySize, parts, sizeof parts / sizeof parts[0], full);
+    if (core::isOk(status)) {
+        std::memcpy(mac, full, kMacSize);
     }
-    std::memcpy(mac, full, kMacSize);
-    return core::Status::kOk;
+    return status;
 }
 
 bool macEqual(const std::uint8_t a[kMacSize], const std::uint8_t b[kMacSize]) {
@@ -69,9 +132,6 @@ core::Status KeyStore::add(std::uint16_t keyId, const std::uint8_t key[kKeySize]
     *s = Slot{};
     s->id = keyId;
     std::memcpy(s->key, key, kKeySize);
-    if (keyId == kLabKeyId) {
-        labKeyLoaded_ = std::memcmp(key, kLabKey, kKeySize) == 0;
-    }
     return core::Status::kOk;
 }
 
@@ -80,7 +140,15 @@ void KeyStore::clear() {
         s = Slot{};
     }
     count_ = 0;
-    labKeyLoaded_ = false;
+}
+
+std::uint16_t KeyStore::labKeyId() const {
+    for (std::size_t i = 0; i < count_; ++i) {
+        if (isLabKey(slots_[i].key)) {
+            return slots_[i].id;
+        }
+    }
+    return kNoKey;
 }
 
 const KeyStore::Slot* KeyStore::slot(std::uint16_t keyId) const {

@@ -20,14 +20,29 @@ constexpr std::size_t kMaxKeys = 4;         // key slots in the key store
 constexpr std::uint16_t kNoKey = 0;         // key id of an unauthenticated command
 constexpr std::uint32_t kReplayWindow = 64; // sequence numbers accepted out of order
 
-// The lab key (key id 1). Anyone with this repository has it: it exists so a
-// fresh checkout can command a lab rover. A flight build loads its own keys
-// (rse-fsw --key-file) and rse-fsw warns at start-up while the lab key is in use.
+constexpr std::size_t kHmacSha256Size = 32; // untruncated HMAC-SHA-256
+
+// The lab key (key id 1 when rse-fsw --lab-key loads it). Anyone with this
+// repository has it: it exists so a fresh checkout can command a lab rover. It is
+// used only when asked for explicitly (rse-fsw --lab-key, FswApp::useLabKey);
+// its bytes are recognised under any key id (isLabKey), and rse-fsw warns at
+// start-up and HK.lab_key_in_use says so while it is loaded.
 constexpr std::uint16_t kLabKeyId = 1;
 extern const std::uint8_t kLabKey[kKeySize];
+bool isLabKey(const std::uint8_t key[kKeySize]);
 
-// One HMAC-SHA-256 engine. init() allocates mbedTLS's context once, at start-up;
-// computing a MAC afterwards allocates nothing.
+// A key too regular to be secret (docs/icd.md §5.3, "Keys"): all bytes zero, all
+// bytes equal, or fewer than kMinDistinctKeyBytes distinct byte values among its
+// 32 (a random key has about 30; fewer than 8 means a pattern or a typo).
+constexpr std::size_t kMinDistinctKeyBytes = 8;
+enum class KeyWeakness : std::uint8_t { kNone, kAllZero, kAllEqual, kFewDistinct };
+KeyWeakness keyWeakness(const std::uint8_t key[kKeySize]);
+const char* toString(KeyWeakness weakness);
+
+// One HMAC-SHA-256 engine, used by flight and ground alike. init() allocates
+// mbedTLS's context once, at start-up; computing a MAC afterwards allocates
+// nothing. Every MAC, packetMac included, goes through compute(), the code the
+// RFC 4231 known-answer tests check (unit_test/cmdtlm/test_hmac_sha256.cpp).
 class HmacSha256 {
 public:
     HmacSha256();
@@ -35,7 +50,20 @@ public:
     HmacSha256(const HmacSha256&) = delete;
     HmacSha256& operator=(const HmacSha256&) = delete;
 
+    // Bytes fed to the MAC one after the other.
+    struct Part {
+        const std::uint8_t* data;
+        std::size_t length;
+    };
+
     core::Status init();
+    // HMAC-SHA-256 (RFC 2104) with a key of any length over the concatenation of
+    // parts. kNotInitialized before init(); kInvalidArgument for a null key, out
+    // or parts, or a part with null data and a length; kProtocolError if mbedTLS fails.
+    core::Status compute(const std::uint8_t* key, std::size_t keyLength, const Part* parts, std::size_t partCount,
+                         std::uint8_t out[kHmacSha256Size]);
+    core::Status compute(const std::uint8_t* key, std::size_t keyLength, const std::uint8_t* data,
+                         std::size_t length, std::uint8_t out[kHmacSha256Size]);
     // The 128-bit MAC of packet[0..length) with the checksum byte taken as zero.
     core::Status packetMac(const std::uint8_t key[kKeySize], const std::uint8_t* packet, std::size_t length,
                            std::uint8_t mac[kMacSize]);
@@ -55,7 +83,9 @@ public:
     const std::uint8_t* find(std::uint16_t keyId) const;  // nullptr: unknown key
     std::size_t size() const { return count_; }
     std::uint16_t idAt(std::size_t index) const { return index < count_ ? slots_[index].id : kNoKey; }
-    bool labKeyInUse() const { return find(kLabKeyId) != nullptr && labKeyLoaded_; }
+    // The lab key's bytes are loaded, under whatever id (kNoKey: they are not).
+    std::uint16_t labKeyId() const;
+    bool labKeyInUse() const { return labKeyId() != kNoKey; }
     void clear();
 
     // Per-key anti-replay state, kept with the key.
@@ -80,7 +110,6 @@ private:
 
     Slot slots_[kMaxKeys];
     std::size_t count_ = 0;
-    bool labKeyLoaded_ = false;
 };
 
 // Parses "ID:64-hex-digits" lines ('#' comments, blank lines allowed): the key

@@ -27,7 +27,7 @@ core::Status CommandTask::init() {
     if (keys_.labKeyInUse()) {
         events_.report(events::kLabKeyInUse, core::Severity::kWarning,
                        "cmd: the public lab key (id %u) authenticates commands: not for flight",
-                       static_cast<unsigned>(kLabKeyId));
+                       static_cast<unsigned>(keys_.labKeyId()));
     }
     if (!validator_.authRequired()) {
         events_.report(events::kAuthDisabled, core::Severity::kWarning,
@@ -167,8 +167,8 @@ void CommandTask::dispatchOne() {
     acknowledge(verdict);
 }
 
-void CommandTask::reject(const CommandVerdict& verdict) {
-    if (verdict.reason == CommandReject::kSequenceStoreFailed) {
+void CommandTask::reject(const CommandVerdict& found) {
+    if (found.reason == CommandReject::kSequenceStoreFailed) {
         // Its own event on the 1st, 2nd, 4th ... failure, whatever the rejection throttle does.
         const std::uint32_t failures = validator_.replay().writeFailures();
         if (failures != 0 && (failures & (failures - 1)) == 0) {
@@ -178,10 +178,13 @@ void CommandTask::reject(const CommandVerdict& verdict) {
         }
     }
     ++counters_.rejected;
-    const auto reason = static_cast<std::size_t>(verdict.reason);
+    const auto reason = static_cast<std::size_t>(found.reason);
     if (reason < kRejectReasonCount) {
-        ++counters_.byReason[reason];
+        ++counters_.byReason[reason];  // the true reason: HK keeps unknown_key apart
     }
+    // From here on what the link sees: an unknown key id reads as bad_mac.
+    CommandVerdict verdict = found;
+    verdict.reason = linkReason(found.reason);
     counters_.lastApid = verdict.header.apid;
     counters_.lastFunctionCode = verdict.functionCode;
     counters_.lastResult = verdict.reason;

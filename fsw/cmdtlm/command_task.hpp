@@ -7,7 +7,8 @@
 //     (CommandValidator: length, header, checksum, APID and function code, key,
 //     MAC, anti-replay sequence, argument ranges, mode) and, when they pass,
 //     executed by the application's CommandHandler.
-// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason.
+// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason
+// (an unknown key id acknowledged and evented as bad_mac: linkReason()).
 #pragma once
 
 #include <cstddef>
@@ -66,6 +67,7 @@ public:
     const KeyStore& keys() const { return keys_; }
     // Loaded keys refused until AUTH_RESYNC.
     std::uint8_t keysUnsynced() const;
+    bool labKeyInUse() const { return keys_.labKeyInUse(); }
 
     void run(const core::FrameContext& frame) override;
 
@@ -82,7 +84,7 @@ private:
     void ingest();
     void dispatchOne();
     void acknowledge(const CommandVerdict& verdict);
-    void reject(const CommandVerdict& verdict);
+    void reject(const CommandVerdict& found);
     // Header fields of a packet we will not validate (queue overflow, too long),
     // read as far as the bytes allow, for the acknowledgement.
     static CommandVerdict claimedFields(const std::uint8_t* packet, std::size_t length);

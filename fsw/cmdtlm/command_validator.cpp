@@ -31,6 +31,10 @@ const char* toString(CommandReject reason) {
     return "?";
 }
 
+CommandReject linkReason(CommandReject reason) {
+    return reason == CommandReject::kUnknownKey ? CommandReject::kBadMac : reason;
+}
+
 namespace {
 
 CommandVerdict& fail(CommandVerdict& v, CommandReject reason, std::int16_t detail = -1) {
@@ -122,7 +126,7 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
     if (v.command == nullptr) {
         return fail(v, CommandReject::kUnknownFunction);
     }
-    // 5-7: authentication.
+    // 5-8: authentication.
     core::BeReader security(packet + kPrimaryHeaderSize + kCommandSecondaryHeaderSize, kSecurityHeaderSize);
     v.keyId = security.u16();
     v.authSequence = security.u32();
@@ -132,16 +136,22 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
             return fail(v, CommandReject::kMacMissing);
         }
     } else {
-        const std::uint8_t* key = keys_.find(v.keyId);
-        if (key == nullptr) {
-            return fail(v, CommandReject::kUnknownKey);
-        }
+        // No room for a MAC is bad_length whether or not the key exists; an
+        // unknown key costs the same MAC computation as a known one (with a key of
+        // zeros), so neither the reason nor the time tells which ids exist.
         if (length < kCommandHeaderSize + kMacSize) {
             return fail(v, CommandReject::kBadLength);
         }
+        static constexpr std::uint8_t kNoSuchKey[kKeySize] = {};
+        const std::uint8_t* key = keys_.find(v.keyId);
         end = length - kMacSize;
         std::uint8_t expected[kMacSize];
-        if (!core::isOk(hmac_.packetMac(key, packet, end, expected)) || !macEqual(expected, packet + end)) {
+        const bool macOk = core::isOk(hmac_.packetMac(key != nullptr ? key : kNoSuchKey, packet, end, expected)) &&
+                           macEqual(expected, packet + end);
+        if (key == nullptr) {
+            return fail(v, CommandReject::kUnknownKey);
+        }
+        if (!macOk) {
             return fail(v, CommandReject::kBadMac);
         }
         if (v.command->code == CommandCode::AUTH_RESYNC) {
@@ -169,7 +179,7 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
             keys_.commit(v.keyId, v.authSequence);
         }
     }
-    // 8-9: arguments.
+    // 9-10: arguments.
     v.args = packet + kCommandHeaderSize;
     v.argLength = end - kCommandHeaderSize;
     const std::size_t fixed = v.command->fixedArgBytes;
@@ -183,7 +193,7 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
     if (bad >= 0) {
         return fail(v, CommandReject::kArgumentOutOfRange, bad);
     }
-    // 10: mode.
+    // 11: mode.
     if (!modeAllows(v.command->modes, mode)) {
         return fail(v, CommandReject::kWrongMode, static_cast<std::int16_t>(mode));
     }

@@ -12,9 +12,12 @@
 //   3 checksum (cFS rule)                           -> kBadChecksum
 //   4 APID, then function code, in the dictionary   -> kUnknownApid, kUnknownFunction
 //   5 key id: 0 is refused when authentication is required -> kMacMissing;
-//     otherwise the key must be loaded             -> kUnknownKey
-//   6 MAC over the packet                           -> kBadMac (or kBadLength if no room for it)
-//   7 anti-replay sequence (fsw/cmdtlm/anti_replay_state.hpp):
+//     otherwise there must be room for the MAC      -> kBadLength
+//   6 the key must be loaded                        -> kUnknownKey (the MAC is computed
+//     anyway, with a key of zeros, so it takes as long as a known key's; the
+//     link is told kBadMac, docs/icd.md)
+//   7 MAC over the packet                           -> kBadMac
+//   8 anti-replay sequence (fsw/cmdtlm/anti_replay_state.hpp):
 //     key refused until AUTH_RESYNC (store missing or corrupt, key not in it)
 //                                                   -> kSequenceUnsynchronised (detail: why)
 //     repeated / too old                            -> kReplayedSequence, kStaleSequence
@@ -25,9 +28,9 @@
 //     window; a command refused by a later check has used its number up)
 //     AUTH_RESYNC is fresh by its challenge instead (anti_replay_state.hpp):
 //     wrong nonce -> kSequenceUnsynchronised (detail 4)
-//   8 argument bytes: exactly the dictionary's size (a blob within its maximum) -> kBadLength
-//   9 each argument within [min, max] and finite    -> kArgumentOutOfRange (detail: argument index)
-//  10 the current mode allows the command           -> kWrongMode
+//   9 argument bytes: exactly the dictionary's size (a blob within its maximum) -> kBadLength
+//  10 each argument within [min, max] and finite    -> kArgumentOutOfRange (detail: argument index)
+//  11 the current mode allows the command           -> kWrongMode
 #pragma once
 
 #include <cstddef>
@@ -65,6 +68,11 @@ enum class CommandReject : std::uint8_t {
 constexpr std::size_t kRejectReasonCount = static_cast<std::size_t>(CommandReject::kCount);
 static_assert(kRejectReasonCount <= 20, "HK.cmd_rejected_by_reason holds 20 counters");
 const char* toString(CommandReject reason);  // snake_case names, as in docs/dictionary.md
+
+// What the link is told (CMD_ACK.reason, the rejection event): an unknown key id
+// reads as bad_mac, so a sender without a key cannot learn which key ids exist.
+// HK.cmd_rejected_by_reason still counts the two apart (docs/icd.md §5.4).
+CommandReject linkReason(CommandReject reason);
 
 struct CommandVerdict {
     CommandReject reason = CommandReject::kAccepted;

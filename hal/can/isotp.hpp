@@ -1,6 +1,6 @@
 // ISO-TP (ISO 15765-2) transport over any CanBus: classic CAN, normal addressing,
 // 11-bit identifiers, messages of 1..4095 bytes. Carries ground command and
-// telemetry packets (docs/icd.md section 2: rover receives on 0x6F0, sends on 0x6F1).
+// telemetry packets (docs/icd.md section 2: rover receives on 0x6C0, sends on 0x6C1).
 // Written to interoperate with the Linux kernel's can-isotp (can-utils isotpsend /
 // isotprecv), but implemented here so it runs on any backend and without Linux.
 //

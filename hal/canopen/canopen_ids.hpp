@@ -18,6 +18,33 @@ constexpr std::uint32_t kSdoResponse = 0x580;  // server -> client
 constexpr std::uint32_t kSdoRequest = 0x600;   // client -> server
 constexpr std::uint32_t kHeartbeat = 0x700;
 
+// CiA 301 restricted CAN-IDs: they shall not be used for SYNC, TIME, EMCY, PDO
+// or SDO, and CANopen stacks flag frames there that are none of their own (NMT,
+// the reserved ranges, default SDO, NMT error control, LSS). Ids the rover puts
+// on the bus for anything else stay outside them (docs/icd.md §1.2).
+struct CanIdRange {
+    std::uint32_t first;
+    std::uint32_t last;  // inclusive
+};
+constexpr CanIdRange kCia301RestrictedIds[] = {
+    {0x000, 0x000},  // NMT
+    {0x001, 0x07F},  // reserved
+    {0x101, 0x180},  // reserved
+    {0x581, 0x5FF},  // default SDO server -> client
+    {0x601, 0x67F},  // default SDO client -> server
+    {0x6E0, 0x6FF},  // reserved
+    {0x701, 0x77F},  // NMT error control (heartbeat, boot-up)
+    {0x780, 0x7FF},  // reserved (LSS 0x7E4/0x7E5)
+};
+constexpr bool isCia301Restricted(std::uint32_t canId) {
+    for (const CanIdRange& r : kCia301RestrictedIds) {
+        if (canId >= r.first && canId <= r.last) {
+            return true;
+        }
+    }
+    return false;
+}
+
 constexpr std::uint32_t functionOf(std::uint32_t cobId) { return cobId & 0x780U; }
 constexpr std::uint8_t nodeOf(std::uint32_t cobId) { return static_cast<std::uint8_t>(cobId & 0x7FU); }
 

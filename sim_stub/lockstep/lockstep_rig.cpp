@@ -31,6 +31,12 @@ core::Status LockstepRig::init() {
 core::Status LockstepRig::init(std::FILE* console) { return initWith(console); }
 
 core::Status LockstepRig::initWith(std::FILE* console) {
+    // The rig is a lab bench: its in-memory ground (MemoryGround) and the mission
+    // runner sign with the public lab key, so the rig asks for it here, as
+    // rse-fsw --lab-key does. A test that loaded its own keys before init keeps them.
+    if (fsw_.keys().size() == 0 && !core::isOk(fsw_.useLabKey())) {
+        return core::Status::kNotInitialized;
+    }
     // The anti-replay store in memory, provisioned as on a rover's first boot
     // (rse-fsw --auth-store-create), so every lockstep run uses the persisted
     // path; the AUTH_RESYNC nonce from the scenario's seed keeps runs repeatable.

@@ -18,6 +18,7 @@ TEST_GROUP(FswApp) {
 };
 
 TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(nullptr));
     core::PipeId probe;
     CHECK(core::Status::kOk == fsw.bus().createPipe("probe", 8, &probe));
@@ -54,6 +55,7 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
 }
 
 TEST(FswApp, QuietConsoleStillDrainsEventsSoNoneAreLost) {
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(nullptr));
     for (int i = 0; i < 3 * static_cast<int>(core::kEventRingDepth); ++i) {
         fsw.events().report(999, core::Severity::kDebug, "burst %d", i);
@@ -67,6 +69,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     char text[4096] = {};
     std::FILE* stream = fmemopen(text, sizeof text - 1, "w");
     CHECK(stream != nullptr);
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(stream));
     fsw.run(nullptr, 101);
     fsw.shutdown("test over");
@@ -80,6 +83,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
 TEST(FswApp, MalformedHousekeepingIsCountedNotPrinted) {
     char text[4096] = {};
     std::FILE* stream = fmemopen(text, sizeof text - 1, "w");
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(stream));
     const std::uint8_t truncated[8] = {};
     CHECK(core::Status::kOk == fsw.bus().publish(msg::ids::kHousekeeping, truncated, sizeof truncated));
@@ -95,6 +99,7 @@ TEST(FswApp, MalformedHousekeepingIsCountedNotPrinted) {
 // mode) no mode change is announced. AUTONOMOUS -> SAFE on a call home:
 // unit_test/lockstep/test_lockstep_deliberative.cpp.
 TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(nullptr));
     core::PipeId probe;
     CHECK(core::Status::kOk == fsw.bus().createPipe("probe", 8, &probe));
@@ -118,4 +123,34 @@ TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
     fsw.run(nullptr, 2);
     LONGS_EQUAL(1, fsw.commandHandler().safeRequests());
     LONGS_EQUAL(1, fsw.commandHandler().malformedRequests());
+}
+
+// Issue 14 item 4: the public lab key is never a silent default. With no key
+// loaded (no rse-fsw --key-file, no --lab-key) the application does not start,
+// and says why in a critical event.
+TEST(FswApp, RefusesToStartWithoutACommandKey) {
+    LONGS_EQUAL(0, fsw.keys().size());
+    CHECK(core::Status::kNotInitialized == fsw.init(nullptr));
+    LONGS_EQUAL(0, fsw.keys().size());  // nothing loaded behind our back
+    bool said = false;
+    core::Event event;
+    while (core::isOk(fsw.events().pop(&event))) {
+        said = said || (event.id == 201 && event.severity == core::Severity::kCritical &&
+                        std::strstr(event.text, "command keys") != nullptr &&
+                        std::strstr(event.text, "--lab-key") != nullptr);
+    }
+    CHECK_TRUE(said);
+}
+
+TEST(FswApp, UseLabKeyLoadsTheLabKeyUnderIdOneAndInitWarns) {
+    CHECK(core::Status::kOk == fsw.useLabKey());
+    CHECK(core::Status::kOk == fsw.init(nullptr));
+    CHECK_TRUE(fsw.keys().labKeyInUse());
+    LONGS_EQUAL(cmdtlm::kLabKeyId, fsw.keys().labKeyId());
+    bool warned = false;
+    core::Event event;
+    while (core::isOk(fsw.events().pop(&event))) {
+        warned = warned || (event.id == 504 && event.severity == core::Severity::kWarning);
+    }
+    CHECK_TRUE(warned);
 }

@@ -61,6 +61,7 @@ TEST_GROUP(GroundCommands) {
 
     void setup() override {
         CHECK(core::isOk(fsw.addGroundLink(&link)));
+        CHECK(core::isOk(fsw.useLabKey()));  // a lab bench: asked for explicitly
         CHECK(core::isOk(fsw.init(nullptr)));
         CHECK(core::isOk(hmac.init()));
         CHECK(core::isOk(fsw.bus().createPipe("probe", 16, &probe)));
@@ -559,6 +560,7 @@ struct Rover {
         CHECK(core::isOk(fsw.addGroundLink(&link)));
         fsw.attachAuthStore(store, provision);
         fsw.setAuthChallengeSeed(nonce);
+        CHECK(core::isOk(fsw.useLabKey()));
         CHECK(core::isOk(fsw.init(nullptr)));
     }
     void runFrames(int n) {
@@ -672,4 +674,64 @@ TEST(GroundCommandsAcrossRestart, ALostStoreIsRecoveredWithTheNonceFromHousekeep
     LONGS_EQUAL(1, static_cast<long>(field(after, "auth_store_state")));
     LONGS_EQUAL(0, static_cast<long>(field(after, "auth_keys_unsynced")));
     LONGS_EQUAL(10, static_cast<long>(field(after, "auth_challenge_low")));  // moved on after use
+}
+
+// Issue 14 item 4: HK.lab_key_in_use follows the key store: 1 while the public
+// lab key's bytes are loaded, under whatever key id.
+TEST(GroundCommands, HousekeepingSaysWhenThePublicLabKeyIsInUse) {
+    runFrames(1);
+    LONGS_EQUAL(1, static_cast<long>(field(last("HK"), "lab_key_in_use")));
+    std::uint8_t own[kKeySize];
+    for (std::size_t i = 0; i < kKeySize; ++i) {
+        own[i] = static_cast<std::uint8_t>(i * 37 + 11);
+    }
+    fsw.keys().clear();
+    CHECK(core::isOk(fsw.keys().add(5, own)));
+    runFrames(100);  // the next 1 Hz HK
+    LONGS_EQUAL(0, static_cast<long>(field(last("HK"), "lab_key_in_use")));
+    CHECK(core::isOk(fsw.keys().add(9, kLabKey)));  // the lab key's bytes under another id
+    runFrames(100);
+    LONGS_EQUAL(1, static_cast<long>(field(last("HK"), "lab_key_in_use")));
+}
+
+// Issue 14 item 4: a sender without a key must not learn which key ids exist.
+// An unknown key id and a bad MAC give the same CMD_ACK (reason bad_mac, same
+// detail) and the same event (529); only HK's per-reason counters tell them apart.
+TEST(GroundCommands, AnUnknownKeyIdAndABadMacLookTheSameOnTheLink) {
+    runFrames(50);  // the start-up events downlinked
+    const auto sendSigned = [this](std::uint16_t keyId, const std::uint8_t* key) {
+        const CommandDesc* c = findCommand("NOOP");
+        CommandFields f;
+        f.apid = c->apid;
+        f.functionCode = c->functionCode;
+        f.keyId = keyId;
+        f.authSequence = authSequence++;
+        std::uint8_t bytes[kMaxCommandPacket];
+        const std::size_t n = encodeCommandPacket(f, nullptr, 0, key, hmac, bytes, sizeof bytes);
+        CHECK(n > 0);
+        CHECK(core::isOk(link.groundSend(bytes, n)));
+    };
+    std::uint8_t wrongKey[kKeySize];
+    std::memcpy(wrongKey, kLabKey, kKeySize);
+    wrongKey[5] ^= 0x40;
+
+    sendSigned(9, kLabKey);  // key id 9 is not loaded
+    runFrames(2);
+    const Packet unknownKey = last("CMD_ACK");
+    sendSigned(kLabKeyId, wrongKey);  // key id 1 is, but the MAC is wrong
+    runFrames(2);
+    const Packet badMac = last("CMD_ACK");
+
+    LONGS_EQUAL(9, static_cast<long>(field(unknownKey, "key_id")));
+    LONGS_EQUAL(static_cast<long>(CommandReject::kBadMac), static_cast<long>(field(unknownKey, "reason")));
+    LONGS_EQUAL(static_cast<long>(CommandReject::kBadMac), static_cast<long>(field(badMac, "reason")));
+    LONGS_EQUAL(static_cast<long>(field(badMac, "detail")), static_cast<long>(field(unknownKey, "detail")));
+    LONGS_EQUAL(0, eventCount(528));  // no "unknown_key" event on the link
+    LONGS_EQUAL(2, eventCount(529));
+
+    send("REQUEST_HK");
+    runFrames(2);
+    const Packet& hk = last("HK");
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 8)));  // unknown_key
+    LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 9)));  // bad_mac
 }

@@ -103,6 +103,7 @@ TEST_GROUP(WatchdogInTheApp) {
 
 TEST(WatchdogInTheApp, AStalledTaskStopsTheFeedsUntilFaultProtectionRestartsIt) {
     fsw.attachWatchdog(&dog);
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(nullptr));
     fsw.run(nullptr, 300);
     CHECK(dog.feeds >= 29);  // 10 Hz from the first fault status on

@@ -37,6 +37,7 @@ TEST(ZeroAllocation, RealExecutiveWithAllTasksAllocatesNothingAfterInit) {
     static core::VirtualClock clock;
     static hal::MemoryCanBus can(clock);
     static app::FswApp fsw(clock, *can.attach("fsw"));
+    CHECK(core::Status::kOk == fsw.useLabKey());  // a lab bench: asked for explicitly
     CHECK(core::Status::kOk == fsw.init(quietConsole()));
 
     rse::test::AllocationWatch watch;

@@ -278,8 +278,59 @@ TEST(CommandTask, LabSettingAcceptsUnauthenticatedCommands) {
     LONGS_EQUAL(1, handler->executed);
 }
 
-TEST(CommandTask, UnknownKeyIdIsRejected) {
-    expectRejected(submit(packet("NOOP", {}, 7, kLabKey, 9)), CommandReject::kUnknownKey);
+// Issue 14 item 4: on the link an unknown key id reads exactly as a bad MAC
+// (ack reason, detail and event), so a sender without a key learns nothing about
+// which ids exist; the per-reason counter (HK) still says unknown_key.
+TEST(CommandTask, UnknownKeyIdIsAcknowledgedAndEventedAsBadMacButCountedApart) {
+    const Ack ack = submit(packet("NOOP", {}, 7, kLabKey, 9));
+    STRCMP_EQUAL("bad_mac", toString(static_cast<CommandReject>(ack.reason)));
+    LONGS_EQUAL(-1, ack.detail);
+    LONGS_EQUAL(9, ack.keyId);
+    LONGS_EQUAL(1, task->counters().byReason[static_cast<std::size_t>(CommandReject::kUnknownKey)]);
+    LONGS_EQUAL(0, task->counters().byReason[static_cast<std::size_t>(CommandReject::kBadMac)]);
+    LONGS_EQUAL(1, task->counters().rejected);
+    CHECK(CommandReject::kBadMac == task->counters().lastResult);
+    unsigned unknownKeyEvents = 0;
+    unsigned badMacEvents = 0;
+    core::Event e;
+    while (core::isOk(events->pop(&e))) {
+        unknownKeyEvents += e.id == events::rejectEvent(CommandReject::kUnknownKey) ? 1U : 0U;
+        badMacEvents += e.id == events::rejectEvent(CommandReject::kBadMac) ? 1U : 0U;
+        if (e.id == events::rejectEvent(CommandReject::kBadMac)) {
+            CHECK(std::strstr(e.text, "bad_mac") != nullptr);
+            CHECK(std::strstr(e.text, "unknown_key") == nullptr);
+        }
+    }
+    LONGS_EQUAL(0, unknownKeyEvents);
+    LONGS_EQUAL(1, badMacEvents);
+    LONGS_EQUAL(0, handler->executed);
+}
+
+TEST(CommandTask, UnknownKeyAndBadMacAcknowledgementsAreIdenticalButForTheEchoedKeyId) {
+    std::uint8_t otherKey[kKeySize];
+    std::memcpy(otherKey, kLabKey, kKeySize);
+    otherKey[0] ^= 1;
+    const Ack unknown = submit(packet("NOOP", {}, 7, kLabKey, 9));
+    const Ack badMac = submit(packet("NOOP", {}, 8, otherKey, kLabKeyId));
+    LONGS_EQUAL(badMac.reason, unknown.reason);
+    LONGS_EQUAL(badMac.detail, unknown.detail);
+    LONGS_EQUAL(badMac.apid, unknown.apid);
+    LONGS_EQUAL(badMac.functionCode, unknown.functionCode);
+}
+
+TEST(CommandTask, UnknownKeyWithNoRoomForAMacIsBadLengthLikeAKnownKey) {
+    std::vector<std::uint8_t> known = packet("NOOP", {}, 7);
+    std::vector<std::uint8_t> unknown = packet("NOOP", {}, 8, kLabKey, 9);
+    for (std::vector<std::uint8_t>* p : {&known, &unknown}) {
+        p->resize(kCommandHeaderSize + kMacSize - 1);
+        (*p)[4] = 0;
+        (*p)[5] = static_cast<std::uint8_t>(p->size() - 7);
+        refreshChecksum(*p);
+    }
+    const Ack a = submit(known);
+    const Ack b = submit(unknown);
+    STRCMP_EQUAL("bad_length", toString(static_cast<CommandReject>(a.reason)));
+    STRCMP_EQUAL("bad_length", toString(static_cast<CommandReject>(b.reason)));
 }
 
 TEST(CommandTask, WrongKeyIsRejectedAsBadMac) {

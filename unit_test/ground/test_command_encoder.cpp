@@ -137,6 +137,21 @@ TEST(GroundCommandEncoder, PacketChecksumIsValidAndMacVerifiesWithTheLabKey) {
     CHECK_EQUAL(cmdtlm::kLabKeyId, v.keyId);
 }
 
+// Known answers for the whole packet the ground builds (issue 14 item 5): the
+// bytes were computed outside this code (Python: struct + hmac) from the layout
+// of docs/icd.md §5.2-5.3, so a bug the ground encoder shares with the flight
+// validator (the same HmacSha256, the same encodeCommandPacket) cannot pass.
+TEST(GroundCommandEncoder, LabKeyPacketsMatchIndependentlyComputedBytes) {
+    const std::vector<std::uint8_t> noop = {0x19, 0x80, 0xC0, 0x05, 0x00, 0x17, 0x00, 0xF2, 0x00, 0x01,
+                                            0x00, 0x00, 0x00, 0x05, 0x7F, 0x61, 0x15, 0x0C, 0xD3, 0xA2,
+                                            0xAD, 0x38, 0x45, 0x73, 0xBB, 0x13, 0xBA, 0x53, 0x92, 0x44};
+    CHECK_TRUE(noop == ground::encodeCommand("NOOP", {}, ground::labKeyAuth(), 5));
+    const std::vector<std::uint8_t> setMode = {0x19, 0x80, 0xC0, 0x4D, 0x00, 0x18, 0x03, 0xE1, 0x00, 0x01, 0x00,
+                                               0x00, 0x00, 0x4D, 0x01, 0x21, 0x83, 0xBD, 0x71, 0xFD, 0xF2, 0x78,
+                                               0x5E, 0x08, 0xD5, 0xAE, 0x43, 0x93, 0x35, 0x4C, 0xC1};
+    CHECK_TRUE(setMode == ground::encodeCommand("SET_MODE", {"mode=1"}, ground::labKeyAuth(), 77));
+}
+
 TEST(GroundCommandEncoder, AFlippedByteFailsTheChecksum) {
     auto packet = ground::encodeCommand("NOOP", {}, ground::labKeyAuth(), 5);
     packet[10] ^= 0x01;

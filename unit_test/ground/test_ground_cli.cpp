@@ -4,6 +4,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "fsw/cmdtlm/command_auth.hpp"
 #include "ground/command_encoder.hpp"
 #include "ground/dictionary_export.hpp"
 #include "ground/ground_cli.hpp"
@@ -314,4 +316,25 @@ TEST(GroundCli, TableToolCommandsAreForwarded) {
     const CliResult r = cli({"table", "check", "/nonexistent.tbl"});
     CHECK_TRUE(r.rc != 0);
     CHECK_FALSE(contains(r.err, "usage: rse-ground [global options]"));
+}
+
+// Issue 14 item 4: the lab key's bytes under any key id are the public lab key;
+// rse-ground says so when it signs with them from a key file.
+TEST(GroundCli, SigningWithTheLabKeyFromAKeyFileUnderAnyIdWarns) {
+    test::TempDir dir;
+    const std::string keys = dir.file("lab.keys");
+    std::string hex;
+    static const char digits[] = "0123456789abcdef";
+    for (std::size_t i = 0; i < cmdtlm::kKeySize; ++i) {
+        hex += digits[cmdtlm::kLabKey[i] >> 4];
+        hex += digits[cmdtlm::kLabKey[i] & 0x0F];
+    }
+    {
+        std::ofstream out(keys);
+        out << "9:" << hex << "\n";
+    }
+    ::chmod(keys.c_str(), 0600);
+    const CliResult r = cli({"--state-dir", dir.path(), "--key-file", keys, "encode", "NOOP", "--auth-seq", "3"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(contains(r.err, "key id 9 of " + keys + " is the public lab key"));
 }

@@ -154,6 +154,6 @@ TEST(GroundLink, IsoTpOnAMissingInterfaceIsAClearError) {
     // Whether this kernel has CAN at all or not, the message names the interface.
     const std::string message = linkError([] { ground::IsoTpGroundLink link("rsenocan7"); });
     CHECK_TRUE(message.rfind("cannot open ISO-TP on rsenocan7: ", 0) == 0);
-    const std::string bad = linkError([] { ground::IsoTpGroundLink link("vcan0", 0x800, 0x6F1); });
+    const std::string bad = linkError([] { ground::IsoTpGroundLink link("vcan0", 0x800, 0x6C1); });
     CHECK_TRUE(bad.find("11-bit") != std::string::npos);
 }

@@ -18,8 +18,8 @@ using core::Status;
 
 namespace {
 
-constexpr std::uint32_t kRoverRx = 0x6F0;  // docs/icd.md section 2
-constexpr std::uint32_t kRoverTx = 0x6F1;
+constexpr std::uint32_t kRoverRx = 0x6C0;  // docs/icd.md section 2
+constexpr std::uint32_t kRoverTx = 0x6C1;
 constexpr std::size_t kSpyDepth = 2048;
 constexpr core::TimeNs kStep = core::kNsPerMs;
 constexpr std::size_t kMaxSteps = 20000;

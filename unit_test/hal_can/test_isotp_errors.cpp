@@ -20,8 +20,8 @@ using core::Status;
 
 namespace {
 
-constexpr std::uint32_t kRoverRx = 0x6F0;
-constexpr std::uint32_t kRoverTx = 0x6F1;
+constexpr std::uint32_t kRoverRx = 0x6C0;
+constexpr std::uint32_t kRoverTx = 0x6C1;
 constexpr core::TimeNs kMs = core::kNsPerMs;
 constexpr std::size_t kMaxSteps = 20000;
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# rse-fsw as a user runs it: command-line errors, a lockstep run, and a clean
-# shutdown on SIGINT and SIGTERM in real-time mode. Ends with "N passed, N failed".
+# rse-fsw as a user runs it: command-line errors, the command keys it accepts and
+# refuses, a lockstep run, and a clean shutdown on SIGINT and SIGTERM in real-time
+# mode. Ends with "N passed, N failed".
 #
 # env: RSE_BIN_DIR (where rse-fsw is), RSE_RUNNER (e.g. a qemu-user prefix, or empty)
 set -u
@@ -21,20 +22,55 @@ echo "rse-fsw command line"
 fsw --no-such-option >"$work/out" 2>"$work/err"; rc=$?
 check "unknown option exits 2" test "$rc" -eq 2
 check "unknown option is named" grep -q "unknown option '--no-such-option'" "$work/err"
-fsw --lockstep >"$work/out" 2>"$work/err"; rc=$?
+fsw --lockstep --lab-key >"$work/out" 2>"$work/err"; rc=$?
 check "lockstep without duration exits 2" test "$rc" -eq 2
 check "lockstep without duration says why" grep -q -- "--lockstep needs --duration" "$work/err"
-fsw --duration -3 >"$work/out" 2>"$work/err"; rc=$?
+fsw --duration -3 --lab-key >"$work/out" 2>"$work/err"; rc=$?
 check "negative duration is rejected" test "$rc" -eq 2
 
-fsw --can rse_nocan9 --duration 1 >"$work/out" 2>"$work/err"; rc=$?
+echo "command keys (issue 14)"
+fsw --lockstep --duration 1 >"$work/out" 2>"$work/err"; rc=$?
+check "no key file and no --lab-key: refuses to start (exit 2)" test "$rc" -eq 2
+check "no key file and no --lab-key: says what to give" grep -q -- "no command key: give --key-file FILE, or --lab-key" "$work/err"
+check "no key file and no --lab-key: never ran" test ! -s "$work/out"
+fsw --lockstep --duration 1 --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "--lab-key: starts (exit 0)" test "$rc" -eq 0
+check "--lab-key: warns on stderr" grep -q "PUBLIC lab key (id 1)" "$work/err"
+check "--lab-key: event 504 at start-up" grep -q "EVT 504 WARN  cmd: the public lab key (id 1)" "$work/out"
+hexkey() { printf '%s' "$1" | od -An -tx1 | tr -d ' \n'; }
+labhex=$(hexkey "RSE lab key - not for flight use")
+goodhex=000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f
+printf '# flight keys\n3:%s\n' "$goodhex" > "$work/good.keys"; chmod 600 "$work/good.keys"
+fsw --lockstep --duration 1 --key-file "$work/good.keys" >"$work/out" 2>"$work/err"; rc=$?
+check "a private key file with a good key: starts (exit 0)" test "$rc" -eq 0
+check "a private key file with a good key: no lab key warning" sh -c "! grep -q 'EVT 504' '$work/out'"
+printf '7:%s\n' "$labhex" > "$work/lab7.keys"; chmod 600 "$work/lab7.keys"
+fsw --lockstep --duration 1 --key-file "$work/lab7.keys" >"$work/out" 2>"$work/err"; rc=$?
+check "the lab key's bytes under key id 7: refused (exit 1)" test "$rc" -eq 1
+check "the lab key's bytes under key id 7: named as the lab key" grep -q "key id 7 refused: the public lab key" "$work/err"
+fsw --lockstep --duration 1 --key-file "$work/lab7.keys" --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "the lab key under key id 7 with --lab-key: starts, warns" sh -c "[ $rc -eq 0 ] && grep -q 'key id 7 of .* is the PUBLIC lab key' '$work/err' && grep -q 'EVT 504 WARN  cmd: the public lab key (id 7)' '$work/out'"
+printf '3:%s\n' 0000000000000000000000000000000000000000000000000000000000000000 > "$work/zero.keys"; chmod 600 "$work/zero.keys"
+fsw --lockstep --duration 1 --key-file "$work/zero.keys" >"$work/out" 2>"$work/err"; rc=$?
+check "an all-zero key: refused (exit 1)" sh -c "[ $rc -eq 1 ] && grep -q 'weak key (all bytes zero)' '$work/err'"
+fsw --lockstep --duration 1 --key-file "$work/zero.keys" --allow-weak-key >"$work/out" 2>"$work/err"; rc=$?
+check "an all-zero key with --allow-weak-key: starts, warns (event 516)" sh -c "[ $rc -eq 0 ] && grep -q 'EVT 516 WARN' '$work/out'"
+printf '3:%s\n' "$goodhex" > "$work/open.keys"; chmod 644 "$work/open.keys"
+fsw --lockstep --duration 1 --key-file "$work/open.keys" >"$work/out" 2>"$work/err"; rc=$?
+check "a key file others may read: refused (exit 1)" sh -c "[ $rc -eq 1 ] && grep -q 'group or others may read or write it' '$work/err'"
+fsw --lockstep --duration 1 --key-file "$work/open.keys" --allow-readable-key >"$work/out" 2>"$work/err"; rc=$?
+check "a key file others may read with --allow-readable-key: starts, warns (event 517)" sh -c "[ $rc -eq 0 ] && grep -q 'EVT 517 WARN' '$work/out'"
+fsw --lockstep --duration 1 --allow-weak-key --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "--allow-weak-key without --key-file: bad command line (exit 2)" test "$rc" -eq 2
+
+fsw --can rse_nocan9 --duration 1 --lab-key >"$work/out" 2>"$work/err"; rc=$?
 check "unopenable CAN interface exits 1" test "$rc" -eq 1
 check "unopenable CAN interface is named with the reason" grep -q "cannot open CAN interface 'rse_nocan9'" "$work/err"
-fsw --lockstep --can vcan0 --duration 1 >"$work/out" 2>"$work/err"; rc=$?
+fsw --lockstep --can vcan0 --duration 1 --lab-key >"$work/out" 2>"$work/err"; rc=$?
 check "lockstep with a real CAN interface exits 2" test "$rc" -eq 2
 
 echo "lockstep: 5 s of executive time"
-fsw --lockstep --duration 5 >"$work/lockstep" 2>&1; rc=$?
+fsw --lockstep --duration 5 --lab-key >"$work/lockstep" 2>&1; rc=$?
 check "lockstep run exits 0" test "$rc" -eq 0
 check "one housekeeping line per second" test "$(grep -c ' HK  #' "$work/lockstep")" -eq 5
 check "summary counts 500 frames" grep -q "500 frames run, 0 overruns, 0 skipped" "$work/lockstep"
@@ -58,7 +94,7 @@ for sig in INT TERM; do
   echo "real time: SIG$sig stops it cleanly"
   # Started directly (not through the fsw function) so $! is rse-fsw itself.
   # shellcheck disable=SC2086
-  $runner "$bin" --no-rt >"$work/rt-$sig" 2>&1 &
+  $runner "$bin" --no-rt --lab-key >"$work/rt-$sig" 2>&1 &
   pid=$!
   # Wait (bounded) for the first housekeeping line: the executive is running.
   for _ in $(seq 1 100); do grep -q ' HK  #1' "$work/rt-$sig" && break; sleep 0.1; done

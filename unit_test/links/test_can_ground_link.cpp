@@ -57,7 +57,7 @@ TEST_GROUP(CanGroundLink) {
     std::size_t length = 0;
 
     // One minor frame: the rover takes what the ground sent (as the CANopen master
-    // routes 0x6F0) and services the link, as the CAN I/O task does; then the
+    // routes 0x6C0) and services the link, as the CAN I/O task does; then the
     // ground does the same on its side.
     void frame() {
         hal::CanFrame f;

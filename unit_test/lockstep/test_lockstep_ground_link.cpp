@@ -84,7 +84,7 @@ TEST_GROUP(LockstepGroundLink) {
 TEST(LockstepGroundLink, TelemetryComesDownAsWholeCcsdsPacketsWhileTheRoverDrives) {
     CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 2 * core::kNsPerSec));
     rig->runFor(core::kNsPerSec);
-    LONGS_EQUAL(0, g_ground.packets);  // nobody heard on 0x6F0 yet: the downlink holds back
+    LONGS_EQUAL(0, g_ground.packets);  // nobody heard on 0x6C0 yet: the downlink holds back
     LONGS_EQUAL(0, link().stats().txDropped);
 
     // The ground says NOOP; from then on telemetry comes down.

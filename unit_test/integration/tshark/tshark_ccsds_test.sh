@@ -36,7 +36,7 @@ if ! kill -0 $cap 2>/dev/null; then
   echo "FAIL: dumpcap could not capture on lo:"; cat "$out/dumpcap.log"; fail=1; finish
 fi
 
-"$bin/rse-fsw" --udp --no-rt --quiet --duration 7 --cmd-port "$cmd_port" --tlm-port "$tlm_port" \
+"$bin/rse-fsw" --udp --no-rt --quiet --lab-key --duration 7 --cmd-port "$cmd_port" --tlm-port "$tlm_port" \
     --auth-store "$out/auth.dat" --auth-store-create > "$out/fsw.log" 2>&1 &
 fsw=$!
 sleep 0.5

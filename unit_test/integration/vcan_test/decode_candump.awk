@@ -42,9 +42,9 @@ function bad(why) { undecoded++; printf "%s UNDECODED      %s#%s (%s)\n", time, 
     if (dlc != 8) { bad("device frame needs 8 bytes"); next }
     split("IMU POWER HAZARD FIX-X FIX-Y", dev, " ")
     ok(dev[id - 1695], "")
-  } else if (id == 1776 || id == 1777) {
+  } else if (id == 1728 || id == 1729) {
     if (dlc < 1 || dlc > 8) { bad("ISO-TP frame length"); next }
-    ok(id == 1776 ? "ISOTP-uplink" : "ISOTP-downlink", sprintf("pci 0x%X", int(hexbyte(data, 0) / 16)))
+    ok(id == 1728 ? "ISOTP-uplink" : "ISOTP-downlink", sprintf("pci 0x%X", int(hexbyte(data, 0) / 16)))
   } else if (fn == 1792) {
     if (!node(n) || dlc != 1) { bad("heartbeat: unknown node or length"); next }
     s = hexbyte(data, 0)

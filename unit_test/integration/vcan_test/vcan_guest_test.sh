@@ -35,7 +35,7 @@ $B/rse-sim --can vcan0 --scenario $D/vcan_session.toml --duration 120 > /tmp/sim
 SIM=$!
 sleep 0.3
 # First boot of this rover: --auth-store-create provisions the anti-replay store.
-$B/rse-fsw --can vcan0 --no-rt --duration 120 --auth-store /tmp/auth.dat --auth-store-create > /tmp/fsw.log 2>&1 &
+$B/rse-fsw --can vcan0 --no-rt --lab-key --duration 120 --auth-store /tmp/auth.dat --auth-store-create > /tmp/fsw.log 2>&1 &
 FSW=$!
 # SIGTERM, up to 10 s to stop, then SIGKILL; its exit status.
 stop() {
@@ -49,7 +49,7 @@ stop() {
 i=0
 while [ $i -lt 100 ] && [ "$(count 'EVT 432 ' /tmp/fsw.log)" -lt 6 ]; do sleep 0.1; i=$((i + 1)); done
 check "all six drives configured by SDO and enabled over SocketCAN" [ "$(count 'EVT 432 ' /tmp/fsw.log)" -ge 6 ]
-# --- Ground link: rse-ground commands over ISO-TP (0x6F0 up, 0x6F1 down).
+# --- Ground link: rse-ground commands over ISO-TP (0x6C0 up, 0x6C1 down).
 G="$B/rse-ground --can vcan0 --state-dir /tmp/ground-state --timeout 5"
 $G send NOOP --auth-seq 7001 > /tmp/g1.out 2>&1; g1=$?
 check "rse-ground: authenticated NOOP over ISO-TP, acknowledged in telemetry (exit 0)" [ $g1 -eq 0 ]
@@ -101,19 +101,21 @@ for n in 20 21 22 23; do
   check "device node 0x$n heartbeats (7$n#)" grep -q "vcan0 7$n#" $L
 done
 
-# --- Our ISO-TP against the kernel's can-isotp, 4000 bytes each way.
+# --- Our ISO-TP against the kernel's can-isotp, 4000 bytes each way, on the
+# ground link's ids (0x6C0 uplink, 0x6C1 downlink; outside every CiA 301
+# restricted range, docs/icd.md §1.2): ours as the rover, then as the ground.
 awk 'BEGIN { for (i = 0; i < 4000; i++) printf "%02X%s", (i * 7 + 3) % 256, (i < 3999 ? " " : "\n") }' > /tmp/p.hex
-$B/rse-isotp --can vcan0 --tx 7A8 --rx 7A0 --timeout 10 recv > /tmp/r1.hex &
+$B/rse-isotp --can vcan0 --tx 6C1 --rx 6C0 --timeout 10 recv > /tmp/r1.hex &
 R=$!
 sleep 0.3
-isotpsend -s 7A0 -d 7A8 vcan0 < /tmp/p.hex
+isotpsend -s 6C0 -d 6C1 vcan0 < /tmp/p.hex
 wait $R
 check "kernel isotpsend -> our ISO-TP: 4000 bytes identical" cmp -s /tmp/p.hex /tmp/r1.hex
 
-isotprecv -s 7B8 -d 7B0 vcan0 > /tmp/r2.raw &
+isotprecv -s 6C1 -d 6C0 vcan0 > /tmp/r2.raw &
 R=$!
 sleep 0.3
-$B/rse-isotp --can vcan0 --tx 7B0 --rx 7B8 --timeout 10 send < /tmp/p.hex
+$B/rse-isotp --can vcan0 --tx 6C0 --rx 6C1 --timeout 10 send < /tmp/p.hex
 sleep 0.3
 kill $R 2>/dev/null
 wait $R 2>/dev/null

@@ -13,7 +13,7 @@ fi
 insmod /lib/modules/rse/softdog.ko || { echo "FAIL: insmod softdog.ko"; exit 1; }
 [ -c /dev/watchdog ] || { echo "FAIL: no /dev/watchdog after insmod softdog"; exit 1; }
 
-rse-fsw --no-rt --quiet --watchdog /dev/watchdog --watchdog-timeout "$TIMEOUT_S" --duration 3 > /tmp/fsw1.log 2>&1
+rse-fsw --no-rt --quiet --lab-key --watchdog /dev/watchdog --watchdog-timeout "$TIMEOUT_S" --duration 3 > /tmp/fsw1.log 2>&1
 rc=$?
 if [ "$rc" -ne 0 ]; then
     echo "FAIL: rse-fsw with the watchdog exited $rc"; cat /tmp/fsw1.log; exit 1
@@ -22,7 +22,7 @@ echo "WATCHDOG-CLEAN-STOP rc=0"
 sleep $((TIMEOUT_S + 3))
 echo "WATCHDOG-ALIVE-AFTER-CLEAN-STOP"
 
-rse-fsw --no-rt --quiet --watchdog /dev/watchdog --watchdog-timeout "$TIMEOUT_S" > /tmp/fsw2.log 2>&1 &
+rse-fsw --no-rt --quiet --lab-key --watchdog /dev/watchdog --watchdog-timeout "$TIMEOUT_S" > /tmp/fsw2.log 2>&1 &
 pid=$!
 sleep 2
 kill -0 "$pid" || { echo "FAIL: rse-fsw died before the hang"; cat /tmp/fsw2.log; exit 1; }
