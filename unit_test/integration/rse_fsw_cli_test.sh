@@ -80,13 +80,13 @@ check "console ran 50 times" grep -qE '^  console +50 ' "$work/lockstep"
 echo "the anti-replay store"
 fsw --auth-store "" --duration 1 >"$work/out" 2>"$work/err"; rc=$?
 check "an empty --auth-store path exits 2" test "$rc" -eq 2
-fsw --lockstep --duration 1 --auth-store "$work/auth.dat" >"$work/nostore" 2>&1; rc=$?
+fsw --lockstep --lab-key --duration 1 --auth-store "$work/auth.dat" >"$work/nostore" 2>&1; rc=$?
 check "a missing store: runs (exit 0), commands refused (EVT 541)" sh -c "[ $rc -eq 0 ] && grep -q 'EVT 541' '$work/nostore'"
 check "a missing store is not created unasked" test ! -e "$work/auth.dat"
-fsw --lockstep --duration 1 --auth-store "$work/auth.dat" --auth-store-create >"$work/created" 2>&1; rc=$?
+fsw --lockstep --lab-key --duration 1 --auth-store "$work/auth.dat" --auth-store-create >"$work/created" 2>&1; rc=$?
 check "--auth-store-create creates it (exit 0, EVT 540 for the lab key)" sh -c "[ $rc -eq 0 ] && [ -s '$work/auth.dat' ] && grep -q 'EVT 540' '$work/created'"
 printf 'garbage' > "$work/auth.dat"
-fsw --lockstep --duration 1 --auth-store "$work/auth.dat" --auth-store-create >"$work/corrupt" 2>&1
+fsw --lockstep --lab-key --duration 1 --auth-store "$work/auth.dat" --auth-store-create >"$work/corrupt" 2>&1
 check "a corrupt store is reported (EVT 541 ... corrupt)" grep -q 'EVT 541.*corrupt' "$work/corrupt"
 check "a corrupt store is left as it is, even with --auth-store-create" grep -qx 'garbage' "$work/auth.dat"
 
