@@ -173,6 +173,11 @@ void TelemetryTask::sendHousekeeping(core::TimeNs now) {
     hk_.tlm_dropped = output_.dropped();
     hk_.table_activations = sources_.tables.activations();
     hk_.table_rejects = sources_.tables.rejects();
+    hk_.link_rx_packets = c.linkRxPackets;
+    hk_.link_rx_dropped = c.linkRxDropped;
+    hk_.link_rx_kernel_drops = c.linkRxKernelDropped;
+    hk_.cmd_ingest_limited = c.ingestLimited;
+    hk_.cmd_acks_suppressed = c.acksSuppressed;
     output_.send(hk_);
     ++housekeepingSent_;
 }

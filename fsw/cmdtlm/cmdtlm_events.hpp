@@ -16,6 +16,9 @@ constexpr core::EventId kAuthDisabled = 505;         // start-up: the lab settin
 constexpr core::EventId kCmdInitFailed = 506;        // a command service start-up step failed
 constexpr core::EventId kTelemetryDropped = 507;     // a link refused a telemetry packet (throttled 1,2,4,8..)
 constexpr core::EventId kTelemetryTooLarge = 508;    // a telemetry packet did not fit (a dictionary bug)
+// A second of flood on the ground links (at most one a second): rejection acks
+// suppressed, ingest stopped at its per-frame limit, or packets dropped by the OS.
+constexpr core::EventId kIngestFlood = 515;
 // One event per reject reason: kRejectBase + CommandReject value (521 bad length ... 534 execution failed).
 constexpr core::EventId kRejectBase = 520;
 constexpr core::EventId rejectEvent(CommandReject reason) {

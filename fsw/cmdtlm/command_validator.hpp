@@ -73,6 +73,14 @@ public:
 
     CommandVerdict check(const std::uint8_t* packet, std::size_t length, Mode mode);
 
+    // The cheap checks alone, in check()'s order: 1 length, 2 header, 3 checksum,
+    // 4 APID and function code, 5 key id (missing, unknown, no room for the MAC);
+    // no MAC, no sequence, nothing recorded. A packet it rejects is rejected by
+    // check() with the same reason; one it passes (kAccepted) still needs check().
+    // Command ingest runs it on every packet as it arrives, so a flood of garbage
+    // costs no MAC and takes no queue slot (docs/icd.md, "Floods").
+    CommandVerdict screen(const std::uint8_t* packet, std::size_t length) const;
+
 private:
     KeyStore& keys_;
     HmacSha256& hmac_;
