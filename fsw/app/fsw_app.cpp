@@ -130,7 +130,7 @@ core::Status FswApp::init(std::FILE* console) {
     // housekeeping or the console; the deliberative layer likewise on offset 7,
     // its planner sliced to about kSliceWork per run. The watchdog is fed last
     // in its frame, from what every task left behind. Command ingest has 2 ms: draining
-    // a 100 000 packet/s flood of the UDP link takes about 0.8 ms a frame (docs/icd.md
+    // a 100 000 packet/s flood of the UDP link takes 0.5-0.8 ms a frame (docs/icd.md
     // "Floods"). Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us

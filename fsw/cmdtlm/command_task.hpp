@@ -42,7 +42,7 @@ constexpr std::size_t kCommandQueueDepth = 8;    // commands waiting between fra
 // Ingest bounds per frame (the task's budget is 2 ms, fsw/app/fsw_app.cpp): at most
 // kMaxPacketsPerLink packets from a link, and kIngestAllowance of time for all
 // links together, of which every link after the first is sure of kIngestLinkReserve.
-// A small datagram costs about 0.75 us to read and refuse on the development VM
+// A small datagram costs 0.5-0.75 us to read and refuse on the development VM
 // (mostly the kernel's recvmmsg), so 1.2 ms drains a 150 000 packet/s flood, and
 // leaves 0.8 ms of the budget for dispatch and for the host's hiccups.
 constexpr std::size_t kMaxPacketsPerLink = 2048;
