@@ -325,6 +325,11 @@ $(BUILD)/bin/bench_fault_recovery: $(BUILD)/obj/unit_test/bench/bench_fault_reco
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
+# The ground-link flood benchmark runs rse-fsw and signs its commands with the ground library.
+$(BUILD)/bin/bench_ground_flood: $(BUILD)/obj/unit_test/bench/bench_ground_flood.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB) | $(FSW_BIN)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lpthread
+
 # The chance-constrained reference benchmark: CBC's exact MILP (host only).
 $(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)

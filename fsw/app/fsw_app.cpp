@@ -131,7 +131,9 @@ core::Status FswApp::init(std::FILE* console) {
     // 10 Hz on its own offset, so its planning slice does not share a frame with
     // housekeeping or the console; the deliberative layer likewise on offset 7,
     // its planner sliced to about kSliceWork per run. The watchdog is fed last
-    // in its frame, from what every task left behind. Keep docs/architecture.md in step.
+    // in its frame, from what every task left behind. Command ingest has 2 ms: draining
+    // a 100 000 packet/s flood of the UDP link takes 0.5-0.8 ms a frame (docs/icd.md
+    // "Floods"). Keep docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us
         {"tables", &tables_, 1, 0, 200},
@@ -141,7 +143,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"health", &health_, 1, 0, 200},
         {"fault_prot", &faultProtection_, 1, 0, 200},
         {"follower", &follower_, 1, 0, 200},
-        {"commands", &commands_, 1, 0, 1000},
+        {"commands", &commands_, 1, 0, 2000},
         {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},
         {"telemetry", &telemetry_, 1, 0, 2000},
@@ -235,6 +237,12 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kAck)),
                  static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kEvent)),
                  static_cast<unsigned>(telemetryOutput_.dropped(hal::TxPriority::kRoutine)));
+    std::fprintf(out,
+                 "  ground links: %u packets read, %u dropped by a link, %u dropped by the OS (receive buffer "
+                 "full); ingest at its limit in %u frames, %u rejection acks suppressed\n",
+                 static_cast<unsigned>(c.linkRxPackets), static_cast<unsigned>(c.linkRxDropped),
+                 static_cast<unsigned>(c.linkRxKernelDropped), static_cast<unsigned>(c.ingestLimited),
+                 static_cast<unsigned>(c.acksSuppressed));
     const CanGroundLink& can = canIo_.groundLink();
     if (can.downlinkActive()) {
         std::fprintf(out,

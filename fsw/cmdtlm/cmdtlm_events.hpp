@@ -28,6 +28,9 @@ constexpr core::EventId kAuthKeyUnsynced = 543;      // start-up: a loaded key w
 constexpr core::EventId kAuthResynced = 544;         // AUTH_RESYNC accepted: the key's floor moved (WARN)
 constexpr core::EventId kAuthStoreWriteFailed = 545; // a reservation write failed (ERROR, 1st, 2nd, 4th ... time)
 constexpr core::EventId kAuthNoChallenge = 546;      // start-up: no AUTH_RESYNC nonce (no random source) (WARN)
+// A second of flood on the ground links (at most one a second): rejection acks
+// suppressed, ingest stopped at its per-frame limit, or packets dropped by the OS.
+constexpr core::EventId kIngestFlood = 518;
 // One event per reject reason: kRejectBase + CommandReject value (521 bad length ... 537 sequence store failed).
 constexpr core::EventId kRejectBase = 520;
 constexpr core::EventId rejectEvent(CommandReject reason) {

@@ -86,48 +86,95 @@ std::uint8_t CommandTask::keysUnsynced() const {
 }
 
 void CommandTask::run(const core::FrameContext&) {
+    now_ = clock_.now();
     handler_.serviceOnboardRequests();
     ingest();
+    now_ = clock_.now();
     for (std::size_t i = 0; i < kCommandsPerFrame && count_ > 0; ++i) {
         dispatchOne();
     }
     counters_.queueDepth = static_cast<std::uint8_t>(count_);
+    updateLinkCounters();
+    reportFlood(clock_.now());
 }
 
+// Every link in turn, within kIngestAllowance for all of them: link i (of n)
+// stops at kIngestAllowance - (n - 1 - i) * kIngestLinkReserve, so a flooded
+// link leaves each link after it at least kIngestLinkReserve of the frame.
 void CommandTask::ingest() {
-    for (std::size_t l = 0; l < links_.size(); ++l) {
+    bool limited = false;
+    const core::TimeNs start = now_;
+    const std::size_t n = links_.size();
+    for (std::size_t l = 0; l < n; ++l) {
         hal::PacketLink* link = links_.at(l);
-        for (std::size_t n = 0; n < kMaxPacketsPerLink; ++n) {
-            std::size_t length = 0;
-            const core::Status status = link->receive(scratch_, sizeof scratch_, &length);
-            if (status == core::Status::kEmpty) {
-                break;
-            }
-            if (status == core::Status::kTooLarge || (core::isOk(status) && length > kMaxCommandPacket)) {
-                // Longer than any command: refused before it takes a queue slot.
-                CommandVerdict v = claimedFields(scratch_, core::isOk(status) ? length : 0);
-                v.reason = CommandReject::kBadLength;
-                reject(v);
-                continue;
-            }
-            if (!core::isOk(status)) {
-                break;  // the link counts its own errors
-            }
-            if (count_ >= kCommandQueueDepth) {
-                CommandVerdict v = claimedFields(scratch_, length);
-                v.reason = CommandReject::kQueueOverflow;
-                v.detail = static_cast<std::int16_t>(kCommandQueueDepth);
-                reject(v);
-                continue;
-            }
-            QueuedPacket& slot = queue_[(head_ + count_) % kCommandQueueDepth];
-            std::memcpy(slot.bytes, scratch_, length);
-            slot.length = static_cast<std::uint16_t>(length);
-            ++count_;
-            if (count_ > counters_.queueHighWater) {
-                counters_.queueHighWater = static_cast<std::uint8_t>(count_);
+        const core::TimeNs deadline =
+            start + kIngestAllowance - static_cast<core::TimeNs>(n - 1 - l) * kIngestLinkReserve;
+        if (link != nullptr && ingestFrom(*link, deadline)) {
+            limited = true;
+        }
+    }
+    if (limited) {
+        ++counters_.ingestLimited;  // what is left waits in the link for the next frame
+    }
+}
+
+// One link until it is empty (false), or its packet limit or deadline is reached
+// (true). The clock is read every kIngestCheckEvery packets; rejections between
+// two reads are timed with the last one.
+bool CommandTask::ingestFrom(hal::PacketLink& link, core::TimeNs deadline) {
+    for (std::size_t n = 0; n < kMaxPacketsPerLink; ++n) {
+        if (n % kIngestCheckEvery == 0) {
+            now_ = clock_.now();
+            if (n > 0 && now_ >= deadline) {  // every link gets one round at least
+                return true;
             }
         }
+        std::size_t length = 0;
+        const core::Status status = link.receive(scratch_, sizeof scratch_, &length);
+        if (status == core::Status::kEmpty) {
+            return false;
+        }
+        if (status == core::Status::kTooLarge || (core::isOk(status) && length > kMaxCommandPacket)) {
+            // Longer than any command: refused before it takes a queue slot.
+            CommandVerdict v;
+            addClaimedFields(&v, scratch_, core::isOk(status) ? length : 0);
+            v.reason = CommandReject::kBadLength;
+            reject(v);
+            continue;
+        }
+        if (!core::isOk(status)) {
+            return false;  // the link counts its own errors
+        }
+        takePacket(length);
+    }
+    return true;
+}
+
+// Cheap rejection first: a packet that fails the screen never reaches the queue
+// or the MAC.
+void CommandTask::takePacket(std::size_t length) {
+    CommandVerdict screened = validator_.screen(scratch_, length);
+    if (screened.reason != CommandReject::kAccepted) {
+        if (screened.reason <= CommandReject::kBadHeader) {
+            addClaimedFields(&screened, scratch_, length);
+        }
+        reject(screened);
+        return;
+    }
+    if (count_ >= kCommandQueueDepth) {
+        CommandVerdict v;
+        addClaimedFields(&v, scratch_, length);
+        v.reason = CommandReject::kQueueOverflow;
+        v.detail = static_cast<std::int16_t>(kCommandQueueDepth);
+        reject(v);
+        return;
+    }
+    QueuedPacket& slot = queue_[(head_ + count_) % kCommandQueueDepth];
+    std::memcpy(slot.bytes, scratch_, length);
+    slot.length = static_cast<std::uint16_t>(length);
+    ++count_;
+    if (count_ > counters_.queueHighWater) {
+        counters_.queueHighWater = static_cast<std::uint8_t>(count_);
     }
 }
 
@@ -138,12 +185,7 @@ void CommandTask::dispatchOne() {
     CommandVerdict verdict = validator_.check(packet.bytes, packet.length, handler_.mode());
     if (verdict.reason != CommandReject::kAccepted) {
         if (verdict.command == nullptr && verdict.reason <= CommandReject::kBadHeader) {
-            // Header unreadable or inconsistent: acknowledge what it claims.
-            const CommandVerdict claimed = claimedFields(packet.bytes, packet.length);
-            verdict.header = claimed.header;
-            verdict.functionCode = claimed.functionCode;
-            verdict.keyId = claimed.keyId;
-            verdict.authSequence = claimed.authSequence;
+            addClaimedFields(&verdict, packet.bytes, packet.length);
         }
         reject(verdict);
         return;
@@ -191,7 +233,7 @@ void CommandTask::reject(const CommandVerdict& found) {
 
     // A flood of bad packets must not wash the event log out: at most
     // kRejectEventsPerSecond rejection events a second, the rest counted.
-    const core::TimeNs now = clock_.now();
+    const core::TimeNs now = now_;
     if (now - rejectWindowStart_ >= core::kNsPerSec) {
         if (rejectEventsInWindow_ > kRejectEventsPerSecond) {
             events_.report(events::kRejectEventsSuppressed, core::Severity::kWarning,
@@ -213,7 +255,42 @@ void CommandTask::reject(const CommandVerdict& found) {
     } else {
         ++counters_.rejectEventsSuppressed;
     }
-    acknowledge(verdict);
+    if (mayAcknowledgeRejection(verdict)) {
+        acknowledge(verdict);
+    } else {
+        ++counters_.acksSuppressed;
+    }
+}
+
+bool CommandTask::mayAcknowledgeRejection(const CommandVerdict& verdict) {
+    // Authenticated: the MAC verified and the sequence was fresh (argument,
+    // mode and execution failures, and an argument block of the wrong size).
+    const bool authenticated = verdict.reason >= CommandReject::kArgumentOutOfRange ||
+                               (verdict.reason == CommandReject::kBadLength && verdict.args != nullptr);
+    if (authenticated) {
+        return true;
+    }
+    constexpr core::TimeNs kFull = static_cast<core::TimeNs>(kRejectAckBurst) * core::kNsPerSec;
+    const core::TimeNs now = now_;
+    if (!ackBucketStarted_) {
+        ackBucketStarted_ = true;
+        ackRefilledAt_ = now;
+    }
+    const core::TimeNs elapsed = now - ackRefilledAt_;
+    ackRefilledAt_ = now;
+    if (elapsed > 0) {
+        // Refill at kRejectAcksPerSecond tokens a second (elapsed capped so the product cannot overflow).
+        const core::TimeNs capped = elapsed < 100 * core::kNsPerSec ? elapsed : 100 * core::kNsPerSec;
+        ackTokens_ += capped * static_cast<core::TimeNs>(kRejectAcksPerSecond);
+        if (ackTokens_ > kFull) {
+            ackTokens_ = kFull;
+        }
+    }
+    if (ackTokens_ < core::kNsPerSec) {
+        return false;
+    }
+    ackTokens_ -= core::kNsPerSec;
+    return true;
 }
 
 void CommandTask::acknowledge(const CommandVerdict& verdict) {
@@ -230,25 +307,76 @@ void CommandTask::acknowledge(const CommandVerdict& verdict) {
     telemetry_.send(ack);
 }
 
-CommandVerdict CommandTask::claimedFields(const std::uint8_t* packet, std::size_t length) {
-    CommandVerdict v;
+void CommandTask::addClaimedFields(CommandVerdict* verdict, const std::uint8_t* packet, std::size_t length) {
+    verdict->header = PrimaryHeader{};
+    verdict->functionCode = 0;
+    verdict->keyId = kNoKey;
+    verdict->authSequence = 0;
     if (length >= kPrimaryHeaderSize) {
-        v.header = decodePrimaryHeader(packet);
+        verdict->header = decodePrimaryHeader(packet);
     }
     if (length > kPrimaryHeaderSize) {
-        v.functionCode = static_cast<std::uint8_t>(packet[kPrimaryHeaderSize] & 0x7F);
+        verdict->functionCode = static_cast<std::uint8_t>(packet[kPrimaryHeaderSize] & 0x7F);
     }
     if (length >= kCommandHeaderSize) {
         core::BeReader r(packet + kPrimaryHeaderSize + kCommandSecondaryHeaderSize, kSecurityHeaderSize);
-        v.keyId = r.u16();
-        v.authSequence = r.u32();
+        verdict->keyId = r.u16();
+        verdict->authSequence = r.u32();
     }
-    return v;
+}
+
+CommandTask::LinkTotals CommandTask::linkTotals() const {
+    LinkTotals t;
+    for (std::size_t l = 0; l < links_.size(); ++l) {
+        const hal::PacketLink* link = links_.at(l);
+        if (link != nullptr) {
+            const hal::PacketLinkStats& s = link->stats();
+            t.packets += s.rxPackets;
+            t.dropped += s.rxDropped;
+            t.kernelDropped += s.rxKernelDropped;
+        }
+    }
+    return t;
+}
+
+void CommandTask::updateLinkCounters() {
+    const LinkTotals t = linkTotals();
+    counters_.linkRxPackets = t.packets - linkBaseline_.packets;
+    counters_.linkRxDropped = t.dropped - linkBaseline_.dropped;
+    counters_.linkRxKernelDropped = t.kernelDropped - linkBaseline_.kernelDropped;
+}
+
+// At most once a second: one event when the last second saw a flood's marks.
+void CommandTask::reportFlood(core::TimeNs now) {
+    if (!floodWindowStarted_) {
+        floodWindowStarted_ = true;
+        floodWindowStart_ = now;
+        floodMark_ = counters_;
+        return;
+    }
+    if (now - floodWindowStart_ < core::kNsPerSec) {
+        return;
+    }
+    const CommandCounters& c = counters_;
+    const std::uint32_t suppressed = c.acksSuppressed - floodMark_.acksSuppressed;
+    const std::uint32_t limited = c.ingestLimited - floodMark_.ingestLimited;
+    const std::uint32_t kernel = c.linkRxKernelDropped - floodMark_.linkRxKernelDropped;
+    if (suppressed > 0 || limited > 0 || kernel > 0) {
+        events_.report(events::kIngestFlood, core::Severity::kWarning,
+                       "cmd: flood 1 s: %u read, %u OS drop, %u link drop, %u acks held, %u limited",
+                       static_cast<unsigned>(c.linkRxPackets - floodMark_.linkRxPackets), static_cast<unsigned>(kernel),
+                       static_cast<unsigned>(c.linkRxDropped - floodMark_.linkRxDropped),
+                       static_cast<unsigned>(suppressed), static_cast<unsigned>(limited));
+    }
+    floodWindowStart_ = now;
+    floodMark_ = counters_;
 }
 
 void CommandTask::resetCounters() {
     counters_ = CommandCounters{};
     counters_.queueDepth = static_cast<std::uint8_t>(count_);
+    linkBaseline_ = linkTotals();
+    floodMark_ = counters_;
 }
 
 }  // namespace rse::cmdtlm

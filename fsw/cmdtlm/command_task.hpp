@@ -1,14 +1,27 @@
 // The command service (cFS's command ingest plus dispatch), every minor frame:
-//   1 ingest: take up to kMaxPacketsPerLink packets from each ground link into a
-//     fixed queue of kCommandQueueDepth; a packet that finds the queue full is
-//     rejected (queue_overflow), acknowledged, evented and counted - never lost
-//     silently. Packets beyond kMaxPacketsPerLink wait in the link's own buffer.
-//   2 dispatch: up to kCommandsPerFrame queued packets are checked
-//     (CommandValidator: length, header, checksum, APID and function code, key,
-//     MAC, anti-replay sequence, argument ranges, mode) and, when they pass,
-//     executed by the application's CommandHandler.
-// Every packet yields exactly one CMD_ACK in telemetry: accepted, or the reason
-// (an unknown key id acknowledged and evented as bad_mac: linkReason()).
+//   1 ingest: read each ground link until it is empty or the per-frame limit is
+//     reached: kMaxPacketsPerLink packets per link, or the link's share of
+//     kIngestAllowance, whichever comes first (the rest wait in the link for the
+//     next frame; such frames are counted, ingestLimited). Every packet is screened as it
+//     arrives (CommandValidator::screen: length, header, checksum, APID, function
+//     code, key id - no MAC): one that fails is rejected at once and never takes
+//     a queue slot. One that passes goes into a fixed queue of kCommandQueueDepth;
+//     a packet that finds the queue full is rejected (queue_overflow) - never lost
+//     silently.
+//   2 dispatch: up to kCommandsPerFrame queued packets are checked in full
+//     (CommandValidator: MAC, anti-replay sequence and its persisted
+//     reservation, argument ranges, mode) and, when they pass, executed by the
+//     application's CommandHandler. That bounds the MAC work per frame.
+// An unknown key id is acknowledged and evented as bad_mac (linkReason()).
+// Every packet yields one CMD_ACK in telemetry (accepted, or the reason), except
+// that acknowledgements of rejections that did not authenticate (reasons
+// queue_overflow .. stale_sequence) are rate-limited by a token bucket
+// (kRejectAcksPerSecond, burst kRejectAckBurst): those beyond it are counted
+// (acksSuppressed), so a flood of garbage cannot fill the downlink and starve
+// events and housekeeping. Acceptances and authenticated rejections are always
+// acknowledged. A second of flood (acknowledgements suppressed, ingest at its
+// limit, or packets dropped by the OS) raises one summary event (kIngestFlood).
+// docs/icd.md, "Floods".
 #pragma once
 
 #include <cstddef>
@@ -27,9 +40,20 @@
 namespace rse::cmdtlm {
 
 constexpr std::size_t kCommandQueueDepth = 8;    // commands waiting between frames
-constexpr std::size_t kMaxPacketsPerLink = 16;   // ingest bound per link per frame
-constexpr std::size_t kCommandsPerFrame = 2;     // executed per frame (200 commands/s)
+// Ingest bounds per frame (the task's budget is 2 ms, fsw/app/fsw_app.cpp): at most
+// kMaxPacketsPerLink packets from a link, and kIngestAllowance of time for all
+// links together, of which every link after the first is sure of kIngestLinkReserve.
+// A small datagram costs 0.5-0.75 us to read and refuse on the development VM
+// (mostly the kernel's recvmmsg), so 1.2 ms drains a 150 000 packet/s flood, and
+// leaves 0.8 ms of the budget for dispatch and for the host's hiccups.
+constexpr std::size_t kMaxPacketsPerLink = 2048;
+constexpr core::TimeNs kIngestAllowance = 1200 * core::kNsPerUs;
+constexpr core::TimeNs kIngestLinkReserve = 150 * core::kNsPerUs;
+constexpr std::size_t kIngestCheckEvery = 32;    // packets between two looks at the clock
+constexpr std::size_t kCommandsPerFrame = 2;     // executed per frame (200 commands/s), one MAC each
 constexpr std::uint32_t kRejectEventsPerSecond = 8;  // beyond this, rejections are counted, not evented
+constexpr std::uint32_t kRejectAcksPerSecond = 20;   // acknowledgements of unauthenticated rejections ...
+constexpr std::uint32_t kRejectAckBurst = 20;        // ... a second, and at most this many at once
 
 struct CommandCounters {
     std::uint32_t accepted = 0;
@@ -41,6 +65,12 @@ struct CommandCounters {
     CommandReject lastResult = CommandReject::kAccepted;
     std::uint8_t queueDepth = 0;
     std::uint8_t queueHighWater = 0;
+    // Floods (docs/icd.md): what the links saw, summed over them, since the last reset.
+    std::uint32_t linkRxPackets = 0;        // packets read from the links
+    std::uint32_t linkRxDropped = 0;        // packets a link dropped before ingest saw them (too large, queue full)
+    std::uint32_t linkRxKernelDropped = 0;  // packets the OS dropped before a link read them
+    std::uint32_t ingestLimited = 0;        // frames in which ingest stopped at its limit on some link
+    std::uint32_t acksSuppressed = 0;       // rejection acknowledgements not sent (rate limit)
 };
 
 class CommandTask final : public core::Task {
@@ -81,13 +111,26 @@ private:
     };
 
     void reportAntiReplayState();  // init: reads the store, events what it found
+    struct LinkTotals {
+        std::uint32_t packets = 0;
+        std::uint32_t dropped = 0;
+        std::uint32_t kernelDropped = 0;
+    };
+
     void ingest();
+    bool ingestFrom(hal::PacketLink& link, core::TimeNs deadline);
+    void takePacket(std::size_t length);
     void dispatchOne();
     void acknowledge(const CommandVerdict& verdict);
     void reject(const CommandVerdict& found);
-    // Header fields of a packet we will not validate (queue overflow, too long),
-    // read as far as the bytes allow, for the acknowledgement.
-    static CommandVerdict claimedFields(const std::uint8_t* packet, std::size_t length);
+    // Header fields of a packet that was not (fully) validated (too long, bad
+    // header, queue overflow), read as far as the bytes allow, for the acknowledgement.
+    static void addClaimedFields(CommandVerdict* verdict, const std::uint8_t* packet, std::size_t length);
+    // Whether a rejection may be acknowledged now (token bucket for unauthenticated ones).
+    bool mayAcknowledgeRejection(const CommandVerdict& verdict);
+    LinkTotals linkTotals() const;
+    void updateLinkCounters();
+    void reportFlood(core::TimeNs now);
 
     const core::Clock& clock_;
     core::EventLog& events_;
@@ -102,9 +145,20 @@ private:
     std::size_t count_ = 0;
     std::uint8_t scratch_[kMaxCommandPacket + 1] = {};  // one byte more: detects oversize packets
     CommandCounters counters_;
+    core::TimeNs now_ = 0;  // the clock as last read in this run (read every kIngestCheckEvery packets)
     core::TimeNs rejectWindowStart_ = 0;
     std::uint32_t rejectEventsInWindow_ = 0;
     bool provisionAuthStore_ = false;
+    // Rejection acknowledgements: token bucket, in tokens x kNsPerSec.
+    core::TimeNs ackTokens_ = static_cast<core::TimeNs>(kRejectAckBurst) * core::kNsPerSec;
+    core::TimeNs ackRefilledAt_ = 0;
+    bool ackBucketStarted_ = false;
+    // Link counters at the last reset (they are cumulative in the links).
+    LinkTotals linkBaseline_;
+    // The flood summary: counters at the start of the current second.
+    core::TimeNs floodWindowStart_ = 0;
+    bool floodWindowStarted_ = false;
+    CommandCounters floodMark_;
 };
 
 }  // namespace rse::cmdtlm

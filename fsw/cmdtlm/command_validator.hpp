@@ -99,6 +99,13 @@ public:
     // The persisted side of the anti-replay window (volatile until a store is attached).
     AntiReplayState& replay() { return replay_; }
     const AntiReplayState& replay() const { return replay_; }
+    // The cheap checks alone, in check()'s order: 1 length, 2 header, 3 checksum,
+    // 4 APID and function code, 5 key id (missing, unknown, no room for the MAC);
+    // no MAC, no sequence, nothing recorded. A packet it rejects is rejected by
+    // check() with the same reason; one it passes (kAccepted) still needs check().
+    // Command ingest runs it on every packet as it arrives, so a flood of garbage
+    // costs no MAC and takes no queue slot (docs/icd.md, "Floods").
+    CommandVerdict screen(const std::uint8_t* packet, std::size_t length) const;
 
 private:
     // Check 7 for AUTH_RESYNC: fresh by its challenge; on success the key's floor moves.

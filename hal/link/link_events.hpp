@@ -24,5 +24,7 @@ constexpr core::EventId kLinkTxError = 377;             // OS error on send: pac
 constexpr core::EventId kLinkTxUndeliverable = 378;     // the network reported a sent packet undeliverable (ICMP)
 constexpr core::EventId kLinkTxInvalid = 379;           // send of an empty packet or one over the link's limit refused
 constexpr core::EventId kLinkClosed = 380;              // link closed (close() or destructor)
+constexpr core::EventId kLinkRxKernelDrops = 381;       // the OS dropped received datagrams (receive buffer full)
+constexpr core::EventId kLinkRxDegraded = 382;          // open: receive buffer smaller than asked, or kernel drops uncountable
 
 }  // namespace rse::hal::events

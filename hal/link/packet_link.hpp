@@ -34,6 +34,8 @@ inline const char* toString(TxPriority priority) {
 struct PacketLinkStats {
     std::uint32_t rxPackets = 0;   // handed to the caller
     std::uint32_t rxDropped = 0;   // lost before the caller read them (queue full, too large, truncated)
+    std::uint32_t rxKernelDropped = 0;  // lost in the OS before the link could read them (UDP receive
+                                        // buffer full: SO_RXQ_OVFL); not part of rxDropped
     std::uint32_t txPackets = 0;   // accepted for sending
     std::uint32_t txDropped = 0;   // refused: queue full, too large, link down
     std::uint32_t errors = 0;      // OS or protocol errors

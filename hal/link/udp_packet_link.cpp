@@ -87,6 +87,40 @@ void UdpPacketLink::closeSocket() {
         fd_ = -1;
     }
     boundPort_ = 0;
+    // Read from the kernel but never handed over: lost with the socket, counted.
+    stats_.rxDropped += static_cast<std::uint32_t>(rxCount_ - rxNext_);
+    rxNext_ = 0;
+    rxCount_ = 0;
+    receiveBufferBytes_ = 0;
+    kernelDropsCounted_ = false;
+    kernelDropsSeen_ = 0;
+}
+
+// The receive buffer and the kernel-drop count (SO_RXQ_OVFL). Neither failure
+// closes the link: commands still arrive, and the operator is told.
+void UdpPacketLink::configureReceive(int fd) {
+    const int want = receiveBufferRequest_;
+    // SO_RCVBUFFORCE passes net.core.rmem_max with CAP_NET_ADMIN; SO_RCVBUF is capped there.
+    if (setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &want, sizeof want) != 0) {
+        (void)setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &want, sizeof want);
+    }
+    int granted = 0;
+    socklen_t size = sizeof granted;
+    if (getsockopt(fd, SOL_SOCKET, SO_RCVBUF, &granted, &size) != 0) {
+        granted = 0;
+    }
+    receiveBufferBytes_ = granted;
+    if (granted < want) {  // the kernel reports twice what it was asked; less means it was capped
+        event(events::kLinkRxDegraded, Severity::kWarning,
+              "udp: receive buffer %d bytes, asked %d: a flood loses more (net.core.rmem_max)", granted, want);
+    }
+    const int on = 1;
+    kernelDropsCounted_ = setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) == 0;
+    if (!kernelDropsCounted_) {
+        const int error = errno;
+        event(events::kLinkRxDegraded, Severity::kError, "udp: SO_RXQ_OVFL refused: %s (errno %d): drops uncounted",
+              errnoText(error), error);
+    }
 }
 
 void UdpPacketLink::close() {
@@ -145,11 +179,13 @@ Status UdpPacketLink::open(const char* bindAddress, std::uint16_t commandPort, c
               errnoText(lastErrno_), lastErrno_);
         return Status::kUnavailable;
     }
+    configureReceive(fd);
     fd_ = fd;
     boundPort_ = ntohs(bound.sin_port);
     lastErrno_ = 0;
-    event(events::kLinkOpened, Severity::kInfo, "udp: commands on %s:%u, telemetry to %s:%u", bindHost_,
-          static_cast<unsigned>(boundPort_), telemetryHost_, static_cast<unsigned>(telemetryPort_));
+    event(events::kLinkOpened, Severity::kInfo, "udp: commands on %s:%u (rx buffer %d), telemetry to %s:%u",
+          bindHost_, static_cast<unsigned>(boundPort_), receiveBufferBytes_, telemetryHost_,
+          static_cast<unsigned>(telemetryPort_));
     return Status::kOk;
 }
 
@@ -229,26 +265,70 @@ Status UdpPacketLink::receive(std::uint8_t* out, std::size_t capacity, std::size
     if (fd_ < 0) {
         return Status::kUnavailable;
     }
-    // Two attempts: the first recv() may return a pending undeliverable report
-    // instead of the datagram that waits behind it.
+    if (rxNext_ == rxCount_) {
+        const Status status = readBatch();
+        if (!core::isOk(status)) {
+            return status;
+        }
+    }
+    const std::size_t slot = rxNext_++;
+    const std::size_t size = rxMessages_[slot].msg_len;  // the whole datagram's size (MSG_TRUNC)
+    *length = size;
+    if (size > capacity || size > kUdpMaxDatagram) {
+        ++stats_.rxDropped;
+        ++rxTooLarge_;
+        if (core::isReportableOccurrence(rxTooLarge_)) {
+            event(events::kLinkRxTooLarge, Severity::kWarning, "udp: %zu-byte datagram dropped, longer than %zu (%u times)",
+                  size, capacity < kUdpMaxDatagram ? capacity : kUdpMaxDatagram, u(rxTooLarge_));
+        }
+        return Status::kTooLarge;
+    }
+    if (size > 0) {
+        std::memcpy(out, rxData_[slot], size);
+    }
+    ++stats_.rxPackets;
+    return Status::kOk;
+}
+
+// Reads up to kUdpRxBatch datagrams with one recvmmsg(): kOk (at least one),
+// kEmpty, kUnavailable (an OS error, counted and evented).
+Status UdpPacketLink::readBatch() {
+    rxNext_ = 0;
+    rxCount_ = 0;
+    // Two attempts: the first call may return a pending undeliverable report
+    // instead of the datagrams that wait behind it.
     for (int attempt = 0; attempt < 2; ++attempt) {
-        const ssize_t n = recv(fd_, out, capacity, MSG_DONTWAIT | MSG_TRUNC);
-        if (n >= 0) {
-            const auto size = static_cast<std::size_t>(n);  // the whole datagram's size (MSG_TRUNC)
-            *length = size;
-            if (size > capacity) {
-                ++stats_.rxDropped;
-                ++rxTooLarge_;
-                if (core::isReportableOccurrence(rxTooLarge_)) {
-                    event(events::kLinkRxTooLarge, Severity::kWarning,
-                          "udp: %zu-byte datagram dropped, longer than %zu (%u times)", size, capacity, u(rxTooLarge_));
-                }
-                return Status::kTooLarge;
+        for (std::size_t i = 0; i < kUdpRxBatch; ++i) {
+            rxVectors_[i].iov_base = rxData_[i];
+            rxVectors_[i].iov_len = kUdpMaxDatagram;
+            msghdr& m = rxMessages_[i].msg_hdr;
+            m = msghdr{};
+            m.msg_iov = &rxVectors_[i];
+            m.msg_iovlen = 1;
+            m.msg_control = rxControl_[i];
+            m.msg_controllen = sizeof rxControl_[i];
+            rxMessages_[i].msg_len = 0;
+        }
+        const int n = recvmmsg(fd_, rxMessages_, static_cast<unsigned>(kUdpRxBatch), MSG_DONTWAIT | MSG_TRUNC, nullptr);
+        if (n > 0) {
+            rxCount_ = static_cast<std::size_t>(n);
+            bool newDrops = false;
+            for (std::size_t i = 0; i < rxCount_; ++i) {
+                const std::uint32_t before = stats_.rxKernelDropped;
+                countKernelDrops(rxMessages_[i].msg_hdr);
+                newDrops = newDrops || stats_.rxKernelDropped != before;
             }
-            ++stats_.rxPackets;
+            if (newDrops) {
+                ++kernelDropBatches_;
+                if (core::isReportableOccurrence(kernelDropBatches_)) {
+                    event(events::kLinkRxKernelDrops, Severity::kWarning,
+                          "udp: %u datagrams dropped by the OS, receive buffer full (%u reads saw drops)",
+                          u(stats_.rxKernelDropped), u(kernelDropBatches_));
+                }
+            }
             return Status::kOk;
         }
-        const int error = errno;
+        const int error = n < 0 ? errno : EAGAIN;
         if (error == EAGAIN || error == EWOULDBLOCK) {
             return Status::kEmpty;
         }
@@ -264,6 +344,22 @@ Status UdpPacketLink::receive(std::uint8_t* out, std::size_t capacity, std::size
         }
     }
     return Status::kEmpty;  // reports only; a datagram behind them is read next call
+}
+
+// SO_RXQ_OVFL: the socket's cumulative drop count when this datagram was queued
+// (sent only once it is not 0). The increase since the last one seen is new drops.
+void UdpPacketLink::countKernelDrops(msghdr& message) {
+    for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+            std::uint32_t total = 0;
+            std::memcpy(&total, CMSG_DATA(c), sizeof total);
+            const std::uint32_t delta = total - kernelDropsSeen_;  // modulo 2^32, like the kernel's counter
+            if (delta != 0 && delta < 0x80000000U) {
+                stats_.rxKernelDropped += delta;
+                kernelDropsSeen_ = total;
+            }
+        }
+    }
 }
 
 Status UdpPacketLink::send(const std::uint8_t* data, std::size_t length) {

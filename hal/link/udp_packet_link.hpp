@@ -6,10 +6,23 @@
 //
 // Never blocks and never stops the rover: the socket is non-blocking and every
 // call is MSG_DONTWAIT. Behaviour chosen where UDP leaves room:
-//   - receive() reads one datagram per call. A datagram longer than the caller's
-//     buffer is detected with MSG_TRUNC, dropped whole (never passed on cut short),
-//     counted in rxDropped and evented (kLinkRxTooLarge). An empty datagram is
-//     passed on as a packet of length 0, for command ingest to refuse and count.
+//   - receive() hands over one datagram per call, in arrival order. The link reads
+//     them from the kernel kUdpRxBatch at a time (one recvmmsg()), so a flood costs
+//     one system call per batch, not per packet; datagrams read but not yet handed
+//     over wait in the link (a close() counts them in rxDropped). A datagram longer
+//     than the caller's buffer or than kUdpMaxDatagram is detected with MSG_TRUNC,
+//     dropped whole (never passed on cut short), counted in rxDropped and evented
+//     (kLinkRxTooLarge). An empty datagram is passed on as a packet of length 0,
+//     for command ingest to refuse and count.
+//   - Datagrams the kernel drops because the receive buffer is full are counted:
+//     the socket asks for SO_RXQ_OVFL, so each datagram read carries the socket's
+//     drop count when it was queued, and the increase is added to rxKernelDropped
+//     and evented (kLinkRxKernelDrops, on the 1st, 2nd, 4th ... batch that shows new
+//     drops). Drops after the last datagram read show with the next one read. The
+//     receive buffer is sized at open() (kUdpReceiveBufferBytes, SO_RCVBUFFORCE when
+//     permitted, else SO_RCVBUF up to net.core.rmem_max); a smaller grant, or a
+//     kernel that refuses SO_RXQ_OVFL, is evented (kLinkRxDegraded) and the link
+//     still opens.
 //   - send() is one sendto(). A full socket buffer (EAGAIN, ENOBUFS) is kFull; any
 //     other OS error is kUnavailable and counted in errors. Either way the packet
 //     is counted in txDropped and the next send() tries again.
@@ -29,6 +42,9 @@
 // conditions that repeat per packet on their 1st, 2nd, 4th ... occurrence.
 #pragma once
 
+#include <sys/socket.h>
+#include <sys/uio.h>
+
 #include <cstddef>
 #include <cstdint>
 
@@ -47,6 +63,13 @@ constexpr std::uint16_t kDefaultTelemetryPort = 1235;
 // the next frame.
 constexpr std::size_t kUdpMaxReportsPerCall = 16;
 constexpr std::size_t kIpv4TextSize = 16;  // "255.255.255.255" and its NUL (INET_ADDRSTRLEN)
+// Receive buffer asked for at open(). The kernel charges a small datagram on
+// loopback about 1 KB of it, so 4 MiB (8 MiB of accounting once the kernel
+// doubles it) holds tens of milliseconds of a 100 000 packet/s flood: a frame
+// that starts late loses nothing. docs/icd.md, "Floods".
+constexpr int kUdpReceiveBufferBytes = 4 * 1024 * 1024;
+constexpr std::size_t kUdpRxBatch = 32;        // datagrams read per recvmmsg()
+constexpr std::size_t kUdpMaxDatagram = 512;   // longest datagram received (kMaxTelemetryPacket; commands are <= 256)
 
 class UdpPacketLink final : public PacketLink {
 public:
@@ -60,6 +83,9 @@ public:
     UdpPacketLink& operator=(const UdpPacketLink&) = delete;
 
     void attachEvents(core::EventLog& events) { events_ = &events; }
+    // The receive buffer the next open() asks for (default kUdpReceiveBufferBytes;
+    // tests ask for a small one to overfill it).
+    void setReceiveBufferRequest(int bytes) { receiveBufferRequest_ = bytes; }
 
     // Binds a non-blocking UDP socket to bindAddress:commandPort ("0.0.0.0" for
     // every interface; port 0 lets the kernel choose, see boundPort()) and sends
@@ -82,9 +108,14 @@ public:
     std::uint16_t telemetryPort() const { return telemetryPort_; }
     int lastErrno() const { return lastErrno_; }  // of the last OS call that failed (or EINVAL, bad address)
     std::uint32_t undeliverableReports() const { return undeliverable_; }  // ICMP reports, also in errors
+    // The receive buffer the kernel granted (SO_RCVBUF as read back: twice the
+    // bytes of datagrams it holds, the kernel's bookkeeping); 0 when closed.
+    int receiveBufferBytes() const { return receiveBufferBytes_; }
+    // Whether kernel drops are counted (SO_RXQ_OVFL granted at open()).
+    bool kernelDropsCounted() const { return kernelDropsCounted_; }
 
-    // The next datagram: kOk, kEmpty, kTooLarge (longer than capacity: dropped and
-    // counted; *length says how long it was), kUnavailable (closed, or an OS error:
+    // The next datagram: kOk, kEmpty, kTooLarge (longer than capacity or than
+    // kUdpMaxDatagram: dropped and counted; *length says how long it was), kUnavailable (closed, or an OS error:
     // counted and evented), kInvalidArgument (null length, or null out with capacity > 0).
     core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override;
     // One datagram to the telemetry destination (a second sendto() only after an
@@ -99,6 +130,9 @@ public:
 
 private:
     std::size_t drainErrorReports();
+    core::Status readBatch();
+    void countKernelDrops(msghdr& message);
+    void configureReceive(int fd);
     void closeSocket();
     void event(core::EventId id, core::Severity severity, const char* format, ...)
         __attribute__((format(printf, 4, 5)));
@@ -119,6 +153,19 @@ private:
     std::uint32_t txErrors_ = 0;
     std::uint32_t txInvalid_ = 0;
     std::uint32_t undeliverable_ = 0;
+    std::uint32_t kernelDropBatches_ = 0;  // batches that showed new kernel drops (event throttle)
+    // Receive side: the buffer asked for and granted, the socket's cumulative drop
+    // count as last seen (SO_RXQ_OVFL), and the batch read by the last recvmmsg().
+    int receiveBufferRequest_ = kUdpReceiveBufferBytes;
+    int receiveBufferBytes_ = 0;
+    bool kernelDropsCounted_ = false;
+    std::uint32_t kernelDropsSeen_ = 0;
+    std::size_t rxNext_ = 0;   // next datagram of the batch to hand over
+    std::size_t rxCount_ = 0;  // datagrams in the batch
+    mmsghdr rxMessages_[kUdpRxBatch] = {};
+    iovec rxVectors_[kUdpRxBatch] = {};
+    alignas(cmsghdr) unsigned char rxControl_[kUdpRxBatch][CMSG_SPACE(sizeof(std::uint32_t))] = {};
+    std::uint8_t rxData_[kUdpRxBatch][kUdpMaxDatagram] = {};
 };
 
 }  // namespace rse::hal

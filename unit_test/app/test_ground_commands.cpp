@@ -735,3 +735,42 @@ TEST(GroundCommands, AnUnknownKeyIdAndABadMacLookTheSameOnTheLink) {
     LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 8)));  // unknown_key
     LONGS_EQUAL(1, static_cast<long>(field(hk, "cmd_rejected_by_reason", 9)));  // bad_mac
 }
+
+// A flood of garbage through the whole application (docs/icd.md, "Floods"): every
+// packet counted in HK, rejection acknowledgements rate-limited and the rest
+// counted, and a valid command still accepted in the middle of it.
+TEST(GroundCommands, AGarbageFloodIsCountedInHousekeepingAndItsAcknowledgementsRateLimited) {
+    const std::uint8_t junk[10] = {0xde, 0xad, 0xbe, 0xef, 0, 1, 2, 3, 4, 5};
+    constexpr int kFrames = 20;
+    constexpr int kPerFrame = 30;  // the in-memory uplink holds 32
+    for (int f = 0; f < kFrames; ++f) {
+        for (int i = 0; i < kPerFrame; ++i) {
+            CHECK(core::isOk(link.groundSend(junk, sizeof junk)));
+        }
+        if (f == kFrames / 2) {
+            send("NOOP");
+        }
+        runFrames(1);
+        if (f == kFrames / 2) {
+            expectAccepted("NOOP");
+        }
+    }
+    send("REQUEST_HK");
+    runFrames(2);
+    const Packet& hk = last("HK");
+    const long garbage = kFrames * kPerFrame;
+    LONGS_EQUAL(garbage + 2, static_cast<long>(field(hk, "link_rx_packets")));
+    LONGS_EQUAL(0, static_cast<long>(field(hk, "link_rx_dropped")));
+    LONGS_EQUAL(0, static_cast<long>(field(hk, "link_rx_kernel_drops")));
+    LONGS_EQUAL(garbage, static_cast<long>(field(hk, "cmd_rejected_by_reason", 2)));  // bad_length
+    LONGS_EQUAL(0, static_cast<long>(field(hk, "cmd_ingest_limited")));
+    const long suppressed = static_cast<long>(field(hk, "cmd_acks_suppressed"));
+    long rejectionAcks = 0;
+    for (const Packet& p : received) {
+        rejectionAcks += p.apid == findTelemetry("CMD_ACK")->apid && field(p, "reason") != 0 ? 1 : 0;
+    }
+    LONGS_EQUAL(garbage, rejectionAcks + suppressed);
+    // 20 at once, then 20 a second: 0.2 s of flood adds about 4.
+    CHECK(rejectionAcks >= static_cast<long>(cmdtlm::kRejectAckBurst));
+    CHECK(rejectionAcks <= static_cast<long>(cmdtlm::kRejectAckBurst) + 4);
+}

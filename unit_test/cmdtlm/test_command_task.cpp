@@ -453,3 +453,239 @@ TEST(CommandTask, NoHeapUseWhileCommandsFlow) {
     LONGS_EQUAL(0, watch.count());
     LONGS_EQUAL(200, task->counters().accepted);
 }
+
+// ---- Floods (docs/icd.md, "Floods") ------------------------------------------------
+
+namespace {
+
+// A ground link that hands out garbage - endless, or a given number of packets -
+// with one valid command at a chosen position, optionally charging each receive
+// some time on the virtual clock; it counts the acknowledgements it is sent.
+class FloodLink final : public hal::PacketLink {
+public:
+    static constexpr std::size_t kEndless = static_cast<std::size_t>(-1);
+
+    core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override {
+        if (clock != nullptr) {
+            clock->advance(costPerReceive);
+        }
+        if (handed == validAt) {
+            ++handed;
+            CHECK(valid.size() <= capacity);
+            std::memcpy(out, valid.data(), valid.size());
+            *length = valid.size();
+            ++stats_.rxPackets;
+            return core::Status::kOk;
+        }
+        if (garbageLeft == 0) {
+            return core::Status::kEmpty;
+        }
+        if (garbageLeft != kEndless) {
+            --garbageLeft;
+        }
+        // Random bytes, 1 to 40 of them: the length field never matches.
+        const std::size_t n = 1 + (handed * 7919U) % 40U;
+        for (std::size_t i = 0; i < n; ++i) {
+            seed = seed * 1103515245U + 12345U;
+            out[i] = static_cast<std::uint8_t>(seed >> 16);
+        }
+        if (n >= 6) {
+            out[4] = 0xFF;  // length field 0xFFxx: never this packet's
+        }
+        *length = n;
+        ++handed;
+        ++stats_.rxPackets;
+        return core::Status::kOk;
+    }
+    core::Status send(const std::uint8_t* data, std::size_t length) override {
+        if (decodePrimaryHeader(data).apid == CMD_ACK_Tlm::kApid) {
+            ++acks;
+            const std::size_t reasonOffset = kTelemetryHeaderSize + 2 + 1 + 2 + 2 + 4;
+            CHECK(length > reasonOffset);
+            acceptedAcks += data[reasonOffset] == 0 ? 1U : 0U;
+        }
+        return core::Status::kOk;
+    }
+    const char* name() const override { return "flood"; }
+    const hal::PacketLinkStats& stats() const override { return stats_; }
+
+    std::size_t garbageLeft = 0;
+    std::size_t validAt = kEndless;
+    std::vector<std::uint8_t> valid;
+    std::size_t handed = 0;
+    core::VirtualClock* clock = nullptr;
+    core::TimeNs costPerReceive = 0;
+    std::uint32_t seed = 1;
+    std::size_t acks = 0;
+    std::size_t acceptedAcks = 0;
+
+private:
+    hal::PacketLinkStats stats_;
+};
+
+}  // namespace
+
+TEST_GROUP_BASE(CommandFlood, TEST_GROUP_CppUTestGroupCommandTask) {
+    FloodLink* flood = nullptr;
+    void setup() override {
+        TEST_GROUP_CppUTestGroupCommandTask::setup();
+        flood = new FloodLink;
+        CHECK(core::isOk(links->add(flood)));
+    }
+    void teardown() override {
+        TEST_GROUP_CppUTestGroupCommandTask::teardown();
+        delete flood;
+    }
+};
+
+// Old ingest read 16 packets a link a frame and queued every one: a valid
+// command behind 1000 garbage packets waited (and mostly drowned in the socket).
+TEST(CommandFlood, AValidCommandBehindAThousandGarbagePacketsIsExecutedInThatFrame) {
+    flood->garbageLeft = 2000;
+    flood->validAt = 1000;
+    flood->valid = packet("NOOP");
+    runFrame();
+    LONGS_EQUAL(1, handler->executed);
+    LONGS_EQUAL(1, task->counters().accepted);
+    LONGS_EQUAL(2000, task->counters().rejected);
+    LONGS_EQUAL(2000, task->counters().byReason[static_cast<std::size_t>(CommandReject::kBadLength)]);
+    LONGS_EQUAL(0, task->counters().byReason[static_cast<std::size_t>(CommandReject::kQueueOverflow)]);
+    LONGS_EQUAL(2001, task->counters().linkRxPackets);
+    LONGS_EQUAL(0, task->counters().ingestLimited);  // the link was emptied
+    LONGS_EQUAL(1, flood->acceptedAcks);
+}
+
+TEST(CommandFlood, RejectionAcksAreRateLimitedAndCountedWhileAcceptancesAlwaysGo) {
+    flood->garbageLeft = 200;
+    runFrame();
+    LONGS_EQUAL(200, task->counters().rejected);
+    LONGS_EQUAL(kRejectAckBurst, flood->acks);
+    LONGS_EQUAL(200 - kRejectAckBurst, task->counters().acksSuppressed);
+    // The bucket is empty; a valid command is still acknowledged, and so is an
+    // authenticated rejection (wrong mode).
+    const std::size_t acksBefore = flood->acks;
+    const Ack accepted = submit(packet("NOOP"));
+    LONGS_EQUAL(0, accepted.reason);
+    std::vector<std::uint8_t> drive(12);
+    core::BeWriter w(drive.data(), drive.size());
+    w.f32(0.1F);
+    w.f32(0.0F);
+    w.f32(1.0F);
+    const Ack wrongMode = submit(packet("DRIVE", drive));
+    STRCMP_EQUAL("wrong_mode", toString(static_cast<CommandReject>(wrongMode.reason)));
+    LONGS_EQUAL(acksBefore + 2, flood->acks);
+    // The bucket refills at kRejectAcksPerSecond: one second later as many go again.
+    for (int f = 0; f < 100; ++f) {
+        runFrame();
+    }
+    flood->garbageLeft = 200;
+    runFrame();
+    LONGS_EQUAL(acksBefore + 2 + kRejectAcksPerSecond, flood->acks);
+    LONGS_EQUAL(400 - kRejectAckBurst - kRejectAcksPerSecond, task->counters().acksSuppressed);
+    LONGS_EQUAL(401, task->counters().rejected);
+}
+
+TEST(CommandFlood, IngestReadsAtMostItsPacketLimitPerFrameAndLeavesTheRestInTheLink) {
+    flood->garbageLeft = FloodLink::kEndless;
+    runFrame();
+    LONGS_EQUAL(kMaxPacketsPerLink, flood->handed);
+    LONGS_EQUAL(1, task->counters().ingestLimited);
+    runFrame();
+    LONGS_EQUAL(2 * kMaxPacketsPerLink, flood->handed);
+    LONGS_EQUAL(2, task->counters().ingestLimited);
+}
+
+TEST(CommandFlood, IngestStopsAtItsTimeAllowanceWhenPacketsAreSlowToRead) {
+    flood->garbageLeft = FloodLink::kEndless;
+    flood->clock = &clock;
+    flood->costPerReceive = 2 * core::kNsPerUs;  // 2 us a packet: 1.2 ms buys 600
+    const core::TimeNs before = clock.now() + 10 * core::kNsPerMs;  // runFrame() advances 10 ms first
+    runFrame();
+    const core::TimeNs spent = clock.now() - before;
+    CHECK(spent >= kIngestAllowance);  // the flooded link is the last: all of the allowance
+    CHECK(spent <= kIngestAllowance + static_cast<core::TimeNs>(kIngestCheckEvery) * 2 * core::kNsPerUs);
+    CHECK(flood->handed < kMaxPacketsPerLink);
+    LONGS_EQUAL(0, flood->handed % kIngestCheckEvery);
+    LONGS_EQUAL(1, task->counters().ingestLimited);
+    // A link after the flooded one keeps its reserve of the allowance.
+    ScriptedLink* late = new ScriptedLink;
+    CHECK(core::isOk(links->add(late)));
+    const std::vector<std::uint8_t> p = packet("NOOP");
+    late->push(p.data(), p.size());
+    const std::size_t handedBefore = flood->handed;
+    const core::TimeNs start = clock.now() + 10 * core::kNsPerMs;
+    runFrame();
+    LONGS_EQUAL(1, handler->executed);
+    LONGS_EQUAL(2, task->counters().ingestLimited);
+    const core::TimeNs floodTime = static_cast<core::TimeNs>(flood->handed - handedBefore) * 2 * core::kNsPerUs;
+    CHECK(floodTime >= kIngestAllowance - kIngestLinkReserve);
+    CHECK(floodTime < kIngestAllowance);
+    CHECK(clock.now() - start < kIngestAllowance + static_cast<core::TimeNs>(kIngestCheckEvery) * 2 * core::kNsPerUs);
+    delete late;
+}
+
+TEST(CommandFlood, AFloodIsSummarisedByOneEventASecond) {
+    flood->garbageLeft = FloodLink::kEndless;
+    (void)test::drainEventsWithId(*events, 0);
+    for (int f = 0; f < 250; ++f) {  // 2.5 s
+        runFrame();
+    }
+    LONGS_EQUAL(2, test::drainEventsWithId(*events, events::kIngestFlood));
+    // A quiet second raises none.
+    flood->garbageLeft = 0;
+    for (int f = 0; f < 200; ++f) {
+        runFrame();
+    }
+    LONGS_EQUAL(1, test::drainEventsWithId(*events, events::kIngestFlood));  // the tail of the flood's last second
+}
+
+TEST(CommandFlood, ResetCountersStartsTheLinkCountsAgain) {
+    flood->garbageLeft = 50;
+    runFrame();
+    LONGS_EQUAL(50, task->counters().linkRxPackets);
+    task->resetCounters();
+    flood->garbageLeft = 5;
+    runFrame();
+    LONGS_EQUAL(5, task->counters().linkRxPackets);
+    LONGS_EQUAL(5, task->counters().rejected);
+}
+
+// The screen is check()'s first half: whatever it refuses, check() refuses for
+// the same reason; whatever it passes, check() refuses (if at all) only for the
+// MAC or later. Every single-byte corruption and every truncation of valid packets.
+TEST(CommandFlood, TheIngestScreenAgreesWithTheFullCheck) {
+    KeyStore keys;
+    CHECK(core::isOk(keys.add(kLabKeyId, kLabKey)));
+    HmacSha256 engine;
+    CHECK(core::isOk(engine.init()));
+    CommandValidator validator(keys, engine);
+    std::vector<std::vector<std::uint8_t>> originals = {packet("NOOP"), packet("SET_MODE", u8Arg(1)),
+                                                        packet("GOTO", f64Args({1.0, 2.0, 1e-3}))};
+    std::size_t screened = 0, passed = 0;
+    for (const auto& original : originals) {
+        for (std::size_t cut = 0; cut <= original.size(); ++cut) {
+            for (std::size_t at = 0; at < original.size(); ++at) {
+                for (const std::uint8_t flip : {0x00, 0x01, 0x80, 0xFF}) {
+                    std::vector<std::uint8_t> p = original;
+                    p[at] = static_cast<std::uint8_t>(p[at] ^ flip);
+                    p.resize(cut);
+                    for (const bool authRequired : {true, false}) {
+                        validator.setAuthRequired(authRequired);
+                        const CommandVerdict s = validator.screen(p.data(), p.size());
+                        const CommandVerdict c = validator.check(p.data(), p.size(), Mode::kSafe);
+                        if (s.reason != CommandReject::kAccepted) {
+                            ++screened;
+                            STRCMP_EQUAL(toString(c.reason), toString(s.reason));
+                        } else {
+                            ++passed;
+                            CHECK(c.reason == CommandReject::kAccepted || c.reason >= CommandReject::kBadMac ||
+                                  (c.reason == CommandReject::kBadLength && c.args != nullptr));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    CHECK(screened > 1000);
+    CHECK(passed > 10);
+}

@@ -248,6 +248,7 @@ CommandReject throughTask(Rig& rig, const std::uint8_t* packet, std::size_t leng
     rig.handler.setMode(mode);
     const std::size_t sentBefore = rig.link.sentCount();
     const std::size_t executedBefore = rig.handler.executed();
+    rig.clock.advance(core::kNsPerSec);  // refills the rejection-ack bucket: this packet is acknowledged
     rig.link.push(packet, length);
     rig.runFrame();
     FUZZ_REQUIRE(rig.link.sentCount() == sentBefore + 1);  // exactly one CMD_ACK
@@ -262,11 +263,19 @@ CommandReject throughTask(Rig& rig, const std::uint8_t* packet, std::size_t leng
 }
 
 // A burst longer than the queue, all in one frame: every packet still gets
-// exactly one CMD_ACK; those that found the queue full say queue_overflow,
-// the others are dispatched over the following frames.
+// exactly one CMD_ACK (the burst fits the rejection-ack bucket, refilled by a
+// second first); a packet the ingest screen refuses takes no queue slot, of the
+// others those that found the queue full say queue_overflow and the rest are
+// dispatched over the following frames.
 void burst(Rig& rig, const std::uint8_t* packet, std::size_t length) {
+    static_assert(FuzzLink::kSlots <= kRejectAckBurst, "a burst must fit the rejection-ack bucket");
     resetKeys(rig.task.keys());
     rig.task.setAuthRequired(false);
+    resetKeys(rig.keys);
+    rig.validator.setAuthRequired(false);
+    const bool screenedOut =
+        length > kMaxCommandPacket || rig.validator.screen(packet, length).reason != CommandReject::kAccepted;
+    rig.clock.advance(core::kNsPerSec);
     const std::size_t sentBefore = rig.link.sentCount();
     const CommandCounters before = rig.task.counters();
     constexpr std::size_t kBurst = FuzzLink::kSlots;
@@ -282,8 +291,9 @@ void burst(Rig& rig, const std::uint8_t* packet, std::size_t length) {
     const CommandCounters& after = rig.task.counters();
     FUZZ_REQUIRE((after.accepted - before.accepted) + (after.rejected - before.rejected) == kBurst);
     const auto overflow = static_cast<std::size_t>(CommandReject::kQueueOverflow);
-    // Packets too long for any command are refused before they take a slot.
-    const std::size_t expectedOverflow = length > kMaxCommandPacket ? 0 : kBurst - kCommandQueueDepth;
+    // Packets too long for any command, or refused by the screen, never take a slot.
+    const std::size_t expectedOverflow = screenedOut ? 0 : kBurst - kCommandQueueDepth;
+    FUZZ_REQUIRE(after.acksSuppressed == before.acksSuppressed);
     FUZZ_REQUIRE(after.byReason[overflow] - before.byReason[overflow] == expectedOverflow);
 }
 

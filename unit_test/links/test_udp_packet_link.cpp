@@ -11,6 +11,8 @@
 
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "fsw/core/clock.hpp"
@@ -350,4 +352,103 @@ TEST(UdpPacketLink, ReceiveSendAndServiceAllocateNothingOnceOpen) {
     const auto allocations = watch.count();
     LONGS_EQUAL(0, allocations);
     LONGS_EQUAL(150, moved);
+}
+
+// ---- Floods: batches, the receive buffer and kernel drops (docs/icd.md, "Floods") ----
+
+namespace {
+
+// The kernel's own drop count of the UDP socket bound to 127.0.0.1:port
+// (/proc/net/udp, last column), or -1 when it cannot be read.
+long procUdpDrops(std::uint16_t port) {
+    std::FILE* f = std::fopen("/proc/net/udp", "r");
+    if (f == nullptr) {
+        return -1;
+    }
+    char line[512];
+    long drops = -1;
+    char want[32];
+    std::snprintf(want, sizeof want, "0100007F:%04X", static_cast<unsigned>(port));
+    while (std::fgets(line, sizeof line, f) != nullptr) {
+        if (std::strstr(line, want) != nullptr) {
+            // The last field (the line ends in spaces).
+            const char* last = nullptr;
+            for (const char* c = line; *c != '\0'; ++c) {
+                if (*c != ' ' && *c != '\n' && (c == line || c[-1] == ' ')) {
+                    last = c;
+                }
+            }
+            drops = last != nullptr ? std::strtol(last, nullptr, 10) : -1;
+        }
+    }
+    std::fclose(f);
+    return drops;
+}
+
+}  // namespace
+
+TEST(UdpPacketLink, ManyDatagramsAreHandedOverInBatchesInArrivalOrder) {
+    openToGround();
+    const unsigned count = 3 * static_cast<unsigned>(hal::kUdpRxBatch) + 5;
+    for (unsigned i = 0; i < count; ++i) {
+        fill(sent, 20, static_cast<std::uint8_t>(i));
+        sent[0] = static_cast<std::uint8_t>(i);
+        CHECK_TRUE(ground.sendTo(link.boundPort(), sent, 20));
+    }
+    for (unsigned i = 0; i < count; ++i) {
+        CHECK(Status::kOk == receiveSoon(256));
+        LONGS_EQUAL(20, length);
+        LONGS_EQUAL(static_cast<std::uint8_t>(i), got[0]);
+    }
+    CHECK(Status::kEmpty == link.receive(got, sizeof got, &length));
+    LONGS_EQUAL(count, link.stats().rxPackets);
+}
+
+TEST(UdpPacketLink, DatagramsReadButNotHandedOverAreCountedWhenTheLinkCloses) {
+    openToGround();
+    for (std::uint8_t i = 0; i < 10; ++i) {
+        CHECK_TRUE(ground.sendTo(link.boundPort(), sent, 30));
+    }
+    // Loopback queues them at once; the first receive reads all ten in one batch.
+    CHECK(Status::kOk == receiveSoon(256));
+    const std::uint32_t read = link.stats().rxPackets;
+    link.close();
+    LONGS_EQUAL(10, read + link.stats().rxDropped);
+}
+
+TEST(UdpPacketLink, TheReceiveBufferIsSizedForAFloodOrTheShortfallEvented) {
+    openToGround();
+    const unsigned degraded = rse::test::drainEventsWithId(events, hal::events::kLinkRxDegraded);
+    CHECK(link.receiveBufferBytes() >= hal::kUdpReceiveBufferBytes || degraded == 1);
+    CHECK_TRUE(link.kernelDropsCounted());
+}
+
+// Old link: the kernel dropped what did not fit the socket buffer and nobody counted it.
+TEST(UdpPacketLink, KernelDropsOfAnOverfilledSocketAreCountedAndEvented) {
+    link.setReceiveBufferRequest(4096);  // the kernel's minimum: a few datagrams fit
+    openToGround();
+    CHECK_TRUE(link.kernelDropsCounted());
+    constexpr unsigned kSent = 2000;
+    fill(sent, 100, 11);
+    for (unsigned i = 0; i < kSent; ++i) {
+        CHECK_TRUE(ground.sendTo(link.boundPort(), sent, 100));  // loopback: queued or dropped at once
+    }
+    unsigned read = 0;
+    while (link.receive(got, 256, &length) == Status::kOk) {
+        ++read;
+    }
+    CHECK(read > 0);
+    CHECK(read < kSent);
+    // Drops show with the next datagram queued after them.
+    CHECK_TRUE(ground.sendTo(link.boundPort(), sent, 100));
+    CHECK(Status::kOk == receiveSoon(256));
+    ++read;
+    LONGS_EQUAL(read, link.stats().rxPackets);
+    LONGS_EQUAL(kSent + 1, link.stats().rxPackets + link.stats().rxKernelDropped);
+    CHECK(rse::test::drainEventsWithId(events, hal::events::kLinkRxKernelDrops) >= 1);
+    // The same number the kernel keeps for the socket.
+    const long kernel = procUdpDrops(link.boundPort());
+    if (kernel >= 0) {
+        LONGS_EQUAL(kernel, static_cast<long>(link.stats().rxKernelDropped));
+    }
 }
