@@ -3,7 +3,8 @@
 // goes every 100 ms, and its own counters are checked against what was sent.
 //
 //   1 rse-fsw starts (real time) with --udp on a free command port, telemetry to
-//     this program, a fresh random key (--key-file, key id 7) and --quiet; extra
+//     this program, a fresh random key (--key-file, key id 7), a fresh anti-replay
+//     store (--auth-store in the run's directory, --auth-store-create) and --quiet; extra
 //     options with --fsw-arg (repeatable), another executable with --fsw.
 //   2 after a first NOOP is acknowledged, a sender thread floods the command port
 //     with garbage (sendmmsg, 64 a call, paced to --rate packets/s for --seconds):
@@ -415,8 +416,10 @@ int main(int argc, char** argv) {
     close(boundUdp(0, &cmdPort));  // a free port for the rover
 
     const double fswSeconds = o.seconds + 20.0;  // a backstop: it is stopped with SIGTERM
+    // A rover on its first boot: a fresh anti-replay store, provisioned.
     std::vector<std::string> args = {o.fsw,         "--udp",      "--cmd-port", std::to_string(cmdPort),
                                      "--tlm-port",  std::to_string(tlmPort),     "--key-file", keyFile,
+                                     "--auth-store", dir + "/auth.dat",          "--auth-store-create",
                                      "--duration",  std::to_string(fswSeconds), "--quiet"};
     args.insert(args.end(), o.fswArgs.begin(), o.fswArgs.end());
     const pid_t fsw = fork();
