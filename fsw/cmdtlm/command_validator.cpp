@@ -100,58 +100,21 @@ bool CommandValidator::resyncFails(CommandVerdict& v, const std::uint8_t* packet
 }
 
 CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t length, Mode mode) {
-    CommandVerdict v;
-    // 1-2: length and header.
-    if (packet == nullptr || length < kCommandHeaderSize || length > kMaxCommandPacket) {
-        return fail(v, CommandReject::kBadLength);
+    // 1-5: length, header, checksum, command, key id: the screen's checks.
+    CommandVerdict v = screen(packet, length);
+    if (v.reason != CommandReject::kAccepted) {
+        return v;
     }
-    v.header = decodePrimaryHeader(packet);
-    v.functionCode = static_cast<std::uint8_t>(packet[6] & 0x7F);
-    if (static_cast<std::size_t>(v.header.dataLength) + 7 != length) {
-        return fail(v, CommandReject::kBadLength);
-    }
-    if (v.header.version != 0 || v.header.type != PacketType::kCommand || !v.header.secondaryHeader ||
-        v.header.sequenceFlags != kUnsegmented || (packet[6] & 0x80) != 0) {
-        return fail(v, CommandReject::kBadHeader);
-    }
-    // 3: checksum.
-    if (!checksumValid(packet, length)) {
-        return fail(v, CommandReject::kBadChecksum);
-    }
-    // 4: what command.
-    if (!isCommandApid(v.header.apid)) {
-        return fail(v, CommandReject::kUnknownApid);
-    }
-    v.command = findCommand(v.header.apid, v.functionCode);
-    if (v.command == nullptr) {
-        return fail(v, CommandReject::kUnknownFunction);
-    }
-    // 5-8: authentication.
-    core::BeReader security(packet + kPrimaryHeaderSize + kCommandSecondaryHeaderSize, kSecurityHeaderSize);
-    v.keyId = security.u16();
-    v.authSequence = security.u32();
+    // 6-8: authentication.
     std::size_t end = length;
-    if (v.keyId == kNoKey) {
-        if (authRequired_) {
-            return fail(v, CommandReject::kMacMissing);
-        }
-    } else {
-        // No room for a MAC is bad_length whether or not the key exists; an
-        // unknown key costs the same MAC computation as a known one (with a key of
-        // zeros), so neither the reason nor the time tells which ids exist.
-        if (length < kCommandHeaderSize + kMacSize) {
-            return fail(v, CommandReject::kBadLength);
-        }
-        static constexpr std::uint8_t kNoSuchKey[kKeySize] = {};
+    if (v.keyId != kNoKey) {
         const std::uint8_t* key = keys_.find(v.keyId);
+        if (key == nullptr) {
+            return fail(v, CommandReject::kUnknownKey);  // the screen refuses it first; kept for safety
+        }
         end = length - kMacSize;
         std::uint8_t expected[kMacSize];
-        const bool macOk = core::isOk(hmac_.packetMac(key != nullptr ? key : kNoSuchKey, packet, end, expected)) &&
-                           macEqual(expected, packet + end);
-        if (key == nullptr) {
-            return fail(v, CommandReject::kUnknownKey);
-        }
-        if (!macOk) {
+        if (!core::isOk(hmac_.packetMac(key, packet, end, expected)) || !macEqual(expected, packet + end)) {
             return fail(v, CommandReject::kBadMac);
         }
         if (v.command->code == CommandCode::AUTH_RESYNC) {
@@ -236,11 +199,9 @@ CommandVerdict CommandValidator::screen(const std::uint8_t* packet, std::size_t 
         if (length < kCommandHeaderSize + kMacSize) {
             return fail(v, CommandReject::kBadLength);
         }
-        // Rejected here without a MAC, so the screen answers an unknown key id
-        // sooner than check() answers a bad MAC; the link still hears bad_mac
-        // for both (linkReason), and under a flood both acknowledgements come
-        // from the same rate limit: the frame-granular timing tells a sender no
-        // more than the acknowledgement does (docs/icd.md "Keys").
+        // Rejected here without a MAC; the link hears bad_mac for it as for a
+        // wrong MAC (linkReason), in the same task run, from the same rate
+        // limit under a flood (docs/icd.md).
         if (keys_.find(v.keyId) == nullptr) {
             return fail(v, CommandReject::kUnknownKey);
         }

@@ -13,9 +13,9 @@
 //   4 APID, then function code, in the dictionary   -> kUnknownApid, kUnknownFunction
 //   5 key id: 0 is refused when authentication is required -> kMacMissing;
 //     otherwise there must be room for the MAC      -> kBadLength
-//   6 the key must be loaded                        -> kUnknownKey (the MAC is computed
-//     anyway, with a key of zeros, so it takes as long as a known key's; the
-//     link is told kBadMac, docs/icd.md)
+//   6 the key must be loaded                        -> kUnknownKey (the link is told
+//     kBadMac, in the same frame as a MAC check's answer: docs/icd.md)
+//   Steps 1-6 are screen(), which check() runs first.
 //   7 MAC over the packet                           -> kBadMac
 //   8 anti-replay sequence (fsw/cmdtlm/anti_replay_state.hpp):
 //     key refused until AUTH_RESYNC (store missing or corrupt, key not in it)
