@@ -47,6 +47,39 @@ double field(const Packet& p, const char* name, std::size_t element = 0) {
     return 0.0;
 }
 
+// Runs the flight software n frames, collecting what it sends down the link
+// (each packet checked against its dictionary size).
+void runAndCollect(app::FswApp& fsw, hal::MemoryPacketLink& link, int n, std::vector<Packet>* received) {
+    for (int i = 0; i < n; ++i) {
+        fsw.run(nullptr, 1);
+        std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
+        std::size_t length = 0;
+        while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
+            const PrimaryHeader h = decodePrimaryHeader(bytes);
+            LONGS_EQUAL(length, h.dataLength + 7u);
+            Packet p;
+            p.apid = h.apid;
+            p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
+            const TelemetryDesc* t = findTelemetry(h.apid);
+            CHECK(t != nullptr);
+            LONGS_EQUAL(t->payloadSize, p.payload.size());
+            received->push_back(p);
+        }
+    }
+}
+
+// The last packet of a kind received so far (fails if none).
+const Packet& lastOf(const std::vector<Packet>& received, const char* name) {
+    const TelemetryDesc* t = findTelemetry(name);
+    for (auto it = received.rbegin(); it != received.rend(); ++it) {
+        if (it->apid == t->apid) {
+            return *it;
+        }
+    }
+    FAIL(name);
+    return received.front();
+}
+
 }  // namespace
 
 TEST_GROUP(GroundCommands) {
@@ -81,35 +114,8 @@ TEST_GROUP(GroundCommands) {
         CHECK(n > 0);
         CHECK(core::isOk(link.groundSend(bytes, n)));
     }
-    void runFrames(int n) {
-        for (int i = 0; i < n; ++i) {
-            fsw.run(nullptr, 1);
-            std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
-            std::size_t length = 0;
-            while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
-                const PrimaryHeader h = decodePrimaryHeader(bytes);
-                LONGS_EQUAL(length, h.dataLength + 7u);
-                Packet p;
-                p.apid = h.apid;
-                p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
-                const TelemetryDesc* t = findTelemetry(h.apid);
-                CHECK(t != nullptr);
-                LONGS_EQUAL(t->payloadSize, p.payload.size());
-                received.push_back(p);
-            }
-        }
-    }
-    // The last packet of a kind received so far (fails if none).
-    const Packet& last(const char* name) {
-        const TelemetryDesc* t = findTelemetry(name);
-        for (auto it = received.rbegin(); it != received.rend(); ++it) {
-            if (it->apid == t->apid) {
-                return *it;
-            }
-        }
-        FAIL(name);
-        return received.front();
-    }
+    void runFrames(int n) { runAndCollect(fsw, link, n, &received); }
+    const Packet& last(const char* name) { return lastOf(received, name); }
     std::size_t countOf(const char* name) {
         std::size_t n = 0;
         for (const Packet& p : received) {
@@ -563,29 +569,8 @@ struct Rover {
         CHECK(core::isOk(fsw.useLabKey()));
         CHECK(core::isOk(fsw.init(nullptr)));
     }
-    void runFrames(int n) {
-        for (int i = 0; i < n; ++i) {
-            fsw.run(nullptr, 1);
-            std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
-            std::size_t length = 0;
-            while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
-                Packet p;
-                p.apid = decodePrimaryHeader(bytes).apid;
-                p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
-                received.push_back(p);
-            }
-        }
-    }
-    const Packet& last(const char* name) {
-        const TelemetryDesc* t = findTelemetry(name);
-        for (auto it = received.rbegin(); it != received.rend(); ++it) {
-            if (it->apid == t->apid) {
-                return *it;
-            }
-        }
-        FAIL(name);
-        return received.front();
-    }
+    void runFrames(int n) { runAndCollect(fsw, link, n, &received); }
+    const Packet& last(const char* name) { return lastOf(received, name); }
     void send(const std::vector<std::uint8_t>& p) { CHECK(core::isOk(link.groundSend(p.data(), p.size()))); }
 };
 
