@@ -653,9 +653,9 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     // A start off the planning site (off the map, or pushed against its edge)
     // has no plan: plan from the nearest point well on it instead; the
     // habitual layer drives the rover there on the first leg.
-    const double footprint = rse::geometry::clearanceRadiusM(tables_.roverGeometry());
-    const geometry::SiteBox planSite = geometry::siteBox(tables_.coarseMap(), footprint);
-    const geometry::SiteBox reentrySite = geometry::siteBox(tables_.coarseMap(), footprint + kReentryInsetM);
+    const geometry::SiteBox planSite = planningSite(tables_.coarseMap(), tables_.roverGeometry());
+    const geometry::SiteBox reentrySite =
+        geometry::siteBox(tables_.coarseMap(), rse::geometry::clearanceRadiusM(tables_.roverGeometry()) + kReentryInsetM);
     double inX = request.startX;
     double inY = request.startY;
     fromReentry_ = geometry::outsideBy(planSite, request.startX, request.startY) > 0.0 &&

@@ -134,6 +134,10 @@ const char* toString(MapProblemError error) {
     return "?";
 }
 
+geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::RoverGeometryTable& rover) {
+    return geometry::siteBox(map, rse::geometry::clearanceRadiusM(rover));
+}
+
 core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
                              const tables::RoverGeometryTable& geometry, const PlanRequest& request,
                              CcProblem* out, MapProblemReport* report) {
@@ -158,13 +162,14 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     p.processSigmaM = static_cast<double>(planner.process_noise_sigma_m);
     p.goalX = request.goalX;
     p.goalY = request.goalY;
-    p.xMin = static_cast<double>(map.x_min_m) + radius;
-    p.xMax = static_cast<double>(map.x_max_m) - radius;
-    p.yMin = static_cast<double>(map.y_min_m) + radius;
-    p.yMax = static_cast<double>(map.y_max_m) - radius;
+    const geometry::SiteBox site = planningSite(map, geometry);
+    p.xMin = site.minX;
+    p.xMax = site.maxX;
+    p.yMin = site.minY;
+    p.yMax = site.maxY;
     p.riskBound = request.riskBound;
     p.allocation = planner.risk_allocation == 1 ? RiskAllocation::kOptimised : RiskAllocation::kEvenSplit;
-    const auto onSite = [&p](double x, double y) { return x >= p.xMin && x <= p.xMax && y >= p.yMin && y <= p.yMax; };
+    const auto onSite = [&site](double x, double y) { return geometry::outsideBy(site, x, y) <= 0.0; };
     if (!onSite(p.startX, p.startY)) {
         return fail(MapProblemError::kStartOffSite);
     }

@@ -31,6 +31,7 @@
 
 #include "fsw/core/status.hpp"
 #include "fsw/deliberative/cc_problem.hpp"
+#include "fsw/geometry/site_bounds.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
 
@@ -74,6 +75,10 @@ struct MapProblemReport {
 };
 
 // kOk and *out filled, or kInvalidArgument with report->error saying why.
+// Where a plan's start, goal and means must lie: the site shrunk by the rover's
+// clearance radius (a start or goal outside it: kStartOffSite / kGoalOffSite).
+geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::RoverGeometryTable& rover);
+
 core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
                              const tables::RoverGeometryTable& geometry, const PlanRequest& request,
                              CcProblem* out, MapProblemReport* report);

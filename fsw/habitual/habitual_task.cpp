@@ -350,8 +350,7 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
         refuseLeg(leg, "goal not finite", now);
         return;
     }
-    if (leg.goalXM < static_cast<double>(coarse.x_min_m) || leg.goalXM > static_cast<double>(coarse.x_max_m) ||
-        leg.goalYM < static_cast<double>(coarse.y_min_m) || leg.goalYM > static_cast<double>(coarse.y_max_m)) {
+    if (geometry::outsideBy(geometry::siteBox(coarse, 0.0), leg.goalXM, leg.goalYM) > 0.0) {
         refuseLeg(leg, "goal off the coarse map", now);
         return;
     }
