@@ -43,7 +43,7 @@ constexpr const char* kReasonDescriptions[] = {
     "5 store unreadable; for AUTH_RESYNC 4 wrong nonce, 6 no nonce): refused until AUTH_RESYNC",
     "the anti-replay sequence number is above 4294966271 (0xFFFFFFFF - 1024): the key's numbers are used up; "
     "change the key",
-    "the anti-replay reservation could not be written to the store: refused, not acted on (HK.auth_store_write_failures)",
+    "the anti-replay reservation could not be written to the store (detail -1), or was not durable within 1 s (detail 1): refused, not acted on (HK.auth_store_write_failures, auth_store_wait_frames)",
 };
 static_assert(sizeof kReasonDescriptions / sizeof kReasonDescriptions[0] == cmdtlm::kRejectReasonCount,
               "one description per CMD_ACK reason code");

@@ -57,7 +57,9 @@ public:
     // Before init: the persisted anti-replay store (none: RAM only, for in-process
     // runs that never restart) and whether init may create it (first boot), and
     // the AUTH_RESYNC nonce's random start (none: AUTH_RESYNC refused).
-    void attachAuthStore(hal::RecordStore* store, bool provision) { commands_.attachAuthStore(store, provision); }
+    void attachAuthStore(hal::RecordStore* store, bool provision, hal::RecordWriter* writer = nullptr) {
+        commands_.attachAuthStore(store, provision, writer);
+    }
     void setAuthChallengeSeed(std::uint64_t seed) { commands_.setAuthChallengeSeed(seed); }
 
     // console: where the console task writes (nullptr: quiet).

@@ -38,6 +38,7 @@
 #include "hal/can/socketcan_bus.hpp"
 #include "hal/link/udp_packet_link.hpp"
 #include "hal/nvm/file_record_store.hpp"
+#include "hal/nvm/threaded_record_writer.hpp"
 #include "hal/watchdog/watchdog_device.hpp"
 
 namespace {
@@ -292,6 +293,8 @@ rse::core::VirtualClock g_virtualClock;
 rse::hal::SocketCanBus g_socketCan;
 rse::hal::MemoryCanBus g_detachedBus(g_virtualClock);  // nothing else attached
 rse::hal::FileRecordStore g_authStore;
+// Reservation writes (fsync: milliseconds) run on this writer's thread, never in the command task.
+rse::hal::ThreadedRecordWriter g_authWriter(g_authStore);
 char g_stdoutBuffer[16384];
 
 }  // namespace
@@ -326,7 +329,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "rse-fsw: cannot use '%s' as the anti-replay store\n", options.authStore);
         return 1;
     }
-    app.attachAuthStore(&g_authStore, options.authStoreCreate);
+    int writerError = 0;
+    if (!rse::core::isOk(g_authWriter.start(&writerError))) {
+        std::fprintf(stderr, "rse-fsw: cannot start the anti-replay store writer: %s\n", std::strerror(writerError));
+        return 1;
+    }
+    app.attachAuthStore(&g_authStore, options.authStoreCreate, &g_authWriter);
     std::uint64_t nonce = 0;
     int randomError = 0;
     if (rse::core::isOk(rse::hal::readRandom64(&nonce, &randomError))) {
@@ -380,6 +388,7 @@ int main(int argc, char** argv) {
 
     g_watchdog.disarm();  // a clean stop must not restart the computer
     app.shutdown(g_stopRequested != 0 ? "stop signal received" : "duration reached");
+    g_authWriter.stop();  // a reservation in flight is written before we exit
     app.printSummary(stdout);
     return 0;
 }

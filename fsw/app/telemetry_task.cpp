@@ -181,6 +181,7 @@ void TelemetryTask::sendHousekeeping(core::TimeNs now) {
     hk_.auth_challenge_low = static_cast<std::uint32_t>(replay.challenge());
     hk_.auth_store_writes = replay.writes();
     hk_.auth_store_write_failures = replay.writeFailures();
+    hk_.auth_store_wait_frames = c.storeWaitFrames;
     hk_.link_rx_packets = c.linkRxPackets;
     hk_.link_rx_dropped = c.linkRxDropped;
     hk_.link_rx_kernel_drops = c.linkRxKernelDropped;

@@ -173,7 +173,13 @@ std::uint32_t AntiReplayState::reserved(std::uint16_t keyId) const {
     return e == nullptr ? 0 : e->reserved;
 }
 
-core::Status AntiReplayState::writeWith(std::uint16_t keyId, std::uint32_t reserved) {
+void AntiReplayState::attach(hal::RecordStore* store, hal::RecordWriter* writer) {
+    store_ = store;
+    immediate_.bind(store);
+    writer_ = writer != nullptr ? writer : &immediate_;
+}
+
+core::Status AntiReplayState::postWith(std::uint16_t keyId, std::uint32_t reserved) {
     AuthStoreEntry next[kMaxStoredKeys];
     std::size_t n = count_;
     bool found = false;
@@ -194,22 +200,81 @@ core::Status AntiReplayState::writeWith(std::uint16_t keyId, std::uint32_t reser
             ++n;
         }
     }
+    std::uint8_t out[kAuthStoreMaxBytes];
     if (core::isOk(status)) {
-        std::uint8_t out[kAuthStoreMaxBytes];
         const std::size_t bytes = encodeAuthStore(next, n, out, sizeof out);
-        status = bytes == 0 ? core::Status::kTooLarge : store_->write(out, bytes);
+        status = bytes == 0 ? core::Status::kTooLarge : writer_->post(out, bytes);
     }
-    lastWriteStatus_ = status;
+    if (status == core::Status::kBusy) {
+        return status;
+    }
     if (!core::isOk(status)) {
+        lastWriteStatus_ = status;
         ++writeFailures_;
         return status;
     }
-    ++writes_;
     for (std::size_t i = 0; i < n; ++i) {
-        entries_[i] = next[i];
+        posted_[i] = next[i];
     }
-    count_ = n;
+    postedCount_ = n;
+    postedKey_ = keyId;
+    inFlight_ = true;
     return core::Status::kOk;
+}
+
+void AntiReplayState::service() {
+    core::Status result = core::Status::kOk;
+    if (!inFlight_ || !writer_->takeResult(&result)) {
+        return;
+    }
+    inFlight_ = false;
+    lastWriteStatus_ = result;
+    const bool forCommand = postedForCommand_;
+    postedForCommand_ = false;
+    if (!core::isOk(result)) {
+        ++writeFailures_;
+        // A command waits for this write: it is refused. A failed renewal refuses
+        // nothing (the durable reservation still covers what it covered).
+        failedKey_ = forCommand ? postedKey_ : kNoKey;
+        return;
+    }
+    ++writes_;
+    for (std::size_t i = 0; i < postedCount_; ++i) {
+        entries_[i] = posted_[i];
+    }
+    count_ = postedCount_;
+    state_ = AuthStoreState::kOk;  // the record on the medium is valid (again)
+    failedKey_ = kNoKey;
+}
+
+core::Status AntiReplayState::reach(std::uint16_t keyId, std::uint32_t reserved) {
+    service();
+    const AuthStoreEntry* e = entry(keyId);
+    if (e != nullptr && e->reserved >= reserved) {
+        return core::Status::kOk;
+    }
+    if (inFlight_) {
+        return core::Status::kBusy;  // it may cover this one: asked again next frame
+    }
+    if (failedKey_ == keyId) {
+        failedKey_ = kNoKey;  // the write posted for this command failed: refused, the next one tries again
+        return lastWriteStatus_;
+    }
+    const core::Status posted = postWith(keyId, reserved);
+    if (!core::isOk(posted)) {
+        return posted;  // kBusy only if the writer is still busy with a write we no longer track
+    }
+    postedForCommand_ = true;
+    service();  // an immediate writer has finished already
+    e = entry(keyId);
+    if (e != nullptr && e->reserved >= reserved) {
+        return core::Status::kOk;
+    }
+    if (failedKey_ == keyId) {
+        failedKey_ = kNoKey;
+        return lastWriteStatus_;
+    }
+    return core::Status::kBusy;
 }
 
 core::Status AntiReplayState::reserve(std::uint16_t keyId, std::uint32_t sequence) {
@@ -219,14 +284,20 @@ core::Status AntiReplayState::reserve(std::uint16_t keyId, std::uint32_t sequenc
     if (sequence > kMaxUsableSequence) {
         return core::Status::kInvalidArgument;
     }
+    service();
     const AuthStoreEntry* e = entry(keyId);
     if (e == nullptr) {
         return core::Status::kNotFound;  // an unsynchronised key: refused before this
     }
     if (sequence <= e->reserved) {
+        // Covered. Near the end of the block, the next reservation goes out now,
+        // so the command that needs it finds it durable.
+        if (e->reserved - sequence < kRenewMargin && !inFlight_) {
+            (void)postWith(keyId, sequence + kReserveBlock);  // a failure is counted; the command is covered
+        }
         return core::Status::kOk;
     }
-    return writeWith(keyId, sequence + kReserveBlock);
+    return reach(keyId, sequence + kReserveBlock);
 }
 
 core::Status AntiReplayState::resync(std::uint16_t keyId, std::uint32_t newFloor) {
@@ -236,16 +307,7 @@ core::Status AntiReplayState::resync(std::uint16_t keyId, std::uint32_t newFloor
     if (newFloor > kMaxUsableSequence) {
         return core::Status::kInvalidArgument;
     }
-    const AuthStoreEntry* e = entry(keyId);
-    std::uint32_t reservation = newFloor + kReserveBlock;
-    if (e != nullptr && e->reserved > reservation) {
-        reservation = e->reserved;  // never lower a reservation in force
-    }
-    const core::Status status = writeWith(keyId, reservation);
-    if (core::isOk(status)) {
-        state_ = AuthStoreState::kOk;  // the record on the medium is valid again
-    }
-    return status;
+    return reach(keyId, newFloor + kReserveBlock);
 }
 
 }  // namespace rse::cmdtlm

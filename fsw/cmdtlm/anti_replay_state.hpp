@@ -9,12 +9,19 @@
 //     reservation R: no number above R has ever been accepted.
 //   - Start-up: every number up to R is refused for that key (the window's floor
 //     becomes R, all 64 below it taken as seen).
-//   - Before a number s > R is accepted, the reservation R = s + kReserveBlock is
-//     written (atomic replace, durable on return). Only then is s recorded and the
-//     command acted on. A write therefore happens at most once per kReserveBlock
-//     numbers per key (bounded write rate), and a crash at any point can only
-//     skip numbers, never reopen one: the stored R is always >= every number
-//     accepted. A failed write refuses the command (sequence_store_failed).
+//   - A number s is accepted only when s <= R on the medium. For s > R the
+//     reservation R = s + kReserveBlock is written first (atomic replace), and
+//     only once it is durable is s recorded and the command acted on. A crash at
+//     any point can only skip numbers, never reopen one: the stored R is always
+//     >= every number accepted. A failed write refuses the command
+//     (sequence_store_failed).
+//   - Writes never block the command task (hal/nvm/record_writer.hpp): the
+//     record is posted to a writer and reserve() answers kBusy until it is
+//     durable; the command waits at the head of its queue meanwhile (a frame or
+//     two with the file store). So that this wait is rare, a number within
+//     kRenewMargin of R posts the next reservation (s + kReserveBlock) ahead of
+//     need, without waiting. Writes: at most about one per kReserveBlock -
+//     kRenewMargin numbers per key (bounded write rate), one at a time.
 //   - Numbers above kMaxUsableSequence are refused (sequence_exhausted): the
 //     reservation s + kReserveBlock must fit in 32 bits. The key must be changed
 //     before its numbers run out.
@@ -42,10 +49,12 @@
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/core/status.hpp"
 #include "hal/nvm/record_store.hpp"
+#include "hal/nvm/record_writer.hpp"
 
 namespace rse::cmdtlm {
 
 constexpr std::uint32_t kReserveBlock = 1024;                            // numbers reserved per store write
+constexpr std::uint32_t kRenewMargin = kReserveBlock / 2;                // renew when this close to R
 constexpr std::uint32_t kMaxUsableSequence = 0xFFFFFFFFu - kReserveBlock;  // highest number accepted
 constexpr std::size_t kMaxStoredKeys = 8;                                // entries in the store
 constexpr std::uint32_t kAuthStoreMagic = 0x52534541;                    // "RSEA"
@@ -90,8 +99,11 @@ core::Status decodeAuthStore(const std::uint8_t* data, std::size_t length, AuthS
 
 class AntiReplayState {
 public:
-    // Before load(); nullptr: volatile.
-    void attach(hal::RecordStore* store) { store_ = store; }
+    // Before load(). store nullptr: volatile. The store is read (and, when
+    // provisioning, written) in load(); every later write goes through `writer`,
+    // which must write to the same store. writer nullptr: an ImmediateRecordWriter
+    // on the store (writes inside the command task: tests, the lockstep rig).
+    void attach(hal::RecordStore* store, hal::RecordWriter* writer = nullptr);
     bool persistent() const { return store_ != nullptr; }
 
     // Start-up, after the keys are loaded: reads the store and sets each synced
@@ -107,12 +119,21 @@ public:
     // The reservation stored for the key (0 if none).
     std::uint32_t reserved(std::uint16_t keyId) const;
 
-    // Before accepting `sequence` (fresh, <= kMaxUsableSequence): when it is above
-    // the key's reservation, writes sequence + kReserveBlock. Not kOk: the write
-    // failed (counted), the command must be refused.
+    // Takes the result of a finished write (durable: the reservations it carried
+    // are in force; failed: counted). Called every frame by the command task and
+    // by reserve() and resync().
+    void service();
+    bool writeInFlight() const { return inFlight_; }
+
+    // Before accepting `sequence` (fresh, <= kMaxUsableSequence). kOk: the
+    // durable reservation covers it (and the next one is posted when it is within
+    // kRenewMargin). kBusy: a write that will cover it is posted or waits for the
+    // one in flight; ask again next frame. Anything else: the write failed
+    // (counted), the command must be refused.
     core::Status reserve(std::uint16_t keyId, std::uint32_t sequence);
-    // AUTH_RESYNC accepted: the key's floor becomes `newFloor` (the reservation
-    // becomes newFloor + kReserveBlock, never lower than the one in force).
+    // AUTH_RESYNC: the key's floor becomes `newFloor` (the reservation becomes
+    // newFloor + kReserveBlock, never lower than the one in force). Same answers
+    // as reserve(): act on the command only after kOk.
     core::Status resync(std::uint16_t keyId, std::uint32_t newFloor);
 
     // The AUTH_RESYNC nonce. Without a seed there is none and AUTH_RESYNC is refused.
@@ -128,10 +149,24 @@ public:
 private:
     AuthStoreEntry* entry(std::uint16_t keyId);
     const AuthStoreEntry* entry(std::uint16_t keyId) const;
-    // Writes entries_ with `keyId` set to `reserved` (added when absent); entries_ change only on success.
-    core::Status writeWith(std::uint16_t keyId, std::uint32_t reserved);
+    // Posts entries_ with `keyId` set to `reserved` (added when absent);
+    // entries_ change only once that write is durable (service()).
+    core::Status postWith(std::uint16_t keyId, std::uint32_t reserved);
+    // Until entry(keyId) covers `reserved`: posts the write (or waits for the one
+    // in flight) and answers kBusy, or reports the failure of the write posted for it.
+    core::Status reach(std::uint16_t keyId, std::uint32_t reserved);
 
     hal::RecordStore* store_ = nullptr;
+    hal::RecordWriter* writer_ = nullptr;
+    hal::ImmediateRecordWriter immediate_;
+    // The write in flight: the whole table it carries.
+    bool inFlight_ = false;
+    AuthStoreEntry posted_[kMaxStoredKeys] = {};
+    std::size_t postedCount_ = 0;
+    std::uint16_t postedKey_ = kNoKey;  // the key it was posted for
+    bool postedForCommand_ = false;    // a command waits for it (not a renewal)
+    // The key whose command's write failed, until that command is refused for it.
+    std::uint16_t failedKey_ = kNoKey;
     AuthStoreState state_ = AuthStoreState::kVolatile;
     AuthStoreEntry entries_[kMaxStoredKeys] = {};
     std::size_t count_ = 0;

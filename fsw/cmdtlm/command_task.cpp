@@ -71,6 +71,7 @@ void CommandTask::reportAntiReplayState() {
                            static_cast<unsigned>(id));
         }
     }
+    storeFailuresReported_ = replay.writeFailures();  // the creation failure is evented above
     if (!replay.challengeReady()) {
         events_.report(events::kAuthNoChallenge, core::Severity::kWarning,
                        "cmd: no AUTH_RESYNC nonce (no random source): a key out of sync stays refused");
@@ -90,9 +91,13 @@ void CommandTask::run(const core::FrameContext&) {
     handler_.serviceOnboardRequests();
     ingest();
     now_ = clock_.now();
+    validator_.replay().service();
     for (std::size_t i = 0; i < kCommandsPerFrame && count_ > 0; ++i) {
-        dispatchOne();
+        if (!dispatchOne()) {
+            break;
+        }
     }
+    reportStoreWriteFailures();
     counters_.queueDepth = static_cast<std::uint8_t>(count_);
     updateLinkCounters();
     reportFlood(clock_.now());
@@ -178,24 +183,33 @@ void CommandTask::takePacket(std::size_t length) {
     }
 }
 
-void CommandTask::dispatchOne() {
+bool CommandTask::dispatchOne() {
     const QueuedPacket& packet = queue_[head_];
+    CommandVerdict verdict = validator_.check(packet.bytes, packet.length, handler_.mode());
+    if (verdict.deferred && headWaitFrames_ < kMaxStoreWaitFrames) {
+        ++headWaitFrames_;  // in order: the commands behind it wait too
+        ++counters_.storeWaitFrames;
+        return false;
+    }
+    if (verdict.deferred) {
+        verdict.detail = 1;  // waited kMaxStoreWaitFrames: refused as if the write had failed
+    }
+    headWaitFrames_ = 0;
     head_ = (head_ + 1) % kCommandQueueDepth;
     --count_;
-    CommandVerdict verdict = validator_.check(packet.bytes, packet.length, handler_.mode());
     if (verdict.reason != CommandReject::kAccepted) {
         if (verdict.command == nullptr && verdict.reason <= CommandReject::kBadHeader) {
             addClaimedFields(&verdict, packet.bytes, packet.length);
         }
         reject(verdict);
-        return;
+        return true;
     }
     const CommandOutcome outcome = handler_.execute(verdict);
     if (!outcome.ok) {
         verdict.reason = CommandReject::kExecutionFailed;
         verdict.detail = outcome.detail;
         reject(verdict);
-        return;
+        return true;
     }
     ++counters_.accepted;
     counters_.lastApid = verdict.header.apid;
@@ -207,18 +221,26 @@ void CommandTask::dispatchOne() {
                        static_cast<unsigned>(verdict.authSequence));
     }
     acknowledge(verdict);
+    return true;
+}
+
+// Failed reservation writes (a command's or an early renewal's): evented on the
+// 1st, 2nd, 4th ... failure, whatever the rejection throttle does.
+void CommandTask::reportStoreWriteFailures() {
+    const AntiReplayState& replay = validator_.replay();
+    const std::uint32_t failures = replay.writeFailures();
+    if (failures == storeFailuresReported_) {
+        return;
+    }
+    storeFailuresReported_ = failures;
+    if ((failures & (failures - 1)) == 0) {
+        events_.report(events::kAuthStoreWriteFailed, core::Severity::kError,
+                       "cmd: anti-replay reservation write failed (%s), %u failures: a command past the reservation is refused",
+                       core::toString(replay.lastWriteStatus()), static_cast<unsigned>(failures));
+    }
 }
 
 void CommandTask::reject(const CommandVerdict& found) {
-    if (found.reason == CommandReject::kSequenceStoreFailed) {
-        // Its own event on the 1st, 2nd, 4th ... failure, whatever the rejection throttle does.
-        const std::uint32_t failures = validator_.replay().writeFailures();
-        if (failures != 0 && (failures & (failures - 1)) == 0) {
-            events_.report(events::kAuthStoreWriteFailed, core::Severity::kError,
-                           "cmd: anti-replay reservation write failed (%s), %u failures: commands refused",
-                           core::toString(validator_.replay().lastWriteStatus()), static_cast<unsigned>(failures));
-        }
-    }
     ++counters_.rejected;
     const auto reason = static_cast<std::size_t>(found.reason);
     if (reason < kRejectReasonCount) {

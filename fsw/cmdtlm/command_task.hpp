@@ -51,6 +51,10 @@ constexpr core::TimeNs kIngestAllowance = 1200 * core::kNsPerUs;
 constexpr core::TimeNs kIngestLinkReserve = 150 * core::kNsPerUs;
 constexpr std::size_t kIngestCheckEvery = 32;    // packets between two looks at the clock
 constexpr std::size_t kCommandsPerFrame = 2;     // executed per frame (200 commands/s), one MAC each
+// A command whose anti-replay reservation is being written waits at the head of
+// the queue (AntiReplayState: a write takes a frame or two with a file store);
+// after this many frames it is refused, sequence_store_failed detail 1.
+constexpr std::uint32_t kMaxStoreWaitFrames = 100;
 constexpr std::uint32_t kRejectEventsPerSecond = 8;  // beyond this, rejections are counted, not evented
 constexpr std::uint32_t kRejectAcksPerSecond = 20;   // acknowledgements of unauthenticated rejections ...
 constexpr std::uint32_t kRejectAckBurst = 20;        // ... a second, and at most this many at once
@@ -71,6 +75,7 @@ struct CommandCounters {
     std::uint32_t linkRxKernelDropped = 0;  // packets the OS dropped before a link read them
     std::uint32_t ingestLimited = 0;        // frames in which ingest stopped at its limit on some link
     std::uint32_t acksSuppressed = 0;       // rejection acknowledgements not sent (rate limit)
+    std::uint32_t storeWaitFrames = 0;      // frames a command waited for its reservation to be durable
 };
 
 class CommandTask final : public core::Task {
@@ -87,8 +92,10 @@ public:
     // Before init: where the anti-replay reservations persist (none: volatile,
     // RAM only), and whether init may create a missing store / add missing keys
     // at floor 0 (first boot only: rse-fsw --auth-store-create).
-    void attachAuthStore(hal::RecordStore* store, bool provision) {
-        validator_.replay().attach(store);
+    // `writer` (on the same store) takes every write after init, off the task's
+    // thread; nullptr: written in the task (hal::ImmediateRecordWriter).
+    void attachAuthStore(hal::RecordStore* store, bool provision, hal::RecordWriter* writer = nullptr) {
+        validator_.replay().attach(store, writer);
         provisionAuthStore_ = provision;
     }
     // Before or after init: the AUTH_RESYNC nonce's start (a random value per boot).
@@ -120,7 +127,9 @@ private:
     void ingest();
     bool ingestFrom(hal::PacketLink& link, core::TimeNs deadline);
     void takePacket(std::size_t length);
-    void dispatchOne();
+    // false: the head waits for its reservation (still queued); dispatch stops for this frame.
+    bool dispatchOne();
+    void reportStoreWriteFailures();
     void acknowledge(const CommandVerdict& verdict);
     void reject(const CommandVerdict& found);
     // Header fields of a packet that was not (fully) validated (too long, bad
@@ -143,6 +152,8 @@ private:
     QueuedPacket queue_[kCommandQueueDepth] = {};
     std::size_t head_ = 0;
     std::size_t count_ = 0;
+    std::uint32_t headWaitFrames_ = 0;       // frames the head has waited for the store
+    std::uint32_t storeFailuresReported_ = 0;
     std::uint8_t scratch_[kMaxCommandPacket + 1] = {};  // one byte more: detects oversize packets
     CommandCounters counters_;
     core::TimeNs now_ = 0;  // the clock as last read in this run (read every kIngestCheckEvery packets)

@@ -90,8 +90,10 @@ bool CommandValidator::resyncFails(CommandVerdict& v, const std::uint8_t* packet
         const std::uint32_t current = keys_.lastSequence(v.keyId);
         newFloor = current > newFloor ? current : newFloor;
     }
-    if (!core::isOk(replay_.resync(v.keyId, newFloor))) {
+    const core::Status stored = replay_.resync(v.keyId, newFloor);
+    if (!core::isOk(stored)) {
         fail(v, CommandReject::kSequenceStoreFailed);
+        v.deferred = stored == core::Status::kBusy;
         return true;
     }
     keys_.setFloor(v.keyId, newFloor);
@@ -136,8 +138,11 @@ CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t l
             }
             // Persist before recording: the stored reservation always covers
             // every number accepted, so a restart cannot reopen one.
-            if (!core::isOk(replay_.reserve(v.keyId, v.authSequence))) {
-                return fail(v, CommandReject::kSequenceStoreFailed);
+            const core::Status stored = replay_.reserve(v.keyId, v.authSequence);
+            if (!core::isOk(stored)) {
+                fail(v, CommandReject::kSequenceStoreFailed);
+                v.deferred = stored == core::Status::kBusy;
+                return v;
             }
             keys_.commit(v.keyId, v.authSequence);
         }

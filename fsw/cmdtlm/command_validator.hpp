@@ -84,6 +84,11 @@ struct CommandVerdict {
     const CommandDesc* command = nullptr;   // set from check 4 on
     const std::uint8_t* args = nullptr;     // argument bytes inside the packet
     std::size_t argLength = 0;
+    // Not yet decided: the anti-replay reservation that covers this number is
+    // being written. The packet stays queued and is checked again next frame.
+    // reason is kSequenceStoreFailed meanwhile, so a caller that ignores this
+    // flag refuses the command rather than act on it.
+    bool deferred = false;
 };
 
 class CommandValidator {

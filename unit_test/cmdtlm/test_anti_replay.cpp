@@ -90,6 +90,46 @@ private:
     const hal::MemoryRecordStore& store_;
 };
 
+// A writer that finishes a posted write only when the test says so: a file
+// store's fsync, which takes frames, in slow motion.
+class ManualWriter final : public hal::RecordWriter {
+public:
+    explicit ManualWriter(hal::RecordStore& store) : store_(store) {}
+    core::Status post(const std::uint8_t* data, std::size_t length) override {
+        if (queued_ || done_) {
+            return core::Status::kBusy;
+        }
+        bytes_.assign(data, data + length);
+        queued_ = true;
+        ++posts;
+        return core::Status::kOk;
+    }
+    bool takeResult(core::Status* result) override {
+        if (!done_) {
+            return false;
+        }
+        done_ = false;
+        *result = result_;
+        return true;
+    }
+    // The medium finishes the write posted last.
+    void finish() {
+        CHECK(queued_);
+        result_ = store_.write(bytes_.data(), bytes_.size());
+        queued_ = false;
+        done_ = true;
+    }
+    bool queued() const { return queued_; }
+    int posts = 0;
+
+private:
+    hal::RecordStore& store_;
+    Bytes bytes_;
+    bool queued_ = false;
+    bool done_ = false;
+    core::Status result_ = core::Status::kOk;
+};
+
 // One boot of the command service.
 struct Boot {
     core::VirtualClock clock;
@@ -101,23 +141,32 @@ struct Boot {
     CommandTask task{clock, events, links, output, handler};
     std::uint64_t frame = 0;
 
-    Boot(hal::MemoryRecordStore* store, bool provision, std::uint64_t nonce, bool seeded = true) : handler(*store) {
+    Boot(hal::MemoryRecordStore* store, bool provision, std::uint64_t nonce, bool seeded = true,
+         hal::RecordWriter* writer = nullptr)
+        : handler(*store) {
         CHECK(core::isOk(task.keys().add(kLabKeyId, kLabKey)));
         CHECK(core::isOk(links.add(&link)));
-        task.attachAuthStore(store, provision);
+        task.attachAuthStore(store, provision, writer);
         if (seeded) {
             task.setAuthChallengeSeed(nonce);
         }
         CHECK(core::isOk(task.init()));
     }
-    Ack submit(const Bytes& p) {
+    // One frame; true when it sent an acknowledgement.
+    bool step() {
         const std::size_t before = link.sentCount();
-        link.push(p);
         core::FrameContext fc;
         fc.frame = frame++;
         clock.advance(10 * core::kNsPerMs);
         task.run(fc);
-        CHECK_EQUAL(before + 1, link.sentCount());
+        return link.sentCount() > before;
+    }
+    Ack submit(const Bytes& p) {
+        link.push(p);
+        CHECK(step());
+        return lastAck();
+    }
+    Ack lastAck() const {
         const Bytes& t = link.lastSent();
         core::BeReader r(t.data() + kTelemetryHeaderSize, t.size() - kTelemetryHeaderSize);
         Ack a;
@@ -209,7 +258,8 @@ TEST(AntiReplay, TheReservationIsDurableBeforeTheCommandActsAndWrittenOncePerBlo
         LONGS_EQUAL(0, rover->submit(packet("NOOP", {}, s)).reason);
         CHECK(rover->handler.storedAtExecute >= s);  // persisted before it acted
     }
-    // 1 reserved up to 1025 (one write for 1025 commands); 1026 needed the second.
+    // 1 reserved up to 1025; 514, within kRenewMargin of it, renewed to 1538
+    // ahead of need, which 1026 then found durable.
     LONGS_EQUAL(writesAfterProvisioning + 2, store.writes());
     LONGS_EQUAL(3, rover->task.antiReplay().writes());  // provisioning, then two reservations
 }
@@ -386,6 +436,133 @@ TEST(AntiReplay, ProvisioningAddsMissingKeysButNeverResetsAStoredReservation) {
     boot(true);
     LONGS_EQUAL(reserved, rover->task.antiReplay().reserved(kLabKeyId));
     CHECK(rover->submit(packet("NOOP", {}, 2001)).reason != 0);
+}
+
+// The write is not in the command task: a command past the reservation waits,
+// queued and unacknowledged, until the reservation is durable, then acts.
+TEST_GROUP(AntiReplayDeferred) {
+    hal::MemoryRecordStore store;
+    ManualWriter writer{store};
+    HmacSha256 hmac;
+    std::unique_ptr<Boot> rover;
+
+    void setup() override {
+        CHECK(core::isOk(hmac.init()));
+        rover = std::make_unique<Boot>(&store, true, 42, true, &writer);
+    }
+    void teardown() override { rover.reset(); }
+    Bytes noop(std::uint32_t sequence) {
+        const CommandDesc* c = findCommand("NOOP");
+        Bytes out(kMaxCommandPacket);
+        CommandFields f;
+        f.apid = c->apid;
+        f.functionCode = c->functionCode;
+        f.keyId = kLabKeyId;
+        f.authSequence = sequence;
+        const std::size_t n = encodeCommandPacket(f, nullptr, 0, kLabKey, hmac, out.data(), out.size());
+        out.resize(n);
+        return out;
+    }
+    std::uint32_t stored() const {
+        AuthStoreEntry entries[kMaxStoredKeys];
+        std::size_t n = 0;
+        CHECK(core::isOk(decodeAuthStore(store.bytes(), store.length(), entries, &n)));
+        return n == 1 ? entries[0].reserved : 0;
+    }
+};
+
+TEST(AntiReplayDeferred, ACommandPastTheReservationActsOnlyOnceItIsDurable) {
+    LONGS_EQUAL(0, stored());  // provisioned at 0 (written at start-up, not through the writer)
+    rover->link.push(noop(1));
+    rover->link.push(noop(2));
+    CHECK_FALSE(rover->step());  // posted, not durable: no acknowledgement, not acted on
+    CHECK_FALSE(rover->step());
+    LONGS_EQUAL(0, rover->handler.executed);
+    LONGS_EQUAL(2, rover->task.counters().storeWaitFrames);
+    LONGS_EQUAL(2, rover->task.counters().queueDepth);  // both kept, in order
+    LONGS_EQUAL(1, writer.posts);
+    writer.finish();
+    CHECK(rover->step());
+    LONGS_EQUAL(2, rover->handler.executed);  // 1 and 2: the reservation covers both
+    LONGS_EQUAL(1 + kReserveBlock, stored());
+    LONGS_EQUAL(1 + kReserveBlock, rover->handler.storedAtExecute);
+    LONGS_EQUAL(0, rover->lastAck().reason);
+}
+
+TEST(AntiReplayDeferred, TheNextReservationIsWrittenAheadOfNeed) {
+    rover->link.push(noop(1));
+    CHECK_FALSE(rover->step());
+    writer.finish();
+    CHECK(rover->step());
+    // Within kRenewMargin of 1 + kReserveBlock: accepted at once, the next block posted.
+    const std::uint32_t near = 1 + kReserveBlock - kRenewMargin + 1;
+    LONGS_EQUAL(0, rover->submit(noop(near)).reason);
+    CHECK(writer.queued());
+    writer.finish();
+    CHECK_FALSE(rover->step());
+    LONGS_EQUAL(near + kReserveBlock, stored());
+    // So the number after the old reservation does not wait.
+    LONGS_EQUAL(0, rover->submit(noop(2 + kReserveBlock)).reason);
+    LONGS_EQUAL(3, rover->handler.executed);
+    LONGS_EQUAL(1, rover->task.counters().storeWaitFrames);
+}
+
+TEST(AntiReplayDeferred, AWriteThatNeverFinishesRefusesTheCommandAfterTheWaitLimit) {
+    rover->link.push(noop(1));
+    for (std::uint32_t i = 0; i < kMaxStoreWaitFrames; ++i) {
+        CHECK_FALSE(rover->step());
+    }
+    CHECK(rover->step());
+    const Ack a = rover->lastAck();
+    LONGS_EQUAL(static_cast<int>(CommandReject::kSequenceStoreFailed), a.reason);
+    LONGS_EQUAL(1, a.detail);
+    LONGS_EQUAL(0, rover->handler.executed);
+    LONGS_EQUAL(kMaxStoreWaitFrames, rover->task.counters().storeWaitFrames);
+}
+
+TEST(AntiReplayDeferred, AFailedWriteRefusesTheWaitingCommandAndTheNextOneTriesAgain) {
+    rover->link.push(noop(1));
+    CHECK_FALSE(rover->step());
+    store.setFailWrites(true);
+    writer.finish();
+    CHECK(rover->step());
+    LONGS_EQUAL(static_cast<int>(CommandReject::kSequenceStoreFailed), rover->lastAck().reason);
+    LONGS_EQUAL(1, rover->task.antiReplay().writeFailures());
+    LONGS_EQUAL(1, test::drainEventsWithId(rover->events, events::kAuthStoreWriteFailed));
+    store.setFailWrites(false);
+    rover->link.push(noop(1));  // never recorded: not a replay
+    CHECK_FALSE(rover->step());
+    writer.finish();
+    CHECK(rover->step());
+    LONGS_EQUAL(0, rover->lastAck().reason);
+    LONGS_EQUAL(1, rover->handler.executed);
+}
+
+TEST(AntiReplayDeferred, AuthResyncIsAcknowledgedOnlyOnceItsFloorIsDurable) {
+    store.erase();
+    rover = std::make_unique<Boot>(&store, false, 42, true, &writer);
+    Bytes args(8);
+    core::BeWriter w(args.data(), args.size());
+    w.u32(0);
+    w.u32(42);
+    const CommandDesc* c = findCommand("AUTH_RESYNC");
+    Bytes p(kMaxCommandPacket);
+    CommandFields f;
+    f.apid = c->apid;
+    f.functionCode = c->functionCode;
+    f.keyId = kLabKeyId;
+    f.authSequence = 700;
+    p.resize(encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, p.data(), p.size()));
+    rover->link.push(p);
+    CHECK_FALSE(rover->step());
+    LONGS_EQUAL(1, rover->task.keysUnsynced());
+    CHECK(rover->task.antiReplay().challenge() == 42);  // the nonce is not used up yet
+    writer.finish();
+    CHECK(rover->step());
+    LONGS_EQUAL(0, rover->lastAck().reason);
+    LONGS_EQUAL(0, rover->task.keysUnsynced());
+    CHECK(rover->task.antiReplay().challenge() != 42);
+    LONGS_EQUAL(700 + kReserveBlock, stored());
 }
 
 TEST_GROUP(AuthStoreCodec){};
