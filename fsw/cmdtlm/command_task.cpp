@@ -155,10 +155,10 @@ bool CommandTask::ingestFrom(hal::PacketLink& link, core::TimeNs deadline) {
     return true;
 }
 
-// Cheap rejection first: a packet that fails the screen never reaches the queue
-// or the MAC.
+// Cheap rejection first: a packet that fails the screen never reaches the MAC,
+// and one that fails either never reaches the queue.
 void CommandTask::takePacket(std::size_t length) {
-    CommandVerdict screened = validator_.screen(scratch_, length);
+    CommandVerdict screened = validator_.authenticate(scratch_, length);
     if (screened.reason != CommandReject::kAccepted) {
         if (screened.reason <= CommandReject::kBadHeader) {
             addClaimedFields(&screened, scratch_, length);

@@ -2,16 +2,17 @@
 //   1 ingest: read each ground link until it is empty or the per-frame limit is
 //     reached: kMaxPacketsPerLink packets per link, or the link's share of
 //     kIngestAllowance, whichever comes first (the rest wait in the link for the
-//     next frame; such frames are counted, ingestLimited). Every packet is screened as it
-//     arrives (CommandValidator::screen: length, header, checksum, APID, function
-//     code, key id - no MAC): one that fails is rejected at once and never takes
-//     a queue slot. One that passes goes into a fixed queue of kCommandQueueDepth;
+//     next frame; such frames are counted, ingestLimited). Every packet is
+//     authenticated as it arrives (CommandValidator::authenticate: length,
+//     header, checksum, APID, function code, key id, then the MAC): one that
+//     fails is rejected at once and never takes a queue slot, so only authentic
+//     packets queue. One that passes goes into a fixed queue of kCommandQueueDepth;
 //     a packet that finds the queue full is rejected (queue_overflow) - never lost
-//     silently.
+//     silently. The ingest limit bounds the MAC work per frame.
 //   2 dispatch: up to kCommandsPerFrame queued packets are checked in full
-//     (CommandValidator: MAC, anti-replay sequence and its persisted
-//     reservation, argument ranges, mode) and, when they pass, executed by the
-//     application's CommandHandler. That bounds the MAC work per frame.
+//     (CommandValidator::check: again the MAC, then the anti-replay sequence and
+//     its persisted reservation, argument ranges, mode) and, when they pass,
+//     executed by the application's CommandHandler.
 // An unknown key id is acknowledged and evented as bad_mac (linkReason()).
 // Every packet yields one CMD_ACK in telemetry (accepted, or the reason), except
 // that acknowledgements of rejections that did not authenticate (reasons

@@ -101,24 +101,35 @@ bool CommandValidator::resyncFails(CommandVerdict& v, const std::uint8_t* packet
     return false;
 }
 
-CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t length, Mode mode) {
+CommandVerdict CommandValidator::authenticate(const std::uint8_t* packet, std::size_t length) {
     // 1-5: length, header, checksum, command, key id: the screen's checks.
     CommandVerdict v = screen(packet, length);
+    if (v.reason != CommandReject::kAccepted || v.keyId == kNoKey) {
+        return v;
+    }
+    // 7: the MAC.
+    const std::uint8_t* key = keys_.find(v.keyId);
+    if (key == nullptr) {
+        return fail(v, CommandReject::kUnknownKey);  // the screen refuses it first; kept for safety
+    }
+    const std::size_t end = length - kMacSize;
+    std::uint8_t expected[kMacSize];
+    if (!core::isOk(hmac_.packetMac(key, packet, end, expected)) || !macEqual(expected, packet + end)) {
+        return fail(v, CommandReject::kBadMac);
+    }
+    return v;
+}
+
+CommandVerdict CommandValidator::check(const std::uint8_t* packet, std::size_t length, Mode mode) {
+    // 1-7: the screen's checks and the MAC.
+    CommandVerdict v = authenticate(packet, length);
     if (v.reason != CommandReject::kAccepted) {
         return v;
     }
-    // 6-8: authentication.
+    // 8: freshness.
     std::size_t end = length;
     if (v.keyId != kNoKey) {
-        const std::uint8_t* key = keys_.find(v.keyId);
-        if (key == nullptr) {
-            return fail(v, CommandReject::kUnknownKey);  // the screen refuses it first; kept for safety
-        }
         end = length - kMacSize;
-        std::uint8_t expected[kMacSize];
-        if (!core::isOk(hmac_.packetMac(key, packet, end, expected)) || !macEqual(expected, packet + end)) {
-            return fail(v, CommandReject::kBadMac);
-        }
         if (v.command->code == CommandCode::AUTH_RESYNC) {
             if (resyncFails(v, packet, end)) {
                 return v;

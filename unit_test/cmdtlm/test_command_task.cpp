@@ -483,6 +483,13 @@ public:
         if (garbageLeft != kEndless) {
             --garbageLeft;
         }
+        if (!forged.empty()) {
+            std::memcpy(out, forged.data(), forged.size());
+            *length = forged.size();
+            ++handed;
+            ++stats_.rxPackets;
+            return core::Status::kOk;
+        }
         // Random bytes, 1 to 40 of them: the length field never matches.
         const std::size_t n = 1 + (handed * 7919U) % 40U;
         for (std::size_t i = 0; i < n; ++i) {
@@ -512,6 +519,7 @@ public:
     std::size_t garbageLeft = 0;
     std::size_t validAt = kEndless;
     std::vector<std::uint8_t> valid;
+    std::vector<std::uint8_t> forged;  // when set, the flood is copies of it instead of random bytes
     std::size_t handed = 0;
     core::VirtualClock* clock = nullptr;
     core::TimeNs costPerReceive = 0;
@@ -552,6 +560,25 @@ TEST(CommandFlood, AValidCommandBehindAThousandGarbagePacketsIsExecutedInThatFra
     LONGS_EQUAL(0, task->counters().byReason[static_cast<std::size_t>(CommandReject::kQueueOverflow)]);
     LONGS_EQUAL(2001, task->counters().linkRxPackets);
     LONGS_EQUAL(0, task->counters().ingestLimited);  // the link was emptied
+    LONGS_EQUAL(1, flood->acceptedAcks);
+}
+
+// A well-formed packet under a loaded key id with a wrong MAC passes the cheap
+// screen. Old ingest queued it (the MAC waited for dispatch, 2 a frame): a flood
+// of them filled the queue and the valid command met queue_overflow.
+TEST(CommandFlood, AFloodWithAKnownKeyIdButAWrongMacTakesNoQueueSlot) {
+    std::uint8_t otherKey[kKeySize];
+    std::memcpy(otherKey, kLabKey, kKeySize);
+    otherKey[5] ^= 0x10;
+    flood->forged = packet("NOOP", {}, 900, otherKey, kLabKeyId);
+    flood->garbageLeft = 300;
+    flood->validAt = 150;
+    flood->valid = packet("NOOP");
+    runFrame();
+    LONGS_EQUAL(1, handler->executed);
+    LONGS_EQUAL(300, task->counters().byReason[static_cast<std::size_t>(CommandReject::kBadMac)]);
+    LONGS_EQUAL(0, task->counters().byReason[static_cast<std::size_t>(CommandReject::kQueueOverflow)]);
+    LONGS_EQUAL(1, task->counters().queueHighWater);
     LONGS_EQUAL(1, flood->acceptedAcks);
 }
 
@@ -661,7 +688,7 @@ TEST(CommandFlood, TheIngestScreenAgreesWithTheFullCheck) {
     CommandValidator validator(keys, engine);
     std::vector<std::vector<std::uint8_t>> originals = {packet("NOOP"), packet("SET_MODE", u8Arg(1)),
                                                         packet("GOTO", f64Args({1.0, 2.0, 1e-3}))};
-    std::size_t screened = 0, passed = 0;
+    std::size_t screened = 0, unauthentic = 0, passed = 0;
     for (const auto& original : originals) {
         for (std::size_t cut = 0; cut <= original.size(); ++cut) {
             for (std::size_t at = 0; at < original.size(); ++at) {
@@ -669,16 +696,24 @@ TEST(CommandFlood, TheIngestScreenAgreesWithTheFullCheck) {
                     std::vector<std::uint8_t> p = original;
                     p[at] = static_cast<std::uint8_t>(p[at] ^ flip);
                     p.resize(cut);
+                    if (at % 2 == 1 && p.size() > kChecksumOffset) {
+                        refreshChecksum(p);  // an attacker's edit with a valid checksum: the MAC's turn
+                    }
                     for (const bool authRequired : {true, false}) {
                         validator.setAuthRequired(authRequired);
                         const CommandVerdict s = validator.screen(p.data(), p.size());
+                        const CommandVerdict a = validator.authenticate(p.data(), p.size());
                         const CommandVerdict c = validator.check(p.data(), p.size(), Mode::kSafe);
                         if (s.reason != CommandReject::kAccepted) {
                             ++screened;
                             STRCMP_EQUAL(toString(c.reason), toString(s.reason));
+                            STRCMP_EQUAL(toString(a.reason), toString(s.reason));
+                        } else if (a.reason != CommandReject::kAccepted) {
+                            ++unauthentic;
+                            STRCMP_EQUAL(toString(c.reason), toString(a.reason));
                         } else {
                             ++passed;
-                            CHECK(c.reason == CommandReject::kAccepted || c.reason >= CommandReject::kBadMac ||
+                            CHECK(c.reason == CommandReject::kAccepted || c.reason > CommandReject::kBadMac ||
                                   (c.reason == CommandReject::kBadLength && c.args != nullptr));
                         }
                     }
@@ -687,5 +722,6 @@ TEST(CommandFlood, TheIngestScreenAgreesWithTheFullCheck) {
         }
     }
     CHECK(screened > 1000);
+    CHECK(unauthentic > 100);
     CHECK(passed > 10);
 }
