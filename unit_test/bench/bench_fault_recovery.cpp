@@ -14,6 +14,10 @@
 //               is over; the settle time is FAULT_RESPONSE.heartbeat_loss_ms for a lost drive)
 //   resumed     injection -> the hold released for the last time (s)
 // Simulator truth (position, collisions) is read only for the summary.
+// Targets (issue 13; checked, unit_test/bench/bench_targets.hpp): 100 % recovered
+// for every recoverable type, 0 % for the one that is not (it must call home);
+// e-stop within 1 frame of detection; the first recovery action within one
+// deliberative period (10 frames) after the fault's settle time.
 //
 // Usage: bench_fault_recovery [runs]   (default 100 per type)
 #include <algorithm>
@@ -21,13 +25,18 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "fsw/tables/default_tables.hpp"
+#include "fsw/tables/table_image.hpp"
+#include "fsw/tables/table_types.hpp"
 #include "sim_stub/lockstep/mission_runner.hpp"
 #include "sim_stub/scenario/scenario.hpp"
+#include "unit_test/bench/bench_targets.hpp"
 
 namespace {
 
@@ -49,7 +58,36 @@ struct FaultCase {
     const char* gotoXY = "20,0";                           // the mission's GOTO
     std::function<void(rse::sim::Scenario&)> site = nullptr;  // changes to the site and start
     std::uint16_t detectEvent = 0;  // the health raise that is this fault's detection (0: the first one)
+    // Frames fault protection lets the fault settle before it acts (the first
+    // action's target is this + one deliberative period).
+    std::function<double()> settleFrames = [] { return 0.0; };
 };
+
+constexpr double kDeliberativePeriodFrames = 10.0;
+constexpr double kEstopTargetFrames = 1.0;
+
+// A scalar field of a default table image (what rse-fsw boots with), so a
+// target that follows a table value follows the table.
+double defaultTableField(const char* tableName, const char* fieldName) {
+    const rse::tables::TableDesc* desc = rse::tables::findTable(tableName);
+    for (std::size_t i = 0; desc != nullptr && i < rse::tables::kDefaultTableImageCount; ++i) {
+        const rse::tables::TableImageRef& ref = rse::tables::kDefaultTableImages[i];
+        rse::tables::TableHeader h;
+        if (!rse::tables::readTableHeader(ref.data, ref.length, &h) || h.tableId != static_cast<std::uint16_t>(desc->id)) {
+            continue;
+        }
+        for (std::uint16_t f = 0; f < desc->fieldCount; ++f) {
+            double value = 0.0;
+            if (std::strcmp(desc->fields[f].name, fieldName) == 0 &&
+                rse::tables::readFieldValue(*desc, ref.data + rse::tables::kTableHeaderSize,
+                                            ref.length - rse::tables::kTableHeaderSize, f, 0, &value)) {
+                return value;
+            }
+        }
+    }
+    std::fprintf(stderr, "bench_fault_recovery: no default %s.%s\n", tableName, fieldName);
+    std::exit(1);
+}
 
 rse::core::TimeNs ns(double s) { return static_cast<rse::core::TimeNs>(s * 1e9); }
 
@@ -128,7 +166,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     const char* demo = rse::sim::kDefaultMissionScenario;
-    const std::vector<FaultCase> cases = {
+    std::vector<FaultCase> cases = {
         // The same missions without a fault: what the fault cases are measured against.
         {"none (baseline)", demo, 300.0, true, [](double, std::mt19937_64&) { return std::vector<FaultSpec>{}; }},
         {"drive heartbeat gap 0.2 s", demo, 300.0, true,
@@ -203,6 +241,22 @@ int main(int argc, char** argv) {
          },
          738},
     };
+    // Settle times, from the tables rse-fsw boots with: a lost drive is given
+    // heartbeat_loss_ms to come back; a faulted one gets the CAN master's resets first.
+    auto settle = [&cases](const char* name, std::function<double()> frames) {
+        for (FaultCase& c : cases) {
+            if (std::strcmp(c.name, name) == 0) {
+                c.settleFrames = std::move(frames);
+            }
+        }
+    };
+    settle("drive crash, restart 2 s",
+           [] { return defaultTableField("FAULT_RESPONSE", "heartbeat_loss_ms") / (kFrameS * 1000.0); });
+    settle("motor fails (wheel locks)", [] {
+        return defaultTableField("FAULT_RESPONSE", "drive_restart_attempts") *
+               defaultTableField("FAULT_RESPONSE", "drive_fault_reset_wait_ms") / (kFrameS * 1000.0);
+    });
+    rse::bench::Targets targets;
     std::printf("fault recovery: %d seeded demo missions per fault type, fault at a random time in [5, 60] s\n", runs);
     std::printf("%-32s %5s %9s %9s %12s %12s %14s %10s\n", "fault", "runs", "recovered", "collide", "detect s p50/max",
                 "e-stop fr max", "1st action fr", "resumed s p50/max");
@@ -254,12 +308,20 @@ int main(int argc, char** argv) {
                     100.0 * t.recovered / t.runs, t.collisions, percentile(t.detect, 0.5), maxOf(t.detect),
                     maxOf(t.estopFrames), percentile(t.actionFrames, 0.5), maxOf(t.actionFrames),
                     percentile(t.resumed, 0.5), maxOf(t.resumed), c.recoverable ? "" : "  (not recoverable: call home expected)");
-        if (t.noResponse > 0) {
+        if (t.noResponse > 0 && &c != cases.data()) {  // the baseline has no fault to respond to
             std::printf("%-32s %u runs with no fault-protection response\n", "", t.noResponse);
         }
+        const auto verdict = [&targets](bool met) { return targets.check(met) ? "PASS" : "FAIL"; };
+        const double actionTarget = c.settleFrames() + kDeliberativePeriodFrames;
+        const bool recoveredOk = c.recoverable ? t.recovered == t.runs : t.recovered == 0;
+        const bool estopOk = t.estopFrames.empty() || maxOf(t.estopFrames) <= kEstopTargetFrames;
+        const bool actionOk = t.actionFrames.empty() || maxOf(t.actionFrames) <= actionTarget;
+        std::printf("%-32s %s recovered %s, %s e-stop <= %.0f frame, %s 1st action <= %.0f frames\n", "",
+                    verdict(recoveredOk), c.recoverable ? "100 %" : "0 % (call home)", verdict(estopOk),
+                    kEstopTargetFrames, verdict(actionOk), actionTarget);
         std::fflush(stdout);
     }
     std::printf("wall time %.0f s\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
-    return 0;
+    return targets.finish();
 }

@@ -8,5 +8,5 @@ trap 'rm -f "$guest"' EXIT
 echo "bench_socketcan inside the vcan VM ($bin/bench_socketcan)"
 printf '#!/bin/sh\n/opt/rse/bin/bench_socketcan vcan0\n' > "$guest"
 "$root/unit_test/integration/vcan_vm/run_in_vm.sh" --bin "$bin/bench_socketcan" "$guest" 2>&1 \
-  | grep -E '^(==|   )'
+  | grep -E '^(==|   |  (PASS|FAIL) |targets: )'
 exit "${PIPESTATUS[0]}"
