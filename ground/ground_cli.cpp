@@ -1,5 +1,6 @@
 #include "ground/ground_cli.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -43,6 +44,7 @@ constexpr const char* kUsage =
     "commands:\n"
     "  send NAME [arg=value ...] [--auth-seq N] [--no-wait]   send a command, print its CMD_ACK\n"
     "  watch [--count N] [--seconds S] [--only NAME,...]     print telemetry and events as they come\n"
+    "  resync [--auth-seq N]                                 AUTH_RESYNC with the nonce of the rover's next HK\n"
     "  run SCRIPT [--verbose]                                run a command script (docs/ground.md)\n"
     "  table load IMAGE.tbl [--activate] [--force]           upload, validate (and activate) a table\n"
     "  table dump ID|NAME [--inactive] [-o FILE]             download a table image and print it\n"
@@ -159,6 +161,7 @@ public:
         : g_(std::move(options)), out_(out), err_(err), linkFactory_(linkFactory) {}
 
     int send(const std::vector<std::string>& args);
+    int resync(const std::vector<std::string>& args);
     int watch(const std::vector<std::string>& args);
     int run(const std::vector<std::string>& args);
     int table(const std::vector<std::string>& args);
@@ -253,6 +256,23 @@ private:
             }
         }
     }
+    // A command's acknowledgement, printed, and the exit code it means.
+    int report(const AckResult& result) {
+        switch (result.outcome) {
+            case AckOutcome::kAccepted:
+            case AckOutcome::kNotWaited:
+                out_ << result.summary << "\n";
+                return kExitOk;
+            case AckOutcome::kRejected:
+                out_ << result.summary << "\n";
+                hint(result);
+                return kExitRejected;
+            case AckOutcome::kNoAck:
+                break;
+        }
+        err_ << "rse-ground: " << result.summary << "\n";
+        return kExitLink;
+    }
     void hint(const AckResult& result) {
         using cmdtlm::CommandReject;
         switch (static_cast<CommandReject>(result.reason)) {
@@ -273,14 +293,14 @@ private:
                 if (result.detail == 4 || result.detail == 6) {
                     err_ << (result.detail == 4
                                  ? "hint: not the rover's current nonce (it changes at every restart and after each "
-                                   "AUTH_RESYNC accepted): read it again (rse-ground watch --only HK --count 1)\n"
+                                   "AUTH_RESYNC accepted): rse-ground resync reads the current one\n"
                                  : "hint: the rover has no nonce (no random source at start-up): AUTH_RESYNC cannot "
                                    "succeed until it restarts with one\n");
                     break;
                 }
                 err_ << "hint: the rover does not know this key's anti-replay state (store missing or corrupt, or key "
-                        "new to it): read the nonce (rse-ground watch --only HK --count 1: auth_challenge_high, "
-                        "auth_challenge_low) and send AUTH_RESYNC challenge_high=H challenge_low=L (docs/ground.md)\n";
+                        "new to it): rse-ground resync (it reads the nonce from HK, auth_challenge_high/low, and "
+                        "sends AUTH_RESYNC challenge_high=H challenge_low=L; docs/ground.md)\n";
                 break;
             case CommandReject::kSequenceExhausted:
                 err_ << "hint: this key's anti-replay numbers are used up (above " << cmdtlm::kMaxUsableSequence
@@ -324,23 +344,53 @@ int Cli::send(const std::vector<std::string>& args) {
     const PacketAuth packetAuth = auth();
     std::unique_ptr<GroundLink> link = openLink(!noWait);
     GroundSession session(*link, store(), packetAuth, g_.timeout);
-    const AckResult result = session.sendCommand(*command, encoded, forced, !noWait);
-    switch (result.outcome) {
-        case AckOutcome::kAccepted:
-            out_ << result.summary << "\n";
-            return kExitOk;
-        case AckOutcome::kNotWaited:
-            out_ << result.summary << "\n";
-            return kExitOk;
-        case AckOutcome::kRejected:
-            out_ << result.summary << "\n";
-            hint(result);
-            return kExitRejected;
-        case AckOutcome::kNoAck:
-            break;
+    return report(session.sendCommand(*command, encoded, forced, !noWait));
+}
+
+// The two steps of docs/ground.md's re-synchronisation in one: the nonce from
+// the rover's next HK (1 Hz), then AUTH_RESYNC carrying it, signed with this
+// ground's next number (above every number it has used, which the rover takes
+// as the key's new floor). Nothing is sent before the nonce is known.
+int Cli::resync(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const std::optional<std::uint32_t> forced = takeAuthSeq(&words);
+    rejectOptions(words, "resync");
+    if (!words.empty()) {
+        throw UsageError("resync: unexpected '" + words[0] + "'");
     }
-    err_ << "rse-ground: " << result.summary << "\n";
-    return kExitLink;
+    if (g_.noAuth) {
+        throw UsageError("resync: AUTH_RESYNC re-synchronises a key: it cannot be sent with --no-auth");
+    }
+    const PacketAuth packetAuth = auth();
+    std::unique_ptr<GroundLink> link = openLink(true);
+    const double wait = std::max(g_.timeout, 3.0);  // HK comes once a second
+    const double deadline = monotonicSeconds() + wait;
+    std::optional<DecodedPacket> hk;
+    while (!hk) {
+        const double left = deadline - monotonicSeconds();
+        if (left <= 0.0) {
+            err_ << "rse-ground: resync: no HK within " << formatNumber(wait) << " s on " << link->describe()
+                 << ": is rse-fsw running and sending telemetry here?\n";
+            return kExitLink;
+        }
+        std::optional<std::vector<std::uint8_t>> bytes = link->receive(left);
+        if (bytes) {
+            DecodedPacket packet = decodeTelemetry(*bytes);
+            if (packet.ok && std::string(packet.name()) == "HK") {
+                hk = std::move(packet);
+            }
+        }
+    }
+    const auto high = static_cast<std::uint32_t>(hk->value("auth_challenge_high").value_or(0));
+    const auto low = static_cast<std::uint32_t>(hk->value("auth_challenge_low").value_or(0));
+    out_ << "rover nonce " << high << ":" << low << " (auth_store_state "
+         << formatNumber(hk->value("auth_store_state").value_or(-1)) << ", keys unsynchronised "
+         << formatNumber(hk->value("auth_keys_unsynced").value_or(-1)) << ")\n";
+    std::vector<std::uint8_t> encoded;
+    const cmdtlm::CommandDesc* command = namedCommand(
+        {"AUTH_RESYNC", "challenge_high=" + std::to_string(high), "challenge_low=" + std::to_string(low)}, &encoded);
+    GroundSession session(*link, store(), packetAuth, g_.timeout);
+    return report(session.sendCommand(*command, encoded, forced, true));
 }
 
 int Cli::watch(const std::vector<std::string>& args) {
@@ -580,6 +630,9 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
         Cli cli(options, out, err, linkFactory);
         if (command == "send") {
             return cli.send(commandArgs);
+        }
+        if (command == "resync") {
+            return cli.resync(commandArgs);
         }
         if (command == "watch") {
             return cli.watch(commandArgs);

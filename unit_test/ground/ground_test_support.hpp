@@ -90,13 +90,23 @@ public:
         ack.rejected = rejected;
         out.push_back(telemetryPacket(ack, static_cast<std::uint16_t>(verdicts.size())));
         out.insert(out.end(), after.begin(), after.end());
+        out.push_back(housekeeping());
+        return out;
+    }
+    // The HK the flight sends, with what the ground reads from it.
+    std::vector<std::uint8_t> housekeeping() const {
         cmdtlm::HK_Tlm hk{};
         hk.mode = static_cast<std::uint8_t>(mode);
         hk.cmd_accepted = accepted;
         hk.cmd_rejected = rejected;
-        out.push_back(telemetryPacket(hk, static_cast<std::uint16_t>(verdicts.size())));
-        return out;
+        const cmdtlm::AntiReplayState& replay = validator_.replay();
+        hk.auth_store_state = static_cast<std::uint8_t>(replay.state());
+        hk.auth_keys_unsynced = replay.unsynced(cmdtlm::kLabKeyId) == cmdtlm::Unsynced::kSynced ? 0 : 1;
+        hk.auth_challenge_high = static_cast<std::uint32_t>(replay.challenge() >> 32);
+        hk.auth_challenge_low = static_cast<std::uint32_t>(replay.challenge());
+        return telemetryPacket(hk, static_cast<std::uint16_t>(verdicts.size()));
     }
+    bool beacon = false;  // true: HK whenever the ground listens and nothing else is due (its 1 Hz HK)
 
 private:
     void execute(cmdtlm::CommandVerdict& v, std::vector<std::vector<std::uint8_t>>* after) {
@@ -170,6 +180,9 @@ public:
         }
     }
     std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) override {
+        if (queue.empty() && rover_.beacon) {
+            return rover_.housekeeping();
+        }
         if (queue.empty()) {
             // Nothing will come: let the time pass (in small steps for callers' deadlines).
             const double step = std::min(timeoutSeconds, 0.01);

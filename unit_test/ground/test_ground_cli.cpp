@@ -169,7 +169,7 @@ TEST(GroundCli, ALostRoverStoreIsExplainedAndResynchronisedWithTheNonce) {
     CliResult r = rig.run({"send", "NOOP"});
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "rejected: sequence_unsynchronised (detail 1"));
-    CHECK_TRUE(contains(r.err, "send AUTH_RESYNC challenge_high=H challenge_low=L"));
+    CHECK_TRUE(contains(r.err, "rse-ground resync (it reads the nonce from HK"));
 
     r = rig.run({"send", "AUTH_RESYNC", "challenge_high=2", "challenge_low=4"});
     CHECK_EQUAL(3, r.rc);
@@ -186,6 +186,34 @@ TEST(GroundCli, ALostRoverStoreIsExplainedAndResynchronisedWithTheNonce) {
     CHECK_EQUAL(3, r.rc);
     CHECK_TRUE(contains(r.out, "rejected: sequence_exhausted"));
     CHECK_TRUE(contains(r.err, "load a new key"));
+}
+
+// One step instead of two: the nonce from the rover's HK, then AUTH_RESYNC with it.
+TEST(GroundCli, ResyncReadsTheNonceFromHkAndResynchronisesInOneStep) {
+    CliRig rig;
+    hal::MemoryRecordStore lost;
+    rig.rover.attachAuthStore(&lost, 0x0000000700000009ULL);
+    CliResult r = rig.run({"--timeout", "0.2", "resync"});
+    CHECK_EQUAL(1, r.rc);  // no HK comes: nothing is sent
+    CHECK_TRUE(contains(r.err, "resync: no HK within 3 s"));
+    CHECK_TRUE(rig.link.sent.empty());
+
+    rig.rover.beacon = true;
+    r = rig.run({"resync"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(contains(r.out, "rover nonce 7:9 (auth_store_state 2, keys unsynchronised 1)"));
+    CHECK_TRUE(contains(r.out, "AUTH_RESYNC (0x180/4, auth seq 1) accepted"));
+    CHECK_TRUE(lost.present());
+    r = rig.run({"send", "NOOP"});
+    CHECK_EQUAL(0, r.rc);
+    // The nonce moved on: the next resync reads the new one.
+    r = rig.run({"resync"});
+    CHECK_EQUAL(0, r.rc);
+    CHECK_TRUE(contains(r.out, "rover nonce 7:10"));
+
+    r = rig.run({"--no-auth", "resync"});
+    CHECK_EQUAL(2, r.rc);
+    CHECK_TRUE(contains(r.err, "cannot be sent with --no-auth"));
 }
 
 TEST(GroundCli, SendAcceptedRejectedAndReplayed) {
