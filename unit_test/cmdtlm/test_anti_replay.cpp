@@ -90,6 +90,31 @@ private:
     const hal::MemoryRecordStore& store_;
 };
 
+// A command signed with the lab key.
+Bytes signedPacket(HmacSha256& hmac, const char* name, const Bytes& args, std::uint32_t sequence) {
+    const CommandDesc* c = findCommand(name);
+    CHECK(c != nullptr);
+    Bytes out(kMaxCommandPacket);
+    CommandFields f;
+    f.apid = c->apid;
+    f.functionCode = c->functionCode;
+    f.keyId = kLabKeyId;
+    f.authSequence = sequence;
+    const std::size_t n = encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, out.data(), out.size());
+    CHECK(n > 0);
+    out.resize(n);
+    return out;
+}
+
+// AUTH_RESYNC's arguments: the nonce, high word first.
+Bytes nonceArgs(std::uint64_t nonce) {
+    Bytes args(8);
+    core::BeWriter w(args.data(), args.size());
+    w.u32(static_cast<std::uint32_t>(nonce >> 32));
+    w.u32(static_cast<std::uint32_t>(nonce));
+    return args;
+}
+
 // A writer that finishes a posted write only when the test says so: a file
 // store's fsync, which takes frames, in slow motion.
 class ManualWriter final : public hal::RecordWriter {
@@ -199,25 +224,10 @@ TEST_GROUP(AntiReplay) {
         return *rover;
     }
     Bytes packet(const char* name, const Bytes& args, std::uint32_t sequence) {
-        const CommandDesc* c = findCommand(name);
-        CHECK(c != nullptr);
-        Bytes out(kMaxCommandPacket);
-        CommandFields f;
-        f.apid = c->apid;
-        f.functionCode = c->functionCode;
-        f.keyId = kLabKeyId;
-        f.authSequence = sequence;
-        const std::size_t n = encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, out.data(), out.size());
-        CHECK(n > 0);
-        out.resize(n);
-        return out;
+        return signedPacket(hmac, name, args, sequence);
     }
     Bytes resync(std::uint64_t nonce, std::uint32_t sequence) {
-        Bytes args(8);
-        core::BeWriter w(args.data(), args.size());
-        w.u32(static_cast<std::uint32_t>(nonce >> 32));
-        w.u32(static_cast<std::uint32_t>(nonce));
-        return packet("AUTH_RESYNC", args, sequence);
+        return packet("AUTH_RESYNC", nonceArgs(nonce), sequence);
     }
     static int reason(CommandReject r) { return static_cast<int>(r); }
     static Bytes driveArgs() {
@@ -451,18 +461,7 @@ TEST_GROUP(AntiReplayDeferred) {
         rover = std::make_unique<Boot>(&store, true, 42, true, &writer);
     }
     void teardown() override { rover.reset(); }
-    Bytes noop(std::uint32_t sequence) {
-        const CommandDesc* c = findCommand("NOOP");
-        Bytes out(kMaxCommandPacket);
-        CommandFields f;
-        f.apid = c->apid;
-        f.functionCode = c->functionCode;
-        f.keyId = kLabKeyId;
-        f.authSequence = sequence;
-        const std::size_t n = encodeCommandPacket(f, nullptr, 0, kLabKey, hmac, out.data(), out.size());
-        out.resize(n);
-        return out;
-    }
+    Bytes noop(std::uint32_t sequence) { return signedPacket(hmac, "NOOP", {}, sequence); }
     std::uint32_t stored() const {
         AuthStoreEntry entries[kMaxStoredKeys];
         std::size_t n = 0;
@@ -541,19 +540,7 @@ TEST(AntiReplayDeferred, AFailedWriteRefusesTheWaitingCommandAndTheNextOneTriesA
 TEST(AntiReplayDeferred, AuthResyncIsAcknowledgedOnlyOnceItsFloorIsDurable) {
     store.erase();
     rover = std::make_unique<Boot>(&store, false, 42, true, &writer);
-    Bytes args(8);
-    core::BeWriter w(args.data(), args.size());
-    w.u32(0);
-    w.u32(42);
-    const CommandDesc* c = findCommand("AUTH_RESYNC");
-    Bytes p(kMaxCommandPacket);
-    CommandFields f;
-    f.apid = c->apid;
-    f.functionCode = c->functionCode;
-    f.keyId = kLabKeyId;
-    f.authSequence = 700;
-    p.resize(encodeCommandPacket(f, args.data(), args.size(), kLabKey, hmac, p.data(), p.size()));
-    rover->link.push(p);
+    rover->link.push(signedPacket(hmac, "AUTH_RESYNC", nonceArgs(42), 700));
     CHECK_FALSE(rover->step());
     LONGS_EQUAL(1, rover->task.keysUnsynced());
     CHECK(rover->task.antiReplay().challenge() == 42);  // the nonce is not used up yet
