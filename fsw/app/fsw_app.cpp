@@ -20,6 +20,9 @@ double utcAtMetZero(const core::Clock& clock) {
            static_cast<double>(clock.now()) / static_cast<double>(core::kNsPerSec);
 }
 
+// A duration in microseconds with a decimal, as the summary prints it.
+double toUs(core::TimeNs t) { return static_cast<double>(t) / static_cast<double>(core::kNsPerUs); }
+
 }  // namespace
 
 FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
@@ -133,9 +136,11 @@ core::Status FswApp::init(std::FILE* console) {
     // its planner sliced to about kSliceWork per run. The watchdog is fed last
     // in its frame, from what every task left behind. Command ingest has 2 ms: draining
     // a 100 000 packet/s flood of the UDP link takes 0.5-0.8 ms a frame (docs/icd.md
-    // "Floods"). Keep docs/architecture.md in step.
+    // "Floods"); it is also timed in thread CPU time (cpu_timed), so an overrun it
+    // caused can be told from one where it was off the CPU mid-run. Keep
+    // docs/architecture.md in step.
     const core::RateGroupEntry table[] = {
-        // name            task            divisor offset budget_us
+        // name            task            divisor offset budget_us [cpu_timed]
         {"tables", &tables_, 1, 0, 200},
         {"can_io", &canIo_, 1, 0, 1000},
         {"estimator", &poseEstimator_, 1, 0, 300},
@@ -143,7 +148,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"health", &health_, 1, 0, 200},
         {"fault_prot", &faultProtection_, 1, 0, 200},
         {"follower", &follower_, 1, 0, 200},
-        {"commands", &commands_, 1, 0, 2000},
+        {"commands", &commands_, 1, 0, 2000, true},
         {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},
         {"telemetry", &telemetry_, 1, 0, 2000},
@@ -209,20 +214,25 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned long long>(s.framesRun), static_cast<unsigned>(s.frameOverruns),
                  static_cast<unsigned>(s.framesSkipped), static_cast<long long>(s.maxBusy / core::kNsPerUs),
                  static_cast<long long>(s.maxLateness / core::kNsPerUs));
-    std::fprintf(out, "  %-14s %8s %8s %9s %9s %9s %9s %9s\n", "task", "runs", "over", "last_us", "mean_us",
-                 "max_us", "cpu_mean", "cpu_max");
+    // Columns are only ever added at the end: scripts read the first ones by position.
+    std::fprintf(out, "  %-14s %8s %8s %9s %9s %9s %9s %9s %8s %9s %9s\n", "task", "runs", "over", "last_us",
+                 "mean_us", "max_us", "host_mean", "host_max", "cpu_over", "cpu_mean", "cpu_max");
     for (std::size_t i = 0; i < executive_.taskCount(); ++i) {
         const core::RateGroupEntry* e = executive_.entry(i);
         const core::TaskStats* t = executive_.taskStats(i);
-        std::fprintf(out, "  %-14s %8u %8u %9lld %9lld %9lld %9.1f %9.1f\n", e->name,
-                     static_cast<unsigned>(t->runs), static_cast<unsigned>(t->overBudget),
-                     static_cast<long long>(t->last / core::kNsPerUs),
+        std::fprintf(out, "  %-14s %8u %8u %9lld %9lld %9lld %9.1f %9.1f", e->name, static_cast<unsigned>(t->runs),
+                     static_cast<unsigned>(t->overBudget), static_cast<long long>(t->last / core::kNsPerUs),
                      static_cast<long long>(t->mean() / core::kNsPerUs),
-                     static_cast<long long>(t->max / core::kNsPerUs),
-                     static_cast<double>(t->hostMean()) / static_cast<double>(core::kNsPerUs),
-                     static_cast<double>(t->hostMax) / static_cast<double>(core::kNsPerUs));
+                     static_cast<long long>(t->max / core::kNsPerUs), toUs(t->hostMean()), toUs(t->hostMax));
+        if (e->cpuTimed) {
+            std::fprintf(out, " %8u %9.1f %9.1f\n", static_cast<unsigned>(t->cpuOverBudget), toUs(t->cpuMean()),
+                         toUs(t->cpuMax));
+        } else {
+            std::fprintf(out, " %8s %9s %9s\n", "-", "-", "-");
+        }
     }
-    std::fprintf(out, "  (last/mean/max on the executive clock; cpu_* is host CPU time in us)\n");
+    std::fprintf(out, "  (last/mean/max on the executive clock; host_* host wall time; cpu_* the task's thread CPU "
+                      "time, rows timed in it only; in us. over/cpu_over: runs over budget on each)\n");
     const core::BusStats& b = bus_.stats();
     std::fprintf(out, "  bus: %u published, %u delivered, %u dropped, %u too large, %u unsubscribed\n",
                  static_cast<unsigned>(b.published), static_cast<unsigned>(b.delivered),

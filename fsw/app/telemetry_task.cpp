@@ -207,6 +207,8 @@ void TelemetryTask::sendTaskTiming(std::size_t index) {
     tlm.max_us = t.maxUs;
     tlm.cpu_mean_us = t.hostMeanUs;
     tlm.cpu_max_us = t.hostMaxUs;
+    tlm.cpu_timed = t.cpuTimed ? 1 : 0;
+    tlm.cpu_over_budget = t.cpuOverBudget;
     output_.send(tlm);
 }
 

@@ -55,6 +55,8 @@ void HousekeepingTask::collect(msg::HousekeepingMsg* msg, core::TimeNs now) cons
         t.meanUs = toUs(stats->mean());
         t.hostMeanUs = toUs(stats->hostMean());
         t.hostMaxUs = toUs(stats->hostMax);
+        t.cpuOverBudget = stats->cpuOverBudget;
+        t.cpuTimed = entry->cpuTimed;
     }
 }
 

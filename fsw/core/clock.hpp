@@ -3,7 +3,9 @@
 // Two implementations: MonotonicClock (CLOCK_MONOTONIC, absolute-deadline sleeps,
 // used on the rover and over vcan) and VirtualClock (lockstep simulation: sleeping
 // jumps straight to the deadline, so a mission runs as fast as the CPU allows and
-// the same inputs always give the same timeline).
+// the same inputs always give the same timeline). Beside them ThreadCpuClock,
+// which is no timeline (nothing can sleep on it) but a meter of the calling
+// thread's own CPU time.
 #pragma once
 
 #include <cstdint>
@@ -54,6 +56,20 @@ public:
     // clock_nanosleep(TIMER_ABSTIME): deadlines are absolute, so lateness in one
     // frame does not shift the next; interrupted sleeps resume to the same deadline.
     void sleepUntil(TimeNs deadline) override;
+};
+
+// The calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID, user and system): what
+// a task's own work cost, without the time the scheduler gave to other threads
+// meanwhile, which wall-clock timing cannot tell apart. A kernel without IRQ time
+// accounting charges interrupt work to the interrupted thread, and a VM without
+// steal-time accounting (the development VM) the hypervisor's stalls too
+// (docs/performance.md, "Ground-link floods"). Not free: unlike
+// CLOCK_MONOTONIC it is a system call, not a vDSO read (about 1.9 us on the
+// development VM, bench_executive), so the executive reads it only for the rows
+// that ask (RateGroupEntry::cpuTimed).
+class ThreadCpuClock final {
+public:
+    TimeNs now() const;
 };
 
 }  // namespace rse::core

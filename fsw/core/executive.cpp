@@ -61,15 +61,19 @@ void Executive::start() {
 }
 
 void Executive::runTask(Slot& slot, const FrameContext& context) {
+    const bool cpuTimed = slot.entry.cpuTimed;
     const TimeNs begin = clock_.now();
     const TimeNs hostBegin = hostTimer_.now();
+    const TimeNs cpuBegin = cpuTimed ? cpuTimer_.now() : 0;  // innermost: the task's work only
     slot.entry.task->run(context);
+    const TimeNs cpuTook = cpuTimed ? cpuTimer_.now() - cpuBegin : 0;
     const TimeNs hostTook = hostTimer_.now() - hostBegin;
     const TimeNs end = clock_.now();
     const TimeNs took = end - begin;
     slot.liveness.lastRunEnd = end;
 
     TaskStats& s = slot.stats;
+    const TimeNs budget = static_cast<TimeNs>(slot.entry.budgetUs) * kNsPerUs;
     ++s.runs;
     s.hostTotal += hostTook;
     if (hostTook > s.hostMax) {
@@ -80,9 +84,34 @@ void Executive::runTask(Slot& slot, const FrameContext& context) {
     if (took > s.max) {
         s.max = took;
     }
-    if (took > static_cast<TimeNs>(slot.entry.budgetUs) * kNsPerUs) {
+    if (cpuTimed) {
+        s.cpuLast = cpuTook;
+        s.cpuTotal += cpuTook;
+        if (cpuTook > s.cpuMax) {
+            s.cpuMax = cpuTook;
+        }
+        // Counted, not evented: in lockstep the CPU time is the host's, and the
+        // event stream must stay the same for the same inputs. In real time CPU
+        // time cannot exceed wall time, so such a run is evented just below.
+        if (cpuTook > budget) {
+            ++s.cpuOverBudget;
+        }
+    }
+    if (took > budget) {
         ++s.overBudget;
-        if (isReportableOccurrence(s.overBudget)) {
+        if (!isReportableOccurrence(s.overBudget)) {
+            return;
+        }
+        // With the CPU time beside it the operator can tell a task that did too
+        // much work (CPU time over budget too) from one that was off the CPU
+        // (descheduled or blocked).
+        if (cpuTimed) {
+            events_.report(events::kExecTaskOverBudget, Severity::kWarning,
+                           "exec: task %s took %lld us, CPU %lld us, budget %u us (%u overruns, %u CPU)",
+                           slot.entry.name, static_cast<long long>(took / kNsPerUs),
+                           static_cast<long long>(cpuTook / kNsPerUs), static_cast<unsigned>(slot.entry.budgetUs),
+                           static_cast<unsigned>(s.overBudget), static_cast<unsigned>(s.cpuOverBudget));
+        } else {
             events_.report(events::kExecTaskOverBudget, Severity::kWarning,
                            "exec: task %s took %lld us, budget %u us (%u overruns)",
                            slot.entry.name, static_cast<long long>(took / kNsPerUs),

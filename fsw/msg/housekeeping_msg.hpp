@@ -17,8 +17,10 @@ struct TaskTimingTlm {
     std::uint32_t lastUs;
     std::uint32_t maxUs;
     std::uint32_t meanUs;
-    std::uint32_t hostMeanUs;   // host CPU time (differs from the above in lockstep)
+    std::uint32_t hostMeanUs;   // host wall time (differs from the above in lockstep)
     std::uint32_t hostMaxUs;
+    std::uint32_t cpuOverBudget;  // TaskStats::cpuOverBudget (0 unless cpuTimed)
+    bool cpuTimed;
 };
 
 struct HousekeepingMsg {

@@ -1,5 +1,7 @@
 #include <csignal>
 #include <cstdint>
+#include <ctime>
+#include <string>
 
 #include "fsw/core/core_events.hpp"
 #include "fsw/core/executive.hpp"
@@ -250,4 +252,96 @@ TEST(Executive, HostCpuTimeIsRecordedWhileTheVirtualTimelineStandsStill) {
     CHECK(exec.taskStats(0)->hostTotal > 0);   // but real CPU was spent
     CHECK(exec.taskStats(0)->hostMax >= exec.taskStats(0)->hostMean());
     LONGS_EQUAL(0, exec.taskStats(0)->overBudget);  // budgets judge the timeline
+}
+
+// Thread CPU time against wall time, on the real clock: a task that burns CPU
+// past its budget is over budget in both; one that sleeps past it (as a task
+// off the CPU mid-run would be) is over budget in wall time only. The margins are
+// wide (5 ms against a 1 ms budget) so a loaded machine cannot flip either.
+namespace {
+
+constexpr std::uint32_t kCpuTestBudgetUs = 1000;
+constexpr TimeNs kPastBudget = 5 * kNsPerMs;
+
+// Spins until this thread has used `cpu` of CPU time, however long that takes.
+class CpuBurner final : public Task {
+public:
+    void run(const FrameContext&) override {
+        const TimeNs end = cpu_.now() + kPastBudget;
+        while (cpu_.now() < end) {
+        }
+    }
+
+private:
+    ThreadCpuClock cpu_;
+};
+
+class Sleeper final : public Task {
+public:
+    void run(const FrameContext&) override {
+        const timespec pause{0, static_cast<long>(kPastBudget)};
+        nanosleep(&pause, nullptr);
+    }
+};
+
+}  // namespace
+
+TEST_GROUP(ExecutiveCpuTime) {
+    MonotonicClock clock;
+    EventLog events{clock};
+    Executive exec{clock, events};
+
+    // Runs one frame of a one-row table and returns the over-budget event's text ("" if none).
+    std::string runOnce(Task& task, bool cpuTimed) {
+        const RateGroupEntry table[] = {{"t", &task, 1, 0, kCpuTestBudgetUs, cpuTimed}};
+        CHECK(Status::kOk == exec.init(k100Hz, table, 1));
+        exec.runFrame();
+        std::string text;
+        Event e;
+        while (isOk(events.pop(&e))) {
+            if (e.id == events::kExecTaskOverBudget) {
+                text = e.text;
+            }
+        }
+        return text;
+    }
+};
+
+TEST(ExecutiveCpuTime, WorkPastTheBudgetIsOverBudgetInCpuTimeToo) {
+    CpuBurner burner;
+    const std::string event = runOnce(burner, true);
+    const TaskStats& s = *exec.taskStats(0);
+    LONGS_EQUAL(1, s.overBudget);
+    LONGS_EQUAL(1, s.cpuOverBudget);
+    CHECK(s.cpuLast >= kPastBudget);
+    CHECK_EQUAL(s.cpuLast, s.cpuMax);
+    CHECK_EQUAL(s.cpuLast, s.cpuMean());
+    // The event gives the CPU time beside the wall time.
+    CHECK_TEXT(event.find(", CPU ") != std::string::npos, event.c_str());
+    CHECK_TEXT(event.find("(1 overruns, 1 CPU)") != std::string::npos, event.c_str());
+}
+
+TEST(ExecutiveCpuTime, SleepingPastTheBudgetIsOverBudgetInWallTimeOnly) {
+    Sleeper sleeper;
+    const std::string event = runOnce(sleeper, true);
+    const TaskStats& s = *exec.taskStats(0);
+    LONGS_EQUAL(1, s.overBudget);
+    LONGS_EQUAL(0, s.cpuOverBudget);
+    CHECK(s.last >= kPastBudget);
+    CHECK(s.cpuLast < static_cast<TimeNs>(kCpuTestBudgetUs) * kNsPerUs);
+    CHECK_TEXT(event.find("(1 overruns, 0 CPU)") != std::string::npos, event.c_str());
+}
+
+TEST(ExecutiveCpuTime, RowsNotCpuTimedRecordNoCpuTime) {
+    CpuBurner burner;
+    const std::string event = runOnce(burner, false);
+    const TaskStats& s = *exec.taskStats(0);
+    LONGS_EQUAL(1, s.overBudget);
+    LONGS_EQUAL(0, s.cpuOverBudget);
+    CHECK_EQUAL(0, s.cpuLast);
+    CHECK_EQUAL(0, s.cpuMax);
+    CHECK_EQUAL(0, s.cpuTotal);
+    CHECK_TEXT(event.find("CPU") == std::string::npos, event.c_str());
+    const RateGroupEntry unsaid{"t", &burner, 1, 0, kCpuTestBudgetUs};
+    CHECK_FALSE(unsaid.cpuTimed);  // a row that does not ask is not CPU-timed
 }

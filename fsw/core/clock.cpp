@@ -1,7 +1,8 @@
+// clock.hpp's clocks that read the operating system's.
+#include "fsw/core/clock.hpp"
+
 #include <cerrno>
 #include <ctime>
-
-#include "fsw/core/clock.hpp"
 
 namespace rse::core {
 
@@ -14,13 +15,15 @@ timespec toTimespec(TimeNs t) {
     return ts;
 }
 
-}  // namespace
-
-TimeNs MonotonicClock::now() const {
+TimeNs read(clockid_t id) {
     timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(id, &ts);
     return static_cast<TimeNs>(ts.tv_sec) * kNsPerSec + static_cast<TimeNs>(ts.tv_nsec);
 }
+
+}  // namespace
+
+TimeNs MonotonicClock::now() const { return read(CLOCK_MONOTONIC); }
 
 void MonotonicClock::sleepUntil(TimeNs deadline) {
     const timespec target = toTimespec(deadline);
@@ -30,5 +33,7 @@ void MonotonicClock::sleepUntil(TimeNs deadline) {
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &target, nullptr) == EINTR) {
     }
 }
+
+TimeNs ThreadCpuClock::now() const { return read(CLOCK_THREAD_CPUTIME_ID); }
 
 }  // namespace rse::core
