@@ -340,7 +340,7 @@ $(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference
 # (bench_targets.hpp). make bench reports a missed target and exits 0 (it fails
 # only when a bench could not run); make bench-check fails on a missed target too.
 # RSE_BENCH_FORCE_MISS=1 makes every target a miss (to see bench-check fail).
-BENCH_RUN := $(filter-out %/bench_socketcan,$(BENCH_BINS)) unit_test/bench/vm_bench.sh
+BENCH_RUN := $(filter-out %/bench_socketcan,$(BENCH_BINS)) unit_test/bench/bench_ground_flood_keyed.sh unit_test/bench/vm_bench.sh
 bench: bench-deps $(BENCH_BINS)
 	@RSE_BIN_DIR=$(BUILD)/bin unit_test/bench/run_benches.sh $(BENCH_RUN)
 

@@ -139,6 +139,7 @@ core::Status FswApp::init(std::FILE* console) {
     // "Floods"); it is also timed in thread CPU time (cpu_timed), so an overrun it
     // caused can be told from one where it was off the CPU mid-run. Keep
     // docs/architecture.md in step.
+    constexpr std::uint32_t kCommandBudgetUs = 2000;
     const core::RateGroupEntry table[] = {
         // name            task            divisor offset budget_us [cpu_timed]
         {"tables", &tables_, 1, 0, 200},
@@ -148,7 +149,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"health", &health_, 1, 0, 200},
         {"fault_prot", &faultProtection_, 1, 0, 200},
         {"follower", &follower_, 1, 0, 200},
-        {"commands", &commands_, 1, 0, 2000, true},
+        {"commands", &commands_, 1, 0, kCommandBudgetUs, true},
         {"manual_drive", &manualDrive_, 1, 0, 200},
         {"housekeeping", &housekeeping_, 100, 0, 500},
         {"telemetry", &telemetry_, 1, 0, 2000},
@@ -157,6 +158,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"deliberative", &deliberative_, 10, 7, 5000},
         {"watchdog", &watchdog_, 10, 3, 100},
     };
+    commands_.setRunBudget(static_cast<core::TimeNs>(kCommandBudgetUs) * core::kNsPerUs);
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
     status = executive_.init(config, table, sizeof table / sizeof table[0]);
     if (!core::isOk(status)) {
@@ -253,6 +255,11 @@ void FswApp::printSummary(std::FILE* out) const {
                  static_cast<unsigned>(c.linkRxPackets), static_cast<unsigned>(c.linkRxDropped),
                  static_cast<unsigned>(c.linkRxKernelDropped), static_cast<unsigned>(c.ingestLimited),
                  static_cast<unsigned>(c.acksSuppressed));
+    std::fprintf(out,
+                 "  command runs: %u stalled (a gap over %lld us between ingest's clock reads), %u over budget "
+                 "less their stalls, longest less its stalls %u us\n",
+                 static_cast<unsigned>(c.stalledRuns), static_cast<long long>(cmdtlm::kIngestStallGap / core::kNsPerUs),
+                 static_cast<unsigned>(c.overBudgetLessStalls), static_cast<unsigned>(c.longestRunLessStallsUs));
     const CanGroundLink& can = canIo_.groundLink();
     if (can.downlinkActive()) {
         std::fprintf(out,

@@ -87,7 +87,9 @@ std::uint8_t CommandTask::keysUnsynced() const {
 }
 
 void CommandTask::run(const core::FrameContext&) {
-    now_ = clock_.now();
+    const core::TimeNs start = clock_.now();
+    now_ = start;
+    stalledNs_ = 0;
     handler_.serviceOnboardRequests();
     ingest();
     now_ = clock_.now();
@@ -98,6 +100,7 @@ void CommandTask::run(const core::FrameContext&) {
         }
     }
     reportStoreWriteFailures();
+    accountRun(start);
     counters_.queueDepth = static_cast<std::uint8_t>(count_);
     updateLinkCounters();
     reportFlood(clock_.now());
@@ -108,6 +111,7 @@ void CommandTask::run(const core::FrameContext&) {
 // link leaves each link after it at least kIngestLinkReserve of the frame.
 void CommandTask::ingest() {
     bool limited = false;
+    now_ = clock_.now();  // stalls are looked for from here on
     const core::TimeNs start = now_;
     const std::size_t n = links_.size();
     for (std::size_t l = 0; l < n; ++l) {
@@ -129,7 +133,7 @@ void CommandTask::ingest() {
 bool CommandTask::ingestFrom(hal::PacketLink& link, core::TimeNs deadline) {
     for (std::size_t n = 0; n < kMaxPacketsPerLink; ++n) {
         if (n % kIngestCheckEvery == 0) {
-            now_ = clock_.now();
+            readIngestClock();
             if (n > 0 && now_ >= deadline) {  // every link gets one round at least
                 return true;
             }
@@ -153,6 +157,29 @@ bool CommandTask::ingestFrom(hal::PacketLink& link, core::TimeNs deadline) {
         takePacket(length);
     }
     return true;
+}
+
+void CommandTask::readIngestClock() {
+    const core::TimeNs t = clock_.now();
+    if (t - now_ > kIngestStallGap) {
+        stalledNs_ += t - now_ - kIngestStallGap;
+    }
+    now_ = t;
+}
+
+void CommandTask::accountRun(core::TimeNs start) {
+    const core::TimeNs elapsed = clock_.now() - start;
+    const core::TimeNs own = elapsed > stalledNs_ ? elapsed - stalledNs_ : 0;
+    if (stalledNs_ > 0) {
+        ++counters_.stalledRuns;
+    }
+    if (runBudget_ > 0 && own > runBudget_) {
+        ++counters_.overBudgetLessStalls;
+    }
+    const auto ownUs = static_cast<std::uint32_t>(own / core::kNsPerUs);
+    if (ownUs > counters_.longestRunLessStallsUs) {
+        counters_.longestRunLessStallsUs = ownUs;
+    }
 }
 
 // Cheap rejection first: a packet that fails the screen never reaches the MAC,

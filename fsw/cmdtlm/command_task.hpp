@@ -51,6 +51,13 @@ constexpr std::size_t kMaxPacketsPerLink = 2048;
 constexpr core::TimeNs kIngestAllowance = 1200 * core::kNsPerUs;
 constexpr core::TimeNs kIngestLinkReserve = 150 * core::kNsPerUs;
 constexpr std::size_t kIngestCheckEvery = 32;    // packets between two looks at the clock
+// Two looks at the clock in ingest are at most kIngestCheckEvery packets, some
+// 50 us of work, apart. A gap longer than kIngestStallGap is time the thread
+// did not spend on ingest (the VM paused, the thread was off the CPU, the kernel
+// did other work): a stall. A run's time less its stalls (beyond the gap) is
+// what its own work cost, so an overrun can be told from a stalled run
+// (CommandCounters::overBudgetLessStalls; docs/icd.md "Floods").
+constexpr core::TimeNs kIngestStallGap = 300 * core::kNsPerUs;
 constexpr std::size_t kCommandsPerFrame = 2;     // executed per frame (200 commands/s), one MAC each
 // A command whose anti-replay reservation is being written waits at the head of
 // the queue (AntiReplayState: a write takes a frame or two with a file store);
@@ -77,6 +84,11 @@ struct CommandCounters {
     std::uint32_t ingestLimited = 0;        // frames in which ingest stopped at its limit on some link
     std::uint32_t acksSuppressed = 0;       // rejection acknowledgements not sent (rate limit)
     std::uint32_t storeWaitFrames = 0;      // frames a command waited for its reservation to be durable
+    // Runs of the task (executive clock): how many stalled, how many were over
+    // the run budget even with their stalls taken out, and the longest so.
+    std::uint32_t stalledRuns = 0;
+    std::uint32_t overBudgetLessStalls = 0;
+    std::uint32_t longestRunLessStallsUs = 0;
 };
 
 class CommandTask final : public core::Task {
@@ -108,6 +120,8 @@ public:
     bool labKeyInUse() const { return keys_.labKeyInUse(); }
 
     void run(const core::FrameContext& frame) override;
+    // The task's budget in the rate-group table, for overBudgetLessStalls (0: not counted).
+    void setRunBudget(core::TimeNs budget) { runBudget_ = budget; }
 
     const CommandCounters& counters() const { return counters_; }
     void resetCounters();
@@ -126,6 +140,8 @@ private:
     };
 
     void ingest();
+    void readIngestClock();  // now_, and a gap longer than kIngestStallGap counted as a stall
+    void accountRun(core::TimeNs start);
     bool ingestFrom(hal::PacketLink& link, core::TimeNs deadline);
     void takePacket(std::size_t length);
     // false: the head waits for its reservation (still queued); dispatch stops for this frame.
@@ -158,6 +174,8 @@ private:
     std::uint8_t scratch_[kMaxCommandPacket + 1] = {};  // one byte more: detects oversize packets
     CommandCounters counters_;
     core::TimeNs now_ = 0;  // the clock as last read in this run (read every kIngestCheckEvery packets)
+    core::TimeNs stalledNs_ = 0;  // this run's stalls, beyond kIngestStallGap each
+    core::TimeNs runBudget_ = 0;
     core::TimeNs rejectWindowStart_ = 0;
     std::uint32_t rejectEventsInWindow_ = 0;
     bool provisionAuthStore_ = false;

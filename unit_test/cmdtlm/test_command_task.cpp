@@ -467,7 +467,7 @@ public:
 
     core::Status receive(std::uint8_t* out, std::size_t capacity, std::size_t* length) override {
         if (clock != nullptr) {
-            clock->advance(costPerReceive);
+            clock->advance(costPerReceive + (handed == stallAt ? stall : 0));
         }
         if (handed == validAt) {
             ++handed;
@@ -523,6 +523,8 @@ public:
     std::size_t handed = 0;
     core::VirtualClock* clock = nullptr;
     core::TimeNs costPerReceive = 0;
+    std::size_t stallAt = kEndless;  // this receive also takes `stall` (the VM paused, say)
+    core::TimeNs stall = 0;
     std::uint32_t seed = 1;
     std::size_t acks = 0;
     std::size_t acceptedAcks = 0;
@@ -610,6 +612,32 @@ TEST(CommandFlood, RejectionAcksAreRateLimitedAndCountedWhileAcceptancesAlwaysGo
     LONGS_EQUAL(acksBefore + 2 + kRejectAcksPerSecond, flood->acks);
     LONGS_EQUAL(400 - kRejectAckBurst - kRejectAcksPerSecond, task->counters().acksSuppressed);
     LONGS_EQUAL(401, task->counters().rejected);
+}
+
+// A run over budget because ingest's thread stopped (a gap between two looks at
+// the clock that 32 packets cannot take) is told from one over budget by its
+// own work.
+TEST(CommandFlood, AStalledRunIsToldFromARunOverBudgetByItsOwnWork) {
+    task->setRunBudget(500 * core::kNsPerUs);
+    flood->clock = &clock;
+    flood->garbageLeft = 300;
+    flood->stallAt = 100;
+    flood->stall = 3 * core::kNsPerMs;
+    runFrame();
+    // The stall used the allowance up: ingest stopped at its next look at the clock.
+    LONGS_EQUAL(128, task->counters().rejected);
+    LONGS_EQUAL(1, task->counters().ingestLimited);
+    LONGS_EQUAL(1, task->counters().stalledRuns);
+    LONGS_EQUAL(0, task->counters().overBudgetLessStalls);
+    CHECK(task->counters().longestRunLessStallsUs <= kIngestStallGap / core::kNsPerUs);
+
+    // 2 us a packet, no stall: ingest works its whole 1.2 ms allowance, over this budget.
+    flood->garbageLeft = FloodLink::kEndless;
+    flood->costPerReceive = 2 * core::kNsPerUs;
+    runFrame();
+    LONGS_EQUAL(1, task->counters().stalledRuns);
+    LONGS_EQUAL(1, task->counters().overBudgetLessStalls);
+    CHECK(task->counters().longestRunLessStallsUs >= kIngestAllowance / core::kNsPerUs);
 }
 
 TEST(CommandFlood, IngestReadsAtMostItsPacketLimitPerFrameAndLeavesTheRestInTheLink) {
