@@ -4,7 +4,7 @@
 //           [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]
 //           (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)
 //           [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
-//           [--auth-store PATH] [--auth-store-create]
+//           [--auth-store PATH] [--auth-store-create] [--auth-store-sync]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
@@ -64,6 +64,7 @@ struct Options {
     bool authRequired = true;
     const char* authStore = "rse-fsw-auth.dat";
     bool authStoreCreate = false;
+    bool authStoreSync = false;
     const char* watchdogDevice = nullptr;
     int watchdogTimeoutS = 30;
 };
@@ -74,7 +75,7 @@ void usage(std::FILE* out) {
                  "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
                  "               (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)\n"
                  "               [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
-                 "               [--auth-store PATH] [--auth-store-create]\n"
+                 "               [--auth-store PATH] [--auth-store-create] [--auth-store-sync]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
                  "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
@@ -97,6 +98,9 @@ void usage(std::FILE* out) {
                  "                      missing or corrupt: commands refused until AUTH_RESYNC\n"
                  "  --auth-store-create first boot: create a missing store (floor 0) and add loaded keys it lacks;\n"
                  "                      never touches a corrupt store or a stored reservation\n"
+                 "  --auth-store-sync   write reservations inside the command task, without the writer thread\n"
+                 "                      (emulators whose threads do not run, e.g. qemu-user 7.2 here); a write\n"
+                 "                      then takes 1.5-5 ms of that task's 2 ms budget\n"
                  "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
                  "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
                  "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n");
@@ -137,6 +141,8 @@ bool parseOptions(int argc, char** argv, Options* options) {
             options->authRequired = false;
         } else if (std::strcmp(arg, "--auth-store-create") == 0) {
             options->authStoreCreate = true;
+        } else if (std::strcmp(arg, "--auth-store-sync") == 0) {
+            options->authStoreSync = true;
         } else if (std::strcmp(arg, "--lab-key") == 0) {
             options->keyOptions.labKeyAllowed = true;
         } else if (std::strcmp(arg, "--allow-weak-key") == 0) {
@@ -330,11 +336,11 @@ int main(int argc, char** argv) {
         return 1;
     }
     int writerError = 0;
-    if (!rse::core::isOk(g_authWriter.start(&writerError))) {
+    if (!options.authStoreSync && !rse::core::isOk(g_authWriter.start(&writerError))) {
         std::fprintf(stderr, "rse-fsw: cannot start the anti-replay store writer: %s\n", std::strerror(writerError));
         return 1;
     }
-    app.attachAuthStore(&g_authStore, options.authStoreCreate, &g_authWriter);
+    app.attachAuthStore(&g_authStore, options.authStoreCreate, options.authStoreSync ? nullptr : &g_authWriter);
     std::uint64_t nonce = 0;
     int randomError = 0;
     if (rse::core::isOk(rse::hal::readRandom64(&nonce, &randomError))) {
