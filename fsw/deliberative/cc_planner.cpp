@@ -140,6 +140,7 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     factorRestores_ = 0;
     geometryWork_ = 0;
     seedVariant_ = 0;
+    layerTau_ = 0;
     guideValid_ = false;
     guideDistance_ = HUGE_VAL;
     phase_ = (params_.seed && obstacles_ > 0) ? Phase::kSeed : Phase::kRoot;
@@ -525,13 +526,26 @@ bool CcPlanner::seedPath(std::size_t* legs) {
 }
 
 void CcPlanner::runSeed() {
+    // Order: the visibility variants from the most conservative inflation;
+    // the layered search (complete, dearer) once they have failed, one
+    // layer per unit; then the remaining variants, which may shorten it.
+    if (seedVariant_ == kLayeredSeedSlot && !seedFound_) {
+        if (layeredSeedStep()) {
+            ++seedVariant_;
+        }
+        return;
+    }
+    const std::size_t slot = seedVariant_++;
+    if (slot == kLayeredSeedSlot) {
+        return;  // a seed exists already: no layered search (this pass costs no work)
+    }
+    const std::size_t variant = slot < kLayeredSeedSlot ? slot : slot - 1;
+    if (seedVariant_ > kSeedVariants) {
+        phase_ = Phase::kRoot;
+    }
     // Variant v inflates every face by its margin at step kSeedSteps[v] of N
     // (margins grow with the step: N is the conservative inflation, 0 the
     // optimistic one that keeps gaps open for the early steps).
-    const std::size_t variant = seedVariant_++;
-    if (seedVariant_ >= kSeedVariants) {
-        phase_ = Phase::kRoot;
-    }
     const std::size_t tauInflate = steps_ * kSeedStepsNumerator[variant] / 2U;
     for (std::size_t i = 0; i < obstacles_; ++i) {
         const PlanObstacle& o = problem_.obstacles[i];
@@ -576,8 +590,14 @@ void CcPlanner::runSeed() {
         scratchX_[tau] = problem_.goalX;
         scratchY_[tau] = problem_.goalY;
     }
+    seedFromPath(dist_[1]);
+}
+
+// The faces the path in scratchX_ / scratchY_ clears best, the fixed-face LP
+// and the polish rounds; `distance` is the path's length for the guide.
+void CcPlanner::seedFromPath(double distance) {
     chooseFacesAt(scratchX_, scratchY_, faceScratch_);
-    if (dist_[1] < guideDistance_) {
+    if (distance < guideDistance_) {
         // The search tries these faces first (see evaluateNode): the shortest
         // visibility path's, even when its own LP turns out infeasible (the
         // margins grow along the path; the search's dives then find the
@@ -587,7 +607,7 @@ void CcPlanner::runSeed() {
                 guideFace_[t][i] = faceScratch_[t][i];
             }
         }
-        guideDistance_ = dist_[1];
+        guideDistance_ = distance;
         guideValid_ = true;
     }
     // The fixed-face LP, then polish rounds (each one LP).
@@ -624,6 +644,190 @@ void CcPlanner::runSeed() {
             return;
         }
     }
+}
+
+// ---------------------------------------------------------------------------
+// Layered seed: a search over waypoints, layer by layer (see the header).
+
+namespace {
+// The layered seed's lines are the faces moved out by their margin plus this
+// (the LP's kSafetyM with room for rounding), the site's sides moved in by
+// kLayerSideM (more than the LP's kBoundSafetyM).
+constexpr double kLayerSafetyM = 2.0 * kSafetyM;
+constexpr double kLayerSideM = 1e-7;
+constexpr std::uint8_t kStartPoint = 0xFE;
+constexpr std::uint8_t kGoalPoint = 0xFF;
+constexpr std::uint64_t kLayerPointWork = 4;  // one candidate's intersection, per face of the mask
+constexpr std::uint64_t kLayerEdgeWork = 3;   // one transition test (a mask AND)
+constexpr std::uint64_t kByteLow = 0x0101010101010101ULL;
+
+// Every obstacle's byte of the mask nonzero: for each obstacle some face
+// holds the point(s).
+bool everyObstacle(std::uint64_t mask, std::uint64_t wanted) {
+    std::uint64_t y = mask | (mask >> 4);
+    y |= y >> 2;
+    y |= y >> 1;
+    return (y & wanted) == wanted;
+}
+}  // namespace
+
+std::size_t CcPlanner::layerLineCount() const {
+    std::size_t n = 4;  // the site's sides
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        n += problem_.obstacles[i].faceCount;
+    }
+    return n;
+}
+
+// Line k at layer tau as {x : nx x + ny y = c}, the free side nx x + ny y >= c.
+void CcPlanner::layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const {
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        if (k < o.faceCount) {
+            *nx = o.normalX[k];
+            *ny = o.normalY[k];
+            *c = o.offset[k] + margin_[tau][i][k] + kLayerSafetyM;
+            return;
+        }
+        k -= o.faceCount;
+    }
+    const double sx[4] = {1.0, -1.0, 0.0, 0.0};
+    const double sy[4] = {0.0, 0.0, 1.0, -1.0};
+    const double sc[4] = {problem_.xMin + kLayerSideM, -(problem_.xMax - kLayerSideM), problem_.yMin + kLayerSideM,
+                          -(problem_.yMax - kLayerSideM)};
+    *nx = sx[k & 3U];
+    *ny = sy[k & 3U];
+    *c = sc[k & 3U];
+}
+
+// The point named by two line indices at layer tau (or the start or goal).
+bool CcPlanner::layerPoint(std::size_t tau, std::uint8_t a, std::uint8_t b, double* x, double* y) const {
+    if (a == kStartPoint || a == kGoalPoint) {
+        *x = a == kStartPoint ? problem_.startX : problem_.goalX;
+        *y = a == kStartPoint ? problem_.startY : problem_.goalY;
+        return true;
+    }
+    double ax = 0.0, ay = 0.0, ac = 0.0, bx = 0.0, by = 0.0, bc = 0.0;
+    layerLine(tau, a, &ax, &ay, &ac);
+    layerLine(tau, b, &bx, &by, &bc);
+    const double det = ax * by - ay * bx;
+    if (std::fabs(det) < 1e-9) {
+        return false;
+    }
+    *x = (ac * by - ay * bc) / det;
+    *y = (ax * bc - ac * bx) / det;
+    return *x >= problem_.xMin + kBoundSafetyM && *x <= problem_.xMax - kBoundSafetyM &&
+           *y >= problem_.yMin + kBoundSafetyM && *y <= problem_.yMax - kBoundSafetyM;
+}
+
+// Byte i, bit j: the point clears face j of obstacle i by its margin at tau
+// (by kSafetyM more, as the LP wants, unless it is the fixed start or goal).
+std::uint64_t CcPlanner::layerMask(std::size_t tau, double x, double y, bool fixedEnd) {
+    geometryWork_ += kLayerPointWork * kMaxObstacleFaces * obstacles_;
+    std::uint64_t mask = 0;
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            double s = endSlack(o, j, x, y, margin_[tau][i][j]);
+            s -= fixedEnd ? 0.0 : kSafetyM;
+            if (s >= 0.0) {
+                mask |= 1ULL << (8U * i + j);
+            }
+        }
+    }
+    return mask;
+}
+
+// Builds layer layerTau_ from the one before: every candidate point (two of
+// the layer's lines crossing inside the site, the start, the goal) that
+// clears every obstacle and is one feasible segment from a point of the
+// layer before. True when the search is over (a path is in scratchX_ /
+// scratchY_ and seeded, or there is none).
+bool CcPlanner::layeredSeedStep() {
+    const std::uint64_t wanted = kByteLow & (obstacles_ >= 8 ? ~0ULL : ((1ULL << (8U * obstacles_)) - 1U));
+    if (layerTau_ == 0) {
+        layerLines_[0][0][0] = kStartPoint;
+        layerLines_[0][0][1] = kStartPoint;
+        reachX_[0][0] = problem_.startX;
+        reachY_[0][0] = problem_.startY;
+        reachMask_[0][0] = layerMask(0, problem_.startX, problem_.startY, true);
+        layerCount_[0] = 1;
+        layerTau_ = 1;
+        return false;
+    }
+    const std::size_t tau = layerTau_;
+    const std::size_t from = (tau - 1) & 1U;
+    const std::size_t to = tau & 1U;
+    std::size_t count = 0;
+    auto consider = [&](std::uint8_t a, std::uint8_t b) {
+        double x = 0.0;
+        double y = 0.0;
+        if (count >= kMaxLayerPoints || !layerPoint(tau, a, b, &x, &y)) {
+            return;
+        }
+        const bool fixedEnd = a == kStartPoint || a == kGoalPoint;
+        const std::uint64_t mask = layerMask(tau, x, y, fixedEnd);
+        if (!everyObstacle(mask, wanted)) {
+            return;
+        }
+        const std::size_t prevCount = layerCount_[tau - 1];
+        for (std::size_t u = 0; u < prevCount; ++u) {
+            if (everyObstacle(mask & reachMask_[from][u], wanted)) {
+                geometryWork_ += kLayerEdgeWork * (u + 1U);
+                layerLines_[tau][count][0] = a;
+                layerLines_[tau][count][1] = b;
+                layerPrev_[tau][count] = static_cast<std::uint16_t>(u);
+                reachX_[to][count] = x;
+                reachY_[to][count] = y;
+                reachMask_[to][count] = mask;
+                ++count;
+                return;
+            }
+        }
+        geometryWork_ += kLayerEdgeWork * prevCount;
+    };
+    consider(kGoalPoint, kGoalPoint);
+    const bool goalReached = count == 1;
+    if (tau < steps_ && !goalReached) {
+        const std::size_t lines = layerLineCount();
+        for (std::size_t a = 0; a < lines; ++a) {
+            for (std::size_t b = a + 1; b < lines; ++b) {
+                if (a + 4 >= lines && b + 4 >= lines) {
+                    continue;  // two sides of the site: a corner, never needed
+                }
+                consider(static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b));
+            }
+        }
+    }
+    layerCount_[tau] = static_cast<std::uint16_t>(count);
+    if (count == 0 || (tau == steps_ && !goalReached)) {
+        return true;  // no path through these points
+    }
+    if (!goalReached) {
+        ++layerTau_;
+        return false;
+    }
+    // The goal at layer tau: the rest of the steps park there (the goal
+    // clears some face of every obstacle by its margin at N, the largest).
+    std::size_t k = 0;  // the goal's index in layer tau
+    for (std::size_t t = steps_; t > tau; --t) {
+        scratchX_[t] = problem_.goalX;
+        scratchY_[t] = problem_.goalY;
+    }
+    double length = 0.0;
+    for (std::size_t t = tau + 1; t-- > 0;) {
+        double x = 0.0;
+        double y = 0.0;
+        (void)layerPoint(t, layerLines_[t][k][0], layerLines_[t][k][1], &x, &y);
+        scratchX_[t] = x;
+        scratchY_[t] = y;
+        if (t < tau) {
+            length += polygonLength(scratchX_[t + 1] - x, scratchY_[t + 1] - y);
+        }
+        k = t > 0 ? layerPrev_[t][k] : 0U;
+    }
+    seedFromPath(length);
+    return true;
 }
 
 // ---------------------------------------------------------------------------

@@ -115,6 +115,10 @@ class CcPlanner {
 public:
     static constexpr std::size_t kPolishRounds = 1;
     static constexpr std::size_t kSeedVariants = 4;
+    // The layered seed runs after this many visibility variants found none.
+    static constexpr std::size_t kLayeredSeedSlot = 2;
+    // Points kept per layer of the layered seed (the first that are reachable).
+    static constexpr std::size_t kMaxLayerPoints = 256;
     // Factors (A_B^-1) of the deepest search levels, for going back to a
     // level without refactorising: a ring of slots over the stack.
     static constexpr std::size_t kFactorPoolDoubles = 4 * LpSolver::factorDoubles(kLpMaxVariables);
@@ -122,6 +126,9 @@ public:
     static constexpr std::size_t kMaxSeedVertices = 192;  // start, goal and free-space corners
     // Work units charged per position tautening tries (2 M face checks).
     static constexpr std::uint64_t kTautWorkPerTry = 64;
+    // The most work one unit of step() may do (see "Bounded and sliceable"):
+    // a plan's work() never exceeds the budget by more than this.
+    static constexpr std::uint64_t kMaxUnitWork = 1000000;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
@@ -178,6 +185,12 @@ private:
     void restoreLevel(std::size_t d);
     void runSeed();
     bool seedPath(std::size_t* legs);
+    void seedFromPath(double distance);
+    bool layeredSeedStep();
+    std::size_t layerLineCount() const;
+    void layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const;
+    bool layerPoint(std::size_t tau, std::uint8_t a, std::uint8_t b, double* x, double* y) const;
+    std::uint64_t layerMask(std::size_t tau, double x, double y, bool fixedEnd);
     bool solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost);
     void chooseFacesAt(const double* mx, const double* my,
                        std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) const;
@@ -234,6 +247,16 @@ private:
     bool guideValid_ = false;
     double guideDistance_ = 0.0;
     std::uint8_t legPoint_[kMaxSeedVertices + 1] = {};
+
+    // Layered seed: per layer the points kept (their two lines, or the start
+    // or goal) and each one's predecessor; the last two layers' points.
+    std::size_t layerTau_ = 0;
+    std::uint16_t layerCount_[kMaxPlanSteps + 1] = {};
+    std::uint8_t layerLines_[kMaxPlanSteps + 1][kMaxLayerPoints][2] = {};
+    std::uint16_t layerPrev_[kMaxPlanSteps + 1][kMaxLayerPoints] = {};
+    double reachX_[2][kMaxLayerPoints] = {};
+    double reachY_[2][kMaxLayerPoints] = {};
+    std::uint64_t reachMask_[2][kMaxLayerPoints] = {};
 
     // Allocation state.
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
