@@ -140,6 +140,8 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     factorRestores_ = 0;
     geometryWork_ = 0;
     seedVariant_ = 0;
+    seedStage_ = SeedStage::kIdle;
+    lpRunning_ = false;
     layerTau_ = 0;
     guideValid_ = false;
     guideDistance_ = HUGE_VAL;
@@ -171,19 +173,31 @@ bool CcPlanner::step(std::uint32_t maxNodes) {
     for (std::uint64_t pass = 0; pass < guard && units < maxNodes && phase_ != Phase::kDone; ++pass) {
         switch (phase_) {
             case Phase::kSeed:
+                // Out of budget: whatever seed is under way is dropped.
                 if (budgetLeft()) {
                     runSeed();
                 } else {
+                    lpRunning_ = false;
                     phase_ = Phase::kRoot;
                 }
                 ++units;
                 break;
             case Phase::kRoot:
-                rootStep();
+                // The presolve always runs (it can prove there is no plan at
+                // no LP cost); the root's LP only within the budget.
+                if (!lpRunning_ || budgetLeft()) {
+                    rootStep();
+                } else {
+                    abandonNode();
+                    phase_ = Phase::kAllocate;
+                }
                 ++units;
                 break;
             case Phase::kSearch:
                 if (nodes_ >= params_.nodeBudget || !budgetLeft()) {
+                    if (lpRunning_) {
+                        abandonNode();
+                    }
                     incomplete_ = true;
                     phase_ = Phase::kAllocate;
                 } else if (searchStep()) {
@@ -322,26 +336,6 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
     }
 }
 
-bool CcPlanner::solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost) {
-    (void)lp_.popPairs(0);
-    for (std::size_t t = 0; t < steps_; ++t) {
-        for (std::size_t i = 0; i < obstacles_; ++i) {
-            const std::size_t j = face[t][i];
-            bool feasible = false;
-            if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
-                !feasible) {
-                return false;
-            }
-        }
-    }
-    ++seedSolves_;
-    if (lp_.solve(lpCap()) != LpStatus::kOptimal) {
-        return false;
-    }
-    *cost = lp_.cost();
-    return true;
-}
-
 // ---------------------------------------------------------------------------
 // Seed.
 
@@ -376,7 +370,7 @@ bool CcPlanner::segmentBlocked(double px, double py, double qx, double qy) {
     return false;
 }
 
-bool CcPlanner::seedPath(std::size_t* legs) {
+bool CcPlanner::seedVertices() {
     const CcProblem& p = problem_;
     auto insideInflated = [&](std::size_t i, double x, double y, double tol) {
         const PlanObstacle& o = p.obstacles[i];
@@ -468,38 +462,46 @@ bool CcPlanner::seedPath(std::size_t* legs) {
             }
         }
     }
-    // Dijkstra from the start; the (costly) visibility test only for edges
-    // that would improve a distance.
+    // Dijkstra from the start (dijkstraStep, one vertex per unit); the
+    // (costly) visibility test only for edges that would improve a distance.
     for (std::size_t v = 0; v < vertexCount_; ++v) {
         dist_[v] = INFINITY;
         settled_[v] = false;
         prev_[v] = 0;
     }
     dist_[0] = 0.0;
-    for (std::size_t round = 0; round < vertexCount_; ++round) {
-        std::size_t u = vertexCount_;
-        double du = INFINITY;
-        for (std::size_t v = 0; v < vertexCount_; ++v) {
-            if (!settled_[v] && dist_[v] < du) {
-                du = dist_[v];
-                u = v;
-            }
-        }
-        if (u == vertexCount_ || u == 1) {
-            break;
-        }
-        settled_[u] = true;
-        for (std::size_t v = 0; v < vertexCount_; ++v) {
-            if (settled_[v]) {
-                continue;
-            }
-            const double d = du + polygonLength(vx_[v] - vx_[u], vy_[v] - vy_[u]);
-            if (d < dist_[v] && !segmentBlocked(vx_[u], vy_[u], vx_[v], vy_[v])) {
-                dist_[v] = d;
-                prev_[v] = static_cast<std::uint8_t>(u);
-            }
+    return true;
+}
+
+// Settles one vertex; true when the goal is settled or none is left.
+bool CcPlanner::dijkstraStep() {
+    std::size_t u = vertexCount_;
+    double du = INFINITY;
+    for (std::size_t v = 0; v < vertexCount_; ++v) {
+        if (!settled_[v] && dist_[v] < du) {
+            du = dist_[v];
+            u = v;
         }
     }
+    if (u == vertexCount_ || u == 1) {
+        return true;
+    }
+    settled_[u] = true;
+    for (std::size_t v = 0; v < vertexCount_; ++v) {
+        if (settled_[v]) {
+            continue;
+        }
+        const double d = du + polygonLength(vx_[v] - vx_[u], vy_[v] - vy_[u]);
+        if (d < dist_[v] && !segmentBlocked(vx_[u], vy_[u], vx_[v], vy_[v])) {
+            dist_[v] = d;
+            prev_[v] = static_cast<std::uint8_t>(u);
+        }
+    }
+    return false;
+}
+
+// The shortest path's legs into legPoint_ (start first); false without one.
+bool CcPlanner::seedLegs(std::size_t* legs) {
     if (!std::isfinite(dist_[1])) {
         return false;
     }
@@ -526,35 +528,60 @@ bool CcPlanner::seedPath(std::size_t* legs) {
 }
 
 void CcPlanner::runSeed() {
-    // Order: the visibility variants from the most conservative inflation;
-    // the layered search (complete, dearer) once they have failed, one
-    // layer per unit; then the remaining variants, which may shorten it.
-    if (seedVariant_ == kLayeredSeedSlot && !seedFound_) {
-        if (layeredSeedStep()) {
-            ++seedVariant_;
+    // One unit: a slice of the current seed (its LP, a Dijkstra round, a
+    // slice of a layer), else the start of the next one.
+    if (lpRunning_) {
+        seedLpUnit();
+        return;
+    }
+    if (seedStage_ == SeedStage::kDijkstra) {
+        if (dijkstraStep()) {
+            seedStage_ = SeedStage::kIdle;
+            cutSeedPath();
         }
         return;
     }
-    const std::size_t slot = seedVariant_++;
-    if (slot == kLayeredSeedSlot) {
-        return;  // a seed exists already: no layered search (this pass costs no work)
+    if (seedStage_ == SeedStage::kLayered) {
+        if (layeredSeedStep()) {
+            seedStage_ = SeedStage::kIdle;
+        }
+        return;
     }
-    const std::size_t variant = slot < kLayeredSeedSlot ? slot : slot - 1;
     if (seedVariant_ > kSeedVariants) {
         phase_ = Phase::kRoot;
+        return;
     }
+    // Order: the visibility variants from the most conservative inflation;
+    // the layered search (complete, dearer) once they have failed; then the
+    // remaining variants, which may shorten its plan.
+    const std::size_t slot = seedVariant_++;
+    if (slot == kLayeredSeedSlot) {
+        if (!seedFound_ && params_.layeredSeed) {
+            layerTau_ = 0;
+            seedStage_ = SeedStage::kLayered;
+        }
+        return;
+    }
+    seedCurrent_ = slot < kLayeredSeedSlot ? slot : slot - 1;
     // Variant v inflates every face by its margin at step kSeedSteps[v] of N
     // (margins grow with the step: N is the conservative inflation, 0 the
     // optimistic one that keeps gaps open for the early steps).
-    const std::size_t tauInflate = steps_ * kSeedStepsNumerator[variant] / 2U;
+    const std::size_t tauInflate = steps_ * kSeedStepsNumerator[seedCurrent_] / 2U;
     for (std::size_t i = 0; i < obstacles_; ++i) {
         const PlanObstacle& o = problem_.obstacles[i];
         for (std::size_t j = 0; j < o.faceCount; ++j) {
             inflated_[i][j] = o.offset[j] + margin_[tauInflate][i][j] + kSeedInflateM;
         }
     }
+    if (seedVertices()) {
+        seedStage_ = SeedStage::kDijkstra;
+    }
+}
+
+// The visibility path cut into N segments (variant seedCurrent_), then seeded.
+void CcPlanner::cutSeedPath() {
     std::size_t legs = 0;
-    if (!seedPath(&legs)) {
+    if (!seedLegs(&legs)) {
         return;
     }
     // Segments per leg: one each, the rest one at a time to the leg with the
@@ -565,7 +592,7 @@ void CcPlanner::runSeed() {
         share[l] = 1;
         length[l] = euclidean(vx_[legPoint_[l + 1]] - vx_[legPoint_[l]], vy_[legPoint_[l + 1]] - vy_[legPoint_[l]]);
     }
-    for (std::size_t extra = legs; extra < steps_ && !kSeedFrontLoaded[variant]; ++extra) {
+    for (std::size_t extra = legs; extra < steps_ && !kSeedFrontLoaded[seedCurrent_]; ++extra) {
         std::size_t best = 0;
         for (std::size_t l = 1; l < legs; ++l) {
             if (length[l] / static_cast<double>(share[l]) > length[best] / static_cast<double>(share[best])) {
@@ -610,40 +637,90 @@ void CcPlanner::seedFromPath(double distance) {
         guideDistance_ = distance;
         guideValid_ = true;
     }
-    // The fixed-face LP, then polish rounds (each one LP).
-    for (std::size_t round = 0; round <= kPolishRounds; ++round) {
-        double cost = 0.0;
-        if (!solveAssignment(faceScratch_, &cost)) {
-            return;
-        }
-        offerIncumbentFromLp(faceScratch_);
-        if (std::isfinite(evenCost_)) {
-            seedFound_ = true;
-            seedCost_ = evenCost_;
-        }
-        for (std::size_t k = 0; k <= steps_; ++k) {
-            scratchX_[k] = lp_.meanX(k);
-            scratchY_[k] = lp_.meanY(k);
-        }
-        bool changed = false;
-        for (std::size_t t = 0; t < steps_; ++t) {
-            for (std::size_t i = 0; i < obstacles_; ++i) {
-                const std::uint8_t old = faceScratch_[t][i];
-                double best = pairScore(t, i, old, scratchX_, scratchY_);
-                for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
-                    const double s = pairScore(t, i, j, scratchX_, scratchY_);
-                    if (s > best + 1e-9) {
-                        best = s;
-                        faceScratch_[t][i] = static_cast<std::uint8_t>(j);
-                    }
-                }
-                changed = changed || faceScratch_[t][i] != old;
+    // The fixed-face LP, then polish rounds (each one LP), in units.
+    seedRound_ = 0;
+    seedStartLp();
+}
+
+// The fixed-face LP of faceScratch_, started (its pivots run in units).
+void CcPlanner::seedStartLp() {
+    (void)lp_.popPairs(0);
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const std::size_t j = faceScratch_[t][i];
+            bool feasible = false;
+            if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
+                !feasible) {
+                return;
             }
         }
-        if (!changed) {
-            return;
+    }
+    ++seedSolves_;
+    beginLp(HUGE_VAL, lpCap());
+}
+
+// One unit of the seed's LP; at its optimum the plan is offered, then
+// "polish": each pair moves to the face its ends clear best (the path stays
+// feasible, so the cost cannot rise) and, if any moved, the LP again.
+void CcPlanner::seedLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st) || st != LpStatus::kOptimal) {
+        return;
+    }
+    offerIncumbentFromLp(faceScratch_);
+    if (std::isfinite(evenCost_)) {
+        seedFound_ = true;
+        seedCost_ = evenCost_;
+    }
+    if (seedRound_ >= kPolishRounds) {
+        return;
+    }
+    ++seedRound_;
+    for (std::size_t k = 0; k <= steps_; ++k) {
+        scratchX_[k] = lp_.meanX(k);
+        scratchY_[k] = lp_.meanY(k);
+    }
+    bool changed = false;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const std::uint8_t old = faceScratch_[t][i];
+            double best = pairScore(t, i, old, scratchX_, scratchY_);
+            for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
+                const double sc = pairScore(t, i, j, scratchX_, scratchY_);
+                if (sc > best + 1e-9) {
+                    best = sc;
+                    faceScratch_[t][i] = static_cast<std::uint8_t>(j);
+                }
+            }
+            changed = changed || faceScratch_[t][i] != old;
         }
     }
+    geometryWork_ += kScoreWork * steps_ * obstacles_ * kMaxObstacleFaces;
+    if (changed) {
+        seedStartLp();
+    }
+}
+
+// The pending LP (lpRunning_): started here, run by continueLp.
+void CcPlanner::beginLp(double cutoff, std::uint32_t limit) {
+    lpRunning_ = true;
+    lpPivots_ = 0;
+    lpLimit_ = limit;
+    lpCutoff_ = cutoff;
+}
+
+// At most kPivotsPerUnit pivots of the pending LP; false while it runs on
+// (its basis is kept: the next call continues it), true when it has ended
+// (*status: its outcome; kIterationLimit when its pivot cap ran out).
+bool CcPlanner::continueLp(LpStatus* status) {
+    const std::uint32_t left = lpLimit_ > lpPivots_ ? lpLimit_ - lpPivots_ : 0U;
+    *status = lp_.solve(left < kPivotsPerUnit ? left : kPivotsPerUnit, lpCutoff_);
+    lpPivots_ += lp_.solver().lastIterations();
+    if (*status == LpStatus::kIterationLimit && lpPivots_ < lpLimit_) {
+        return false;
+    }
+    lpRunning_ = false;
+    return true;
 }
 
 // ---------------------------------------------------------------------------
@@ -753,16 +830,17 @@ bool CcPlanner::layeredSeedStep() {
         reachMask_[0][0] = layerMask(0, problem_.startX, problem_.startY, true);
         layerCount_[0] = 1;
         layerTau_ = 1;
+        layerLineA_ = 0;
+        layerBuilt_ = 0;
         return false;
     }
     const std::size_t tau = layerTau_;
     const std::size_t from = (tau - 1) & 1U;
     const std::size_t to = tau & 1U;
-    std::size_t count = 0;
     auto consider = [&](std::uint8_t a, std::uint8_t b) {
         double x = 0.0;
         double y = 0.0;
-        if (count >= kMaxLayerPoints || !layerPoint(tau, a, b, &x, &y)) {
+        if (layerBuilt_ >= kMaxLayerPoints || !layerPoint(tau, a, b, &x, &y)) {
             return;
         }
         const bool fixedEnd = a == kStartPoint || a == kGoalPoint;
@@ -774,32 +852,46 @@ bool CcPlanner::layeredSeedStep() {
         for (std::size_t u = 0; u < prevCount; ++u) {
             if (everyObstacle(mask & reachMask_[from][u], wanted)) {
                 geometryWork_ += kLayerEdgeWork * (u + 1U);
-                layerLines_[tau][count][0] = a;
-                layerLines_[tau][count][1] = b;
-                layerPrev_[tau][count] = static_cast<std::uint16_t>(u);
-                reachX_[to][count] = x;
-                reachY_[to][count] = y;
-                reachMask_[to][count] = mask;
-                ++count;
+                layerLines_[tau][layerBuilt_][0] = a;
+                layerLines_[tau][layerBuilt_][1] = b;
+                layerPrev_[tau][layerBuilt_] = static_cast<std::uint16_t>(u);
+                reachX_[to][layerBuilt_] = x;
+                reachY_[to][layerBuilt_] = y;
+                reachMask_[to][layerBuilt_] = mask;
+                ++layerBuilt_;
                 return;
             }
         }
         geometryWork_ += kLayerEdgeWork * prevCount;
     };
-    consider(kGoalPoint, kGoalPoint);
-    const bool goalReached = count == 1;
-    if (tau < steps_ && !goalReached) {
-        const std::size_t lines = layerLineCount();
-        for (std::size_t a = 0; a < lines; ++a) {
-            for (std::size_t b = a + 1; b < lines; ++b) {
-                if (a + 4 >= lines && b + 4 >= lines) {
-                    continue;  // two sides of the site: a corner, never needed
-                }
-                consider(static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b));
-            }
+    const std::size_t lines = layerLineCount();
+    bool goalReached = false;
+    if (layerLineA_ == 0 && layerBuilt_ == 0) {
+        // The goal first: once it is reached the rest of the steps park there.
+        consider(kGoalPoint, kGoalPoint);
+        goalReached = layerBuilt_ == 1;
+        if (tau == steps_ || goalReached) {
+            layerLineA_ = lines;
         }
     }
+    // A slice of the line pairs (at least kLayerPairsPerUnit, whole rows).
+    std::size_t pairs = 0;
+    for (; layerLineA_ < lines && pairs < kLayerPairsPerUnit; ++layerLineA_) {
+        const std::size_t a = layerLineA_;
+        for (std::size_t b = a + 1; b < lines; ++b, ++pairs) {
+            if (a + 4 >= lines && b + 4 >= lines) {
+                continue;  // two sides of the site: a corner, never needed
+            }
+            consider(static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b));
+        }
+    }
+    if (layerLineA_ < lines) {
+        return false;  // this layer goes on in the next unit
+    }
+    const std::size_t count = layerBuilt_;
     layerCount_[tau] = static_cast<std::uint16_t>(count);
+    layerLineA_ = 0;
+    layerBuilt_ = 0;
     if (count == 0 || (tau == steps_ && !goalReached)) {
         return true;  // no path through these points
     }
@@ -834,7 +926,10 @@ bool CcPlanner::layeredSeedStep() {
 // Search.
 
 void CcPlanner::rootStep() {
-    phase_ = Phase::kSearch;
+    if (lpRunning_) {
+        rootLpUnit();
+        return;
+    }
     (void)lp_.popPairs(0);
     depth_ = 0;
     rootPairs_ = 0;
@@ -857,6 +952,7 @@ void CcPlanner::rootStep() {
                 }
             }
             if (count == 0) {
+                phase_ = Phase::kSearch;
                 return;  // depth 0: the search ends at once, exhausted, with no plan
             }
             if (count == 1) {
@@ -870,7 +966,16 @@ void CcPlanner::rootStep() {
             }
         }
     }
-    const LpStatus st = lp_.solve(lpCap());
+    beginLp(HUGE_VAL, lpCap());
+}
+
+// One unit of the root's LP; at its end the search starts from it.
+void CcPlanner::rootLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st)) {
+        return;
+    }
+    phase_ = Phase::kSearch;
     ++nodes_;
     if (st == LpStatus::kOptimal) {
         evaluateNode();
@@ -983,6 +1088,10 @@ void CcPlanner::restoreLevel(std::size_t d) {
 }
 
 bool CcPlanner::searchStep() {
+    if (lpRunning_) {
+        nodeLpUnit();
+        return true;
+    }
     // Each pass consumes one child (or pops a level), so kMaxPairs levels of
     // at most kMaxObstacleFaces children bound it.
     const std::size_t guard = kMaxPairs * (kMaxObstacleFaces + 1) + 1;
@@ -1005,17 +1114,34 @@ bool CcPlanner::searchStep() {
             !feasible) {
             continue;
         }
-        const LpStatus st = lp_.solve(lpCap(), pruneThreshold());
-        ++nodes_;
-        if (st == LpStatus::kOptimal) {
-            evaluateNode();
-        } else if (st != LpStatus::kInfeasible && st != LpStatus::kCutoff) {
-            incomplete_ = true;
-            unresolvedBound_ = l.bound < unresolvedBound_ ? l.bound : unresolvedBound_;
-        }
+        beginLp(pruneThreshold(), lpCap());
+        nodeLpUnit();
         return true;
     }
     return false;
+}
+
+// One unit of a node's LP; at its end the node is evaluated.
+void CcPlanner::nodeLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st)) {
+        return;
+    }
+    ++nodes_;
+    if (st == LpStatus::kOptimal) {
+        evaluateNode();
+    } else if (st != LpStatus::kInfeasible && st != LpStatus::kCutoff) {
+        abandonNode();
+    }
+}
+
+// The node whose LP is running (or was cut short) stays unresolved: the
+// search is incomplete and its parent's bound bounds what it hides.
+void CcPlanner::abandonNode() {
+    lpRunning_ = false;
+    incomplete_ = true;
+    const double bound = depth_ > 0 ? level_[depth_ - 1].bound : 0.0;
+    unresolvedBound_ = bound < unresolvedBound_ ? bound : unresolvedBound_;
 }
 
 // ---------------------------------------------------------------------------
@@ -1023,6 +1149,22 @@ bool CcPlanner::searchStep() {
 
 void CcPlanner::allocateStep() {
     const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    if (lpRunning_) {
+        LpStatus st = LpStatus::kNotSolved;
+        if (!workLeft) {
+            lpRunning_ = false;
+            finish();
+        } else if (!continueLp(&st)) {
+            // runs on in the next unit
+        } else if (st != LpStatus::kOptimal) {
+            finish();
+        } else if (!iraReady_) {
+            iraReady_ = true;
+        } else {
+            allocationCandidate();
+        }
+        return;
+    }
     if (best_.status == CcStatus::kNoPlan || obstacles_ == 0 ||
         problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || !workLeft) {
         finish();
@@ -1044,11 +1186,7 @@ void CcPlanner::allocateStep() {
                 }
             }
         }
-        if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
-            finish();
-            return;
-        }
-        iraReady_ = true;
+        beginLp(HUGE_VAL, params_.perLpIterations);
         return;
     }
     ++iraDone_;
@@ -1128,10 +1266,12 @@ void CcPlanner::allocateStep() {
                                      faceMargin(problem_, i, j, t + 1, delta_[t][i][1]));
         }
     }
-    if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
-        finish();
-        return;
-    }
+    beginLp(HUGE_VAL, params_.perLpIterations);
+}
+
+// The candidate of an allocation round: its LP's path with its deltas, kept
+// when it verifies and is shorter; the rounds end when one gains nothing.
+void CcPlanner::allocationCandidate() {
     // The candidate: this LP's path with these deltas.
     CcPlan& c = candidate_;
     c = best_;

@@ -105,6 +105,7 @@ struct CcPlannerParams {
     double relativeGap = 0.002;                // prune bound >= incumbent (1 - gap); [0, 0.5)
     std::uint8_t iraRounds = 12;               // risk allocation rounds (kOptimised), 0..50
     bool seed = true;                          // the visibility-graph seed
+    bool layeredSeed = true;                   // the layered seed when those find none (false: ablation only)
 };
 
 // Checks a plan against its problem exactly (see above). kInvalidArgument
@@ -119,6 +120,9 @@ public:
     static constexpr std::size_t kLayeredSeedSlot = 2;
     // Points kept per layer of the layered seed (the first that are reachable).
     static constexpr std::size_t kMaxLayerPoints = 256;
+    // Slices of work per unit of step(): LP pivots, line pairs of a layer.
+    static constexpr std::uint32_t kPivotsPerUnit = 16;
+    static constexpr std::size_t kLayerPairsPerUnit = 256;
     // Factors (A_B^-1) of the deepest search levels, for going back to a
     // level without refactorising: a ring of slots over the stack.
     static constexpr std::size_t kFactorPoolDoubles = 4 * LpSolver::factorDoubles(kLpMaxVariables);
@@ -128,7 +132,7 @@ public:
     static constexpr std::uint64_t kTautWorkPerTry = 64;
     // The most work one unit of step() may do (see "Bounded and sliceable"):
     // a plan's work() never exceeds the budget by more than this.
-    static constexpr std::uint64_t kMaxUnitWork = 1000000;
+    static constexpr std::uint64_t kMaxUnitWork = 500000;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
@@ -170,6 +174,7 @@ public:
 
 private:
     enum class Phase : std::uint8_t { kIdle, kSeed, kRoot, kSearch, kAllocate, kDone };
+    enum class SeedStage : std::uint8_t { kIdle, kDijkstra, kLayered };
 
     struct Level {
         std::uint8_t t;
@@ -184,14 +189,24 @@ private:
     void saveLevelFactor(std::size_t d);
     void restoreLevel(std::size_t d);
     void runSeed();
-    bool seedPath(std::size_t* legs);
+    bool seedVertices();
+    bool dijkstraStep();
+    bool seedLegs(std::size_t* legs);
+    void cutSeedPath();
     void seedFromPath(double distance);
+    void seedStartLp();
+    void seedLpUnit();
+    void beginLp(double cutoff, std::uint32_t limit);
+    bool continueLp(LpStatus* status);
+    void rootLpUnit();
+    void nodeLpUnit();
+    void abandonNode();
+    void allocationCandidate();
     bool layeredSeedStep();
     std::size_t layerLineCount() const;
     void layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const;
     bool layerPoint(std::size_t tau, std::uint8_t a, std::uint8_t b, double* x, double* y) const;
     std::uint64_t layerMask(std::size_t tau, double x, double y, bool fixedEnd);
-    bool solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost);
     void chooseFacesAt(const double* mx, const double* my,
                        std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) const;
     void offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]);
@@ -242,7 +257,10 @@ private:
     std::uint8_t prev_[kMaxSeedVertices] = {};
     bool settled_[kMaxSeedVertices] = {};
     std::size_t vertexCount_ = 0;
-    std::size_t seedVariant_ = 0;
+    std::size_t seedVariant_ = 0;   // the next seed slot (variants and the layered seed)
+    std::size_t seedCurrent_ = 0;   // the visibility variant under way
+    SeedStage seedStage_ = SeedStage::kIdle;
+    std::size_t seedRound_ = 0;     // polish rounds done on the current seed
     std::uint8_t guideFace_[kMaxPlanSteps][kMaxPlanObstacles] = {};
     bool guideValid_ = false;
     double guideDistance_ = 0.0;
@@ -251,12 +269,21 @@ private:
     // Layered seed: per layer the points kept (their two lines, or the start
     // or goal) and each one's predecessor; the last two layers' points.
     std::size_t layerTau_ = 0;
+    std::size_t layerLineA_ = 0;    // the next first line of the layer being built
+    std::size_t layerBuilt_ = 0;    // its points so far
     std::uint16_t layerCount_[kMaxPlanSteps + 1] = {};
     std::uint8_t layerLines_[kMaxPlanSteps + 1][kMaxLayerPoints][2] = {};
     std::uint16_t layerPrev_[kMaxPlanSteps + 1][kMaxLayerPoints] = {};
     double reachX_[2][kMaxLayerPoints] = {};
     double reachY_[2][kMaxLayerPoints] = {};
     std::uint64_t reachMask_[2][kMaxLayerPoints] = {};
+
+    // The LP under way (seed, root, node or allocation round), run
+    // kPivotsPerUnit pivots per unit.
+    bool lpRunning_ = false;
+    std::uint32_t lpPivots_ = 0;
+    std::uint32_t lpLimit_ = 0;
+    double lpCutoff_ = 0.0;
 
     // Allocation state.
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     const CcPlannerParams params{};
     const std::uint64_t budget = 1000ULL * params.workBudget;
     std::size_t exists = 0, found = 0, missed = 0, cbcRuns = 0, cbcPlans = 0, cbcUndecided = 0, badPlans = 0;
+    std::size_t ablationMissed = 0, ablationCbc = 0;
     std::size_t overBudget = 0, seedMissing = 0, mcChecked = 0, mcFailed = 0, runs = 0;
     double worstRatio = 0.0;
     std::uint64_t worstExcess = 0;
@@ -124,6 +125,32 @@ int main(int argc, char** argv) {
             }
         }
         seedMissing += seeds[0] ? 0U : 1U;
+        // Ablation: the planner as it was before the layered seed, with 20x
+        // the budget where it finds nothing, and CBC on those.
+        {
+            CcPlannerParams old = params;
+            old.layeredSeed = false;
+            problem.allocation = RiskAllocation::kEvenSplit;
+            CcPlan p;
+            if (!hasPlan(planner.solve(problem, old, &p))) {
+                old.workBudget *= 20;
+                old.nodeBudget *= 20;
+                old.iterationBudget *= 20;
+                if (!hasPlan(planner.solve(problem, old, &p))) {
+                    ++ablationMissed;
+                    MilpOptions o;
+                    o.timeLimitS = cbcLimit;
+                    const MilpResult r = solveReferenceMilp(problem, o);
+                    const bool cbcOk = hasPlan(r.plan.status) &&
+                                       segmentConstraintSlack(problem, r.plan.meanX, r.plan.meanY, evenSplit(problem)) >= -1e-7;
+                    ablationCbc += cbcOk ? 1U : 0U;
+                    std::printf("ablation: instance %zu: no plan without the layered seed at 20x the budget; CBC %s "
+                                "(%.2f m); with it: %s %.2f m\n",
+                                k, cbcOk ? "finds a plan" : "finds none", cbcOk ? r.cost : 0.0,
+                                hasPlan(plans[0].status) ? "plan" : "NO PLAN", plans[0].cost);
+                }
+            }
+        }
         const bool plannerFound = hasPlan(plans[0].status) && hasPlan(plans[1].status);
         std::string reference = h.hasWitness ? "witness" : "-";
         bool planExists = h.hasWitness || hasPlan(plans[0].status) || hasPlan(plans[1].status);
@@ -171,6 +198,8 @@ int main(int argc, char** argv) {
                 "(kMaxUnitWork %llu)\n",
                 count - seedMissing, count, worstRatio, static_cast<unsigned long long>(worstExcess),
                 static_cast<unsigned long long>(CcPlanner::kMaxUnitWork));
+    std::printf("without the layered seed (ablation): no plan at 20x the budget on %zu, CBC found a plan on %zu of them\n",
+                ablationMissed, ablationCbc);
     auto target = [&](const char* what, const std::string& value, bool pass) {
         const bool verdict = targets.check(pass);
         std::printf("TARGET %-66s %-24s %s\n", what, value.c_str(), verdict ? "PASS" : "FAIL");
