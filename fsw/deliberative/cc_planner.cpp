@@ -143,6 +143,7 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     seedStage_ = SeedStage::kIdle;
     lpRunning_ = false;
     layerTau_ = 0;
+    layerFull_ = 0;
     guideValid_ = false;
     guideDistance_ = HUGE_VAL;
     phase_ = (params_.seed && obstacles_ > 0) ? Phase::kSeed : Phase::kRoot;
@@ -890,6 +891,7 @@ bool CcPlanner::layeredSeedStep() {
     }
     const std::size_t count = layerBuilt_;
     layerCount_[tau] = static_cast<std::uint16_t>(count);
+    layerFull_ += count >= kMaxLayerPoints ? 1U : 0U;
     layerLineA_ = 0;
     layerBuilt_ = 0;
     if (count == 0 || (tau == steps_ && !goalReached)) {

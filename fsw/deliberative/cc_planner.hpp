@@ -165,6 +165,10 @@ public:
     std::uint32_t nodeOfLastIncumbent() const { return lastIncumbentNode_; }
     std::size_t maxDepth() const { return maxDepth_; }
     bool seedFound() const { return seedFound_; }
+    std::size_t layeredSeedLayers() const { return layerTau_; }     // layers the layered seed built (0: not run)
+    // Layers that reached kMaxLayerPoints (points beyond were dropped: the
+    // layered seed is complete only while this is 0).
+    std::uint32_t layeredSeedFullLayers() const { return layerFull_; }
     double seedCost() const { return seedCost_; }                   // INFINITY without a seed
     double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
     bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
@@ -271,6 +275,7 @@ private:
     std::size_t layerTau_ = 0;
     std::size_t layerLineA_ = 0;    // the next first line of the layer being built
     std::size_t layerBuilt_ = 0;    // its points so far
+    std::uint32_t layerFull_ = 0;
     std::uint16_t layerCount_[kMaxPlanSteps + 1] = {};
     std::uint8_t layerLines_[kMaxPlanSteps + 1][kMaxLayerPoints][2] = {};
     std::uint16_t layerPrev_[kMaxPlanSteps + 1][kMaxLayerPoints] = {};

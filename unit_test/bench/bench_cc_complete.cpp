@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,12 @@ using rse::deliberative::RiskAllocation;
 namespace {
 
 CcPlanner planner;  // static storage, as in flight
+
+double threadCpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 bool hasPlan(CcStatus s) { return s == CcStatus::kOptimal || s == CcStatus::kFeasible; }
 
@@ -78,6 +85,8 @@ int main(int argc, char** argv) {
     const CcPlannerParams params{};
     const std::uint64_t budget = 1000ULL * params.workBudget;
     std::size_t exists = 0, found = 0, missed = 0, cbcRuns = 0, cbcPlans = 0, cbcUndecided = 0, badPlans = 0;
+    std::vector<double> cpuMs, nsPerUnit, layeredMs, layeredNs;  // per run: CPU time, CPU ns per work unit
+    std::size_t fullLayers = 0;  // layered-seed layers that reached kMaxLayerPoints
     std::size_t ablationMissed = 0, ablationCbc = 0;
     std::size_t overBudget = 0, seedMissing = 0, mcChecked = 0, mcFailed = 0, runs = 0;
     double worstRatio = 0.0;
@@ -94,8 +103,17 @@ int main(int argc, char** argv) {
         double ratio[2] = {};
         for (int a = 0; a < 2; ++a) {
             problem.allocation = a == 0 ? RiskAllocation::kEvenSplit : RiskAllocation::kOptimised;
+            const double cpu0 = threadCpuSeconds();
             planner.solve(problem, params, &plans[a]);
+            const double cpu = threadCpuSeconds() - cpu0;
             ++runs;
+            cpuMs.push_back(1e3 * cpu);
+            nsPerUnit.push_back(1e9 * cpu / static_cast<double>(planner.work() + 1U));
+            fullLayers += planner.layeredSeedFullLayers();
+            if (planner.layeredSeedLayers() > 0) {
+                layeredMs.push_back(1e3 * cpu);
+                layeredNs.push_back(1e9 * cpu / static_cast<double>(planner.work() + 1U));
+            }
             seeds[a] = planner.seedFound();
             const std::uint64_t work = planner.work();
             ratio[a] = static_cast<double>(work) / static_cast<double>(budget);
@@ -198,6 +216,14 @@ int main(int argc, char** argv) {
                 "(kMaxUnitWork %llu)\n",
                 count - seedMissing, count, worstRatio, static_cast<unsigned long long>(worstExcess),
                 static_cast<unsigned long long>(CcPlanner::kMaxUnitWork));
+    std::printf("CPU time per plan (default budget %u k units): median %.1f ms, max %.1f ms; CPU ns per work unit "
+                "median %.2f, max %.2f\n",
+                params.workBudget, quantile(cpuMs, 0.5), quantile(cpuMs, 1.0), quantile(nsPerUnit, 0.5),
+                quantile(nsPerUnit, 1.0));
+    std::printf("layered-seed layers that reached kMaxLayerPoints (%zu): %zu\n", CcPlanner::kMaxLayerPoints, fullLayers);
+    std::printf("runs with the layered seed: %zu; CPU time median %.1f ms, max %.1f ms; ns per unit median %.2f, max %.2f\n",
+                layeredMs.size(), quantile(layeredMs, 0.5), quantile(layeredMs, 1.0), quantile(layeredNs, 0.5),
+                quantile(layeredNs, 1.0));
     std::printf("without the layered seed (ablation): no plan at 20x the budget on %zu, CBC found a plan on %zu of them\n",
                 ablationMissed, ablationCbc);
     auto target = [&](const char* what, const std::string& value, bool pass) {
