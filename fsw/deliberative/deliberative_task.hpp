@@ -84,9 +84,9 @@
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
 //
 // Time bound per run: at most kMaxUnitsPerRun planner units and stops after the
-// unit that takes the run's planner work past kSliceWork (one unit is one LP of
-// at most perLpIterations pivots or one seed variant: docs/deliberative.md), so
-// a run costs about kSliceWork work units plus one unit; a whole plan is bounded
+// unit that takes the run's planner work past kSliceWork (one unit does at most
+// CcPlanner::kMaxUnitWork work units: docs/deliberative.md), so a run costs
+// at most kSliceWork + kMaxUnitWork work units; a whole plan is bounded
 // by PLANNER.node_budget LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs
 // thousand work units. Inputs are bounded by the pipe depths. No heap: the
 // planner, problem, plan and legs are members (about 460 KB: make it static).
