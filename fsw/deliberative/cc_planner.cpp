@@ -880,9 +880,8 @@ bool CcPlanner::layeredSeedStep() {
     for (; layerLineA_ < lines && pairs < kLayerPairsPerUnit; ++layerLineA_) {
         const std::size_t a = layerLineA_;
         for (std::size_t b = a + 1; b < lines; ++b, ++pairs) {
-            if (a + 4 >= lines && b + 4 >= lines) {
-                continue;  // two sides of the site: a corner, never needed
-            }
+            // Every pair, the site's corners too: a waypoint's polygon may
+            // have its only vertices there.
             consider(static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b));
         }
     }

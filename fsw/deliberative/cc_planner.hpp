@@ -23,22 +23,43 @@
 // left proves that there is no plan (kNoPlan, at once); a pair with one face
 // left is fixed at the root.
 //
-// Seed. Before the search, one unit per variant (kSeedVariants): the
-// obstacles inflated by their margin at step N, N / 2 or 0 (margins grow with
-// the step: the first is conservative, the last keeps gaps open that early
-// steps can use); the shortest path (16-gon length) from start to goal in the
-// visibility graph of the free space's corners (the inflated obstacles'
-// vertices, where overlapping obstacles meet, where an obstacle leaves the
-// site; Dijkstra, edges tested lazily); that path cut into N segments, either
-// shared among its legs by length or, "front-loaded", one per leg and the
-// rest parked at the goal (the path passes the obstacles while the margins
-// are small); every pair given the face its two ends clear best, and the
-// fixed-face LP solved; then "polish": each pair moves to the face its ends
-// at the LP optimum clear best (the path stays feasible, so the cost cannot
-// rise) and the LP is solved again, kPolishRounds (1) times. The best seed
-// is the first incumbent. The faces of the shortest visibility path (even if
-// its LP was infeasible) are the search's guide: at every branching the
-// guide's face is tried first.
+// Seed. Before the search, cheapest first. Visibility variants
+// (kSeedVariants): the obstacles inflated by their margin at step N, N / 2 or
+// 0 (margins grow with the step: the first is conservative, the last keeps
+// gaps open that early steps can use); the shortest path (16-gon length) from
+// start to goal in the visibility graph of the free space's corners (the
+// inflated obstacles' vertices, where overlapping obstacles meet, where an
+// obstacle leaves the site; Dijkstra, edges tested lazily); that path cut
+// into N segments, either shared among its legs by length or, "front-loaded",
+// one per leg and the rest parked at the goal (the path passes the obstacles
+// while the margins are small); every pair given the face its two ends clear
+// best, and the fixed-face LP solved; then "polish": each pair moves to the
+// face its ends at the LP optimum clear best (the path stays feasible, so the
+// cost cannot rise) and the LP is solved again, kPolishRounds (1) times.
+// Order: variants N and N / 2, then (only when neither gave a plan) the
+// layered seed, then variants 0 and front-loaded. The best seed is the first
+// incumbent. The faces of the shortest seed path (even if its LP was
+// infeasible) are the search's guide: at every branching the guide's face is
+// tried first.
+//
+// Layered seed: complete on the problem's own constraints. For fixed faces
+// the constraints on waypoint tau involve tau alone (half-planes at its
+// margins, the site), so if any plan exists, one exists whose every waypoint
+// is a vertex of its own feasible polygon: a crossing of two of layer tau's
+// lines (each face moved out by its margin at tau, plus 2 kSafetyM; the site's
+// sides). Layer 0 is the start; layer tau + 1 keeps each crossing that
+// clears some face of every obstacle and is one segment from a point kept in
+// layer tau (for every obstacle one face holds both ends: a 64-bit AND of
+// the two points' face masks); the goal is tried first in every layer, and
+// once reached the remaining steps park on it (the goal clears its margin at
+// N, the largest). The path found (fewest steps to the goal) gets the faces
+// its ends clear best and is seeded like a visibility path. Exact while no
+// layer fills its kMaxLayerPoints (layeredSeedFullLayers() counts those),
+// up to the 2 um the lines are moved (and crossings of lines within 1e-9 of
+// parallel, which are skipped); it stops at the first path, so it is a
+// feasibility seed, not a short one (the search and the later variants
+// shorten it). Cost: up to (8 M + 4)^2 / 2 crossings a layer, each a mask of
+// M x 8 face tests and an AND per point of the layer before.
 //
 // Risk allocation. kEvenSplit: delta = Delta' / (2 N M) at every end, with
 // Delta' = Delta (1 - 1e-12) so that the sum of the 2 N M deltas, added in any
@@ -61,30 +82,41 @@
 // exactly (no tolerance), deltas in (0, 0.5), their sum <= Delta.
 //
 // Bounded and sliceable. No clock is read here: work is counted. start() does
-// no LP work; step(maxNodes) runs at most maxNodes units (a unit is one LP
-// solve: a search node or an allocation round; or one seed variant, i.e. a
-// visibility graph and up to 1 + kPolishRounds LPs), each LP capped at
-// perLpIterations pivots. A plan stops searching when nodeBudget nodes,
-// iterationBudget pivots or workBudget thousand work units are spent (with
-// kOptimised the search gets 85 % of the work budget and the allocation the
-// rest). work() is LpSolver::work() plus the planner's own scoring, margins
-// and geometry, weighted by measured costs: 0.45 - 0.9 ns per unit on the
-// x86-64 development host (most for small N, and with another process on the
-// other core). The default 20 000 (20 M units) is 10 - 20 ms there; the
-// time of a plan is then bounded by the budget plus one unit (in the search,
-// one LP of <= perLpIterations pivots; between seed variants, one variant).
-// Measured with the defaults (unit_test/deliberative's random instances,
-// x86-64 host, wall clock, another process on the other core):
+// no LP work; step(maxNodes) runs at most maxNodes units, and every unit is
+// small: an LP (seed, root, search node, allocation round) runs
+// kPivotsPerUnit (16) pivots per unit and resumes from its basis in the next
+// (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
+// pivots in all; a visibility seed builds its graph in one unit and settles
+// one Dijkstra vertex per unit; the layered seed handles kLayerPairsPerUnit
+// (256) line pairs of a layer per unit. Every unit checks the budget first, so
+// work() <= workBudget x 1000 + kMaxUnitWork whatever N <= kMaxPlanSteps and
+// M <= kMaxPlanObstacles (test_cc_planner_budget: N = 24, M = 8 octagons,
+// budgets 0.5 M - 20 M, largest unit measured 315 k units; bench_cc_complete:
+// 600 runs of the hard set, worst work / budget in docs/performance.md). A
+// plan stops searching when nodeBudget nodes, iterationBudget pivots or
+// workBudget thousand work units are spent (with kOptimised the search gets
+// 85 % of the work budget and the allocation the rest); a seed or an LP cut
+// short by the budget is dropped (a search node cut short leaves the search
+// incomplete, its parent's bound in lowerBound()). work() is
+// LpSolver::work() plus the planner's own scoring, margins and geometry,
+// weighted by measured costs: 0.45 - 0.9 ns per unit on the x86-64
+// development host (most for small N, and with another process on the other
+// core; bench_cc_complete measures CPU ns per unit on its runs). The default
+// 20 000 (20 M units) is 10 - 20 ms there.
+// Measured with the defaults before the layered seed and the slicing
+// (unit_test/deliberative's random instances, x86-64 host, wall clock,
+// another process on the other core; no command reproduces these any more):
 // N = 10, M = 4 median 15 ms, max 19 ms (50 instances: ~900 nodes, cost
 // within 0.44 % of the proven optimum, median 0 %); N = 20, M = 8 median
 // 12 ms, max 13 ms (~180 nodes: the seeds take half the budget there);
-// N = 24, M = 8 median 11 ms, max 12 ms; 400 random problems N = 1 .. 24,
-// M = 0 .. 8: max 16 ms.
+// N = 24, M = 8 median 11 ms, max 12 ms.
 //
-// Memory: sizeof(CcPlanner) = 450 712 B (x86-64 and aarch64): one CcLp
-// (216 KiB), the factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack
-// (192 levels with a basis each, 32 KiB), the margin table, two plans and the
-// problem. Static storage (a task member), never a stack.
+// Memory: sizeof(CcPlanner) = 488 728 B on x86-64: one CcLp (216 KiB), the
+// factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack (192 levels
+// with a basis each, 32 KiB), the layered seed's layers (25 x 256 points:
+// two line indices and a predecessor each, 25 KiB, and the last two layers'
+// points and masks, 12 KiB: 38 016 B more than before it), the margin table,
+// two plans and the problem. Static storage (a task member), never a stack.
 #pragma once
 
 #include <cstddef>
@@ -130,8 +162,9 @@ public:
     static constexpr std::size_t kMaxSeedVertices = 192;  // start, goal and free-space corners
     // Work units charged per position tautening tries (2 M face checks).
     static constexpr std::uint64_t kTautWorkPerTry = 64;
-    // The most work one unit of step() may do (see "Bounded and sliceable"):
-    // a plan's work() never exceeds the budget by more than this.
+    // The most work one unit of step() may do (see "Bounded and sliceable";
+    // the largest measured is 315 k): a plan's work() never exceeds the
+    // budget by more than this.
     static constexpr std::uint64_t kMaxUnitWork = 500000;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
