@@ -849,6 +849,15 @@ bool CcPlanner::layeredSeedStep() {
         if (!everyObstacle(mask, wanted)) {
             return;
         }
+        // A point's future moves depend on its mask alone: one whose faces
+        // include this one's already does all it could (exact, and it keeps
+        // the layers far below kMaxLayerPoints).
+        geometryWork_ += kLayerEdgeWork * layerBuilt_;
+        for (std::size_t v = 0; v < layerBuilt_; ++v) {
+            if ((reachMask_[to][v] & mask) == mask) {
+                return;
+            }
+        }
         const std::size_t prevCount = layerCount_[tau - 1];
         for (std::size_t u = 0; u < prevCount; ++u) {
             if (everyObstacle(mask & reachMask_[from][u], wanted)) {

@@ -1,7 +1,7 @@
 // Issue 15 items 1 and 2: does the chance-constrained planner find a plan
 // whenever one exists, within a hard work budget?
 //
-//   build/x86_64/bin/bench_cc_complete [--count 300] [--cbc-limit 20] [--samples 20000] [--mc 60]
+//   build/x86_64/bin/bench_cc_complete [--count 300] [--first 0] [--cbc-limit 20] [--samples 20000] [--mc 60]
 //
 // The instances: cc::hardSet (cc_instances.hpp): narrow gaps between
 // overlapping obstacles, start and goal inside concavities of unions of boxes,
@@ -67,7 +67,7 @@ const char* kindName(HardKind k) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::size_t count = 300, samples = 20000, mcCount = 60;
+    std::size_t count = 300, samples = 20000, mcCount = 60, first = 0;
     double cbcLimit = 20.0;
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string key = argv[a];
@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
         else if (key == "--cbc-limit") cbcLimit = v;
         else if (key == "--samples") samples = static_cast<std::size_t>(v);
         else if (key == "--mc") mcCount = static_cast<std::size_t>(v);
+        else if (key == "--first") first = static_cast<std::size_t>(v);
         else {
             std::fprintf(stderr, "unknown option %s\n", key.c_str());
             return 2;
@@ -93,13 +94,14 @@ int main(int argc, char** argv) {
     std::uint64_t worstExcess = 0;
     std::size_t perKind[3] = {}, perKindFound[3] = {};
     const auto begin = std::chrono::steady_clock::now();
-    std::printf("%-5s %-8s %3s %2s %8s %6s | %-9s %4s %10s %6s | %-9s %10s | %s\n", "k", "kind", "N", "M", "Delta",
-                "sigma", "even", "seed", "work/bdgt", "cost", "optimised", "work/bdgt", "reference");
-    for (std::size_t k = 0; k < count; ++k) {
+    std::printf("%-5s %-8s %3s %2s %8s %6s | %-9s %4s %6s %10s %6s | %-9s %10s | %s\n", "k", "kind", "N", "M",
+                "Delta", "sigma", "even", "seed", "layers", "work/bdgt", "cost", "optimised", "work/bdgt", "reference");
+    for (std::size_t k = first; k < first + count; ++k) {
         const HardInstance h = hardInstance(kHardSeedBase + k);
         CcProblem problem = h.problem;
         CcPlan plans[2];
         bool seeds[2] = {};
+        std::size_t layers = 0, full = 0;  // the even-split run's layered seed
         double ratio[2] = {};
         for (int a = 0; a < 2; ++a) {
             problem.allocation = a == 0 ? RiskAllocation::kEvenSplit : RiskAllocation::kOptimised;
@@ -110,6 +112,10 @@ int main(int argc, char** argv) {
             cpuMs.push_back(1e3 * cpu);
             nsPerUnit.push_back(1e9 * cpu / static_cast<double>(planner.work() + 1U));
             fullLayers += planner.layeredSeedFullLayers();
+            if (a == 0) {
+                layers = planner.layeredSeedLayers();
+                full = planner.layeredSeedFullLayers();
+            }
             if (planner.layeredSeedLayers() > 0) {
                 layeredMs.push_back(1e3 * cpu);
                 layeredNs.push_back(1e9 * cpu / static_cast<double>(planner.work() + 1U));
@@ -199,18 +205,18 @@ int main(int argc, char** argv) {
                 ++missed;
             }
         }
-        std::printf("%-5zu %-8s %3u %2u %8.1e %6.3f | %-9s %4d %10.3f %6.2f | %-9s %10.3f | %s%s\n", k,
+        std::printf("%-5zu %-8s %3u %2u %8.1e %6.3f | %-9s %4d %3zu/%-2zu %10.3f %6.2f | %-9s %10.3f | %s%s\n", k,
                     kindName(h.kind), problem.steps, problem.obstacleCount, problem.riskBound, problem.processSigmaM,
                     hasPlan(plans[0].status) ? (plans[0].status == CcStatus::kOptimal ? "optimal" : "feasible") : "NO PLAN",
-                    seeds[0] ? 1 : 0, ratio[0], hasPlan(plans[0].status) ? plans[0].cost : 0.0,
+                    seeds[0] ? 1 : 0, layers, full, ratio[0], hasPlan(plans[0].status) ? plans[0].cost : 0.0,
                     hasPlan(plans[1].status) ? "plan" : "NO PLAN", ratio[1], reference.c_str(),
                     planExists && !plannerFound ? "  MISSED" : "");
         std::fflush(stdout);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-    std::printf("\n%zu instances (%zu runs), %.0f s; a plan exists on %zu (gap %zu/%zu, concave %zu/%zu, clutter %zu/%zu "
+    std::printf("\n%zu instances from %zu (%zu runs), %.0f s; a plan exists on %zu (gap %zu/%zu, concave %zu/%zu, clutter %zu/%zu "
                 "found/exist); CBC ran on %zu (%zu plans, %zu undecided at its limit)\n",
-                count, runs, seconds, exists, perKindFound[0], perKind[0], perKindFound[1], perKind[1],
+                count, first, runs, seconds, exists, perKindFound[0], perKind[0], perKindFound[1], perKind[1],
                 perKindFound[2], perKind[2], cbcRuns, cbcPlans, cbcUndecided);
     std::printf("seed found on %zu/%zu (even split); worst work / budget %.4f, worst excess %llu units "
                 "(kMaxUnitWork %llu)\n",
