@@ -118,7 +118,11 @@ namespace rse::deliberative {
 // of 2.5 M units 1.1 - 2.3 ms. Recalibrate on the flight computer.
 constexpr std::uint32_t kWorkKUnitsPerMs = 1000;
 constexpr std::uint64_t kSliceWork = 2500000;
-constexpr std::uint32_t kMaxUnitsPerRun = 64;
+// Every planner unit is at most CcPlanner::kMaxUnitWork, so kSliceWork bounds
+// a run; this cap only bounds the loop when units do little (an LP slice of
+// 16 pivots at small N is ~20 k units): with 64 a plan of such units took
+// several times the runs its work needs.
+constexpr std::uint32_t kMaxUnitsPerRun = 1024;
 // Poses and drive status come at 100 Hz: 20 per run, 40 survive one skipped run.
 constexpr std::uint16_t kFastPipeDepth = 40;
 constexpr std::uint16_t kInputPipeDepth = 16;
