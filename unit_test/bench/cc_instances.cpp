@@ -280,7 +280,7 @@ bool tryHard(Random& rng, HardKind kind, std::uint8_t minSteps, std::uint8_t max
     p.startCov[3] = vy;
     p.startCov[1] = p.startCov[2] = rho * std::sqrt(vx * vy);
     const std::size_t n = p.steps;
-    const double m0 = worstMargin(p, 0), m2 = worstMargin(p, std::min<std::size_t>(2, n)), mN = worstMargin(p, n);
+    const double m0 = worstMargin(p, 0), mN = worstMargin(p, n);
     std::vector<Point> w;  // the witness's legs, from the start; the rest parks at the goal
     if (kind == HardKind::kGap) {
         p.xMin = 0.0, p.xMax = 30.0, p.yMin = 0.0, p.yMax = 20.0;
@@ -308,7 +308,6 @@ bool tryHard(Random& rng, HardKind kind, std::uint8_t minSteps, std::uint8_t max
             w.push_back({wall[k] + c, gapY});
         }
         w.push_back({p.goalX, p.goalY});
-        (void)m2;
     } else if (kind == HardKind::kConcave) {
         const double clear = mN * 1.1 + 0.3;
         const double hu = clear + rng.uniform(0.2, 1.5);      // inner half-width
