@@ -228,7 +228,7 @@ CBC_LDLIBS := -lCbcSolver -lCbc -lOsiClp -lClp -lOsi -lCoinUtils
 $(CC_MILP_OBJ): unit_test/bench/cc_reference_milp.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CBC_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
-SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp)
+SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp unit_test/cc_reference/*_host.cpp)
 SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
 SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
