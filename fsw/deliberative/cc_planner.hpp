@@ -50,7 +50,9 @@
 // sides). Layer 0 is the start; layer tau + 1 keeps each crossing that
 // clears some face of every obstacle and is one segment from a point kept in
 // layer tau (for every obstacle one face holds both ends: a 64-bit AND of
-// the two points' face masks); the goal is tried first in every layer, and
+// the two points' face masks; a crossing whose mask is covered by a point
+// already kept is dropped, since a point's moves depend on its mask alone);
+// the goal is tried first in every layer, and
 // once reached the remaining steps park on it (the goal clears its margin at
 // N, the largest). The path found (fewest steps to the goal) gets the faces
 // its ends clear best and is seeded like a visibility path. Exact while no
@@ -59,7 +61,7 @@
 // parallel, which are skipped); it stops at the first path, so it is a
 // feasibility seed, not a short one (the search and the later variants
 // shorten it). Cost: up to (8 M + 4)^2 / 2 crossings a layer, each a mask of
-// M x 8 face tests and an AND per point of the layer before.
+// M x 8 face tests and an AND per point of this layer and the one before.
 //
 // Risk allocation. kEvenSplit: delta = Delta' / (2 N M) at every end, with
 // Delta' = Delta (1 - 1e-12) so that the sum of the 2 N M deltas, added in any
