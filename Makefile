@@ -228,7 +228,7 @@ CBC_LDLIBS := -lCbcSolver -lCbc -lOsiClp -lClp -lOsi -lCoinUtils
 $(CC_MILP_OBJ): unit_test/bench/cc_reference_milp.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CBC_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
-SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp)
+SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp unit_test/cc_reference/*_host.cpp)
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal_nvm/test_threaded_record_writer.cpp
@@ -335,6 +335,11 @@ $(BUILD)/bin/bench_ground_flood: $(BUILD)/obj/unit_test/bench/bench_ground_flood
 
 # The chance-constrained reference benchmark: CBC's exact MILP (host only).
 $(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) $(CBC_LDLIBS)
+
+# The completeness and hard-budget benchmark of the same planner (issue 15): CBC decides instances without a witness.
+$(BUILD)/bin/bench_cc_complete: $(BUILD)/obj/unit_test/bench/bench_cc_complete.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) $(CBC_LDLIBS)
 

@@ -140,6 +140,10 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     factorRestores_ = 0;
     geometryWork_ = 0;
     seedVariant_ = 0;
+    seedStage_ = SeedStage::kIdle;
+    lpRunning_ = false;
+    layerTau_ = 0;
+    layerFull_ = 0;
     guideValid_ = false;
     guideDistance_ = HUGE_VAL;
     phase_ = (params_.seed && obstacles_ > 0) ? Phase::kSeed : Phase::kRoot;
@@ -170,19 +174,31 @@ bool CcPlanner::step(std::uint32_t maxNodes) {
     for (std::uint64_t pass = 0; pass < guard && units < maxNodes && phase_ != Phase::kDone; ++pass) {
         switch (phase_) {
             case Phase::kSeed:
+                // Out of budget: whatever seed is under way is dropped.
                 if (budgetLeft()) {
                     runSeed();
                 } else {
+                    lpRunning_ = false;
                     phase_ = Phase::kRoot;
                 }
                 ++units;
                 break;
             case Phase::kRoot:
-                rootStep();
+                // The presolve always runs (it can prove there is no plan at
+                // no LP cost); the root's LP only within the budget.
+                if (!lpRunning_ || budgetLeft()) {
+                    rootStep();
+                } else {
+                    abandonNode();
+                    phase_ = Phase::kAllocate;
+                }
                 ++units;
                 break;
             case Phase::kSearch:
                 if (nodes_ >= params_.nodeBudget || !budgetLeft()) {
+                    if (lpRunning_) {
+                        abandonNode();
+                    }
                     incomplete_ = true;
                     phase_ = Phase::kAllocate;
                 } else if (searchStep()) {
@@ -321,26 +337,6 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
     }
 }
 
-bool CcPlanner::solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost) {
-    (void)lp_.popPairs(0);
-    for (std::size_t t = 0; t < steps_; ++t) {
-        for (std::size_t i = 0; i < obstacles_; ++i) {
-            const std::size_t j = face[t][i];
-            bool feasible = false;
-            if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
-                !feasible) {
-                return false;
-            }
-        }
-    }
-    ++seedSolves_;
-    if (lp_.solve(lpCap()) != LpStatus::kOptimal) {
-        return false;
-    }
-    *cost = lp_.cost();
-    return true;
-}
-
 // ---------------------------------------------------------------------------
 // Seed.
 
@@ -375,7 +371,7 @@ bool CcPlanner::segmentBlocked(double px, double py, double qx, double qy) {
     return false;
 }
 
-bool CcPlanner::seedPath(std::size_t* legs) {
+bool CcPlanner::seedVertices() {
     const CcProblem& p = problem_;
     auto insideInflated = [&](std::size_t i, double x, double y, double tol) {
         const PlanObstacle& o = p.obstacles[i];
@@ -467,38 +463,46 @@ bool CcPlanner::seedPath(std::size_t* legs) {
             }
         }
     }
-    // Dijkstra from the start; the (costly) visibility test only for edges
-    // that would improve a distance.
+    // Dijkstra from the start (dijkstraStep, one vertex per unit); the
+    // (costly) visibility test only for edges that would improve a distance.
     for (std::size_t v = 0; v < vertexCount_; ++v) {
         dist_[v] = INFINITY;
         settled_[v] = false;
         prev_[v] = 0;
     }
     dist_[0] = 0.0;
-    for (std::size_t round = 0; round < vertexCount_; ++round) {
-        std::size_t u = vertexCount_;
-        double du = INFINITY;
-        for (std::size_t v = 0; v < vertexCount_; ++v) {
-            if (!settled_[v] && dist_[v] < du) {
-                du = dist_[v];
-                u = v;
-            }
-        }
-        if (u == vertexCount_ || u == 1) {
-            break;
-        }
-        settled_[u] = true;
-        for (std::size_t v = 0; v < vertexCount_; ++v) {
-            if (settled_[v]) {
-                continue;
-            }
-            const double d = du + polygonLength(vx_[v] - vx_[u], vy_[v] - vy_[u]);
-            if (d < dist_[v] && !segmentBlocked(vx_[u], vy_[u], vx_[v], vy_[v])) {
-                dist_[v] = d;
-                prev_[v] = static_cast<std::uint8_t>(u);
-            }
+    return true;
+}
+
+// Settles one vertex; true when the goal is settled or none is left.
+bool CcPlanner::dijkstraStep() {
+    std::size_t u = vertexCount_;
+    double du = INFINITY;
+    for (std::size_t v = 0; v < vertexCount_; ++v) {
+        if (!settled_[v] && dist_[v] < du) {
+            du = dist_[v];
+            u = v;
         }
     }
+    if (u == vertexCount_ || u == 1) {
+        return true;
+    }
+    settled_[u] = true;
+    for (std::size_t v = 0; v < vertexCount_; ++v) {
+        if (settled_[v]) {
+            continue;
+        }
+        const double d = du + polygonLength(vx_[v] - vx_[u], vy_[v] - vy_[u]);
+        if (d < dist_[v] && !segmentBlocked(vx_[u], vy_[u], vx_[v], vy_[v])) {
+            dist_[v] = d;
+            prev_[v] = static_cast<std::uint8_t>(u);
+        }
+    }
+    return false;
+}
+
+// The shortest path's legs into legPoint_ (start first); false without one.
+bool CcPlanner::seedLegs(std::size_t* legs) {
     if (!std::isfinite(dist_[1])) {
         return false;
     }
@@ -525,22 +529,60 @@ bool CcPlanner::seedPath(std::size_t* legs) {
 }
 
 void CcPlanner::runSeed() {
+    // One unit: a slice of the current seed (its LP, a Dijkstra round, a
+    // slice of a layer), else the start of the next one.
+    if (lpRunning_) {
+        seedLpUnit();
+        return;
+    }
+    if (seedStage_ == SeedStage::kDijkstra) {
+        if (dijkstraStep()) {
+            seedStage_ = SeedStage::kIdle;
+            cutSeedPath();
+        }
+        return;
+    }
+    if (seedStage_ == SeedStage::kLayered) {
+        if (layeredSeedStep()) {
+            seedStage_ = SeedStage::kIdle;
+        }
+        return;
+    }
+    if (seedVariant_ > kSeedVariants) {
+        phase_ = Phase::kRoot;
+        return;
+    }
+    // Order: the visibility variants from the most conservative inflation;
+    // the layered search (complete, dearer) once they have failed; then the
+    // remaining variants, which may shorten its plan.
+    const std::size_t slot = seedVariant_++;
+    if (slot == kLayeredSeedSlot) {
+        if (!seedFound_ && params_.layeredSeed) {
+            layerTau_ = 0;
+            seedStage_ = SeedStage::kLayered;
+        }
+        return;
+    }
+    seedCurrent_ = slot < kLayeredSeedSlot ? slot : slot - 1;
     // Variant v inflates every face by its margin at step kSeedSteps[v] of N
     // (margins grow with the step: N is the conservative inflation, 0 the
     // optimistic one that keeps gaps open for the early steps).
-    const std::size_t variant = seedVariant_++;
-    if (seedVariant_ >= kSeedVariants) {
-        phase_ = Phase::kRoot;
-    }
-    const std::size_t tauInflate = steps_ * kSeedStepsNumerator[variant] / 2U;
+    const std::size_t tauInflate = steps_ * kSeedStepsNumerator[seedCurrent_] / 2U;
     for (std::size_t i = 0; i < obstacles_; ++i) {
         const PlanObstacle& o = problem_.obstacles[i];
         for (std::size_t j = 0; j < o.faceCount; ++j) {
             inflated_[i][j] = o.offset[j] + margin_[tauInflate][i][j] + kSeedInflateM;
         }
     }
+    if (seedVertices()) {
+        seedStage_ = SeedStage::kDijkstra;
+    }
+}
+
+// The visibility path cut into N segments (variant seedCurrent_), then seeded.
+void CcPlanner::cutSeedPath() {
     std::size_t legs = 0;
-    if (!seedPath(&legs)) {
+    if (!seedLegs(&legs)) {
         return;
     }
     // Segments per leg: one each, the rest one at a time to the leg with the
@@ -551,7 +593,7 @@ void CcPlanner::runSeed() {
         share[l] = 1;
         length[l] = euclidean(vx_[legPoint_[l + 1]] - vx_[legPoint_[l]], vy_[legPoint_[l + 1]] - vy_[legPoint_[l]]);
     }
-    for (std::size_t extra = legs; extra < steps_ && !kSeedFrontLoaded[variant]; ++extra) {
+    for (std::size_t extra = legs; extra < steps_ && !kSeedFrontLoaded[seedCurrent_]; ++extra) {
         std::size_t best = 0;
         for (std::size_t l = 1; l < legs; ++l) {
             if (length[l] / static_cast<double>(share[l]) > length[best] / static_cast<double>(share[best])) {
@@ -576,8 +618,14 @@ void CcPlanner::runSeed() {
         scratchX_[tau] = problem_.goalX;
         scratchY_[tau] = problem_.goalY;
     }
+    seedFromPath(dist_[1]);
+}
+
+// The faces the path in scratchX_ / scratchY_ clears best, the fixed-face LP
+// and the polish rounds; `distance` is the path's length for the guide.
+void CcPlanner::seedFromPath(double distance) {
     chooseFacesAt(scratchX_, scratchY_, faceScratch_);
-    if (dist_[1] < guideDistance_) {
+    if (distance < guideDistance_) {
         // The search tries these faces first (see evaluateNode): the shortest
         // visibility path's, even when its own LP turns out infeasible (the
         // margins grow along the path; the search's dives then find the
@@ -587,50 +635,311 @@ void CcPlanner::runSeed() {
                 guideFace_[t][i] = faceScratch_[t][i];
             }
         }
-        guideDistance_ = dist_[1];
+        guideDistance_ = distance;
         guideValid_ = true;
     }
-    // The fixed-face LP, then polish rounds (each one LP).
-    for (std::size_t round = 0; round <= kPolishRounds; ++round) {
-        double cost = 0.0;
-        if (!solveAssignment(faceScratch_, &cost)) {
-            return;
-        }
-        offerIncumbentFromLp(faceScratch_);
-        if (std::isfinite(evenCost_)) {
-            seedFound_ = true;
-            seedCost_ = evenCost_;
-        }
-        for (std::size_t k = 0; k <= steps_; ++k) {
-            scratchX_[k] = lp_.meanX(k);
-            scratchY_[k] = lp_.meanY(k);
-        }
-        bool changed = false;
-        for (std::size_t t = 0; t < steps_; ++t) {
-            for (std::size_t i = 0; i < obstacles_; ++i) {
-                const std::uint8_t old = faceScratch_[t][i];
-                double best = pairScore(t, i, old, scratchX_, scratchY_);
-                for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
-                    const double s = pairScore(t, i, j, scratchX_, scratchY_);
-                    if (s > best + 1e-9) {
-                        best = s;
-                        faceScratch_[t][i] = static_cast<std::uint8_t>(j);
-                    }
-                }
-                changed = changed || faceScratch_[t][i] != old;
+    // The fixed-face LP, then polish rounds (each one LP), in units.
+    seedRound_ = 0;
+    seedStartLp();
+}
+
+// The fixed-face LP of faceScratch_, started (its pivots run in units).
+void CcPlanner::seedStartLp() {
+    (void)lp_.popPairs(0);
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const std::size_t j = faceScratch_[t][i];
+            bool feasible = false;
+            if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
+                !feasible) {
+                return;
             }
         }
-        if (!changed) {
-            return;
+    }
+    ++seedSolves_;
+    beginLp(HUGE_VAL, lpCap());
+}
+
+// One unit of the seed's LP; at its optimum the plan is offered, then
+// "polish": each pair moves to the face its ends clear best (the path stays
+// feasible, so the cost cannot rise) and, if any moved, the LP again.
+void CcPlanner::seedLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st) || st != LpStatus::kOptimal) {
+        return;
+    }
+    offerIncumbentFromLp(faceScratch_);
+    if (std::isfinite(evenCost_)) {
+        seedFound_ = true;
+        seedCost_ = evenCost_;
+    }
+    if (seedRound_ >= kPolishRounds) {
+        return;
+    }
+    ++seedRound_;
+    for (std::size_t k = 0; k <= steps_; ++k) {
+        scratchX_[k] = lp_.meanX(k);
+        scratchY_[k] = lp_.meanY(k);
+    }
+    bool changed = false;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const std::uint8_t old = faceScratch_[t][i];
+            double best = pairScore(t, i, old, scratchX_, scratchY_);
+            for (std::size_t j = 0; j < problem_.obstacles[i].faceCount; ++j) {
+                const double sc = pairScore(t, i, j, scratchX_, scratchY_);
+                if (sc > best + 1e-9) {
+                    best = sc;
+                    faceScratch_[t][i] = static_cast<std::uint8_t>(j);
+                }
+            }
+            changed = changed || faceScratch_[t][i] != old;
         }
     }
+    geometryWork_ += kScoreWork * steps_ * obstacles_ * kMaxObstacleFaces;
+    if (changed) {
+        seedStartLp();
+    }
+}
+
+// The pending LP (lpRunning_): started here, run by continueLp.
+void CcPlanner::beginLp(double cutoff, std::uint32_t limit) {
+    lpRunning_ = true;
+    lpPivots_ = 0;
+    lpLimit_ = limit;
+    lpCutoff_ = cutoff;
+}
+
+// At most kPivotsPerUnit pivots of the pending LP; false while it runs on
+// (its basis is kept: the next call continues it), true when it has ended
+// (*status: its outcome; kIterationLimit when its pivot cap ran out).
+bool CcPlanner::continueLp(LpStatus* status) {
+    const std::uint32_t left = lpLimit_ > lpPivots_ ? lpLimit_ - lpPivots_ : 0U;
+    *status = lp_.solve(left < kPivotsPerUnit ? left : kPivotsPerUnit, lpCutoff_);
+    lpPivots_ += lp_.solver().lastIterations();
+    if (*status == LpStatus::kIterationLimit && lpPivots_ < lpLimit_) {
+        return false;
+    }
+    lpRunning_ = false;
+    return true;
+}
+
+// ---------------------------------------------------------------------------
+// Layered seed: a search over waypoints, layer by layer (see the header).
+
+namespace {
+// The layered seed's lines are the faces moved out by their margin plus this
+// (the LP's kSafetyM with room for rounding), the site's sides moved in by
+// kLayerSideM (more than the LP's kBoundSafetyM).
+constexpr double kLayerSafetyM = 2.0 * kSafetyM;
+constexpr double kLayerSideM = 1e-7;
+constexpr std::uint8_t kStartPoint = 0xFE;
+constexpr std::uint8_t kGoalPoint = 0xFF;
+constexpr std::uint64_t kLayerPointWork = 4;  // one candidate's intersection, per face of the mask
+constexpr std::uint64_t kLayerEdgeWork = 3;   // one transition test (a mask AND)
+constexpr std::uint64_t kByteLow = 0x0101010101010101ULL;
+
+// Every obstacle's byte of the mask nonzero: for each obstacle some face
+// holds the point(s).
+bool everyObstacle(std::uint64_t mask, std::uint64_t wanted) {
+    std::uint64_t y = mask | (mask >> 4);
+    y |= y >> 2;
+    y |= y >> 1;
+    return (y & wanted) == wanted;
+}
+}  // namespace
+
+std::size_t CcPlanner::layerLineCount() const {
+    std::size_t n = 4;  // the site's sides
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        n += problem_.obstacles[i].faceCount;
+    }
+    return n;
+}
+
+// Line k at layer tau as {x : nx x + ny y = c}, the free side nx x + ny y >= c.
+void CcPlanner::layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const {
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        if (k < o.faceCount) {
+            *nx = o.normalX[k];
+            *ny = o.normalY[k];
+            *c = o.offset[k] + margin_[tau][i][k] + kLayerSafetyM;
+            return;
+        }
+        k -= o.faceCount;
+    }
+    const double sx[4] = {1.0, -1.0, 0.0, 0.0};
+    const double sy[4] = {0.0, 0.0, 1.0, -1.0};
+    const double sc[4] = {problem_.xMin + kLayerSideM, -(problem_.xMax - kLayerSideM), problem_.yMin + kLayerSideM,
+                          -(problem_.yMax - kLayerSideM)};
+    *nx = sx[k & 3U];
+    *ny = sy[k & 3U];
+    *c = sc[k & 3U];
+}
+
+// The point named by two line indices at layer tau (or the start or goal).
+bool CcPlanner::layerPoint(std::size_t tau, std::uint8_t a, std::uint8_t b, double* x, double* y) const {
+    if (a == kStartPoint || a == kGoalPoint) {
+        *x = a == kStartPoint ? problem_.startX : problem_.goalX;
+        *y = a == kStartPoint ? problem_.startY : problem_.goalY;
+        return true;
+    }
+    double ax = 0.0, ay = 0.0, ac = 0.0, bx = 0.0, by = 0.0, bc = 0.0;
+    layerLine(tau, a, &ax, &ay, &ac);
+    layerLine(tau, b, &bx, &by, &bc);
+    const double det = ax * by - ay * bx;
+    if (std::fabs(det) < 1e-9) {
+        return false;
+    }
+    *x = (ac * by - ay * bc) / det;
+    *y = (ax * bc - ac * bx) / det;
+    return *x >= problem_.xMin + kBoundSafetyM && *x <= problem_.xMax - kBoundSafetyM &&
+           *y >= problem_.yMin + kBoundSafetyM && *y <= problem_.yMax - kBoundSafetyM;
+}
+
+// Byte i, bit j: the point clears face j of obstacle i by its margin at tau
+// (by kSafetyM more, as the LP wants, unless it is the fixed start or goal).
+std::uint64_t CcPlanner::layerMask(std::size_t tau, double x, double y, bool fixedEnd) {
+    geometryWork_ += kLayerPointWork * kMaxObstacleFaces * obstacles_;
+    std::uint64_t mask = 0;
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        const PlanObstacle& o = problem_.obstacles[i];
+        for (std::size_t j = 0; j < o.faceCount; ++j) {
+            double s = endSlack(o, j, x, y, margin_[tau][i][j]);
+            s -= fixedEnd ? 0.0 : kSafetyM;
+            if (s >= 0.0) {
+                mask |= 1ULL << (8U * i + j);
+            }
+        }
+    }
+    return mask;
+}
+
+// Builds layer layerTau_ from the one before: every candidate point (two of
+// the layer's lines crossing inside the site, the start, the goal) that
+// clears every obstacle and is one feasible segment from a point of the
+// layer before. True when the search is over (a path is in scratchX_ /
+// scratchY_ and seeded, or there is none).
+bool CcPlanner::layeredSeedStep() {
+    const std::uint64_t wanted = kByteLow & (obstacles_ >= 8 ? ~0ULL : ((1ULL << (8U * obstacles_)) - 1U));
+    if (layerTau_ == 0) {
+        layerLines_[0][0][0] = kStartPoint;
+        layerLines_[0][0][1] = kStartPoint;
+        reachX_[0][0] = problem_.startX;
+        reachY_[0][0] = problem_.startY;
+        reachMask_[0][0] = layerMask(0, problem_.startX, problem_.startY, true);
+        layerCount_[0] = 1;
+        layerTau_ = 1;
+        layerLineA_ = 0;
+        layerBuilt_ = 0;
+        return false;
+    }
+    const std::size_t tau = layerTau_;
+    const std::size_t from = (tau - 1) & 1U;
+    const std::size_t to = tau & 1U;
+    auto consider = [&](std::uint8_t a, std::uint8_t b) {
+        double x = 0.0;
+        double y = 0.0;
+        if (layerBuilt_ >= kMaxLayerPoints || !layerPoint(tau, a, b, &x, &y)) {
+            return;
+        }
+        const bool fixedEnd = a == kStartPoint || a == kGoalPoint;
+        const std::uint64_t mask = layerMask(tau, x, y, fixedEnd);
+        if (!everyObstacle(mask, wanted)) {
+            return;
+        }
+        // A point's future moves depend on its mask alone: one whose faces
+        // include this one's already does all it could (exact, and it keeps
+        // the layers far below kMaxLayerPoints).
+        geometryWork_ += kLayerEdgeWork * layerBuilt_;
+        for (std::size_t v = 0; v < layerBuilt_; ++v) {
+            if ((reachMask_[to][v] & mask) == mask) {
+                return;
+            }
+        }
+        const std::size_t prevCount = layerCount_[tau - 1];
+        for (std::size_t u = 0; u < prevCount; ++u) {
+            if (everyObstacle(mask & reachMask_[from][u], wanted)) {
+                geometryWork_ += kLayerEdgeWork * (u + 1U);
+                layerLines_[tau][layerBuilt_][0] = a;
+                layerLines_[tau][layerBuilt_][1] = b;
+                layerPrev_[tau][layerBuilt_] = static_cast<std::uint16_t>(u);
+                reachX_[to][layerBuilt_] = x;
+                reachY_[to][layerBuilt_] = y;
+                reachMask_[to][layerBuilt_] = mask;
+                ++layerBuilt_;
+                return;
+            }
+        }
+        geometryWork_ += kLayerEdgeWork * prevCount;
+    };
+    const std::size_t lines = layerLineCount();
+    bool goalReached = false;
+    if (layerLineA_ == 0 && layerBuilt_ == 0) {
+        // The goal first: once it is reached the rest of the steps park there.
+        consider(kGoalPoint, kGoalPoint);
+        goalReached = layerBuilt_ == 1;
+        if (tau == steps_ || goalReached) {
+            layerLineA_ = lines;
+        }
+    }
+    // A slice of the line pairs (at least kLayerPairsPerUnit, whole rows).
+    std::size_t pairs = 0;
+    for (; layerLineA_ < lines && pairs < kLayerPairsPerUnit; ++layerLineA_) {
+        const std::size_t a = layerLineA_;
+        for (std::size_t b = a + 1; b < lines; ++b, ++pairs) {
+            // Every pair, the site's corners too: a waypoint's polygon may
+            // have its only vertices there.
+            consider(static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b));
+        }
+    }
+    if (layerLineA_ < lines) {
+        return false;  // this layer goes on in the next unit
+    }
+    const std::size_t count = layerBuilt_;
+    layerCount_[tau] = static_cast<std::uint16_t>(count);
+    layerFull_ += count >= kMaxLayerPoints ? 1U : 0U;
+    layerLineA_ = 0;
+    layerBuilt_ = 0;
+    if (count == 0 || (tau == steps_ && !goalReached)) {
+        return true;  // no path through these points
+    }
+    if (!goalReached) {
+        ++layerTau_;
+        return false;
+    }
+    // The goal at layer tau: the rest of the steps park there (the goal
+    // clears some face of every obstacle by its margin at N, the largest).
+    std::size_t k = 0;  // the goal's index in layer tau
+    for (std::size_t t = steps_; t > tau; --t) {
+        scratchX_[t] = problem_.goalX;
+        scratchY_[t] = problem_.goalY;
+    }
+    double length = 0.0;
+    for (std::size_t t = tau + 1; t-- > 0;) {
+        double x = 0.0;
+        double y = 0.0;
+        (void)layerPoint(t, layerLines_[t][k][0], layerLines_[t][k][1], &x, &y);
+        scratchX_[t] = x;
+        scratchY_[t] = y;
+        if (t < tau) {
+            length += polygonLength(scratchX_[t + 1] - x, scratchY_[t + 1] - y);
+        }
+        k = t > 0 ? layerPrev_[t][k] : 0U;
+    }
+    seedFromPath(length);
+    return true;
 }
 
 // ---------------------------------------------------------------------------
 // Search.
 
 void CcPlanner::rootStep() {
-    phase_ = Phase::kSearch;
+    if (lpRunning_) {
+        rootLpUnit();
+        return;
+    }
     (void)lp_.popPairs(0);
     depth_ = 0;
     rootPairs_ = 0;
@@ -653,6 +962,7 @@ void CcPlanner::rootStep() {
                 }
             }
             if (count == 0) {
+                phase_ = Phase::kSearch;
                 return;  // depth 0: the search ends at once, exhausted, with no plan
             }
             if (count == 1) {
@@ -666,7 +976,16 @@ void CcPlanner::rootStep() {
             }
         }
     }
-    const LpStatus st = lp_.solve(lpCap());
+    beginLp(HUGE_VAL, lpCap());
+}
+
+// One unit of the root's LP; at its end the search starts from it.
+void CcPlanner::rootLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st)) {
+        return;
+    }
+    phase_ = Phase::kSearch;
     ++nodes_;
     if (st == LpStatus::kOptimal) {
         evaluateNode();
@@ -779,6 +1098,10 @@ void CcPlanner::restoreLevel(std::size_t d) {
 }
 
 bool CcPlanner::searchStep() {
+    if (lpRunning_) {
+        nodeLpUnit();
+        return true;
+    }
     // Each pass consumes one child (or pops a level), so kMaxPairs levels of
     // at most kMaxObstacleFaces children bound it.
     const std::size_t guard = kMaxPairs * (kMaxObstacleFaces + 1) + 1;
@@ -801,17 +1124,34 @@ bool CcPlanner::searchStep() {
             !feasible) {
             continue;
         }
-        const LpStatus st = lp_.solve(lpCap(), pruneThreshold());
-        ++nodes_;
-        if (st == LpStatus::kOptimal) {
-            evaluateNode();
-        } else if (st != LpStatus::kInfeasible && st != LpStatus::kCutoff) {
-            incomplete_ = true;
-            unresolvedBound_ = l.bound < unresolvedBound_ ? l.bound : unresolvedBound_;
-        }
+        beginLp(pruneThreshold(), lpCap());
+        nodeLpUnit();
         return true;
     }
     return false;
+}
+
+// One unit of a node's LP; at its end the node is evaluated.
+void CcPlanner::nodeLpUnit() {
+    LpStatus st = LpStatus::kNotSolved;
+    if (!continueLp(&st)) {
+        return;
+    }
+    ++nodes_;
+    if (st == LpStatus::kOptimal) {
+        evaluateNode();
+    } else if (st != LpStatus::kInfeasible && st != LpStatus::kCutoff) {
+        abandonNode();
+    }
+}
+
+// The node whose LP is running (or was cut short) stays unresolved: the
+// search is incomplete and its parent's bound bounds what it hides.
+void CcPlanner::abandonNode() {
+    lpRunning_ = false;
+    incomplete_ = true;
+    const double bound = depth_ > 0 ? level_[depth_ - 1].bound : 0.0;
+    unresolvedBound_ = bound < unresolvedBound_ ? bound : unresolvedBound_;
 }
 
 // ---------------------------------------------------------------------------
@@ -819,6 +1159,22 @@ bool CcPlanner::searchStep() {
 
 void CcPlanner::allocateStep() {
     const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    if (lpRunning_) {
+        LpStatus st = LpStatus::kNotSolved;
+        if (!workLeft) {
+            lpRunning_ = false;
+            finish();
+        } else if (!continueLp(&st)) {
+            // runs on in the next unit
+        } else if (st != LpStatus::kOptimal) {
+            finish();
+        } else if (!iraReady_) {
+            iraReady_ = true;
+        } else {
+            allocationCandidate();
+        }
+        return;
+    }
     if (best_.status == CcStatus::kNoPlan || obstacles_ == 0 ||
         problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || !workLeft) {
         finish();
@@ -840,11 +1196,7 @@ void CcPlanner::allocateStep() {
                 }
             }
         }
-        if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
-            finish();
-            return;
-        }
-        iraReady_ = true;
+        beginLp(HUGE_VAL, params_.perLpIterations);
         return;
     }
     ++iraDone_;
@@ -924,10 +1276,12 @@ void CcPlanner::allocateStep() {
                                      faceMargin(problem_, i, j, t + 1, delta_[t][i][1]));
         }
     }
-    if (lp_.solve(params_.perLpIterations) != LpStatus::kOptimal) {
-        finish();
-        return;
-    }
+    beginLp(HUGE_VAL, params_.perLpIterations);
+}
+
+// The candidate of an allocation round: its LP's path with its deltas, kept
+// when it verifies and is shorter; the rounds end when one gains nothing.
+void CcPlanner::allocationCandidate() {
     // The candidate: this LP's path with these deltas.
     CcPlan& c = candidate_;
     c = best_;

@@ -23,22 +23,45 @@
 // left proves that there is no plan (kNoPlan, at once); a pair with one face
 // left is fixed at the root.
 //
-// Seed. Before the search, one unit per variant (kSeedVariants): the
-// obstacles inflated by their margin at step N, N / 2 or 0 (margins grow with
-// the step: the first is conservative, the last keeps gaps open that early
-// steps can use); the shortest path (16-gon length) from start to goal in the
-// visibility graph of the free space's corners (the inflated obstacles'
-// vertices, where overlapping obstacles meet, where an obstacle leaves the
-// site; Dijkstra, edges tested lazily); that path cut into N segments, either
-// shared among its legs by length or, "front-loaded", one per leg and the
-// rest parked at the goal (the path passes the obstacles while the margins
-// are small); every pair given the face its two ends clear best, and the
-// fixed-face LP solved; then "polish": each pair moves to the face its ends
-// at the LP optimum clear best (the path stays feasible, so the cost cannot
-// rise) and the LP is solved again, kPolishRounds (1) times. The best seed
-// is the first incumbent. The faces of the shortest visibility path (even if
-// its LP was infeasible) are the search's guide: at every branching the
-// guide's face is tried first.
+// Seed. Before the search, cheapest first. Visibility variants
+// (kSeedVariants): the obstacles inflated by their margin at step N, N / 2 or
+// 0 (margins grow with the step: the first is conservative, the last keeps
+// gaps open that early steps can use); the shortest path (16-gon length) from
+// start to goal in the visibility graph of the free space's corners (the
+// inflated obstacles' vertices, where overlapping obstacles meet, where an
+// obstacle leaves the site; Dijkstra, edges tested lazily); that path cut
+// into N segments, either shared among its legs by length or, "front-loaded",
+// one per leg and the rest parked at the goal (the path passes the obstacles
+// while the margins are small); every pair given the face its two ends clear
+// best, and the fixed-face LP solved; then "polish": each pair moves to the
+// face its ends at the LP optimum clear best (the path stays feasible, so the
+// cost cannot rise) and the LP is solved again, kPolishRounds (1) times.
+// Order: variants N and N / 2, then (only when neither gave a plan) the
+// layered seed, then variants 0 and front-loaded. The best seed is the first
+// incumbent. The faces of the shortest seed path (even if its LP was
+// infeasible) are the search's guide: at every branching the guide's face is
+// tried first.
+//
+// Layered seed: complete on the problem's own constraints. For fixed faces
+// the constraints on waypoint tau involve tau alone (half-planes at its
+// margins, the site), so if any plan exists, one exists whose every waypoint
+// is a vertex of its own feasible polygon: a crossing of two of layer tau's
+// lines (each face moved out by its margin at tau, plus 2 kSafetyM; the site's
+// sides). Layer 0 is the start; layer tau + 1 keeps each crossing that
+// clears some face of every obstacle and is one segment from a point kept in
+// layer tau (for every obstacle one face holds both ends: a 64-bit AND of
+// the two points' face masks; a crossing whose mask is covered by a point
+// already kept is dropped, since a point's moves depend on its mask alone);
+// the goal is tried first in every layer, and
+// once reached the remaining steps park on it (the goal clears its margin at
+// N, the largest). The path found (fewest steps to the goal) gets the faces
+// its ends clear best and is seeded like a visibility path. Exact while no
+// layer fills its kMaxLayerPoints (layeredSeedFullLayers() counts those),
+// up to the 2 um the lines are moved (and crossings of lines within 1e-9 of
+// parallel, which are skipped); it stops at the first path, so it is a
+// feasibility seed, not a short one (the search and the later variants
+// shorten it). Cost: up to (8 M + 4)^2 / 2 crossings a layer, each a mask of
+// M x 8 face tests and an AND per point of this layer and the one before.
 //
 // Risk allocation. kEvenSplit: delta = Delta' / (2 N M) at every end, with
 // Delta' = Delta (1 - 1e-12) so that the sum of the 2 N M deltas, added in any
@@ -61,30 +84,41 @@
 // exactly (no tolerance), deltas in (0, 0.5), their sum <= Delta.
 //
 // Bounded and sliceable. No clock is read here: work is counted. start() does
-// no LP work; step(maxNodes) runs at most maxNodes units (a unit is one LP
-// solve: a search node or an allocation round; or one seed variant, i.e. a
-// visibility graph and up to 1 + kPolishRounds LPs), each LP capped at
-// perLpIterations pivots. A plan stops searching when nodeBudget nodes,
-// iterationBudget pivots or workBudget thousand work units are spent (with
-// kOptimised the search gets 85 % of the work budget and the allocation the
-// rest). work() is LpSolver::work() plus the planner's own scoring, margins
-// and geometry, weighted by measured costs: 0.45 - 0.9 ns per unit on the
-// x86-64 development host (most for small N, and with another process on the
-// other core). The default 20 000 (20 M units) is 10 - 20 ms there; the
-// time of a plan is then bounded by the budget plus one unit (in the search,
-// one LP of <= perLpIterations pivots; between seed variants, one variant).
-// Measured with the defaults (unit_test/deliberative's random instances,
-// x86-64 host, wall clock, another process on the other core):
+// no LP work; step(maxNodes) runs at most maxNodes units, and every unit is
+// small: an LP (seed, root, search node, allocation round) runs
+// kPivotsPerUnit (16) pivots per unit and resumes from its basis in the next
+// (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
+// pivots in all; a visibility seed builds its graph in one unit and settles
+// one Dijkstra vertex per unit; the layered seed handles kLayerPairsPerUnit
+// (256) line pairs of a layer per unit. Every unit checks the budget first, so
+// work() <= workBudget x 1000 + kMaxUnitWork whatever N <= kMaxPlanSteps and
+// M <= kMaxPlanObstacles (test_cc_planner_budget: N = 24, M = 8 octagons,
+// budgets 0.5 M - 20 M, largest unit measured 315 k units; bench_cc_complete:
+// 600 runs of the hard set, worst work / budget in docs/performance.md). A
+// plan stops searching when nodeBudget nodes, iterationBudget pivots or
+// workBudget thousand work units are spent (with kOptimised the search gets
+// 85 % of the work budget and the allocation the rest); a seed or an LP cut
+// short by the budget is dropped (a search node cut short leaves the search
+// incomplete, its parent's bound in lowerBound()). work() is
+// LpSolver::work() plus the planner's own scoring, margins and geometry,
+// weighted by measured costs: 0.45 - 0.9 ns per unit on the x86-64
+// development host (most for small N, and with another process on the other
+// core; bench_cc_complete measures CPU ns per unit on its runs). The default
+// 20 000 (20 M units) is 10 - 20 ms there.
+// Measured with the defaults before the layered seed and the slicing
+// (unit_test/deliberative's random instances, x86-64 host, wall clock,
+// another process on the other core; no command reproduces these any more):
 // N = 10, M = 4 median 15 ms, max 19 ms (50 instances: ~900 nodes, cost
 // within 0.44 % of the proven optimum, median 0 %); N = 20, M = 8 median
 // 12 ms, max 13 ms (~180 nodes: the seeds take half the budget there);
-// N = 24, M = 8 median 11 ms, max 12 ms; 400 random problems N = 1 .. 24,
-// M = 0 .. 8: max 16 ms.
+// N = 24, M = 8 median 11 ms, max 12 ms.
 //
-// Memory: sizeof(CcPlanner) = 450 712 B (x86-64 and aarch64): one CcLp
-// (216 KiB), the factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack
-// (192 levels with a basis each, 32 KiB), the margin table, two plans and the
-// problem. Static storage (a task member), never a stack.
+// Memory: sizeof(CcPlanner) = 488 728 B on x86-64: one CcLp (216 KiB), the
+// factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack (192 levels
+// with a basis each, 32 KiB), the layered seed's layers (25 x 256 points:
+// two line indices and a predecessor each, 25 KiB, and the last two layers'
+// points and masks, 12 KiB: 38 016 B more than before it), the margin table,
+// two plans and the problem. Static storage (a task member), never a stack.
 #pragma once
 
 #include <cstddef>
@@ -105,6 +139,7 @@ struct CcPlannerParams {
     double relativeGap = 0.002;                // prune bound >= incumbent (1 - gap); [0, 0.5)
     std::uint8_t iraRounds = 12;               // risk allocation rounds (kOptimised), 0..50
     bool seed = true;                          // the visibility-graph seed
+    bool layeredSeed = true;                   // the layered seed when those find none (false: ablation only)
 };
 
 // Checks a plan against its problem exactly (see above). kInvalidArgument
@@ -115,6 +150,13 @@ class CcPlanner {
 public:
     static constexpr std::size_t kPolishRounds = 1;
     static constexpr std::size_t kSeedVariants = 4;
+    // The layered seed runs after this many visibility variants found none.
+    static constexpr std::size_t kLayeredSeedSlot = 2;
+    // Points kept per layer of the layered seed (the first that are reachable).
+    static constexpr std::size_t kMaxLayerPoints = 256;
+    // Slices of work per unit of step(): LP pivots, line pairs of a layer.
+    static constexpr std::uint32_t kPivotsPerUnit = 16;
+    static constexpr std::size_t kLayerPairsPerUnit = 256;
     // Factors (A_B^-1) of the deepest search levels, for going back to a
     // level without refactorising: a ring of slots over the stack.
     static constexpr std::size_t kFactorPoolDoubles = 4 * LpSolver::factorDoubles(kLpMaxVariables);
@@ -122,6 +164,10 @@ public:
     static constexpr std::size_t kMaxSeedVertices = 192;  // start, goal and free-space corners
     // Work units charged per position tautening tries (2 M face checks).
     static constexpr std::uint64_t kTautWorkPerTry = 64;
+    // The most work one unit of step() may do (see "Bounded and sliceable";
+    // the largest measured is 315 k): a plan's work() never exceeds the
+    // budget by more than this.
+    static constexpr std::uint64_t kMaxUnitWork = 500000;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
@@ -154,6 +200,10 @@ public:
     std::uint32_t nodeOfLastIncumbent() const { return lastIncumbentNode_; }
     std::size_t maxDepth() const { return maxDepth_; }
     bool seedFound() const { return seedFound_; }
+    std::size_t layeredSeedLayers() const { return layerTau_; }     // layers the layered seed built (0: not run)
+    // Layers that reached kMaxLayerPoints (points beyond were dropped: the
+    // layered seed is complete only while this is 0).
+    std::uint32_t layeredSeedFullLayers() const { return layerFull_; }
     double seedCost() const { return seedCost_; }                   // INFINITY without a seed
     double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
     bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
@@ -163,6 +213,7 @@ public:
 
 private:
     enum class Phase : std::uint8_t { kIdle, kSeed, kRoot, kSearch, kAllocate, kDone };
+    enum class SeedStage : std::uint8_t { kIdle, kDijkstra, kLayered };
 
     struct Level {
         std::uint8_t t;
@@ -177,8 +228,24 @@ private:
     void saveLevelFactor(std::size_t d);
     void restoreLevel(std::size_t d);
     void runSeed();
-    bool seedPath(std::size_t* legs);
-    bool solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost);
+    bool seedVertices();
+    bool dijkstraStep();
+    bool seedLegs(std::size_t* legs);
+    void cutSeedPath();
+    void seedFromPath(double distance);
+    void seedStartLp();
+    void seedLpUnit();
+    void beginLp(double cutoff, std::uint32_t limit);
+    bool continueLp(LpStatus* status);
+    void rootLpUnit();
+    void nodeLpUnit();
+    void abandonNode();
+    void allocationCandidate();
+    bool layeredSeedStep();
+    std::size_t layerLineCount() const;
+    void layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const;
+    bool layerPoint(std::size_t tau, std::uint8_t a, std::uint8_t b, double* x, double* y) const;
+    std::uint64_t layerMask(std::size_t tau, double x, double y, bool fixedEnd);
     void chooseFacesAt(const double* mx, const double* my,
                        std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]) const;
     void offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles]);
@@ -229,11 +296,34 @@ private:
     std::uint8_t prev_[kMaxSeedVertices] = {};
     bool settled_[kMaxSeedVertices] = {};
     std::size_t vertexCount_ = 0;
-    std::size_t seedVariant_ = 0;
+    std::size_t seedVariant_ = 0;   // the next seed slot (variants and the layered seed)
+    std::size_t seedCurrent_ = 0;   // the visibility variant under way
+    SeedStage seedStage_ = SeedStage::kIdle;
+    std::size_t seedRound_ = 0;     // polish rounds done on the current seed
     std::uint8_t guideFace_[kMaxPlanSteps][kMaxPlanObstacles] = {};
     bool guideValid_ = false;
     double guideDistance_ = 0.0;
     std::uint8_t legPoint_[kMaxSeedVertices + 1] = {};
+
+    // Layered seed: per layer the points kept (their two lines, or the start
+    // or goal) and each one's predecessor; the last two layers' points.
+    std::size_t layerTau_ = 0;
+    std::size_t layerLineA_ = 0;    // the next first line of the layer being built
+    std::size_t layerBuilt_ = 0;    // its points so far
+    std::uint32_t layerFull_ = 0;
+    std::uint16_t layerCount_[kMaxPlanSteps + 1] = {};
+    std::uint8_t layerLines_[kMaxPlanSteps + 1][kMaxLayerPoints][2] = {};
+    std::uint16_t layerPrev_[kMaxPlanSteps + 1][kMaxLayerPoints] = {};
+    double reachX_[2][kMaxLayerPoints] = {};
+    double reachY_[2][kMaxLayerPoints] = {};
+    std::uint64_t reachMask_[2][kMaxLayerPoints] = {};
+
+    // The LP under way (seed, root, node or allocation round), run
+    // kPivotsPerUnit pivots per unit.
+    bool lpRunning_ = false;
+    std::uint32_t lpPivots_ = 0;
+    std::uint32_t lpLimit_ = 0;
+    double lpCutoff_ = 0.0;
 
     // Allocation state.
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};

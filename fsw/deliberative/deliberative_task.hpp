@@ -84,9 +84,9 @@
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
 //
 // Time bound per run: at most kMaxUnitsPerRun planner units and stops after the
-// unit that takes the run's planner work past kSliceWork (one unit is one LP of
-// at most perLpIterations pivots or one seed variant: docs/deliberative.md), so
-// a run costs about kSliceWork work units plus one unit; a whole plan is bounded
+// unit that takes the run's planner work past kSliceWork (one unit does at most
+// CcPlanner::kMaxUnitWork work units: docs/deliberative.md), so a run costs
+// at most kSliceWork + kMaxUnitWork work units; a whole plan is bounded
 // by PLANNER.node_budget LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs
 // thousand work units. Inputs are bounded by the pipe depths. No heap: the
 // planner, problem, plan and legs are members (about 460 KB: make it static).
@@ -118,7 +118,11 @@ namespace rse::deliberative {
 // of 2.5 M units 1.1 - 2.3 ms. Recalibrate on the flight computer.
 constexpr std::uint32_t kWorkKUnitsPerMs = 1000;
 constexpr std::uint64_t kSliceWork = 2500000;
-constexpr std::uint32_t kMaxUnitsPerRun = 64;
+// Every planner unit is at most CcPlanner::kMaxUnitWork, so kSliceWork bounds
+// a run; this cap only bounds the loop when units do little (an LP slice of
+// 16 pivots at small N is ~20 k units): with 64 a plan of such units took
+// several times the runs its work needs.
+constexpr std::uint32_t kMaxUnitsPerRun = 1024;
 // Poses and drive status come at 100 Hz: 20 per run, 40 survive one skipped run.
 constexpr std::uint16_t kFastPipeDepth = 40;
 constexpr std::uint16_t kInputPipeDepth = 16;

@@ -85,3 +85,44 @@ std::vector<CcProblem> largeSet(double riskBound, std::size_t count = 10);
 CcProblem diagonalBoxInstance(double riskBound = 0.05);
 
 }  // namespace rse::test::cc
+
+namespace rse::test::cc {
+
+// ---------------------------------------------------------------------------
+// Hard instances (issue 15 item 1): scenes where the planner's cheap seeds
+// (visibility graphs of the obstacles grown by one margin) can miss the only
+// way through, so that "no plan" is tested against scenes that have one.
+// Every instance draws N in [minSteps, maxSteps], sigma in [0.02, 0.2] m/step,
+// a correlated Sigma_0 (variances 0.005 .. 0.05 m^2, correlation -0.8 .. 0.8)
+// and Delta = 10^-u, u in [1, 4]. Kinds (seed % 3):
+//   kGap:     a wall across the site of two boxes, each overlapped by a
+//             random convex buttress (triangle .. octagon), leaving one gap
+//             only a little wider than twice the margin at step 2: it must be
+//             passed early, while the margins are small. 0..2 obstacles of
+//             clutter elsewhere.
+//   kConcave: the start inside a U of three overlapping boxes that opens away
+//             from the goal, and (half of them) the goal inside another that
+//             opens away from the start; 0..2 clutter obstacles.
+//   kClutter: 4..8 overlapping convex polygons of 3..8 faces (radii 1.5 ..
+//             5 m) around the straight line, start and goal just clear of
+//             them at their margins; no witness (the reference decides).
+// kGap and kConcave instances come with a witness: a path that meets every
+// segment constraint with the even split (checked here with
+// segmentConstraintSlack, independent of the planner), so each HAS a plan;
+// an instance whose witness fails is redrawn. Obstacles may reach beyond the
+// site (walls close it off). Deterministic per seed, like generateInstance.
+enum class HardKind : std::uint8_t { kGap = 0, kConcave = 1, kClutter = 2 };
+struct HardInstance {
+    CcProblem problem;
+    HardKind kind = HardKind::kGap;
+    bool hasWitness = false;
+    double witnessX[kMaxPlanSteps + 1] = {};
+    double witnessY[kMaxPlanSteps + 1] = {};
+};
+HardInstance hardInstance(std::uint64_t seed, std::uint8_t minSteps = 10, std::uint8_t maxSteps = 24);
+constexpr std::uint64_t kHardSeedBase = 15000;
+// Instances base + k, k < count (kHardSeedBase by default).
+std::vector<HardInstance> hardSet(std::size_t count, std::uint64_t base = kHardSeedBase,
+                                  std::uint8_t minSteps = 10, std::uint8_t maxSteps = 24);
+
+}  // namespace rse::test::cc

@@ -382,6 +382,7 @@ TEST(DeliberativeTask, PlanningIsSlicedOverRunsWithinTheTableBudget) {
     CHECK(p.nodes() <= planner.node_budget);
     CHECK(c.maxRunUnits <= deliberative::kMaxUnitsPerRun);
     CHECK(c.maxRunUnits >= 1);
+    CHECK(c.maxRunWork <= deliberative::kSliceWork + deliberative::CcPlanner::kMaxUnitWork);
     // Slices: at least the work divided by the most any run did.
     CHECK(rig->task.plannerSlices() >= (p.work() + c.maxRunWork - 1) / c.maxRunWork);
     CHECK(rig->task.plannerSlices() >= 2);
