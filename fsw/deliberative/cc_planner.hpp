@@ -157,6 +157,9 @@ public:
     double seedCost() const { return seedCost_; }                   // INFINITY without a seed
     double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
     bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
+    // Start or goal ends given more than the even split because they need it
+    // (kOptimised; see splitFixedEnds in the .cpp): 0 when the split is even.
+    std::uint8_t fixedEndsRaised() const { return fixedEndsRaised_; }
     // A lower bound on the even split's optimum (valid when the search ran):
     // the least bound of the open nodes, or the incumbent when exhausted.
     double lowerBound() const;
@@ -174,6 +177,8 @@ private:
         LpBasis basis;
     };
 
+    void splitFixedEnds();
+    double endDelta(std::size_t tau, std::size_t i) const;
     void saveLevelFactor(std::size_t d);
     void restoreLevel(std::size_t d);
     void runSeed();
@@ -199,7 +204,9 @@ private:
     CcLp lp_;
     std::size_t steps_ = 0;
     std::size_t obstacles_ = 0;
-    double evenDelta_ = 0.0;
+    double evenDelta_ = 0.0;   // every end's delta in the search, but the fixed ends' below
+    double fixedDelta_[2][kMaxPlanObstacles] = {};  // the start's (0) and the goal's (1) ends, per obstacle
+    std::uint8_t fixedEndsRaised_ = 0;
     double riskBudget_ = 0.0;  // Delta (1 - 1e-12)
     double margin_[kMaxPlanSteps + 1][kMaxPlanObstacles][kMaxObstacleFaces] = {};
     double inflated_[kMaxPlanObstacles][kMaxObstacleFaces] = {};  // b_j + largest margin
