@@ -672,8 +672,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     request.hazardCount = hazards_.count;
     request.goalX = goal.xM;
     request.goalY = goal.yM;
-    const double risk = goals_.riskBound * riskFactor_;
-    request.riskBound = risk < kMaxRiskInForce ? risk : kMaxRiskInForce;
+    request.riskBound = riskInForce();
     MapProblemReport report;
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,
                                     &report))) {
@@ -710,6 +709,11 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
                    static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
                    request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
                    static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
+}
+
+double DeliberativeTask::riskInForce() const {
+    const double risk = goals_.riskBound * riskFactor_;
+    return risk < kMaxRiskInForce ? risk : kMaxRiskInForce;
 }
 
 void DeliberativeTask::stepPlanner(core::TimeNs now) {
@@ -761,9 +765,13 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
         const double next = riskFactor_ * kRiskRelaxStep;
         riskFactor_ = next < limit ? next : limit;
         ++counters_.riskRelaxations;
+        // The value the next plan uses, cap included (it said "relaxed to 1"
+        // for an operator's 0.1 while 0.49 was planned to).
+        const double relaxed = riskInForce();
+        const bool capped = goals_.riskBound * riskFactor_ > relaxed;
         events_.report(events::kRiskRelaxed, core::Severity::kWarning,
-                       "deliberative: risk bound relaxed to %.3g (x%.3g of the operator's %.3g, limit x%.3g)",
-                       goals_.riskBound * riskFactor_, riskFactor_, goals_.riskBound, limit);
+                       "deliberative: risk bound relaxed to %.3g (the operator's %.3g x%.3g%s, limit x%.3g)", relaxed,
+                       goals_.riskBound, relaxed / goals_.riskBound, capped ? ", capped below 0.5" : "", limit);
         setState(msg::DeliberativeState::kWaiting);
         return;
     }

@@ -252,6 +252,8 @@ private:
     void sendBackUpLeg(core::TimeNs now);
 
     void startPlan(core::TimeNs now);
+    // The operator's Delta x riskFactor_, below kMaxRiskInForce: what a plan uses.
+    double riskInForce() const;
     void stepPlanner(core::TimeNs now);
     void onPlanFinished(core::TimeNs now);
     void widenFirstLegFromPose(const LegParams& params);

@@ -265,6 +265,21 @@ TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome)
     DOUBLES_EQUAL(kRisk, rig->lastStatus.riskBound, 0.0);
 }
 
+// Operator's Delta 0.1, no plan within it: relaxed x10 would be 1, but the
+// planner needs Delta < 0.5, so 0.49 is planned to; event 904 says 0.49 (it
+// said "relaxed to 1"), and the factor it gives is the one in force.
+TEST(DeliberativeTask, ARelaxationPastTheCapNamesTheRiskActuallyPlannedTo) {
+    const double radius = static_cast<double>(rig->tables.roverGeometry().footprint_radius_m);
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(5.75, 1.8 - radius - 0.05, 0.1);
+    CHECK_TRUE(rig->runUntil([this] { return rig->seenCount(deliberative::events::kPlanStarted) >= 2; }, kPlanRuns));
+    LONGS_EQUAL(1, rig->task.counters().riskRelaxations);
+    DOUBLES_EQUAL(deliberative::kMaxRiskInForce, rig->task.problem().riskBound, 0.0);
+    STRCMP_EQUAL("deliberative: risk bound relaxed to 0.49 (the operator's 0.1 x4.9, capped below 0.5, limit x10)",
+                 rig->seenText(deliberative::events::kRiskRelaxed));
+    CHECK(std::strstr(rig->seenText(deliberative::events::kPlanStarted), "risk 0.49,") != nullptr);
+}
+
 TEST(DeliberativeTask, ADriveDeclaredFailedWithTheWheelsFreeIsPlannedWithItsPowerFactorNotACallHome) {
     autonomousToFirstLeg();
     const msg::LegCommandMsg first = rig->lastLeg;
