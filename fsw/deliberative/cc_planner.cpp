@@ -99,6 +99,8 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     evenCost_ = INFINITY;
     seedCost_ = INFINITY;
     seedFound_ = false;
+    hintPending_ = false;
+    hintSeedCost_ = INFINITY;
     iraDone_ = 0;
     iraReady_ = false;
     const bool paramsOk = params.nodeBudget > 0 && params.iterationBudget > 0 && params.perLpIterations > 0 &&
@@ -225,6 +227,26 @@ double CcPlanner::endDelta(std::size_t tau, std::size_t i) const {
     return tau == steps_ ? fixedDelta_[1][i] : evenDelta_;
 }
 
+core::Status CcPlanner::setSeedHint(const CcPlan& hint) {
+    // Only before the first step, and only faces that exist in this problem.
+    bool fits = phase_ == Phase::kSeed && seedVariant_ == 0 && seedSolves_ == 0 && hint.steps == steps_;
+    for (std::size_t t = 0; t < steps_ && fits; ++t) {
+        for (std::size_t i = 0; i < obstacles_ && fits; ++i) {
+            fits = hint.face[t][i] < problem_.obstacles[i].faceCount;
+        }
+    }
+    if (!fits) {
+        return core::Status::kInvalidArgument;
+    }
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            hintFace_[t][i] = hint.face[t][i];
+        }
+    }
+    hintPending_ = true;
+    return core::Status::kOk;
+}
+
 CcStatus CcPlanner::solve(const CcProblem& problem, const CcPlannerParams& params, CcPlan* out) {
     (void)start(problem, params);
     // Each call does at least one unit until the phases run out: bounded by
@@ -249,7 +271,9 @@ bool CcPlanner::step(std::uint32_t maxNodes) {
     for (std::uint64_t pass = 0; pass < guard && units < maxNodes && phase_ != Phase::kDone; ++pass) {
         switch (phase_) {
             case Phase::kSeed:
-                if (budgetLeft()) {
+                if (hintPending_) {
+                    runHintSeed();
+                } else if (budgetLeft()) {
                     runSeed();
                 } else {
                     phase_ = Phase::kRoot;
@@ -669,6 +693,26 @@ void CcPlanner::runSeed() {
         guideDistance_ = dist_[1];
         guideValid_ = true;
     }
+    seedFromFaces();
+}
+
+void CcPlanner::runHintSeed() {
+    // An earlier plan's faces (setSeedHint), e.g. the plan at a looser bound:
+    // re-solved at this problem's margins they give at once a plan close to
+    // that one's route when it still fits, where the visibility seeds and a
+    // search cut short by the budget may only find a longer one (issue 15
+    // item 5: a 1e-9 plan 1 m longer than the 1e-8 one).
+    hintPending_ = false;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            faceScratch_[t][i] = hintFace_[t][i];
+        }
+    }
+    seedFromFaces();
+    hintSeedCost_ = seedCost_;
+}
+
+void CcPlanner::seedFromFaces() {
     // The fixed-face LP, then polish rounds (each one LP).
     for (std::size_t round = 0; round <= kPolishRounds; ++round) {
         double cost = 0.0;

@@ -127,6 +127,13 @@ public:
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
     core::Status start(const CcProblem& problem, const CcPlannerParams& params);
 
+    // After start(), before the first step(): the faces of an earlier plan
+    // (same N, each face within its obstacle's count; e.g. the plan at a
+    // looser bound) tried first, as one more seed unit: their LP at this
+    // problem's margins and a polish round. kInvalidArgument (and no effect)
+    // when they do not fit or the seed phase has begun or is off.
+    core::Status setSeedHint(const CcPlan& hint);
+
     // Up to maxNodes units of work; true when the plan is finished.
     bool step(std::uint32_t maxNodes);
     bool finished() const { return phase_ == Phase::kDone; }
@@ -155,6 +162,7 @@ public:
     std::size_t maxDepth() const { return maxDepth_; }
     bool seedFound() const { return seedFound_; }
     double seedCost() const { return seedCost_; }                   // INFINITY without a seed
+    double hintSeedCost() const { return hintSeedCost_; }           // the hint's seed (INFINITY: none or it failed)
     double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
     bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
     // Start or goal ends given more than the even split because they need it
@@ -182,6 +190,8 @@ private:
     void saveLevelFactor(std::size_t d);
     void restoreLevel(std::size_t d);
     void runSeed();
+    void runHintSeed();
+    void seedFromFaces();
     bool seedPath(std::size_t* legs);
     bool solveAssignment(const std::uint8_t (&face)[kMaxPlanSteps][kMaxPlanObstacles], double* cost);
     void chooseFacesAt(const double* mx, const double* my,
@@ -241,6 +251,9 @@ private:
     bool guideValid_ = false;
     double guideDistance_ = 0.0;
     std::uint8_t legPoint_[kMaxSeedVertices + 1] = {};
+    std::uint8_t hintFace_[kMaxPlanSteps][kMaxPlanObstacles] = {};
+    bool hintPending_ = false;
+    double hintSeedCost_ = 0.0;
 
     // Allocation state.
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
