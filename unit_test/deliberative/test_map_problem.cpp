@@ -725,3 +725,70 @@ TEST(MapProblem, SeededGoalsNearARockWithAClearPathAreAllPlanned) {
     }
     LONGS_EQUAL(24, cases);
 }
+
+// ---------------------------------------------------------------------------
+// Monotone in Delta (issue 15 item 5). With the even split a plan at a
+// tighter bound is a plan at a looser one (its ends clear larger margins), so
+// the looser optimum is never longer. A looser plan longer than a tighter one
+// by more than the planner's gap was cut short by the work budget: it must say
+// so (kFeasible, which PLAN and event 902 show as a budget plan) and its gap,
+// (cost - lower bound) / cost, must cover the excess. The demo route at
+// Delta = 1e-1 .. 1e-9 from a start 0.2 m and 0.1 m uncertain (0.2 m: the
+// 1e-7 plan was 20.56 m, the 1e-8 one 20.22 m). Every bound is also planned
+// seeded with the next looser plan's faces, and is then never longer than
+// that seed re-solved at its own margins.
+TEST(MapProblem, ALooserDemoPlanLongerThanATighterOneIsABudgetPlanAndItsGapSaysSo) {
+    constexpr std::size_t kRungs = 9;
+    DefaultTables t;
+    static CcPlan ladder[kRungs];
+    static CcProblem problems[kRungs];
+    double gap[kRungs] = {};
+    double lower[kRungs] = {};
+    unsigned inversions = 0;
+    unsigned seeded = 0;
+    for (const double sigma0 : {0.2, 0.1}) {
+        for (std::size_t k = 0; k < kRungs; ++k) {
+            PlanRequest r = request(0.0, 0.0, 20.0, 0.0, std::pow(10.0, -1.0 - static_cast<double>(k)));
+            r.startCov[0] = r.startCov[3] = sigma0 * sigma0;
+            MapProblemReport report;
+            CcProblem& p = problems[k];
+            CHECK(buildMapProblem(t.service.coarseMap(), t.service.planner(), t.service.roverGeometry(), r, &p,
+                                  &report) == Status::kOk);
+            p.allocation = RiskAllocation::kEvenSplit;
+            (void)planner.solve(p, CcPlannerParams{}, &ladder[k]);
+            lower[k] = planner.lowerBound();
+            const double best = planner.evenSplitCost();
+            gap[k] = std::isfinite(best) ? (best - lower[k]) / best : 1.0;
+            if (k > 0 && planned(ladder[k - 1].status)) {
+                CHECK(planner.start(p, CcPlannerParams{}) == Status::kOk);
+                CHECK(planner.setSeedHint(ladder[k - 1]) == Status::kOk);
+                for (int guard = 0; guard < 100000 && !planner.step(1000); ++guard) {
+                }
+                CHECK(planned(planner.plan().status));
+                if (std::isfinite(planner.hintSeedCost())) {
+                    ++seeded;
+                    CHECK(planner.plan().cost <= planner.hintSeedCost() + 1e-9);
+                }
+            }
+        }
+        for (std::size_t loose = 0; loose < kRungs; ++loose) {
+            for (std::size_t tight = loose + 1; tight < kRungs; ++tight) {
+                const CcPlan& a = ladder[loose];
+                const CcPlan& b = ladder[tight];
+                if (!planned(b.status)) {
+                    continue;
+                }
+                CHECK(planned(a.status));
+                CHECK(rse::deliberative::checkPlan(problems[loose], b) == Status::kOk);
+                CHECK(lower[loose] <= b.cost + 1e-6);
+                if (a.cost > b.cost / (1.0 - CcPlannerParams{}.relativeGap) + 1e-6) {
+                    ++inversions;
+                    CHECK_EQUAL(static_cast<int>(CcStatus::kFeasible), static_cast<int>(a.status));
+                    CHECK(gap[loose] >= (a.cost - b.cost) / a.cost - 1e-9);
+                }
+            }
+        }
+    }
+    CHECK(inversions > 0);  // the budget does cut some looser plans short here
+    CHECK(seeded > 0);
+}
