@@ -679,7 +679,8 @@ TEST(MapProblem, TheIssueGoalsNearTheTriangleArePlannedAtEveryRiskTheGoalAffords
 // demo rocks, in every direction, whose straight path from the start keeps at
 // least 0.3 m from every rock. At 0.49 and 1e-3 every one is planned (the goal
 // end alone needs at most about 4e-4 at 0.8 m: 3.4 sd at step 20). Before the
-// fix 19 of these 24 at 0.49 and 20 at 1e-3 were refused.
+// bevels and the fixed ends' risk, 2 of these 24 at 0.49 and 11 at 1e-3 were
+// "proven" impossible.
 TEST(MapProblem, SeededGoalsNearARockWithAClearPathAreAllPlanned) {
     DefaultTables t;
     const CoarseMapTable& map = t.service.coarseMap();
