@@ -18,10 +18,19 @@
 // restores its parent's A_B^-1 from a ring of saved factors (the deepest
 // levels; older ones are refactorised from their saved basis).
 //
+// Fixed ends. With kOptimised, a start or goal end that needs more risk on
+// its best face than the even split gives gets its need, and the other ends
+// share the rest evenly (splitFixedEnds; the search's "even split" below is
+// that split). kEvenSplit keeps Delta' / (2 N M) everywhere.
+//
 // Presolve. The pairs of the first and last segments have an end at the
 // fixed start or goal; the faces that end misses are out. A pair with no face
-// left proves that there is no plan (kNoPlan, at once); a pair with one face
-// left is fixed at the root.
+// left proves that there is no plan (kNoPlan, at once: for kOptimised only
+// when the fixed ends' needs pass Delta, a proof for any allocation); a pair
+// with one face left is fixed at the root.
+//
+// Hint. setSeedHint(): an earlier plan's faces, re-solved at this problem's
+// margins, as the first seed (e.g. the plan at a looser bound).
 //
 // Seed. Before the search, one unit per variant (kSeedVariants): the
 // obstacles inflated by their margin at step N, N / 2 or 0 (margins grow with
