@@ -90,7 +90,7 @@
 // N = 24, M = 8 median 11 ms, max 12 ms; 400 random problems N = 1 .. 24,
 // M = 0 .. 8: max 16 ms.
 //
-// Memory: sizeof(CcPlanner) = 450 712 B (x86-64 and aarch64): one CcLp
+// Memory: sizeof(CcPlanner) = 451 048 B (x86-64): one CcLp
 // (216 KiB), the factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack
 // (192 levels with a basis each, 32 KiB), the margin table, two plans and the
 // problem. Static storage (a task member), never a stack.
