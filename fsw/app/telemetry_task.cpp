@@ -281,6 +281,7 @@ void TelemetryTask::sendPlan() {
     plan_.risk_in_force = p.riskInForce;
     plan_.risk_used = p.riskUsed;
     plan_.plan_length = static_cast<float>(p.planLengthM);
+    plan_.plan_gap = static_cast<float>(p.planGap);
     plan_.current_leg_id = p.currentLegId;
     plan_.replans = p.replans;
     plan_.risk_relaxations = p.riskRelaxations;

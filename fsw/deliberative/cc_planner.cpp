@@ -99,6 +99,8 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     evenCost_ = INFINITY;
     seedCost_ = INFINITY;
     seedFound_ = false;
+    hintPending_ = false;
+    hintSeedCost_ = INFINITY;
     iraDone_ = 0;
     iraReady_ = false;
     const bool paramsOk = params.nodeBudget > 0 && params.iterationBudget > 0 && params.perLpIterations > 0 &&
@@ -114,11 +116,14 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     best_.steps = problem_.steps;
     riskBudget_ = problem_.riskBound * (1.0 - kRiskSafety);
     evenDelta_ = obstacles_ > 0 ? riskBudget_ / static_cast<double>(2 * steps_ * obstacles_) : 0.0;
+    geometryWork_ = 0;
+    fixedEndsRaised_ = 0;
+    splitFixedEnds();
     for (std::size_t i = 0; i < obstacles_; ++i) {
         const PlanObstacle& o = problem_.obstacles[i];
         for (std::size_t j = 0; j < o.faceCount; ++j) {
             for (std::size_t tau = 0; tau <= steps_; ++tau) {
-                margin_[tau][i][j] = faceMargin(problem_, i, j, tau, evenDelta_);
+                margin_[tau][i][j] = faceMargin(problem_, i, j, tau, endDelta(tau, i));
             }
         }
     }
@@ -138,7 +143,6 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
         slotOwner_[k] = kMaxPairs;
     }
     factorRestores_ = 0;
-    geometryWork_ = 0;
     seedVariant_ = 0;
     seedStage_ = SeedStage::kIdle;
     lpRunning_ = false;
@@ -147,6 +151,103 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     guideValid_ = false;
     guideDistance_ = HUGE_VAL;
     phase_ = (params_.seed && obstacles_ > 0) ? Phase::kSeed : Phase::kRoot;
+    return core::Status::kOk;
+}
+
+// ---------------------------------------------------------------------------
+// Fixed ends (issue 15 item 4).
+
+void CcPlanner::splitFixedEnds() {
+    // The start (tau 0) and the goal (tau N) are constants: the risk each of
+    // their ends needs on its best face is known before any search. At the even
+    // split a goal 1 m clear of a rock needs more than Delta / (2 N M) there
+    // (at N = 20, M = 4, Delta = 1e-3 the goal's margin is 1.00 m), and the
+    // presolve "proved" no plan that the optimised allocation would have found
+    // (the goal alone needs 6e-6 of the 1e-3). With kOptimised such an end is
+    // given what it needs (1 um inside its slack, as the LP's rows) and the
+    // other ends share the rest evenly; when the fixed ends' needs alone pass
+    // Delta there is no plan within Delta (Boole), and the presolve finds it.
+    // kEvenSplit keeps Delta / (2 N M) everywhere: that is its definition.
+    for (std::size_t e = 0; e < 2; ++e) {
+        for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
+            fixedDelta_[e][i] = evenDelta_;
+        }
+    }
+    if (problem_.allocation != RiskAllocation::kOptimised || obstacles_ == 0) {
+        return;
+    }
+    const std::size_t ends = 2 * steps_ * obstacles_;
+    double fixedSum = 0.0;
+    std::size_t raised = 0;
+    for (std::size_t e = 0; e < 2; ++e) {
+        const std::size_t tau = e == 0 ? 0 : steps_;
+        const double x = e == 0 ? problem_.startX : problem_.goalX;
+        const double y = e == 0 ? problem_.startY : problem_.goalY;
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            const PlanObstacle& o = problem_.obstacles[i];
+            double need = 1.0;
+            for (std::size_t j = 0; j < o.faceCount; ++j) {
+                const double variance = faceVariance(o.normalX[j], o.normalY[j], problem_.startCov,
+                                                     problem_.processSigmaM, static_cast<unsigned>(tau));
+                const double r = endRisk(endSlack(o, j, x, y, 0.0) - kSafetyM, variance);
+                need = r < need ? r : need;
+            }
+            geometryWork_ += kMarginWork * o.faceCount;
+            if (need > evenDelta_ && need < 0.5) {
+                fixedDelta_[e][i] = need;
+                fixedSum += need;
+                ++raised;
+            }
+        }
+    }
+    if (raised == 0) {
+        return;
+    }
+    // The rest shared by the other ends, shaved so that rounding in any order
+    // keeps the sum within riskBudget_. Nothing left: keep the even split, and
+    // the presolve proves the fixed ends out.
+    const double rest = (riskBudget_ - fixedSum) * (1.0 - kRiskSafety) / static_cast<double>(ends - raised);
+    if (!(rest > 0.0) || raised >= ends) {
+        for (std::size_t e = 0; e < 2; ++e) {
+            for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
+                fixedDelta_[e][i] = evenDelta_;
+            }
+        }
+        return;
+    }
+    for (std::size_t e = 0; e < 2; ++e) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            fixedDelta_[e][i] = fixedDelta_[e][i] > evenDelta_ ? fixedDelta_[e][i] : rest;
+        }
+    }
+    evenDelta_ = rest;
+    fixedEndsRaised_ = static_cast<std::uint8_t>(raised);
+}
+
+double CcPlanner::endDelta(std::size_t tau, std::size_t i) const {
+    if (tau == 0) {
+        return fixedDelta_[0][i];
+    }
+    return tau == steps_ ? fixedDelta_[1][i] : evenDelta_;
+}
+
+core::Status CcPlanner::setSeedHint(const CcPlan& hint) {
+    // Only before the first step, and only faces that exist in this problem.
+    bool fits = phase_ == Phase::kSeed && seedVariant_ == 0 && seedSolves_ == 0 && hint.steps == steps_;
+    for (std::size_t t = 0; t < steps_ && fits; ++t) {
+        for (std::size_t i = 0; i < obstacles_ && fits; ++i) {
+            fits = hint.face[t][i] < problem_.obstacles[i].faceCount;
+        }
+    }
+    if (!fits) {
+        return core::Status::kInvalidArgument;
+    }
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            hintFace_[t][i] = hint.face[t][i];
+        }
+    }
+    hintPending_ = true;
     return core::Status::kOk;
 }
 
@@ -175,7 +276,9 @@ bool CcPlanner::step(std::uint32_t maxNodes) {
         switch (phase_) {
             case Phase::kSeed:
                 // Out of budget: whatever seed is under way is dropped.
-                if (budgetLeft()) {
+                if (hintPending_ && budgetLeft()) {
+                    runHintSeed();
+                } else if (budgetLeft()) {
                     runSeed();
                 } else {
                     lpRunning_ = false;
@@ -309,9 +412,9 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
     for (std::size_t t = 0; t < steps_; ++t) {
         for (std::size_t i = 0; i < obstacles_; ++i) {
             c.face[t][i] = face[t][i];
-            c.delta[t][i][0] = evenDelta_;
-            c.delta[t][i][1] = evenDelta_;
-            risk += 2.0 * evenDelta_;
+            c.delta[t][i][0] = endDelta(t, i);
+            c.delta[t][i][1] = endDelta(t + 1, i);
+            risk += c.delta[t][i][0] + c.delta[t][i][1];
         }
     }
     c.riskUsed = risk;
@@ -535,6 +638,7 @@ void CcPlanner::runSeed() {
         seedLpUnit();
         return;
     }
+    hintRunning_ = false;  // the hint's LP and polish, if any, are over
     if (seedStage_ == SeedStage::kDijkstra) {
         if (dijkstraStep()) {
             seedStage_ = SeedStage::kIdle;
@@ -643,6 +747,27 @@ void CcPlanner::seedFromPath(double distance) {
     seedStartLp();
 }
 
+void CcPlanner::runHintSeed() {
+    // An earlier plan's faces (setSeedHint), e.g. the plan at a looser bound:
+    // re-solved at this problem's margins they give at once a plan close to
+    // that one's route when it still fits, where the visibility seeds and a
+    // search cut short by the budget may only find a longer one (issue 15
+    // item 5: a 1e-9 plan 1 m longer than the 1e-8 one). Its LP and polish
+    // run in units like any seed's (runSeed); seedLpUnit records its cost.
+    hintPending_ = false;
+    hintRunning_ = true;
+    for (std::size_t t = 0; t < steps_; ++t) {
+        for (std::size_t i = 0; i < obstacles_; ++i) {
+            faceScratch_[t][i] = hintFace_[t][i];
+        }
+    }
+    seedRound_ = 0;
+    seedStartLp();
+    if (!lpRunning_) {
+        hintRunning_ = false;  // the hint's faces do not fit this problem's margins
+    }
+}
+
 // The fixed-face LP of faceScratch_, started (its pivots run in units).
 void CcPlanner::seedStartLp() {
     (void)lp_.popPairs(0);
@@ -672,6 +797,9 @@ void CcPlanner::seedLpUnit() {
     if (std::isfinite(evenCost_)) {
         seedFound_ = true;
         seedCost_ = evenCost_;
+        if (hintRunning_) {
+            hintSeedCost_ = evenCost_;
+        }
     }
     if (seedRound_ >= kPolishRounds) {
         return;

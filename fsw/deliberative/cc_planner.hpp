@@ -18,10 +18,19 @@
 // restores its parent's A_B^-1 from a ring of saved factors (the deepest
 // levels; older ones are refactorised from their saved basis).
 //
+// Fixed ends. With kOptimised, a start or goal end that needs more risk on
+// its best face than the even split gives gets its need, and the other ends
+// share the rest evenly (splitFixedEnds; the search's "even split" below is
+// that split). kEvenSplit keeps Delta' / (2 N M) everywhere.
+//
 // Presolve. The pairs of the first and last segments have an end at the
 // fixed start or goal; the faces that end misses are out. A pair with no face
-// left proves that there is no plan (kNoPlan, at once); a pair with one face
-// left is fixed at the root.
+// left proves that there is no plan (kNoPlan, at once: for kOptimised only
+// when the fixed ends' needs pass Delta, a proof for any allocation); a pair
+// with one face left is fixed at the root.
+//
+// Hint. setSeedHint(): an earlier plan's faces, re-solved at this problem's
+// margins, as the first seed (e.g. the plan at a looser bound).
 //
 // Seed. Before the search, cheapest first. Visibility variants
 // (kSeedVariants): the obstacles inflated by their margin at step N, N / 2 or
@@ -173,6 +182,13 @@ public:
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
     core::Status start(const CcProblem& problem, const CcPlannerParams& params);
 
+    // After start(), before the first step(): the faces of an earlier plan
+    // (same N, each face within its obstacle's count; e.g. the plan at a
+    // looser bound) tried first, as one more seed unit: their LP at this
+    // problem's margins and a polish round. kInvalidArgument (and no effect)
+    // when they do not fit or the seed phase has begun or is off.
+    core::Status setSeedHint(const CcPlan& hint);
+
     // Up to maxNodes units of work; true when the plan is finished.
     bool step(std::uint32_t maxNodes);
     bool finished() const { return phase_ == Phase::kDone; }
@@ -205,8 +221,12 @@ public:
     // layered seed is complete only while this is 0).
     std::uint32_t layeredSeedFullLayers() const { return layerFull_; }
     double seedCost() const { return seedCost_; }                   // INFINITY without a seed
+    double hintSeedCost() const { return hintSeedCost_; }           // the hint's seed (INFINITY: none or it failed)
     double evenSplitCost() const { return evenCost_; }              // the search's best (INFINITY: none)
     bool searchExhausted() const { return exhausted_; }             // every node resolved or pruned
+    // Start or goal ends given more than the even split because they need it
+    // (kOptimised; see splitFixedEnds in the .cpp): 0 when the split is even.
+    std::uint8_t fixedEndsRaised() const { return fixedEndsRaised_; }
     // A lower bound on the even split's optimum (valid when the search ran):
     // the least bound of the open nodes, or the incumbent when exhausted.
     double lowerBound() const;
@@ -225,9 +245,12 @@ private:
         LpBasis basis;
     };
 
+    void splitFixedEnds();
+    double endDelta(std::size_t tau, std::size_t i) const;
     void saveLevelFactor(std::size_t d);
     void restoreLevel(std::size_t d);
     void runSeed();
+    void runHintSeed();
     bool seedVertices();
     bool dijkstraStep();
     bool seedLegs(std::size_t* legs);
@@ -266,7 +289,9 @@ private:
     CcLp lp_;
     std::size_t steps_ = 0;
     std::size_t obstacles_ = 0;
-    double evenDelta_ = 0.0;
+    double evenDelta_ = 0.0;   // every end's delta in the search, but the fixed ends' below
+    double fixedDelta_[2][kMaxPlanObstacles] = {};  // the start's (0) and the goal's (1) ends, per obstacle
+    std::uint8_t fixedEndsRaised_ = 0;
     double riskBudget_ = 0.0;  // Delta (1 - 1e-12)
     double margin_[kMaxPlanSteps + 1][kMaxPlanObstacles][kMaxObstacleFaces] = {};
     double inflated_[kMaxPlanObstacles][kMaxObstacleFaces] = {};  // b_j + largest margin
@@ -304,6 +329,10 @@ private:
     bool guideValid_ = false;
     double guideDistance_ = 0.0;
     std::uint8_t legPoint_[kMaxSeedVertices + 1] = {};
+    std::uint8_t hintFace_[kMaxPlanSteps][kMaxPlanObstacles] = {};
+    bool hintPending_ = false;
+    bool hintRunning_ = false;  // the seed LP under way is the hint's
+    double hintSeedCost_ = 0.0;
 
     // Layered seed: per layer the points kept (their two lines, or the start
     // or goal) and each one's predecessor; the last two layers' points.

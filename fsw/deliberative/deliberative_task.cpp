@@ -41,16 +41,6 @@ const char* reasonName(msg::CallHomeReason r) {
     return "?";
 }
 
-const char* statusName(CcStatus s) {
-    switch (s) {
-        case CcStatus::kOptimal: return "optimal";
-        case CcStatus::kFeasible: return "feasible (budget)";
-        case CcStatus::kNoPlan: return "no plan";
-        case CcStatus::kBadProblem: return "bad problem";
-    }
-    return "?";
-}
-
 bool goalListUsable(const msg::GoalListMsg& g) {
     if (g.count > msg::kMaxGoals || !std::isfinite(g.riskBound) || !(g.riskBound > 0.0 && g.riskBound < 0.5)) {
         return false;
@@ -302,6 +292,7 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     status_.callHome = msg::CallHomeReason::kNone;
     status_.riskInForce = goals.riskBound;
     plan_ = CcPlan{};  // PLAN shows "no plan" until the new goal is planned
+    planGap_ = 1.0;
     legs_ = LegPlan{};
     legIndex_ = 0;
     setState(goals.count == 0 ? msg::DeliberativeState::kIdle : msg::DeliberativeState::kWaiting);
@@ -672,8 +663,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     request.hazardCount = hazards_.count;
     request.goalX = goal.xM;
     request.goalY = goal.yM;
-    const double risk = goals_.riskBound * riskFactor_;
-    request.riskBound = risk < kMaxRiskInForce ? risk : kMaxRiskInForce;
+    request.riskBound = riskInForce();
     MapProblemReport report;
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,
                                     &report))) {
@@ -701,6 +691,19 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
         callHome(msg::CallHomeReason::kGoalUnreachable, "planner refused the problem", now);
         return;
     }
+    // The last plan found is a seed for this one when it went to the same goal
+    // among the same obstacles: a replan, or the operator's bound changed
+    // (issue 15 item 5: a tighter bound's search cut short by the budget gave
+    // a route 1 m longer than the looser bound's). The planner re-solves its
+    // faces at this problem's margins and keeps it only if it verifies.
+    bool seeded = last_.valid && last_.goalX == problem_.goalX && last_.goalY == problem_.goalY &&
+                  last_.obstacleCount == problem_.obstacleCount;
+    for (std::size_t i = 0; i < problem_.obstacleCount && seeded; ++i) {
+        seeded = problem_.obstacles[i].id == last_.obstacleIds[i];
+    }
+    seeded = seeded && core::isOk(planner_.setSeedHint(last_.plan));
+    counters_.seededPlans += seeded ? 1U : 0U;
+    seededPlan_ = seeded;
     ++counters_.plansStarted;
     slices_ = 0;
     status_.riskInForce = request.riskBound;
@@ -710,6 +713,11 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
                    static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
                    request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
                    static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
+}
+
+double DeliberativeTask::riskInForce() const {
+    const double risk = goals_.riskBound * riskFactor_;
+    return risk < kMaxRiskInForce ? risk : kMaxRiskInForce;
 }
 
 void DeliberativeTask::stepPlanner(core::TimeNs now) {
@@ -731,16 +739,35 @@ void DeliberativeTask::stepPlanner(core::TimeNs now) {
 
 void DeliberativeTask::onPlanFinished(core::TimeNs now) {
     plan_ = planner_.plan();
+    planGap_ = 1.0;
     const bool hasPath = plan_.status == CcStatus::kOptimal || plan_.status == CcStatus::kFeasible;
+    if (hasPath) {
+        last_.valid = true;
+        last_.plan = plan_;
+        last_.goalX = problem_.goalX;
+        last_.goalY = problem_.goalY;
+        last_.obstacleCount = problem_.obstacleCount;
+        for (std::size_t i = 0; i < problem_.obstacleCount; ++i) {
+            last_.obstacleIds[i] = problem_.obstacles[i].id;
+        }
+    }
     if (hasPath) {
         const LegParams params = legParams();
         if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
             ++counters_.plansFound;
+            // A budget plan is not an optimum: say how far it may be off
+            // (issue 15 item 5), from the search's proven lower bound.
+            const double best = planner_.evenSplitCost();
+            const double gap = std::isfinite(best) && best > 0.0 ? (best - planner_.lowerBound()) / best : 1.0;
+            planGap_ = gap < 0.0 ? 0.0 : (gap > 1.0 ? 1.0 : gap);
+            const bool budget = plan_.status != CcStatus::kOptimal;
+            counters_.budgetPlans += budget ? 1U : 0U;
+            // Most important first: kEventTextSize keeps 95 characters.
             events_.report(events::kPlanFound, core::Severity::kInfo,
-                           "deliberative: plan %s: %.2f m, risk used %.3g of %.3g, %u legs, %u nodes, %u slices",
-                           statusName(plan_.status), plan_.euclideanLengthM, plan_.riskUsed, problem_.riskBound,
-                           static_cast<unsigned>(legs_.count), static_cast<unsigned>(planner_.nodes()),
-                           static_cast<unsigned>(slices_));
+                           "deliberative: %s plan%s, gap %.1f%%: %.2f m, risk %.3g/%.3g, %u legs, %u nodes",
+                           budget ? "BUDGET" : "optimal", seededPlan_ ? ", seeded" : "", 100.0 * planGap_,
+                           plan_.euclideanLengthM, plan_.riskUsed, problem_.riskBound,
+                           static_cast<unsigned>(legs_.count), static_cast<unsigned>(planner_.nodes()));
             legIndex_ = 0;
             legBoundFactor_ = legEnergyFactor_ = legLengthFactor_ = 1.0;
             if (fromReentry_) {
@@ -761,9 +788,13 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
         const double next = riskFactor_ * kRiskRelaxStep;
         riskFactor_ = next < limit ? next : limit;
         ++counters_.riskRelaxations;
+        // The value the next plan uses, cap included (it said "relaxed to 1"
+        // for an operator's 0.1 while 0.49 was planned to).
+        const double relaxed = riskInForce();
+        const bool capped = goals_.riskBound * riskFactor_ > relaxed;
         events_.report(events::kRiskRelaxed, core::Severity::kWarning,
-                       "deliberative: risk bound relaxed to %.3g (x%.3g of the operator's %.3g, limit x%.3g)",
-                       goals_.riskBound * riskFactor_, riskFactor_, goals_.riskBound, limit);
+                       "deliberative: risk bound relaxed to %.3g (the operator's %.3g x%.3g%s, limit x%.3g)", relaxed,
+                       goals_.riskBound, relaxed / goals_.riskBound, capped ? ", capped below 0.5" : "", limit);
         setState(msg::DeliberativeState::kWaiting);
         return;
     }
@@ -1014,6 +1045,7 @@ void DeliberativeTask::publishStatus(core::TimeNs now) {
     s.riskBound = goalsSeen_ ? goals_.riskBound : static_cast<double>(tables_.planner().default_risk_bound);
     s.riskUsed = plan_.riskUsed;
     s.planLengthM = plan_.euclideanLengthM;
+    s.planGap = planGap_;
     s.plansMade = counters_.plansFound;
     s.replans = counters_.replans;
     s.riskRelaxations = counters_.riskRelaxations;

@@ -191,6 +191,8 @@ struct DeliberativeCounters {
     std::uint32_t offMapReplans = 0;     // fault protection's off-map replan requests acted on
     std::uint32_t offMapIgnored = 0;     // ... that came with no mission to replan (counted, evented)
     std::uint32_t reentryPlans = 0;      // plans started from the re-entry point of an off-site start
+    std::uint32_t seededPlans = 0;       // plans seeded with the last plan's faces (same goal and obstacles)
+    std::uint32_t budgetPlans = 0;       // plans found but not proven optimal: the work budget ran out first
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -256,6 +258,8 @@ private:
     void sendBackUpLeg(core::TimeNs now);
 
     void startPlan(core::TimeNs now);
+    // The operator's Delta x riskFactor_, below kMaxRiskInForce: what a plan uses.
+    double riskInForce() const;
     void stepPlanner(core::TimeNs now);
     void onPlanFinished(core::TimeNs now);
     void widenFirstLegFromPose(const LegParams& params);
@@ -309,6 +313,19 @@ private:
 
     // The plan and its legs.
     CcProblem problem_{};
+    // The last plan found and what it was for: the seed of the next plan to
+    // the same goal among the same obstacles (CcPlanner::setSeedHint).
+    struct LastPlan {
+        bool valid = false;
+        double goalX = 0.0;
+        double goalY = 0.0;
+        std::uint8_t obstacleCount = 0;
+        std::uint8_t obstacleIds[kMaxPlanObstacles] = {};
+        CcPlan plan{};
+    };
+    LastPlan last_{};
+    double planGap_ = 1.0;  // PlanStatusMsg.planGap of plan_
+    bool seededPlan_ = false;  // the plan under way was seeded with last_
     CcPlan plan_{};
     LegPlan legs_{};
     std::size_t legIndex_ = 0;

@@ -3,9 +3,11 @@
 // a goal become a CcProblem (cc_problem.hpp) for the chance-constrained planner.
 //
 // - Obstacles: every coarse-map polygon grown by the rover's footprint radius
-//   (each face moved out along its normal: the grown polygon contains the disc
+//   (each face moved out along its normal, and every corner turning by more
+//   than 30 degrees cut by a bevel face tangent to the disc at the vertex,
+//   sharpest first within kMaxObstacleFaces: every face supports the disc
 //   sweep of the polygon, so a mean outside it keeps the rover's disc off the
-//   rock). The planner takes kMaxPlanObstacles; when the map holds more, the
+//   rock, and a sharp corner no longer reaches radius / cos(turn / 2) out). The planner takes kMaxPlanObstacles; when the map holds more, the
 //   ones nearest the straight segment from start to goal are kept and the rest
 //   are counted as dropped: the habitual layer still avoids every polygon
 //   (its local map holds them all), so a dropped one costs a local detour, not

@@ -56,6 +56,9 @@ struct PlanStatusMsg {
     double riskInForce;            // Delta after relaxation (>= riskBound)
     double riskUsed;               // sum of the plan's deltas
     double planLengthM;            // Euclidean length of the plan's mean path
+    double planGap;                // (search's best cost - its proven lower bound) / best cost: 0 .. 1; the
+                                   // most a budget plan (planStatus 1) may be above the best plan for the
+                                   // search's allocation; relativeGap (0.002) when proven
     std::uint32_t plansMade;
     std::uint32_t replans;         // plans made from the current state after a fail-up
     std::uint32_t riskRelaxations;

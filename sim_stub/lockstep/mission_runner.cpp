@@ -496,6 +496,7 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     summary.goalDistanceM = std::hypot(truth.pose.x - o.goalX, truth.pose.y - o.goalY);
     summary.distanceM = truth.distanceM;
     summary.collisions = truth.collisions;
+    summary.leastClearanceM = truth.leastClearanceM;
     summary.energyWh = truth.energyDrawnWh;
     summary.stateOfCharge = truth.stateOfCharge;
     summary.wallTimeS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
@@ -530,8 +531,9 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
     std::fprintf(out, "time:       %.1f s simulated in %.1f s wall (%.1fx real time)\n", s.endTimeS, s.wallTimeS,
                  s.wallTimeS > 0.0 ? s.endTimeS / s.wallTimeS : 0.0);
     std::fprintf(out, "truth:      final position (%.2f, %.2f) heading %.1f deg, %.2f m from the goal; driven %.2f m; "
-                      "collisions %u; energy %.2f Wh, state of charge %.1f %%\n",
-                 s.finalX, s.finalY, s.finalHeadingDeg, s.goalDistanceM, s.distanceM, s.collisions, s.energyWh,
+                      "collisions %u, least clearance %.2f m; energy %.2f Wh, state of charge %.1f %%\n",
+                 s.finalX, s.finalY, s.finalHeadingDeg, s.goalDistanceM, s.distanceM, s.collisions,
+                 s.leastClearanceM, s.energyWh,
                  100.0 * s.stateOfCharge);
     std::fprintf(out, "plan:       %u plans made; the last %.2f m, risk used %.3g (bound %.3g, in force %.3g)\n", s.plansMade,
                  s.planLengthM, s.riskUsed, s.riskBound, s.riskInForce);

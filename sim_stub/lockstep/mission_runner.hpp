@@ -135,6 +135,7 @@ struct MissionSummary {
     double goalDistanceM = 0.0;  // from the final position to the goal
     double distanceM = 0.0;      // path length driven
     std::uint32_t collisions = 0;
+    double leastClearanceM = 0.0;  // least gap between the footprint disc and any rock, hidden ones included
     double energyWh = 0.0;
     double stateOfCharge = 0.0;
 };

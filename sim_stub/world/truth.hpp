@@ -36,6 +36,7 @@ struct TruthRecord {
     double energyDrawnWh = 0.0;
 
     std::uint32_t collisions = 0;          // new contacts of the footprint with an obstacle
+    double leastClearanceM = 1e9;          // least gap between the footprint disc and an obstacle so far (<= 0: touched)
     bool inContact = false;                // touching (blocked by) an obstacle now
     std::uint8_t lastCollisionObstacle = 0;  // obstacle id of the latest contact
     std::uint32_t mapEdgeHits = 0;         // new contacts with the map boundary

@@ -1,5 +1,6 @@
 #include "sim_stub/world/world.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rse::sim {
@@ -50,6 +51,7 @@ bool World::checkContacts(Vec2 centre) {
     for (std::size_t i = 0; i < terrain_.obstacleCount(); ++i) {
         const Obstacle& o = terrain_.obstacle(i);
         const double d = distanceToPolygon(centre, o.shape);
+        truth_.leastClearanceM = std::min(truth_.leastClearanceM, d - rover_.radiusM);
         if (d <= rover_.radiusM) {
             overlapping = true;
             if (contact_[i] == 0) {

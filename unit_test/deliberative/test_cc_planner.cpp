@@ -11,6 +11,7 @@
 
 #include "fsw/deliberative/cc_lp.hpp"
 #include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/gaussian.hpp"
 #include "unit_test/deliberative/cc_test_maps.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
@@ -169,6 +170,35 @@ TEST(CcPlanner, GoalWalledInIsProvenNoPlan) {
     CHECK_EQUAL(statusOf(CcStatus::kNoPlan), statusOf(planner.solve(p, params, &plan)));
     CHECK(planner.searchExhausted());
     CHECK(planner.nodes() < params.nodeBudget);
+}
+
+// The goal 0.4 m west of a box (issue 15 item 4): at step 10 the goal's sd
+// along the face is sqrt(0.01 + 10 x 0.05^2) = 0.187 m, so its end needs
+// Phi(-0.4 / 0.187) = 0.016 of the risk. The even split gives every end
+// 0.05 / 40 = 1.25e-3 (margin 0.56 m): no plan, proven at the root, as that
+// allocation defines. The optimised allocation gives the goal's end what it
+// needs and shares the rest: a plan within Delta; at Delta = 0.01 < 0.016 the
+// goal alone is over the bound and "no plan" is proven for any allocation.
+TEST(CcPlanner, AGoalCloseToAnObstacleGetsTheRiskItsEndNeeds) {
+    CcProblem p = gapMap(10);
+    p.obstacles[1] = makeBox(1, 20.4, 21.5, 3.0, 7.0);
+    p.riskBound = 0.05;
+    const double need = rse::deliberative::endRisk(0.4, 0.01 + 10 * 0.05 * 0.05);
+    CHECK(need > 0.015 && need < 0.017);
+    p.allocation = RiskAllocation::kEvenSplit;
+    CHECK_EQUAL(statusOf(CcStatus::kNoPlan), statusOf(planner.solve(p, CcPlannerParams{}, &plan)));
+    CHECK(planner.searchExhausted());
+    LONGS_EQUAL(0, planner.fixedEndsRaised());
+    p.allocation = RiskAllocation::kOptimised;
+    const CcStatus planned = planner.solve(p, CcPlannerParams{}, &plan);
+    CHECK(planned == CcStatus::kOptimal || planned == CcStatus::kFeasible);
+    checkIsPlan(p, plan);
+    LONGS_EQUAL(1, planner.fixedEndsRaised());
+    CHECK(plan.delta[p.steps - 1][1][1] >= need);
+    DOUBLES_EQUAL(20.0, plan.meanX[p.steps], 0.0);
+    p.riskBound = 0.01;
+    CHECK_EQUAL(statusOf(CcStatus::kNoPlan), statusOf(planner.solve(p, CcPlannerParams{}, &plan)));
+    CHECK(planner.searchExhausted());
 }
 
 TEST(CcPlanner, BudgetsAreRespected) {

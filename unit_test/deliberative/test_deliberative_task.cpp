@@ -2,6 +2,7 @@
 // legs, fail-up handling (bound relaxation, replans), the call home in each of
 // its cases, mode changes, hostile inputs, sliced planning and no heap.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "fsw/deliberative/cc_lp.hpp"
@@ -265,6 +266,21 @@ TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome)
     DOUBLES_EQUAL(kRisk, rig->lastStatus.riskBound, 0.0);
 }
 
+// Operator's Delta 0.1, no plan within it: relaxed x10 would be 1, but the
+// planner needs Delta < 0.5, so 0.49 is planned to; event 904 says 0.49 (it
+// said "relaxed to 1"), and the factor it gives is the one in force.
+TEST(DeliberativeTask, ARelaxationPastTheCapNamesTheRiskActuallyPlannedTo) {
+    const double radius = static_cast<double>(rig->tables.roverGeometry().footprint_radius_m);
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(5.75, 1.8 - radius - 0.05, 0.1);
+    CHECK_TRUE(rig->runUntil([this] { return rig->seenCount(deliberative::events::kPlanStarted) >= 2; }, kPlanRuns));
+    LONGS_EQUAL(1, rig->task.counters().riskRelaxations);
+    DOUBLES_EQUAL(deliberative::kMaxRiskInForce, rig->task.problem().riskBound, 0.0);
+    STRCMP_EQUAL("deliberative: risk bound relaxed to 0.49 (the operator's 0.1 x4.9, capped below 0.5, limit x10)",
+                 rig->seenText(deliberative::events::kRiskRelaxed));
+    CHECK(std::strstr(rig->seenText(deliberative::events::kPlanStarted), "risk 0.49,") != nullptr);
+}
+
 TEST(DeliberativeTask, ADriveDeclaredFailedWithTheWheelsFreeIsPlannedWithItsPowerFactorNotACallHome) {
     autonomousToFirstLeg();
     const msg::LegCommandMsg first = rig->lastLeg;
@@ -366,6 +382,40 @@ TEST(DeliberativeTask, WithoutAFreshPoseNothingIsPlanned) {
     }
     CHECK(DeliberativeState::kWaiting == rig->task.state());
     LONGS_EQUAL(0, rig->task.counters().plansStarted);
+}
+
+// Issue 15 item 5. The demo route from a start 0.2 m uncertain: at 1e-6 the
+// plan is proven optimal (within the planner's 0.2 %); the operator then
+// tightens the bound to 1e-7 for the same goal: the new plan is seeded with the
+// 1e-6 plan's faces, and it is a budget plan (the search ran out of work
+// before proving it), which PLAN (plan_status 1, plan_gap) and event 902
+// ("BUDGET plan", the gap) say; before, only "feasible (budget)" was shown,
+// with nothing on how far from the best it might be.
+TEST(DeliberativeTask, ABudgetPlanSaysSoWithItsGapAndATighterBoundIsSeededWithTheLastPlan) {
+    rig->positionVariance = 0.04;
+    autonomousToFirstLeg(kGoalX, kGoalY, 1e-6);
+    rig->run();
+    const deliberative::DeliberativeCounters& c = rig->task.counters();
+    LONGS_EQUAL(static_cast<int>(deliberative::CcStatus::kOptimal), rig->lastStatus.planStatus);
+    DOUBLES_EQUAL(0.002, rig->lastStatus.planGap, 1e-9);
+    CHECK(std::strncmp(rig->seenText(deliberative::events::kPlanFound), "deliberative: optimal plan, gap 0.2%: ", 38) ==
+          0);
+    LONGS_EQUAL(0, c.budgetPlans);
+    LONGS_EQUAL(0, c.seededPlans);
+
+    rig->sendGoal(kGoalX, kGoalY, 1e-7);
+    CHECK_TRUE(rig->runUntil([this] { return rig->seenCount(deliberative::events::kPlanFound) >= 2; }, kPlanRuns));
+    rig->run();
+    LONGS_EQUAL(1, c.seededPlans);
+    const deliberative::CcPlanner& planner = rig->task.planner();
+    LONGS_EQUAL(static_cast<int>(deliberative::CcStatus::kFeasible), rig->lastStatus.planStatus);
+    LONGS_EQUAL(1, c.budgetPlans);
+    const double gap = (planner.evenSplitCost() - planner.lowerBound()) / planner.evenSplitCost();
+    CHECK(gap > 0.002);
+    DOUBLES_EQUAL(gap, rig->lastStatus.planGap, 1e-12);
+    char expected[64];
+    std::snprintf(expected, sizeof expected, "deliberative: BUDGET plan, seeded, gap %.1f%%: ", 100.0 * gap);
+    CHECK(std::strncmp(rig->seenText(deliberative::events::kPlanFound), expected, std::strlen(expected)) == 0);
 }
 
 // Sliced and bounded: every run stops stepping the planner once its work passes
