@@ -76,6 +76,15 @@ int main() {
     std::printf("   total %.1f kbit/s = %.1f %% of 1 Mbit/s; target < 40 %% -> %s\n", total / 1000.0, 100.0 * load,
                 targets.check(load < 0.40) ? "met" : "MISSED");
     std::printf("   (ground ISO-TP traffic comes on top, at the lowest priority but heartbeats)\n");
+    {
+        // One long ground-link message: a first frame carries 6 bytes, each
+        // consecutive frame 7 (hal/can/isotp.hpp), every frame 8 bytes long.
+        const int messageBytes = 4000;
+        const int frames = 1 + (messageBytes - 6 + 6) / 7;
+        const double bits = frames * worstCaseBits(8);
+        std::printf("   a %d-byte ISO-TP message: %d frames of %.0f bits = %.1f kbit, %.0f ms of the bus at 1 Mbit/s\n",
+                    messageBytes, frames, worstCaseBits(8), bits / 1000.0, bits / 1000.0);
+    }
 
     core::VirtualClock clock;
     hal::MemoryCanBus wire(clock);
