@@ -701,8 +701,9 @@ int main(int argc, char** argv) {
         log.add("geometric_InformedRRTstar", common + "rewire factor 1.1; informed sampling; tree pruning", runs[3]);
         log.finish(std::chrono::duration<double>(std::chrono::steady_clock::now() - mapBegin).count());
         const std::string path = logDir + "/rrt_star_" + m.name + ".log";
-        // Through a stream of our own: saveResultsToFile reports success even
-        // when the file could not be opened.
+        // Through a stream of our own: saveResultsToFile, when it cannot open
+        // the file, writes to a generated name in the working directory instead
+        // and reports success.
         std::ofstream out(path);
         const bool written = out.is_open() && log.saveResultsToStream(out) && out.flush().good();
         if (written) {
