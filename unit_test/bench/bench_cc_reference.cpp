@@ -697,7 +697,7 @@ int main(int argc, char** argv) {
             j.optimised = runFlight(*planner, j.problem, RiskAllocation::kOptimised, reps);
         }
         std::printf("flight planner: %zu instances x 2 allocations x %d repetitions in %.1f s (sequential, "
-                    "default CcPlannerParams, workBudget %u k units); time of a solve = median of its %d repetitions\n\n",
+                    "default CcPlannerParams, workBudget %u k units); time of a solve = its thread CPU time, median of its %d repetitions\n\n",
                     jobs.size(), reps,
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - flightBegin).count(),
                     CcPlannerParams{}.workBudget, reps);
@@ -741,7 +741,7 @@ int main(int argc, char** argv) {
         rows.push_back(derive(jobs[k], refs[k], aided[k]));
     }
 
-    std::printf("per instance (flight: ms = median of %d; CBC: even split, unaided, %d worker process(es), "
+    std::printf("per instance (flight: cpu_ms = thread CPU time, median of %d; CBC: even split, unaided, %d worker process(es), "
                 "s = build + CBC + polish; MC: max(%zu, 500 / Delta) trajectories per plan):\n",
                 reps, jobsN, samples);
     printRows(jobs, refs, aided, rows);
