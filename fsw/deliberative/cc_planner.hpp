@@ -120,9 +120,10 @@
 // N = 10, M = 4 median 15 ms, max 19 ms (50 instances: ~900 nodes, cost
 // within 0.44 % of the proven optimum, median 0 %); N = 20, M = 8 median
 // 12 ms, max 13 ms (~180 nodes: the seeds take half the budget there);
-// N = 24, M = 8 median 11 ms, max 12 ms.
+// N = 24, M = 8 median 11 ms, max 12 ms. Budget checks, reproducible:
+// bench_cc_reference and bench_cc_complete (docs/performance.md).
 //
-// Memory: sizeof(CcPlanner) = 488 728 B on x86-64: one CcLp (216 KiB), the
+// Memory: sizeof(CcPlanner) = 489 064 B on x86-64 and aarch64: one CcLp (216 KiB), the
 // factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack (192 levels
 // with a basis each, 32 KiB), the layered seed's layers (25 x 256 points:
 // two line indices and a predecessor each, 25 KiB, and the last two layers'
