@@ -1,5 +1,7 @@
 #include "fsw/core/executive.hpp"
 
+#include <cstring>
+
 #include "fsw/core/core_events.hpp"
 
 namespace rse::core {
@@ -200,6 +202,16 @@ std::uint64_t Executive::run(const volatile std::sig_atomic_t* stop, std::uint64
 const RateGroupEntry* Executive::entry(std::size_t index) const {
     const Slot* slot = tasks_.at(index);
     return slot == nullptr ? nullptr : &slot->entry;
+}
+
+std::size_t Executive::findTask(const char* name) const {
+    for (std::size_t i = 0; name != nullptr && i < tasks_.size(); ++i) {
+        const char* rowName = tasks_.at(i)->entry.name;
+        if (rowName != nullptr && std::strcmp(rowName, name) == 0) {
+            return i;
+        }
+    }
+    return tasks_.size();
 }
 
 const TaskStats* Executive::taskStats(std::size_t index) const {

@@ -117,6 +117,9 @@ public:
     const ExecutiveStats& stats() const { return stats_; }
     std::size_t taskCount() const { return tasks_.size(); }
     const RateGroupEntry* entry(std::size_t index) const;
+    // The row of the task called `name` (rows are in frame-schedule order, not
+    // a contract); taskCount() when there is none.
+    std::size_t findTask(const char* name) const;
     const TaskStats* taskStats(std::size_t index) const;
     const TaskLiveness* taskLiveness(std::size_t index) const;
     // Maintenance hook: a disabled row is skipped (and evented once per change),

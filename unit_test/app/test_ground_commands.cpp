@@ -138,13 +138,9 @@ TEST_GROUP(GroundCommands) {
     }
     // The rate-group row of a task, by the name TASK_TIMING gives it.
     std::size_t rowOf(const char* name) {
-        for (std::size_t i = 0; i < fsw.executive().taskCount(); ++i) {
-            if (std::strcmp(fsw.executive().entry(i)->name, name) == 0) {
-                return i;
-            }
-        }
-        FAIL(name);
-        return 0;
+        const std::size_t row = fsw.executive().findTask(name);
+        CHECK_TEXT(row < fsw.executive().taskCount(), name);
+        return row;
     }
     std::vector<std::uint8_t> u16(std::uint16_t v) { return {static_cast<std::uint8_t>(v >> 8), static_cast<std::uint8_t>(v)}; }
     std::vector<std::uint8_t> f32s(std::initializer_list<float> values) {

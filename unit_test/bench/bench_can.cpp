@@ -24,18 +24,6 @@ using namespace rse;
 
 namespace {
 
-// The executive row of the task called `name`, looked up by name because the
-// rows' order is the frame schedule's (fsw_app.cpp), not a contract: row 0 is
-// the tables task. taskCount() when there is none.
-std::size_t taskRow(const core::Executive& exec, const char* name) {
-    for (std::size_t i = 0; i < exec.taskCount(); ++i) {
-        if (std::strcmp(exec.entry(i)->name, name) == 0) {
-            return i;
-        }
-    }
-    return exec.taskCount();
-}
-
 double worstCaseBits(int dataBytes) {
     const int stuff = (34 + 8 * dataBytes - 1) / 4;
     return 47.0 + 8.0 * dataBytes + stuff;
@@ -118,7 +106,7 @@ int main() {
     rig.fsw().executive().resetCounters();
     rig.runFor(60 * core::kNsPerSec);
     const core::Executive& exec = rig.fsw().executive();
-    const std::size_t row = taskRow(exec, "can_io");
+    const std::size_t row = exec.findTask("can_io");  // not row 0 (tables): the schedule's order
     if (row == exec.taskCount()) {
         std::fprintf(stderr, "no executive row called can_io\n");
         return 1;

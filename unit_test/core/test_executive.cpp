@@ -107,6 +107,15 @@ TEST(Executive, RunsEachTaskAtItsRateAndOffsetInDeclaredOrder) {
     LONGS_EQUAL(0, exec.stats().frameOverruns);
 }
 
+TEST(Executive, FindsATaskRowByItsName) {
+    const RateGroupEntry table[] = {{"fast", &fast, 1, 0, 1000}, {"oneHz", &oneHz, 100, 5, 1000}};
+    CHECK(Status::kOk == exec.init(k100Hz, table, 2));
+    LONGS_EQUAL(1, exec.findTask("oneHz"));
+    LONGS_EQUAL(0, exec.findTask("fast"));
+    LONGS_EQUAL(2, exec.findTask("one"));  // a prefix is not a name
+    LONGS_EQUAL(2, exec.findTask(nullptr));
+}
+
 TEST(Executive, FrameOverrunIsCountedEventedAndSkipsPassedFrames) {
     fast.spikeFrame = 3;
     fast.spike = 25 * kNsPerMs;  // frame 3 starts at 30 ms and ends at 55 ms

@@ -23,13 +23,9 @@ namespace {
 const char* const kScenario = "sim_stub/scenarios/estimator_drive.toml";
 
 std::size_t taskRow(sim::LockstepRig& rig, const char* name) {
-    for (std::size_t i = 0; i < rig.fsw().executive().taskCount(); ++i) {
-        if (std::strcmp(rig.fsw().executive().entry(i)->name, name) == 0) {
-            return i;
-        }
-    }
-    FAIL("no such task");
-    return 0;
+    const std::size_t row = rig.fsw().executive().findTask(name);
+    CHECK_TEXT(row < rig.fsw().executive().taskCount(), "no such task");
+    return row;
 }
 
 std::uint64_t activeFaults(sim::LockstepRig& rig) { return rig.fsw().health().status().activeMask; }
