@@ -30,6 +30,28 @@ private:
     std::mt19937_64 engine_;
 };
 
+// A convex polygon of `faces` vertices on the ellipse (r1, r2) turned by phi
+// about (cx, cy): angle gaps proportional to weights in [0.6, 1.4], so every
+// gap is below pi (the centre is inside) and none degenerate.
+std::vector<Point> ellipsePolygon(Random& rng, std::size_t faces, double cx, double cy, double r1, double r2,
+                                  double phi) {
+    double w[kMaxObstacleFaces];
+    double total = 0.0;
+    for (std::size_t k = 0; k < faces; ++k) {
+        w[k] = rng.uniform(0.6, 1.4);
+        total += w[k];
+    }
+    double angle = rng.uniform(0.0, 2.0 * kPi);
+    std::vector<Point> v;
+    const double cphi = std::cos(phi), sphi = std::sin(phi);
+    for (std::size_t k = 0; k < faces; ++k) {
+        const double ex = r1 * std::cos(angle), ey = r2 * std::sin(angle);
+        v.push_back({cx + cphi * ex - sphi * ey, cy + sphi * ex + cphi * ey});
+        angle += 2.0 * kPi * w[k] / total;
+    }
+    return v;
+}
+
 struct Placed {
     double cx, cy, radius;
 };
@@ -77,22 +99,7 @@ bool tryInstance(Random& rng, const InstanceParams& p, CcProblem* out) {
                 cx = rng.uniform(0.0, p.siteLengthM);
                 cy = rng.uniform(0.0, p.siteWidthM);
             }
-            // Angles: gaps proportional to weights in [0.6, 1.4], so every gap
-            // is below pi (the centre is inside) and none degenerate.
-            double w[kMaxObstacleFaces];
-            double total = 0.0;
-            for (std::size_t k = 0; k < faces; ++k) {
-                w[k] = rng.uniform(0.6, 1.4);
-                total += w[k];
-            }
-            double angle = rng.uniform(0.0, 2.0 * kPi);
-            std::vector<Point> v;
-            const double cphi = std::cos(phi), sphi = std::sin(phi);
-            for (std::size_t k = 0; k < faces; ++k) {
-                const double ex = r1 * std::cos(angle), ey = r2 * std::sin(angle);
-                v.push_back({cx + cphi * ex - sphi * ey, cy + sphi * ex + cphi * ey});
-                angle += 2.0 * kPi * w[k] / total;
-            }
+            const std::vector<Point> v = ellipsePolygon(rng, faces, cx, cy, r1, r2, phi);
             bool fits = true;
             for (const Point& q : v) {
                 if (q.x < p.edgeClearanceM || q.x > p.siteLengthM - p.edgeClearanceM ||
@@ -231,21 +238,7 @@ PlanObstacle randomPolygon(Random& rng, double cx, double cy, double rMin, doubl
     const double r1 = rng.uniform(rMin, rMax);
     const double r2 = rng.uniform(rMin, rMax);
     const double phi = rng.uniform(0.0, 2.0 * kPi);
-    double w[kMaxObstacleFaces];
-    double total = 0.0;
-    for (std::size_t k = 0; k < faces; ++k) {
-        w[k] = rng.uniform(0.6, 1.4);
-        total += w[k];
-    }
-    double angle = rng.uniform(0.0, 2.0 * kPi);
-    std::vector<Point> v;
-    const double cphi = std::cos(phi), sphi = std::sin(phi);
-    for (std::size_t k = 0; k < faces; ++k) {
-        const double ex = r1 * std::cos(angle), ey = r2 * std::sin(angle);
-        v.push_back({cx + cphi * ex - sphi * ey, cy + sphi * ex + cphi * ey});
-        angle += 2.0 * kPi * w[k] / total;
-    }
-    return obstacleFromVertices(v, id);
+    return obstacleFromVertices(ellipsePolygon(rng, faces, cx, cy, r1, r2, phi), id);
 }
 
 void addObstacle(CcProblem* p, const PlanObstacle& o) {
