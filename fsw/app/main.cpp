@@ -100,7 +100,7 @@ void usage(std::FILE* out) {
                  "                      never touches a corrupt store or a stored reservation\n"
                  "  --auth-store-sync   write reservations inside the command task, without the writer thread\n"
                  "                      (emulators whose threads do not run, e.g. qemu-user 7.2 here); a write\n"
-                 "                      then takes 1.5-5 ms of that task's 2 ms budget\n"
+                 "                      then takes 0.7-5 ms of that task's 2 ms budget\n"
                  "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
                  "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
                  "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n");

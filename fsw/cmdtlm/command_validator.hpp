@@ -111,7 +111,7 @@ public:
     // Command ingest runs it on every packet as it arrives, so a flood of garbage
     // costs no MAC and takes no queue slot (docs/icd.md, "Floods").
     CommandVerdict screen(const std::uint8_t* packet, std::size_t length) const;
-    // screen() and then 7, the MAC (about 0.8 us for a small packet on the
+    // screen() and then 7, the MAC (0.8-1.2 us for a small packet on the
     // development VM): still nothing recorded. Command ingest runs it on every
     // packet, so only authentic packets take a queue slot and a flood of packets
     // with a known key id and a wrong MAC cannot crowd valid commands out of the

@@ -1,8 +1,9 @@
 // Writing a RecordStore record without blocking a cyclic task (hal/nvm).
 //
-// A durable write costs a file system 1.5-5 ms (write, fsync, rename, fsync of
-// the directory, measured on the development VM), more than the command task's
-// whole budget. The task therefore never writes itself: it post()s the bytes
+// A durable write costs a file system 0.7-5 ms (write, fsync, rename, fsync of
+// the directory; bench_ground_link_costs on the development VM, the top with
+// builds running beside): a third of the command task's 2 ms budget at best,
+// more than all of it at worst. The task therefore never writes itself: it post()s the bytes
 // and learns later, from takeResult(), that they are durable. Until then it
 // must behave as if the old record were still the one on the medium.
 //
