@@ -381,8 +381,15 @@ int Cli::resync(const std::vector<std::string>& args) {
             }
         }
     }
-    const auto high = static_cast<std::uint32_t>(hk->value("auth_challenge_high").value_or(0));
-    const auto low = static_cast<std::uint32_t>(hk->value("auth_challenge_low").value_or(0));
+    const std::optional<double> highField = hk->value("auth_challenge_high");
+    const std::optional<double> lowField = hk->value("auth_challenge_low");
+    if (!highField || !lowField) {
+        err_ << "rse-ground: resync: the rover's HK has no auth_challenge_high/low (a rover without AUTH_RESYNC?): "
+                "nothing sent\n";
+        return kExitLink;
+    }
+    const auto high = static_cast<std::uint32_t>(*highField);
+    const auto low = static_cast<std::uint32_t>(*lowField);
     out_ << "rover nonce " << high << ":" << low << " (auth_store_state "
          << formatNumber(hk->value("auth_store_state").value_or(-1)) << ", keys unsynchronised "
          << formatNumber(hk->value("auth_keys_unsynced").value_or(-1)) << ")\n";
