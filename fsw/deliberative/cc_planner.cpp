@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/deliberative/gaussian.hpp"
+#include "fsw/deliberative/plan_risk.hpp"
 #include "fsw/deliberative/plan_tauten.hpp"
 
 namespace rse::deliberative {
@@ -24,6 +25,14 @@ constexpr double kRiskSafety = 1e-12;  // Delta' = Delta (1 - kRiskSafety)
 // arithmetic: one face score, one margin or risk (a quantile or erfc).
 constexpr std::uint64_t kScoreWork = 20;
 constexpr std::uint64_t kMarginWork = 200;
+// One bivariate orthant of the certified risk (plan_risk.hpp).
+constexpr std::uint64_t kOrthantWork = 800;
+// Stretching the allocation: a round that certifies r <= Delta raises the
+// allocation's budget by (Delta / r) x kStretchAim, at most x kMaxStretch a round.
+constexpr double kStretchAim = 0.97;
+constexpr double kMaxStretch = 8.0;
+// The stretch has converged when the certified risk is this close below Delta.
+constexpr double kStretchClose = 0.9;
 // With optimised allocation the search stops at this share of the work
 // budget, leaving the rest to the allocation rounds.
 constexpr std::uint64_t kSearchSharePercent = 85;
@@ -38,7 +47,11 @@ double euclidean(double dx, double dy) { return std::sqrt(dx * dx + dy * dy); }
 
 }  // namespace
 
-core::Status checkPlan(const CcProblem& p, const CcPlan& plan) {
+namespace {
+
+// Everything checkPlan checks but the risk bound; *deltaSum gets the sum of
+// the deltas (Boole's certificate).
+core::Status checkPlanShape(const CcProblem& p, const CcPlan& plan, double riskLimit, double* deltaSum) {
     const core::Status bad = core::Status::kInvalidArgument;
     if (checkProblem(p) != core::Status::kOk || plan.steps != p.steps) {
         return bad;
@@ -76,10 +89,28 @@ core::Status checkPlan(const CcProblem& p, const CcPlan& plan) {
             }
         }
     }
-    if (!(sum <= p.riskBound) || !(plan.riskUsed <= p.riskBound) || !std::isfinite(plan.cost)) {
+    if (!std::isfinite(plan.cost) || !(plan.riskUsed <= riskLimit)) {
         return bad;
     }
+    *deltaSum = sum;
     return core::Status::kOk;
+}
+
+}  // namespace
+
+core::Status checkPlan(const CcProblem& p, const CcPlan& plan) {
+    double deltaSum = 0.0;
+    if (checkPlanShape(p, plan, p.riskBound, &deltaSum) != core::Status::kOk) {
+        return core::Status::kInvalidArgument;
+    }
+    if (deltaSum <= p.riskBound && plan.riskUsed >= deltaSum * (1.0 - 1e-12)) {
+        return core::Status::kOk;  // Boole's certificate, and the plan claims no less
+    }
+    RiskWork work;
+    const double certified = certifiedPlanRisk(p, plan, nullptr, &work);
+    // The plan must not claim less than can be certified.
+    const bool claims = plan.riskUsed >= certified * (1.0 - 1e-9);
+    return certified <= p.riskBound && claims ? core::Status::kOk : core::Status::kInvalidArgument;
 }
 
 core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& params) {
@@ -103,8 +134,11 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     hintSeedCost_ = INFINITY;
     iraDone_ = 0;
     iraReady_ = false;
+    evalRunning_ = false;
+    tautenDone_ = false;
     const bool paramsOk = params.nodeBudget > 0 && params.iterationBudget > 0 && params.perLpIterations > 0 &&
-                          params.relativeGap >= 0.0 && params.relativeGap < 0.5 && params.iraRounds <= 50;
+                          params.relativeGap >= 0.0 && params.relativeGap < 0.5 && params.iraRounds <= 50 &&
+                          params.searchRiskScale >= 1.0 && params.searchRiskScale <= kMaxSearchRiskScale;
     if (!paramsOk || checkProblem(problem) != core::Status::kOk) {
         best_.status = CcStatus::kBadProblem;
         return core::Status::kInvalidArgument;
@@ -115,7 +149,11 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     obstacles_ = problem_.obstacleCount;
     best_.steps = problem_.steps;
     riskBudget_ = problem_.riskBound * (1.0 - kRiskSafety);
-    evenDelta_ = obstacles_ > 0 ? riskBudget_ / static_cast<double>(2 * steps_ * obstacles_) : 0.0;
+    searchBudget_ = riskBudget_ * searchScale();
+    bestCertified_ = false;
+    noPlan_ = CcPlan{};
+    noPlan_.steps = problem_.steps;
+    evenDelta_ = obstacles_ > 0 ? searchBudget_ / static_cast<double>(2 * steps_ * obstacles_) : 0.0;
     geometryWork_ = 0;
     fixedEndsRaised_ = 0;
     splitFixedEnds();
@@ -204,9 +242,9 @@ void CcPlanner::splitFixedEnds() {
         return;
     }
     // The rest shared by the other ends, shaved so that rounding in any order
-    // keeps the sum within riskBudget_. Nothing left: keep the even split, and
+    // keeps the sum within searchBudget_. Nothing left: keep the even split, and
     // the presolve proves the fixed ends out.
-    const double rest = (riskBudget_ - fixedSum) * (1.0 - kRiskSafety) / static_cast<double>(ends - raised);
+    const double rest = (searchBudget_ - fixedSum) * (1.0 - kRiskSafety) / static_cast<double>(ends - raised);
     if (!(rest > 0.0) || raised >= ends) {
         for (std::size_t e = 0; e < 2; ++e) {
             for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
@@ -315,6 +353,10 @@ bool CcPlanner::step(std::uint32_t maxNodes) {
                 allocateStep();
                 ++units;
                 break;
+            case Phase::kFinish:
+                finishStep();
+                ++units;
+                break;
             case Phase::kIdle:
             case Phase::kDone:
                 phase_ = Phase::kDone;
@@ -410,12 +452,15 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
     }
     double risk = 0.0;
     for (std::size_t t = 0; t < steps_; ++t) {
+        double segment = 0.0;
         for (std::size_t i = 0; i < obstacles_; ++i) {
             c.face[t][i] = face[t][i];
             c.delta[t][i][0] = endDelta(t, i);
             c.delta[t][i][1] = endDelta(t + 1, i);
-            risk += c.delta[t][i][0] + c.delta[t][i][1];
+            segment += c.delta[t][i][0] + c.delta[t][i][1];
         }
+        c.segmentRisk[t] = segment;
+        risk += segment;
     }
     c.riskUsed = risk;
     double cost = 0.0;
@@ -429,11 +474,14 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
     c.cost = cost;
     c.euclideanLengthM = euclid;
     geometryWork_ += kMarginWork * 2U * steps_ * obstacles_;
-    if (checkPlan(problem_, c) != core::Status::kOk) {
+    double deltaSum = 0.0;
+    const double searchBound = problem_.riskBound * searchScale();
+    if (checkPlanShape(problem_, c, searchBound, &deltaSum) != core::Status::kOk || !(deltaSum <= searchBound)) {
         return;
     }
     if (cost < evenCost_) {
         best_ = c;
+        bestCertified_ = deltaSum <= problem_.riskBound;  // Boole's certificate
         evenCost_ = cost;
         ++incumbents_;
         lastIncumbentNode_ = nodes_;
@@ -1287,15 +1335,24 @@ void CcPlanner::abandonNode() {
 
 void CcPlanner::allocateStep() {
     const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    if (evalRunning_) {
+        if (!workLeft) {
+            evalRunning_ = false;
+            endAllocation();
+        } else if (evaluateUnit(&candidate_)) {
+            judgeCandidate();
+        }
+        return;
+    }
     if (lpRunning_) {
         LpStatus st = LpStatus::kNotSolved;
         if (!workLeft) {
             lpRunning_ = false;
-            finish();
+            endAllocation();
         } else if (!continueLp(&st)) {
             // runs on in the next unit
         } else if (st != LpStatus::kOptimal) {
-            finish();
+            endAllocation();
         } else if (!iraReady_) {
             iraReady_ = true;
         } else {
@@ -1305,11 +1362,16 @@ void CcPlanner::allocateStep() {
     }
     if (best_.status == CcStatus::kNoPlan || obstacles_ == 0 ||
         problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || !workLeft) {
-        finish();
+        endAllocation();
         return;
     }
     if (!iraReady_) {
         // The best plan's faces, all pairs, its (even) deltas.
+        // From the search's budget; a budget certified so far: Delta when
+        // the search's plan is certified by Boole, none when it is not.
+        iraBudget_ = bestCertified_ ? riskBudget_ : searchBudget_;
+        budgetLo_ = bestCertified_ ? riskBudget_ : 0.0;
+        budgetHi_ = INFINITY;
         (void)lp_.popPairs(0);
         for (std::size_t t = 0; t < steps_; ++t) {
             for (std::size_t i = 0; i < obstacles_; ++i) {
@@ -1319,7 +1381,7 @@ void CcPlanner::allocateStep() {
                 bool feasible = false;
                 if (lp_.addPair(t, i, j, margin_[t][i][j], margin_[t + 1][i][j], &feasible) != core::Status::kOk ||
                     !feasible) {
-                    finish();
+                    endAllocation();
                     return;
                 }
             }
@@ -1361,13 +1423,14 @@ void CcPlanner::allocateStep() {
             }
         }
     }
-    if (activeCount == 0) {
-        finish();
-        return;
-    }
-    const double residual = riskBudget_ - fixedSum - activeSum;
-    if (!(residual > 0.0)) {
-        finish();
+    const double residual = iraBudget_ - fixedSum - activeSum;
+    if (activeCount == 0 || !(residual > 0.0)) {
+        // Nothing to stretch: the LP's path already meets the slack ends' new
+        // deltas (each is at least its need there), so it is this round's
+        // candidate as it stands, the last one (an uncertified search plan
+        // still gets its evaluation).
+        iraDone_ = params_.iraRounds;
+        allocationCandidate();
         return;
     }
     double add = residual / static_cast<double>(activeCount);
@@ -1381,7 +1444,7 @@ void CcPlanner::allocateStep() {
                 }
             }
         }
-        if (sum <= riskBudget_) {
+        if (sum <= iraBudget_) {
             break;
         }
         add *= 1.0 - 1e-9 * static_cast<double>(attempt + 1);
@@ -1407,16 +1470,14 @@ void CcPlanner::allocateStep() {
     beginLp(HUGE_VAL, params_.perLpIterations);
 }
 
-// The candidate of an allocation round: its LP's path with its deltas, kept
-// when it verifies and is shorter; the rounds end when one gains nothing.
+// The candidate of an allocation round: its LP's path with its deltas; its
+// certified risk is evaluated next (one segment a unit), then judged.
 void CcPlanner::allocationCandidate() {
-    // The candidate: this LP's path with these deltas.
     CcPlan& c = candidate_;
     c = best_;
     c.status = CcStatus::kFeasible;
     double cost = 0.0;
     double euclid = 0.0;
-    double risk = 0.0;
     for (std::size_t tau = 0; tau <= steps_; ++tau) {
         c.meanX[tau] = lp_.meanX(tau);
         c.meanY[tau] = lp_.meanY(tau);
@@ -1429,36 +1490,176 @@ void CcPlanner::allocationCandidate() {
         for (std::size_t i = 0; i < obstacles_; ++i) {
             for (std::size_t e = 0; e < 2; ++e) {
                 c.delta[t][i][e] = delta_[t][i][e];
-                risk += delta_[t][i][e];
             }
         }
     }
     c.cost = cost;
     c.euclideanLengthM = euclid;
-    c.riskUsed = risk;
-    const double previous = best_.cost;
-    if (cost < previous && checkPlan(problem_, c) == core::Status::kOk) {
-        best_ = c;
+    startEvaluation();
+}
+
+void CcPlanner::startEvaluation() {
+    evalT_ = 0;
+    evalTotal_ = 0.0;
+    evalRunning_ = true;
+}
+
+bool CcPlanner::evaluateUnit(CcPlan* plan) {
+    RiskWork w;
+    double cap[kMaxPlanObstacles];
+    for (std::size_t i = 0; i < obstacles_; ++i) {
+        cap[i] = plan->delta[evalT_][i][0] + plan->delta[evalT_][i][1];
     }
-    if (!(cost < previous - 1e-9 * (1.0 + previous)) && iraDone_ > 2) {
-        finish();
+    const double r = segmentRiskBound(problem_, plan->meanX, plan->meanY, evalT_, cap, &w);
+    geometryWork_ += kMarginWork * w.tails + kOrthantWork * w.orthants;
+    plan->segmentRisk[evalT_] = r;
+    evalTotal_ += r;
+    if (++evalT_ < steps_) {
+        return false;
+    }
+    evalRunning_ = false;
+    plan->riskUsed = evalTotal_;
+    return true;
+}
+
+// Keeps the candidate when it is certified within Delta and shorter, and sets
+// the next round's budget: raised towards Delta / (certified risk) when it
+// certified, halfway back to the last certified budget when it did not.
+void CcPlanner::judgeCandidate() {
+    const double certified = candidate_.riskUsed;
+    double deltaSum = 0.0;
+    const bool ok = checkPlanShape(problem_, candidate_, problem_.riskBound, &deltaSum) == core::Status::kOk &&
+                    certified <= riskBudget_;
+    const double previous = best_.cost;
+    const bool gain = ok && (!bestCertified_ || candidate_.cost < previous);
+    if (gain) {
+        best_ = candidate_;
+        bestCertified_ = true;
+    }
+    if (ok) {
+        budgetLo_ = iraBudget_ > budgetLo_ ? iraBudget_ : budgetLo_;
+        const double aim = certified > 0.0 ? kStretchAim * riskBudget_ / certified : kMaxStretch;
+        double next = iraBudget_ * (aim < kMaxStretch ? aim : kMaxStretch);
+        if (std::isfinite(budgetHi_)) {
+            const double half = 0.5 * (iraBudget_ + budgetHi_);
+            next = next < half ? next : half;
+        }
+        iraBudget_ = next > iraBudget_ ? next : iraBudget_;
+    } else {
+        budgetHi_ = iraBudget_ < budgetHi_ ? iraBudget_ : budgetHi_;
+        iraBudget_ = 0.5 * (budgetLo_ + budgetHi_);
+        // Back to the best plan's deltas, scaled down to the new budget when
+        // they pass it (an uncertified search plan's do).
+        double sum = 0.0;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                sum += best_.delta[t][i][0] + best_.delta[t][i][1];
+            }
+        }
+        const double scale = sum > iraBudget_ ? iraBudget_ / sum * (1.0 - kRiskSafety) : 1.0;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                delta_[t][i][0] = best_.delta[t][i][0] * scale;
+                delta_[t][i][1] = best_.delta[t][i][1] * scale;
+            }
+        }
+    }
+    const bool close = ok && certified >= kStretchClose * riskBudget_;
+    const bool narrow = std::isfinite(budgetHi_) && budgetHi_ <= budgetLo_ * 1.02;
+    const bool gained = gain && candidate_.cost < previous - 1e-9 * (1.0 + previous);
+    if (!gained && iraDone_ > 2 && (close || narrow)) {
+        endAllocation();
     }
 }
 
-void CcPlanner::finish() {
-    phase_ = Phase::kDone;
+// ---------------------------------------------------------------------------
+// Finish: pull the plan taut (plan_tauten.hpp) and certify its risk.
+
+void CcPlanner::endAllocation() {
+    lpRunning_ = false;
+    evalRunning_ = false;
     if (best_.status == CcStatus::kNoPlan || best_.status == CcStatus::kBadProblem) {
+        phase_ = Phase::kDone;
         return;
     }
-    best_.status = (exhausted_ && !incomplete_) ? CcStatus::kOptimal : CcStatus::kFeasible;
-    // Pull the path taut (plan_tauten.hpp); kept only if it verifies and costs no more.
-    candidate_ = best_;
-    geometryWork_ += kTautWorkPerTry * tautenPlan(problem_, &candidate_);
-    if (checkPlan(problem_, candidate_) == core::Status::kOk && candidate_.cost <= best_.cost) {
+    if (!bestCertified_) {
+        // The relaxed search's plan never certified within Delta: no plan.
+        best_ = noPlan_;
+        phase_ = Phase::kDone;
+        return;
+    }
+    tautenDone_ = false;
+    phase_ = Phase::kFinish;
+}
+
+void CcPlanner::finishStep() {
+    const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    if (!tautenDone_) {
+        // The taut path keeps every face and delta: its deltas' sum is the
+        // plan's, and its risk bound is evaluated next.
+        tautenDone_ = true;
+        candidate_ = best_;
+        geometryWork_ += kTautWorkPerTry * tautenPlan(problem_, &candidate_);
+        double booleRisk = 0.0;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            double segment = 0.0;
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                segment += candidate_.delta[t][i][0] + candidate_.delta[t][i][1];
+            }
+            candidate_.segmentRisk[t] = segment;
+            booleRisk += segment;
+        }
+        candidate_.riskUsed = booleRisk;
+        startEvaluation();
+        return;
+    }
+    bool evaluated = false;
+    if (evalRunning_ && workLeft) {
+        evaluated = evaluateUnit(&candidate_);
+        if (!evaluated) {
+            return;
+        }
+    }
+    // Evaluated, or cut short by the budget (then the deltas' sum stands).
+    evalRunning_ = false;
+    double deltaSum = 0.0;
+    const bool shape = checkPlanShape(problem_, candidate_, problem_.riskBound, &deltaSum) == core::Status::kOk;
+    if (!evaluated) {
+        double booleRisk = 0.0;
+        for (std::size_t t = 0; t < steps_; ++t) {
+            double segment = 0.0;
+            for (std::size_t i = 0; i < obstacles_; ++i) {
+                segment += candidate_.delta[t][i][0] + candidate_.delta[t][i][1];
+            }
+            candidate_.segmentRisk[t] = segment;
+            booleRisk += segment;
+        }
+        candidate_.riskUsed = booleRisk;
+    }
+    if (shape && candidate_.riskUsed <= riskBudget_ && candidate_.cost <= best_.cost) {
         best_ = candidate_;
     } else {
         ++tautenRefused_;
     }
+    phase_ = Phase::kDone;
+    // A relaxed search's proof is about its own budget, not Delta's.
+    const bool proven = exhausted_ && !incomplete_ && searchScale() == 1.0;
+    best_.status = proven ? CcStatus::kOptimal : CcStatus::kFeasible;
+}
+
+double CcPlanner::searchScale() const {
+    return problem_.allocation == RiskAllocation::kOptimised ? params_.searchRiskScale : 1.0;
+}
+
+void CcPlanner::finish() {
+    if (phase_ != Phase::kFinish && phase_ != Phase::kDone) {
+        endAllocation();
+    }
+    // Tautening, then at most N evaluation units.
+    for (std::size_t k = 0; k < kMaxPlanSteps + 2 && phase_ == Phase::kFinish; ++k) {
+        finishStep();
+    }
+    phase_ = Phase::kDone;
 }
 
 }  // namespace rse::deliberative

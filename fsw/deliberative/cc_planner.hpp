@@ -150,6 +150,12 @@ struct CcPlannerParams {
     std::uint8_t iraRounds = 12;               // risk allocation rounds (kOptimised), 0..50
     bool seed = true;                          // the visibility-graph seed
     bool layeredSeed = true;                   // the layered seed when those find none (false: ablation only)
+    // kOptimised only: the search (even split, presolve, seeds) runs at a
+    // Boole budget of Delta x this, in [1, kMaxSearchRiskScale]; its plans
+    // are then not certified by their deltas and are handed out only once the
+    // allocation has certified one within Delta (plan_risk.hpp). For narrow
+    // passages that Boole's bound refuses at Delta (see "Risk allocation").
+    double searchRiskScale = 1.0;
 };
 
 // Checks a plan against its problem exactly (see above). kInvalidArgument
@@ -178,6 +184,7 @@ public:
     // the largest measured is 315 k): a plan's work() never exceeds the
     // budget by more than this.
     static constexpr std::uint64_t kMaxUnitWork = 500000;
+    static constexpr double kMaxSearchRiskScale = 64.0;
 
     // Copies the problem and starts a plan. kInvalidArgument (and a plan of
     // status kBadProblem, finished) when checkProblem() or the parameters fail.
@@ -196,7 +203,7 @@ public:
 
     // The best plan so far (status kNoPlan until one exists; kFeasible while
     // running); its final status once finished().
-    const CcPlan& plan() const { return best_; }
+    const CcPlan& plan() const { return bestCertified_ || best_.status == CcStatus::kBadProblem ? best_ : noPlan_; }
 
     // start() and step() to the end; the plan's status.
     CcStatus solve(const CcProblem& problem, const CcPlannerParams& params, CcPlan* out);
@@ -233,7 +240,7 @@ public:
     double lowerBound() const;
 
 private:
-    enum class Phase : std::uint8_t { kIdle, kSeed, kRoot, kSearch, kAllocate, kDone };
+    enum class Phase : std::uint8_t { kIdle, kSeed, kRoot, kSearch, kAllocate, kFinish, kDone };
     enum class SeedStage : std::uint8_t { kIdle, kDijkstra, kLayered };
 
     struct Level {
@@ -265,6 +272,12 @@ private:
     void nodeLpUnit();
     void abandonNode();
     void allocationCandidate();
+    void startEvaluation();
+    bool evaluateUnit(CcPlan* plan);
+    void judgeCandidate();
+    void endAllocation();
+    void finishStep();
+    double searchScale() const;
     bool layeredSeedStep();
     std::size_t layerLineCount() const;
     void layerLine(std::size_t tau, std::size_t k, double* nx, double* ny, double* c) const;
@@ -293,7 +306,9 @@ private:
     double evenDelta_ = 0.0;   // every end's delta in the search, but the fixed ends' below
     double fixedDelta_[2][kMaxPlanObstacles] = {};  // the start's (0) and the goal's (1) ends, per obstacle
     std::uint8_t fixedEndsRaised_ = 0;
-    double riskBudget_ = 0.0;  // Delta (1 - 1e-12)
+    double riskBudget_ = 0.0;  // Delta (1 - 1e-12): what a plan is certified within
+    double searchBudget_ = 0.0;  // riskBudget_ x searchRiskScale: the search's Boole budget
+    bool bestCertified_ = false;  // best_ is certified within riskBudget_ (plan() hands it out)
     double margin_[kMaxPlanSteps + 1][kMaxPlanObstacles][kMaxObstacleFaces] = {};
     double inflated_[kMaxPlanObstacles][kMaxObstacleFaces] = {};  // b_j + largest margin
 
@@ -359,9 +374,19 @@ private:
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
     std::uint32_t iraDone_ = 0;
     bool iraReady_ = false;
+    double iraBudget_ = 0.0;   // the allocation's sum of deltas this round (may pass Delta)
+    double budgetLo_ = 0.0;    // the largest budget whose plan certified within Delta
+    double budgetHi_ = 0.0;    // the least budget whose plan did not (INFINITY: none yet)
+
+    // The certified risk (plan_risk.hpp) of candidate_, one segment a unit.
+    bool evalRunning_ = false;
+    std::size_t evalT_ = 0;
+    double evalTotal_ = 0.0;
+    bool tautenDone_ = false;
 
     CcPlan best_{};
     CcPlan candidate_{};
+    CcPlan noPlan_{};  // what plan() shows while best_ is not certified
     double evenCost_ = 0.0;
     double seedCost_ = 0.0;
     bool seedFound_ = false;

@@ -23,7 +23,10 @@
 // segment's distance to a line is least at one of its ends, so
 //   P(segment t meets obstacle i) <= delta[t][i][0] + delta[t][i][1]
 // and by Boole's inequality P(the path meets any obstacle) <= sum of all delta.
-// The risk bound Delta caps that sum. Constraining both ends of every segment
+// The risk bound Delta caps that sum, or (optimised allocation, issue 15) the
+// tighter certified bound of plan_risk.hpp, which also needs every end to
+// meet its delta's margin but bounds each (segment, obstacle) pair from the
+// means and counts Boole only across pairs. Constraining both ends of every segment
 // (not the waypoints alone) is what keeps a path from cutting an obstacle's
 // corner between two steps.
 //
@@ -84,7 +87,12 @@ struct CcPlan {
     double meanY[kMaxPlanSteps + 1] = {};
     std::uint8_t face[kMaxPlanSteps][kMaxPlanObstacles] = {};
     double delta[kMaxPlanSteps][kMaxPlanObstacles][2] = {};  // risk at the segment's start and end
-    double riskUsed = 0.0;                  // sum of delta (<= riskBound)
+    // The certified bound on P(collision) (<= riskBound): per (segment, obstacle)
+    // the smaller of its two deltas' sum (Boole) and plan_risk.hpp's bound from
+    // the means, summed. With optimised allocation the deltas' own sum may pass
+    // riskBound (the allocation is stretched until this bound reaches it).
+    double riskUsed = 0.0;
+    double segmentRisk[kMaxPlanSteps] = {};  // segment t's share of riskUsed
     double cost = 0.0;                      // the K-gon path length (m)
     double euclideanLengthM = 0.0;
 };

@@ -34,6 +34,7 @@ constexpr core::EventId kBackingUp = 925;         // WARN: no path after the rep
 constexpr core::EventId kBackedUp = 926;          // INFO: back-up reached: replanning from there
 constexpr core::EventId kOffMapReplan = 927;      // WARN: off the map (fault protection's request): waypoint cancelled, replanning from the pose
 constexpr core::EventId kPlannedFromReentry = 928; // WARN: the start lies off the site: planned from the nearest point on it (the habitual layer drives there)
+constexpr core::EventId kWideSearch = 929;        // INFO: no plan within Boole's bound: the search widened (factor), the plan certified within the risk
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

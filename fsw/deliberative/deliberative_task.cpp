@@ -681,10 +681,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
                        "layer still avoids them)",
                        static_cast<unsigned>(report.obstaclesDropped), static_cast<unsigned>(report.obstaclesOnMap));
     }
-    CcPlannerParams params;
-    params.nodeBudget = planner.node_budget;
-    params.workBudget = static_cast<std::uint32_t>(planner.time_budget_ms) * kWorkKUnitsPerMs;
-    if (!core::isOk(planner_.start(problem_, params))) {
+    if (!core::isOk(planner_.start(problem_, plannerParams()))) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
                        "deliberative: planner refused the problem of goal %u", static_cast<unsigned>(goalIndex_));
@@ -704,6 +701,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     seeded = seeded && core::isOk(planner_.setSeedHint(last_.plan));
     counters_.seededPlans += seeded ? 1U : 0U;
     seededPlan_ = seeded;
+    wideSearch_ = false;
     ++counters_.plansStarted;
     slices_ = 0;
     status_.riskInForce = request.riskBound;
@@ -713,6 +711,14 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
                    static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
                    request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
                    static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
+}
+
+CcPlannerParams DeliberativeTask::plannerParams() const {
+    const tables::PlannerTable& planner = tables_.planner();
+    CcPlannerParams params;
+    params.nodeBudget = planner.node_budget;
+    params.workBudget = static_cast<std::uint32_t>(planner.time_budget_ms) * kWorkKUnitsPerMs;
+    return params;
 }
 
 double DeliberativeTask::riskInForce() const {
@@ -762,6 +768,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
             planGap_ = gap < 0.0 ? 0.0 : (gap > 1.0 ? 1.0 : gap);
             const bool budget = plan_.status != CcStatus::kOptimal;
             counters_.budgetPlans += budget ? 1U : 0U;
+            counters_.wideSearchPlans += wideSearch_ ? 1U : 0U;
             // Most important first: kEventTextSize keeps 95 characters.
             events_.report(events::kPlanFound, core::Severity::kInfo,
                            "deliberative: %s plan%s, gap %.1f%%: %.2f m, risk %.3g/%.3g, %u legs, %u nodes",
@@ -775,6 +782,22 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
             }
             setState(msg::DeliberativeState::kExecuting);
             sendLeg(now);
+            return;
+        }
+    }
+    if (!wideSearch_ && problem_.allocation == RiskAllocation::kOptimised && problem_.obstacleCount > 0) {
+        // Boole's even split refused it; a plan may still certify within the
+        // bound (cc_planner.hpp, "Risk allocation"): one wider search first.
+        const bool proven = planner_.searchExhausted();
+        CcPlannerParams params = plannerParams();
+        params.searchRiskScale = kWideSearchScale;
+        if (core::isOk(planner_.start(problem_, params))) {
+            wideSearch_ = true;
+            ++counters_.wideSearches;
+            events_.report(events::kWideSearch, core::Severity::kInfo,
+                           "deliberative: no plan within Boole's bound at %.3g (%s): search x%.0f, certify at %.3g",
+                           problem_.riskBound, proven ? "proven" : "budget spent", kWideSearchScale,
+                           problem_.riskBound);
             return;
         }
     }

@@ -129,6 +129,11 @@ constexpr std::uint16_t kInputPipeDepth = 16;
 constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz
 constexpr core::TimeNs kPoseMaxAgeNs = 500 * core::kNsPerMs;
 constexpr double kRiskRelaxStep = 10.0;          // each relaxation multiplies the risk bound by this
+// Before relaxing: the same problem once more with the planner's search at
+// this many times Boole's budget, its plan certified within the risk in force
+// (CcPlannerParams::searchRiskScale; optimised allocation only): a narrow
+// passage the even split refuses may be certified within the bound.
+constexpr double kWideSearchScale = 8.0;
 constexpr double kMaxRiskInForce = 0.49;         // the planner needs Delta < 0.5
 constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was predicted + 5 %
 // A leg end must clear a seen hazard's disc by the footprint and this: the
@@ -193,6 +198,8 @@ struct DeliberativeCounters {
     std::uint32_t reentryPlans = 0;      // plans started from the re-entry point of an off-site start
     std::uint32_t seededPlans = 0;       // plans seeded with the last plan's faces (same goal and obstacles)
     std::uint32_t budgetPlans = 0;       // plans found but not proven optimal: the work budget ran out first
+    std::uint32_t wideSearches = 0;      // no plan, so the same problem searched at kWideSearchScale
+    std::uint32_t wideSearchPlans = 0;   // ... which found a plan certified within the risk in force
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -260,6 +267,8 @@ private:
     void startPlan(core::TimeNs now);
     // The operator's Delta x riskFactor_, below kMaxRiskInForce: what a plan uses.
     double riskInForce() const;
+    // The planner's budgets from the planner table.
+    deliberative::CcPlannerParams plannerParams() const;
     void stepPlanner(core::TimeNs now);
     void onPlanFinished(core::TimeNs now);
     void widenFirstLegFromPose(const LegParams& params);
@@ -326,6 +335,7 @@ private:
     LastPlan last_{};
     double planGap_ = 1.0;  // PlanStatusMsg.planGap of plan_
     bool seededPlan_ = false;  // the plan under way was seeded with last_
+    bool wideSearch_ = false;  // the plan under way is the wide search (kWideSearchScale)
     CcPlan plan_{};
     LegPlan legs_{};
     std::size_t legIndex_ = 0;

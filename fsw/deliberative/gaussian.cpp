@@ -44,6 +44,22 @@ constexpr double kF[8] = {1.0,
                           1.42151175831644588870e-7,
                           2.04426310338993978564e-15};
 
+// Gauss-Legendre nodes (one sign; the rule is symmetric) and weights on
+// [-1, 1]: 6, 12 and 20 points.
+constexpr double kGl6X[3] = {0.9324695142031521, 0.6612093864662645, 0.2386191860831969};
+constexpr double kGl6W[3] = {0.1713244923791704, 0.3607615730481386, 0.4679139345726910};
+constexpr double kGl12X[6] = {0.9815606342467192, 0.9041172563704749, 0.7699026741943047,
+                              0.5873179542866175, 0.3678314989981802, 0.1252334085114689};
+constexpr double kGl12W[6] = {0.04717533638651183, 0.1069393259953184, 0.1600783285433462,
+                              0.2031674267230659, 0.2334925365383548, 0.2491470458134028};
+constexpr double kGl20X[10] = {0.9931285991850949, 0.9639719272779138, 0.9122344282513259, 0.8391169718222188,
+                               0.7463319064601508, 0.6360536807265150, 0.5108670019508271, 0.3737060887154195,
+                               0.2277858511416451, 0.07652652113349734};
+constexpr double kGl20W[10] = {0.01761400713915212, 0.04060142980038694, 0.06267204833410907, 0.08327674157670475,
+                               0.1019301198172404,  0.1181945319615184,  0.1316886384491766,  0.1420961093183820,
+                               0.1491729864726037,  0.1527533871307258};
+constexpr double kPi = 3.14159265358979323846;
+
 double horner(const double (&c)[8], double x) {
     double acc = c[7];
     for (int k = 6; k >= 0; --k) {
@@ -87,6 +103,90 @@ double PhiInv(double p) {
 }
 
 double upperQuantile(double delta) { return -PhiInv(delta); }
+
+double bivariateUpperTail(double h, double k, double rho) {
+    if (std::isnan(h) || std::isnan(k) || std::isnan(rho)) {
+        return NAN;
+    }
+    rho = rho > 1.0 ? 1.0 : (rho < -1.0 ? -1.0 : rho);
+    if (rho == 1.0) {
+        return PhiComplement(h > k ? h : k);
+    }
+    if (rho == -1.0) {
+        // X > h and -X > k: h < X < -k.
+        const double p = Phi(-k) - Phi(h);
+        return p > 0.0 ? p : 0.0;
+    }
+    const double* x = kGl6X;
+    const double* w = kGl6W;
+    int points = 3;
+    if (std::fabs(rho) >= 0.75) {
+        x = kGl20X;
+        w = kGl20W;
+        points = 10;
+    } else if (std::fabs(rho) >= 0.3) {
+        x = kGl12X;
+        w = kGl12W;
+        points = 6;
+    }
+    double hk = h * k;
+    double sum = 0.0;
+    if (std::fabs(rho) < 0.925) {
+        // P = Phi(-h) Phi(-k) + 1 / (2 pi) int_0^asin(rho) exp(-(h^2 + k^2 - 2 hk sin t) / (2 cos^2 t)) dt
+        const double hs = 0.5 * (h * h + k * k);
+        const double asr = std::asin(rho);
+        for (int i = 0; i < points; ++i) {
+            for (int sign = -1; sign <= 1; sign += 2) {
+                const double sn = std::sin(0.5 * asr * (static_cast<double>(sign) * x[i] + 1.0));
+                sum += w[i] * std::exp((sn * hk - hs) / (1.0 - sn * sn));
+            }
+        }
+        const double p = sum * asr / (4.0 * kPi) + PhiComplement(h) * PhiComplement(k);
+        return p > 0.0 ? p : 0.0;
+    }
+    // |rho| near 1: integrate in sqrt(1 - r^2), the singular part in closed form.
+    double kk = k;
+    if (rho < 0.0) {
+        kk = -kk;
+        hk = -hk;
+    }
+    const double as = (1.0 - rho) * (1.0 + rho);
+    double a = std::sqrt(as);
+    const double bs = (h - kk) * (h - kk);
+    const double c = (4.0 - hk) / 8.0;
+    const double d = (12.0 - hk) / 16.0;
+    double asr = -0.5 * (bs / as + hk);
+    if (asr > -100.0) {
+        sum = a * std::exp(asr) * (1.0 - c * (bs - as) * (1.0 - d * bs / 5.0) / 3.0 + c * d * as * as / 5.0);
+    }
+    if (-hk < 100.0) {
+        const double b = std::sqrt(bs);
+        sum -= std::exp(-0.5 * hk) * std::sqrt(2.0 * kPi) * Phi(-b / a) * b * (1.0 - c * bs * (1.0 - d * bs / 5.0) / 3.0);
+    }
+    a *= 0.5;
+    for (int i = 0; i < points; ++i) {
+        for (int sign = -1; sign <= 1; sign += 2) {
+            const double xs0 = a * (static_cast<double>(sign) * x[i] + 1.0);
+            const double xs = xs0 * xs0;
+            const double rs = std::sqrt(1.0 - xs);
+            const double e = -0.5 * (bs / xs + hk);
+            if (e > -100.0) {
+                sum += a * w[i] * std::exp(e) *
+                       (std::exp(-hk * (1.0 - rs) / (2.0 * (1.0 + rs))) / rs - (1.0 + c * xs * (1.0 + d * xs)));
+            }
+        }
+    }
+    double p = -sum / (2.0 * kPi);
+    if (rho > 0.0) {
+        p += PhiComplement(h > kk ? h : kk);
+    } else {
+        p = -p;
+        if (kk > h) {
+            p += Phi(kk) - Phi(h);
+        }
+    }
+    return p > 0.0 ? p : 0.0;
+}
 
 double faceVariance(double ax, double ay, const double cov[4], double sigma, unsigned t) {
     const double quad = ax * (cov[0] * ax + cov[1] * ay) + ay * (cov[2] * ax + cov[3] * ay);

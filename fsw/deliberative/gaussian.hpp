@@ -28,6 +28,18 @@ double PhiInv(double p);
 // PhiInv(1 - delta) for delta in (0, 1), accurate for tiny delta (see above).
 double upperQuantile(double delta);
 
+// P(X > h, Y > k) for standard normals X, Y with correlation rho in [-1, 1]:
+// the bivariate normal upper orthant, by Drezner and Wesolowsky's integral in
+// Genz's form (Genz 2004, "Numerical computation of rectangular bivariate
+// and trivariate normal and t probabilities", Stat. Comput. 14, 251-260):
+// Gauss-Legendre with 6, 12 or 20 points by |rho|, and for |rho| >= 0.925 the
+// asymptotic expansion of the integrand near |rho| = 1. Absolute error about
+// 1e-15 (kBivariateAbsError bounds it for callers that need a certified
+// upper bound); |rho| = 1 exactly gives the degenerate answers. NaN in, NaN
+// out. About 20 - 40 exp() calls; no state, no allocation.
+double bivariateUpperTail(double h, double k, double rho);
+constexpr double kBivariateAbsError = 1e-14;
+
 // Variance of a . x for x ~ N(., Sigma_0 + t sigma^2 I) and a unit normal a:
 // a' Sigma_0 a + t sigma^2. cov is Sigma_0 row major (symmetric).
 double faceVariance(double ax, double ay, const double cov[4], double sigma, unsigned t);

@@ -17,14 +17,6 @@ bool paramsUsable(const LegParams& p) {
            std::isfinite(p.meanPowerFactor) && p.meanPowerFactor >= 1.0 && std::isfinite(p.headingRad);
 }
 
-double segmentRisk(const CcPlan& plan, std::size_t t) {
-    double r = 0.0;
-    for (std::size_t i = 0; i < kMaxPlanObstacles; ++i) {
-        r += plan.delta[t][i][0] + plan.delta[t][i][1];
-    }
-    return r;
-}
-
 double headingOf(Point2 from, Point2 to) { return std::atan2(to.y - from.y, to.x - from.x); }
 
 }  // namespace
@@ -47,7 +39,7 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
         if (!geometry::isFinite(p)) {
             return core::Status::kInvalidArgument;
         }
-        pendingRisk += segmentRisk(plan, t - 1);
+        pendingRisk += plan.segmentRisk[t - 1];
         const bool last = t == plan.steps;
         if (geometry::distance(p, corner[corners - 1]) < kMinLegM && !last) {
             continue;  // coincident or too close: merged into the next corner

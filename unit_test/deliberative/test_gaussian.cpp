@@ -124,3 +124,78 @@ TEST(Gaussian, MarginAndEndRiskAreInverse) {
     DOUBLES_EQUAL(0.0, endRisk(1.0, 0.0), 0.0);
     DOUBLES_EQUAL(1.0, endRisk(-1e-9, 0.0), 0.0);
 }
+
+// The bivariate orthant P(X > h, Y > k), correlation rho.
+namespace {
+
+using rse::deliberative::bivariateUpperTail;
+
+// Simpson on P = int_h^inf phi(x) Phi^c((k - rho x) / sqrt(1 - rho^2)) dx.
+double orthantByQuadrature(double h, double k, double rho) {
+    const double lo = h;
+    const double hi = (h > 0.0 ? h : 0.0) + 12.0;
+    const int n = 40000;
+    const double dx = (hi - lo) / n;
+    const double s = std::sqrt(1.0 - rho * rho);
+    double sum = 0.0;
+    for (int i = 0; i <= n; ++i) {
+        const double x = lo + dx * i;
+        const double f = std::exp(-0.5 * x * x) / std::sqrt(2.0 * M_PI) * PhiComplement((k - rho * x) / s);
+        sum += f * (i == 0 || i == n ? 1.0 : (i % 2 != 0 ? 4.0 : 2.0));
+    }
+    return sum * dx / 3.0;
+}
+
+// Correlations on both sides of the rule's switches (0.3, 0.75, 0.925).
+constexpr double kRhos[] = {-0.999, -0.95, -0.93, -0.92, -0.8, -0.5, -0.29, 0.0,
+                            0.1,    0.31,  0.7,   0.76,  0.9,  0.924, 0.926, 0.97, 0.9999};
+
+}  // namespace
+
+TEST(Gaussian, OrthantAtTheOriginIsSheppards) {
+    // P(X > 0, Y > 0) = 1/4 + asin(rho) / (2 pi).
+    for (double rho : kRhos) {
+        DOUBLES_EQUAL(0.25 + std::asin(rho) / (2.0 * M_PI), bivariateUpperTail(0.0, 0.0, rho), 1e-15);
+    }
+}
+
+TEST(Gaussian, UncorrelatedOrthantIsTheProductOfTails) {
+    for (double h : {-3.0, -0.4, 0.0, 1.3, 4.0, 7.5}) {
+        for (double k : {-1.0, 0.2, 2.5, 6.0}) {
+            const double want = PhiComplement(h) * PhiComplement(k);
+            DOUBLES_EQUAL(want, bivariateUpperTail(h, k, 0.0), 1e-16 + 1e-13 * want);
+        }
+    }
+}
+
+TEST(Gaussian, OrthantMatchesQuadratureAndIsSymmetric) {
+    for (double h : {-2.0, -0.5, 0.7, 2.5, 4.0}) {
+        for (double k : {-1.5, 0.0, 1.1, 3.0, 5.0}) {
+            for (double rho : kRhos) {
+                const double p = bivariateUpperTail(h, k, rho);
+                DOUBLES_EQUAL(orthantByQuadrature(h, k, rho), p, 1e-10);
+                DOUBLES_EQUAL(bivariateUpperTail(k, h, rho), p, 1e-15);
+                // P(X > h, Y > k) + P(X > h, Y <= k) = P(X > h), across the branches.
+                DOUBLES_EQUAL(PhiComplement(h), p + bivariateUpperTail(h, -k, -rho), 1e-15);
+                CHECK(p >= 0.0 && p <= PhiComplement(h > k ? h : k) + 1e-15);
+            }
+        }
+    }
+}
+
+TEST(Gaussian, OrthantTailsKeepTheirRelativeAccuracy) {
+    // Deep in the tail with positive correlation (the certified risk's case:
+    // one face's two ends): against quadrature, relative.
+    for (double rho : {0.5, 0.8, 0.95, 0.99}) {
+        const double q = orthantByQuadrature(5.0, 5.5, rho);
+        DOUBLES_EQUAL(q, bivariateUpperTail(5.0, 5.5, rho), 1e-8 * q);
+    }
+}
+
+TEST(Gaussian, OrthantDegenerateCorrelationsAndNaN) {
+    DOUBLES_EQUAL(PhiComplement(1.5), bivariateUpperTail(1.5, -0.3, 1.0), 0.0);
+    DOUBLES_EQUAL(Phi(0.3) - Phi(-1.0), bivariateUpperTail(-1.0, -0.3, -1.0), 1e-16);
+    DOUBLES_EQUAL(0.0, bivariateUpperTail(1.0, 1.0, -1.0), 0.0);
+    CHECK(std::isnan(bivariateUpperTail(NAN, 0.0, 0.5)));
+    CHECK(std::isnan(bivariateUpperTail(0.0, 0.0, NAN)));
+}

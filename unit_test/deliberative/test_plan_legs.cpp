@@ -11,7 +11,8 @@ using namespace rse::deliberative;
 
 namespace {
 
-// A plan through the given means with risk r[t] on segment t (split over its two ends).
+// A plan through the given means with risk r[t] on segment t (its certified
+// share, and split over its two ends' deltas).
 CcPlan planThrough(const double (*xy)[2], std::size_t points, const double* r) {
     CcPlan p{};
     p.status = CcStatus::kOptimal;
@@ -23,6 +24,7 @@ CcPlan planThrough(const double (*xy)[2], std::size_t points, const double* r) {
     for (std::size_t t = 0; t + 1 < points; ++t) {
         p.delta[t][0][0] = 0.5 * r[t];
         p.delta[t][0][1] = 0.5 * r[t];
+        p.segmentRisk[t] = r[t];
         p.riskUsed += r[t];
     }
     return p;
