@@ -96,6 +96,21 @@ core::Status checkPlanShape(const CcProblem& p, const CcPlan& plan, double riskL
     return core::Status::kOk;
 }
 
+// The plan claims its deltas' sum (Boole's certificate): riskUsed and each
+// segment's share.
+void claimBooleRisk(const CcProblem& p, CcPlan* plan) {
+    double total = 0.0;
+    for (std::size_t t = 0; t < p.steps; ++t) {
+        double segment = 0.0;
+        for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+            segment += plan->delta[t][i][0] + plan->delta[t][i][1];
+        }
+        plan->segmentRisk[t] = segment;
+        total += segment;
+    }
+    plan->riskUsed = total;
+}
+
 }  // namespace
 
 core::Status checkPlan(const CcProblem& p, const CcPlan& plan) {
@@ -450,19 +465,14 @@ void CcPlanner::offerIncumbentFromLp(const std::uint8_t (&face)[kMaxPlanSteps][k
         c.meanX[tau] = lp_.meanX(tau);
         c.meanY[tau] = lp_.meanY(tau);
     }
-    double risk = 0.0;
     for (std::size_t t = 0; t < steps_; ++t) {
-        double segment = 0.0;
         for (std::size_t i = 0; i < obstacles_; ++i) {
             c.face[t][i] = face[t][i];
             c.delta[t][i][0] = endDelta(t, i);
             c.delta[t][i][1] = endDelta(t + 1, i);
-            segment += c.delta[t][i][0] + c.delta[t][i][1];
         }
-        c.segmentRisk[t] = segment;
-        risk += segment;
     }
-    c.riskUsed = risk;
+    claimBooleRisk(problem_, &c);
     double cost = 0.0;
     double euclid = 0.0;
     for (std::size_t t = 0; t < steps_; ++t) {
@@ -1600,16 +1610,7 @@ void CcPlanner::finishStep() {
         tautenDone_ = true;
         candidate_ = best_;
         geometryWork_ += kTautWorkPerTry * tautenPlan(problem_, &candidate_);
-        double booleRisk = 0.0;
-        for (std::size_t t = 0; t < steps_; ++t) {
-            double segment = 0.0;
-            for (std::size_t i = 0; i < obstacles_; ++i) {
-                segment += candidate_.delta[t][i][0] + candidate_.delta[t][i][1];
-            }
-            candidate_.segmentRisk[t] = segment;
-            booleRisk += segment;
-        }
-        candidate_.riskUsed = booleRisk;
+        claimBooleRisk(problem_, &candidate_);
         startEvaluation();
         return;
     }
@@ -1622,20 +1623,11 @@ void CcPlanner::finishStep() {
     }
     // Evaluated, or cut short by the budget (then the deltas' sum stands).
     evalRunning_ = false;
+    if (!evaluated) {
+        claimBooleRisk(problem_, &candidate_);
+    }
     double deltaSum = 0.0;
     const bool shape = checkPlanShape(problem_, candidate_, problem_.riskBound, &deltaSum) == core::Status::kOk;
-    if (!evaluated) {
-        double booleRisk = 0.0;
-        for (std::size_t t = 0; t < steps_; ++t) {
-            double segment = 0.0;
-            for (std::size_t i = 0; i < obstacles_; ++i) {
-                segment += candidate_.delta[t][i][0] + candidate_.delta[t][i][1];
-            }
-            candidate_.segmentRisk[t] = segment;
-            booleRisk += segment;
-        }
-        candidate_.riskUsed = booleRisk;
-    }
     if (shape && candidate_.riskUsed <= riskBudget_ && candidate_.cost <= best_.cost) {
         best_ = candidate_;
     } else {

@@ -258,6 +258,12 @@ TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome)
         static_cast<unsigned>(std::ceil(std::log(relaxLimit) / std::log(deliberative::kRiskRelaxStep) - 1e-9));
     LONGS_EQUAL(relaxations, rig->task.counters().riskRelaxations);
     LONGS_EQUAL(relaxations + 1, rig->task.counters().noPlans);
+    // Before each "no plan", the wide search (issue 15 item 3) was tried once
+    // at the same bound, and found nothing either.
+    LONGS_EQUAL(relaxations + 1, rig->task.counters().wideSearches);
+    LONGS_EQUAL(0, rig->task.counters().wideSearchPlans);
+    LONGS_EQUAL(relaxations + 1, rig->seenCount(deliberative::events::kWideSearch));
+    CHECK(std::strstr(rig->seenText(deliberative::events::kWideSearch), "(proven): search x8, certify at") != nullptr);
     DOUBLES_EQUAL(kRisk * relaxLimit, rig->task.problem().riskBound, 1e-15);
     CHECK(CallHomeReason::kNoPlanWithinRisk == rig->lastSafe.reason);
     LONGS_EQUAL(0, rig->legs);
