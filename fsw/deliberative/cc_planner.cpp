@@ -25,8 +25,10 @@ constexpr double kRiskSafety = 1e-12;  // Delta' = Delta (1 - kRiskSafety)
 // arithmetic: one face score, one margin or risk (a quantile or erfc).
 constexpr std::uint64_t kScoreWork = 20;
 constexpr std::uint64_t kMarginWork = 200;
-// One bivariate orthant of the certified risk (plan_risk.hpp).
-constexpr std::uint64_t kOrthantWork = 800;
+// The certified risk (plan_risk.hpp): one normal tail (an erfc, ~8 ns on the
+// development host) and one bivariate orthant (~145 ns), at ~0.45 ns a unit.
+constexpr std::uint64_t kTailWork = 20;
+constexpr std::uint64_t kOrthantWork = 320;
 // Stretching the allocation: a round that certifies r <= Delta raises the
 // allocation's budget by (Delta / r) x kStretchAim, at most x kMaxStretch a round.
 constexpr double kStretchAim = 0.97;
@@ -35,7 +37,10 @@ constexpr double kMaxStretch = 8.0;
 constexpr double kStretchClose = 0.9;
 // With optimised allocation the search stops at this share of the work
 // budget, leaving the rest to the allocation rounds.
-constexpr std::uint64_t kSearchSharePercent = 85;
+constexpr std::uint64_t kSearchSharePercent = 75;
+// The allocation rounds stop at this share; the rest is the finish's (the
+// taut path's certified risk: at N = 24, M = 8 about 0.5 M units).
+constexpr std::uint64_t kAllocateSharePercent = 95;
 // Seed variants: obstacles inflated by the margin at step N * k / 2; the
 // segments shared among the legs by length, or one per leg and the rest
 // parked at the goal ("front-loaded": the path passes the obstacles early,
@@ -1344,7 +1349,7 @@ void CcPlanner::abandonNode() {
 // Risk allocation.
 
 void CcPlanner::allocateStep() {
-    const bool workLeft = params_.workBudget == 0 || work() < 1000ULL * params_.workBudget;
+    const bool workLeft = params_.workBudget == 0 || work() < 10ULL * kAllocateSharePercent * params_.workBudget;
     if (evalRunning_) {
         if (!workLeft) {
             evalRunning_ = false;
@@ -1521,7 +1526,7 @@ bool CcPlanner::evaluateUnit(CcPlan* plan) {
         cap[i] = plan->delta[evalT_][i][0] + plan->delta[evalT_][i][1];
     }
     const double r = segmentRiskBound(problem_, plan->meanX, plan->meanY, evalT_, cap, &w);
-    geometryWork_ += kMarginWork * w.tails + kOrthantWork * w.orthants;
+    geometryWork_ += kTailWork * w.tails + kOrthantWork * w.orthants;
     plan->segmentRisk[evalT_] = r;
     evalTotal_ += r;
     if (++evalT_ < steps_) {

@@ -75,29 +75,53 @@
 // Risk allocation. kEvenSplit: delta = Delta' / (2 N M) at every end, with
 // Delta' = Delta (1 - 1e-12) so that the sum of the 2 N M deltas, added in any
 // order in double precision, stays <= Delta. kOptimised: iterative risk
-// allocation (Ono & Williams 2008) on the best plan's faces: every end whose
-// constraint is slack moves 70 % of the way from its delta to the risk it has
-// at the plan (computed 2 kSafetyM inside its slack, so the plan stays
-// feasible), the risk freed is shared equally by the active ends, and the LP
-// is solved again (warm: only right-hand sides change); a round's plan is
-// kept when it verifies and is shorter; at most iraRounds rounds, stopping
-// early when a round gains nothing. Never worse than the even split's plan;
-// the deltas' sum is checked <= Delta' every round.
+// allocation (Ono & Williams 2008) on the best plan's faces with a budget B:
+// every end whose constraint is slack moves 70 % of the way from its delta to
+// the risk it has at the plan (computed 2 kSafetyM inside its slack, so the
+// plan stays feasible), B minus the deltas is shared equally by the active
+// ends, and the LP is solved again (warm: only right-hand sides change).
+// Each round's plan is then certified (plan_risk.hpp, one segment a unit):
+// per (segment, obstacle) the smaller of its two deltas and the bound from
+// the means, summed. Kept when that is <= Delta' and the plan is shorter.
+// Stretch (issue 15 item 3): B starts at Delta'; a round that certifies r
+// raises it to B (Delta' / r) x 0.97 (at most x 8, and at most halfway to the
+// least B that failed); a round that fails halves the way back to the
+// largest B that certified and restarts from the best plan's deltas (scaled
+// to B). So the deltas' own sum may pass Delta while the certified risk does
+// not. At most iraRounds rounds; the rounds end once one gains nothing while
+// the certified risk is within 90 % of Delta or B's bracket is within 2 %.
+// Never worse than the even split's plan.
+//
+// Wide search (params.searchRiskScale > 1, kOptimised only): the search, its
+// presolve, seeds and fixed ends run at a Boole budget of Delta x the scale,
+// so a passage Boole's even split refuses at Delta can be found; those plans
+// are not certified, plan() shows none of them (status kNoPlan), and the
+// allocation starts at that budget and brings it down until a plan
+// certifies within Delta (none: kNoPlan). Its plans are never kOptimal. The
+// deliberative task runs it once when a plan at scale 1 finds nothing, before
+// it relaxes Delta (deliberative_task.hpp, kWideSearchScale).
 //
 // Status. kOptimal: the search was exhausted (optimal within relativeGap for
 // the even split; with kOptimised the allocation then shortened that plan, and
 // the proof is about the even split's faces). kFeasible: a verified plan, the
 // budget ran out first. kNoPlan: none found; proven when searchExhausted().
-// Every plan handed out is verified first (checkPlan): means inside the site,
-// mu_0 = start, mu_N = goal, every end on its face's side by its margin
-// exactly (no tolerance), deltas in (0, 0.5), their sum <= Delta.
+// Every plan handed out is verified first: means inside the site, mu_0 =
+// start, mu_N = goal, every end on its face's side by its delta's margin
+// exactly (no tolerance), deltas in (0, 0.5), and certified: their sum <=
+// Delta, or the certified bound <= Delta. Finish: the plan is pulled taut
+// (plan_tauten.hpp) and its certified risk evaluated (one segment a unit,
+// while the work budget lasts; else the deltas' sum is its claim); riskUsed
+// and segmentRisk[] carry it.
 //
 // Bounded and sliceable. No clock is read here: work is counted. start() does
 // no LP work; step(maxNodes) runs at most maxNodes units, and every unit is
 // small: an LP (seed, root, search node, allocation round) runs
 // kPivotsPerUnit (16) pivots per unit and resumes from its basis in the next
 // (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
-// pivots in all; a visibility seed builds its graph in one unit and settles
+// pivots in all; a certified-risk evaluation does one segment (M pairs: at
+// most 8 x (8 tails and 8 + 28 bivariate orthants), each orthant charged
+// kOrthantWork = 800 units, ~2.5 x its measured 145 ns) per unit; a
+// visibility seed builds its graph in one unit and settles
 // one Dijkstra vertex per unit; the layered seed handles kLayerPairsPerUnit
 // (256) line pairs of a layer per unit. Every unit checks the budget first, so
 // work() <= workBudget x 1000 + kMaxUnitWork whatever N <= kMaxPlanSteps and
@@ -123,12 +147,13 @@
 // N = 24, M = 8 median 11 ms, max 12 ms. Budget checks, reproducible:
 // bench_cc_reference and bench_cc_complete (docs/performance.md).
 //
-// Memory: sizeof(CcPlanner) = 489 064 B on x86-64 and aarch64: one CcLp (216 KiB), the
+// Memory: sizeof(CcPlanner) = 493 416 B on x86-64: one CcLp (216 KiB), the
 // factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack (192 levels
 // with a basis each, 32 KiB), the layered seed's layers (25 x 256 points:
 // two line indices and a predecessor each, 25 KiB, and the last two layers'
 // points and masks, 12 KiB: 38 016 B more than before it), the margin table,
-// two plans and the problem. Static storage (a task member), never a stack.
+// three plans (best, candidate, the empty plan shown during a wide search:
+// 3 888 B each) and the problem. Static storage (a task member), never a stack.
 #pragma once
 
 #include <cstddef>
@@ -158,8 +183,11 @@ struct CcPlannerParams {
     double searchRiskScale = 1.0;
 };
 
-// Checks a plan against its problem exactly (see above). kInvalidArgument
-// names nothing: the plan is simply not to be used.
+// Checks a plan against its problem exactly (see above): its shape and
+// margins, and its risk: the deltas' sum <= Delta with riskUsed no less, or
+// else the certified bound (plan_risk.hpp, recomputed here) <= Delta with
+// riskUsed no less than it. kInvalidArgument names nothing: the plan is
+// simply not to be used.
 core::Status checkPlan(const CcProblem& problem, const CcPlan& plan);
 
 class CcPlanner {
@@ -219,7 +247,8 @@ public:
     std::uint32_t refactorizations() const { return lp_.solver().refactorizations(); }
     std::uint32_t factorRestores() const { return factorRestores_; }
     std::uint32_t incumbents() const { return incumbents_; }        // improvements of the plan
-    // Final plans whose tautened path (plan_tauten.hpp) failed checkPlan or cost more: kept as planned.
+    // Final plans whose tautened path (plan_tauten.hpp) failed its checks or cost more, or whose
+    // evaluation the budget cut short while only the certified bound held it: kept as planned.
     std::uint32_t tautenRefused() const { return tautenRefused_; }
     std::uint32_t nodeOfLastIncumbent() const { return lastIncumbentNode_; }
     std::size_t maxDepth() const { return maxDepth_; }
