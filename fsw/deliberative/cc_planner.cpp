@@ -37,10 +37,10 @@ constexpr double kMaxStretch = 8.0;
 constexpr double kStretchClose = 0.9;
 // With optimised allocation the search stops at this share of the work
 // budget, leaving the rest to the allocation rounds.
-constexpr std::uint64_t kSearchSharePercent = 75;
+constexpr std::uint64_t kSearchSharePercent = 80;
 // The allocation rounds stop at this share; the rest is the finish's (the
-// taut path's certified risk: at N = 24, M = 8 about 0.5 M units).
-constexpr std::uint64_t kAllocateSharePercent = 95;
+// taut path's certified risk: at N = 24, M = 8 about 0.4 M units).
+constexpr std::uint64_t kAllocateSharePercent = 97;
 // Seed variants: obstacles inflated by the margin at step N * k / 2; the
 // segments shared among the legs by length, or one per leg and the rest
 // parked at the goal ("front-loaded": the path passes the obstacles early,

@@ -119,8 +119,8 @@
 // kPivotsPerUnit (16) pivots per unit and resumes from its basis in the next
 // (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
 // pivots in all; a certified-risk evaluation does one segment (M pairs: at
-// most 8 x (8 tails and 8 + 28 bivariate orthants), each orthant charged
-// kOrthantWork = 800 units, ~2.5 x its measured 145 ns) per unit; a
+// most 8 x (16 tails and 8 + 28 bivariate orthants), charged 20 units a tail
+// and 320 an orthant, their measured ~8 and ~145 ns) per unit; a
 // visibility seed builds its graph in one unit and settles
 // one Dijkstra vertex per unit; the layered seed handles kLayerPairsPerUnit
 // (256) line pairs of a layer per unit. Every unit checks the budget first, so
@@ -130,7 +130,8 @@
 // 600 runs of the hard set, worst work / budget in docs/performance.md). A
 // plan stops searching when nodeBudget nodes, iterationBudget pivots or
 // workBudget thousand work units are spent (with kOptimised the search gets
-// 85 % of the work budget and the allocation the rest); a seed or an LP cut
+// 80 % of the work budget, the allocation rounds run to 97 % and the finish's
+// certification has the rest, else the deltas' sum is claimed); a seed or an LP cut
 // short by the budget is dropped (a search node cut short leaves the search
 // incomplete, its parent's bound in lowerBound()). work() is
 // LpSolver::work() plus the planner's own scoring, margins and geometry,
