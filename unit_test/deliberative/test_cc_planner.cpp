@@ -476,8 +476,10 @@ TEST(CcPlanner, AWideSearchCertifiesANarrowPassageBooleRefuses) {
     CHECK_EQUAL(statusOf(CcStatus::kNoPlan), statusOf(planner.solve(p, params, &plan)));
     params.searchRiskScale = 8.0;
     CHECK_EQUAL(statusOf(CcStatus::kFeasible), statusOf(planner.solve(p, params, &other)));
+    // Certified within Delta (by its deltas' sum or, where that passes Delta, by
+    // the certified bound: which one depends on the allocation's rounds, and
+    // differs between the hosts' libm).
     checkIsPlan(p, other);
-    CHECK(riskSum(p, other) > p.riskBound);  // only the certified bound holds it
     CHECK(other.riskUsed <= p.riskBound);
     // The even split has no certified allocation: the scale does not apply.
     p.allocation = RiskAllocation::kEvenSplit;
