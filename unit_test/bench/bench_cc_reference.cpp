@@ -32,7 +32,8 @@
 // processes (default 2, one per core; each CBC run is single-threaded). Then
 // the AIDED CBC pass, in the same workers, on every instance the unaided pass
 // did not prove, the large set apart (--aided-all 1: on every instance),
-// wall-clock limit
+// CPU-time limit (since issue 15: MilpOptions::TimeBase::kCpu; a busy machine
+// stretched the wall-clock limits and CBC proved less)
 // --aided-limit: CBC with the objective cutoff = flight even-split cost
 // x (1 + 1e-7) (MilpOptions::cutoff; never a MIP start: CBC 2.10.8 crashed
 // after one), which proves or refutes the flight plan's optimality: no plan
@@ -45,7 +46,7 @@
 //
 // Per instance: the flight status, 16-gon cost, time, search nodes and work()
 // for both allocations; unaided CBC's status, cost, best bound, CPU and wall
-// time (model build + CBC + polish; its limit is on wall time); the aided
+// time (model build + CBC + polish; its limit is on CPU time); the aided
 // pass's outcome, cost and CPU time; the gap of the flight even-split cost to
 // the optimum either pass proved (cc_common.hpp combineProofs), or, where
 // neither proved within its limit, to the larger best bound (an upper bound
@@ -638,7 +639,7 @@ int main(int argc, char** argv) {
     double limit = 8.0, eightLimit = 10.0, largeLimit = 20.0, smallLimit = 8.0;
     int jobsN = 2, reps = 3;
     bool aidedAll = false;     // the aided pass on every instance (default: where the unaided pass did not prove)
-    double aidedLimit = 12.0;  // its wall-clock limit (s), every set
+    double aidedLimit = 12.0;  // its CPU-time limit (s), every set
     for (int a = 1; a + 1 < argc; a += 2) {
         const std::string key = argv[a];
         const double v = std::atof(argv[a + 1]);
@@ -733,7 +734,7 @@ int main(int argc, char** argv) {
         });
     const double aidedWall = std::chrono::duration<double>(std::chrono::steady_clock::now() - aidedBegin).count();
     std::printf("CBC: unaided pass (+ Monte Carlo) on %zu instances in %.0f s wall; aided pass (cutoff = flight even-split "
-                "cost x (1 + %.0e), no start plan) on %zu instances (%s) in %.0f s wall, wall-clock limit %s\n\n",
+                "cost x (1 + %.0e), no start plan) on %zu instances (%s) in %.0f s wall, CPU-time limit %s\n\n",
                 jobs.size(), unaidedWall, kCutoffTolerance, aidedWhich.size(),
                 aidedAll ? "every instance with a flight plan" : "those the unaided pass did not prove, large set apart",
                 aidedWall,
@@ -772,7 +773,7 @@ int main(int argc, char** argv) {
                 "optimum below its cutoff / proved no plan below it / ran;\n  union: proven by either pass; gap: flight even "
                 "split to the optimum proven by either pass (0 where proven by cutoff); bgap: to the larger best bound where "
                 "neither proved, an upper bound;\n  flight CPU ms even/optimised, median of %d; ratio: UNAIDED CBC CPU time "
-                "(to proof, or to its wall-clock limit: provable %.0f s, prov-n8 %.0f s, eight %.0f s, large %.0f s) / "
+                "(to proof, or to its CPU-time limit: provable %.0f s, prov-n8 %.0f s, eight %.0f s, large %.0f s) / "
                 "flight even-split CPU time: CBC's a proof, the flight's a budget run; aid cpu s: the aided pass's CPU time, median, not used in any ratio)\n",
                 reps, limit, smallLimit, eightLimit, largeLimit);
     printSummaryHeader();

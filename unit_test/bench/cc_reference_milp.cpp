@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <string>
 #include <vector>
@@ -22,6 +23,25 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point begin) {
     return std::chrono::duration<double>(Clock::now() - begin).count();
 }
+
+double threadCpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// What a MilpOptions time limit counts: this thread's CPU time or the wall clock.
+class LimitClock {
+public:
+    explicit LimitClock(MilpOptions::TimeBase base)
+        : cpu_(base == MilpOptions::TimeBase::kCpu), wall0_(Clock::now()), cpu0_(threadCpuSeconds()) {}
+    double elapsed() const { return cpu_ ? threadCpuSeconds() - cpu0_ : secondsSince(wall0_); }
+
+private:
+    bool cpu_;
+    Clock::time_point wall0_;
+    double cpu0_;
+};
 
 // One constrained point of a unit: the waypoint index and its delta.
 struct End {
@@ -365,7 +385,7 @@ Run runCbc(const CcProblem& p, const RiskSplit& split, const MilpOptions& opt,
     run.columns = model.columns();
     Cbc_Model* m = model.get();
     Cbc_setLogLevel(m, opt.logLevel);
-    Cbc_setParameter(m, "timeMode", "elapsed");
+    Cbc_setParameter(m, "timeMode", opt.timeBase == MilpOptions::TimeBase::kCpu ? "cpu" : "elapsed");
     for (const auto& [name, value] : opt.cbcParameters) {
         Cbc_setParameter(m, name.c_str(), value.c_str());
     }
@@ -450,6 +470,7 @@ bool startPlanValid(const CcProblem& p, const RiskSplit& split, ConstraintMode m
 MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& opt,
                  const std::uint8_t (*fixedFaces)[kMaxPlanObstacles]) {
     const Clock::time_point begin = Clock::now();
+    const LimitClock budget(opt.timeBase);
     if (!validateProblem(p).empty() || !splitValid(p, split)) {
         return badProblem();
     }
@@ -516,7 +537,7 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
     }
     if (!haveRun && !(twoPhase && cutoffGiven)) {
         const double limit = fixedFaces == nullptr && twoPhase
-                                 ? std::min(firstLimit, opt.timeLimitS - secondsSince(begin))
+                                 ? std::min(firstLimit, opt.timeLimitS - budget.elapsed())
                                  : opt.timeLimitS;
         run = runCbc(p, split, opt, fixedFaces, {}, limit, opt.cutoff, 0);
         r.cbcSeconds += run.seconds;
@@ -526,9 +547,9 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
     r.rows = run.rows;
     r.columns = run.columns;
     if (twoPhase && !cutoffGiven && !run.proven && !run.infeasible && run.solution.empty() &&
-        secondsSince(begin) < opt.timeLimitS) {
+        budget.elapsed() < opt.timeLimitS) {
         // No incumbent yet: on without the region until the first one.
-        const double left = opt.timeLimitS - secondsSince(begin);
+        const double left = opt.timeLimitS - budget.elapsed();
         run = runCbc(p, split, opt, nullptr, {}, left, kInf, 1);
         r.cbcSeconds += run.seconds;
         r.nodes += run.nodes;
@@ -559,7 +580,7 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
                 run.bound = bestBound;
                 break;
             }
-            const double left = opt.timeLimitS - secondsSince(begin);
+            const double left = opt.timeLimitS - budget.elapsed();
             // Under a given cutoff and no incumbent yet, the run is not stopped at
             // its first solution: every solution is below the cutoff, and a
             // cutoff near the optimum (a plan's cost) gains nothing from a
@@ -591,7 +612,7 @@ MilpResult solve(const CcProblem& p, const RiskSplit& split, const MilpOptions& 
             }
             run.infeasible = false;
             run.bound = bestBound;
-            if (run.proven || noneBelow || secondsSince(begin) >= opt.timeLimitS) {
+            if (run.proven || noneBelow || budget.elapsed() >= opt.timeLimitS) {
                 break;
             }
             if (!better) {
