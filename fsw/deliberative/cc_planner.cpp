@@ -1521,11 +1521,7 @@ void CcPlanner::startEvaluation() {
 
 bool CcPlanner::evaluateUnit(CcPlan* plan) {
     RiskWork w;
-    double cap[kMaxPlanObstacles];
-    for (std::size_t i = 0; i < obstacles_; ++i) {
-        cap[i] = plan->delta[evalT_][i][0] + plan->delta[evalT_][i][1];
-    }
-    const double r = segmentRiskBound(problem_, plan->meanX, plan->meanY, evalT_, cap, &w);
+    const double r = certifiedSegmentRisk(problem_, *plan, evalT_, &w);
     geometryWork_ += kTailWork * w.tails + kOrthantWork * w.orthants;
     plan->segmentRisk[evalT_] = r;
     evalTotal_ += r;

@@ -124,14 +124,18 @@ double planRiskBound(const CcProblem& p, const double* mx, const double* my, dou
     return total;
 }
 
+double certifiedSegmentRisk(const CcProblem& p, const CcPlan& plan, std::size_t t, RiskWork* work) {
+    double cap[kMaxPlanObstacles];
+    for (std::size_t i = 0; i < p.obstacleCount; ++i) {
+        cap[i] = plan.delta[t][i][0] + plan.delta[t][i][1];
+    }
+    return segmentRiskBound(p, plan.meanX, plan.meanY, t, cap, work);
+}
+
 double certifiedPlanRisk(const CcProblem& p, const CcPlan& plan, double* segmentRisk, RiskWork* work) {
     double total = 0.0;
     for (std::size_t t = 0; t < p.steps; ++t) {
-        double cap[kMaxPlanObstacles];
-        for (std::size_t i = 0; i < p.obstacleCount; ++i) {
-            cap[i] = plan.delta[t][i][0] + plan.delta[t][i][1];
-        }
-        const double r = segmentRiskBound(p, plan.meanX, plan.meanY, t, cap, work);
+        const double r = certifiedSegmentRisk(p, plan, t, work);
         if (segmentRisk != nullptr) {
             segmentRisk[t] = r;
         }

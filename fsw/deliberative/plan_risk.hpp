@@ -75,6 +75,10 @@ double segmentRiskBound(const CcProblem& problem, const double* meanX, const dou
 double planRiskBound(const CcProblem& problem, const double* meanX, const double* meanY, double* segmentRisk,
                      RiskWork* work);
 
+// Segment t's certified risk in a plan: per obstacle min(delta0 + delta1,
+// pairRiskBound), summed (one unit of the planner's sliced evaluation).
+double certifiedSegmentRisk(const CcProblem& problem, const CcPlan& plan, std::size_t t, RiskWork* work);
+
 // A plan's certified risk: per pair min(delta0 + delta1, pairRiskBound), summed
 // (its deltas must meet their margins, which checkPlan checks); segmentRisk[t]
 // gets each segment's share when not null.

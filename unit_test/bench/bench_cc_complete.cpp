@@ -129,8 +129,8 @@ NarrowTally narrowPassages(std::size_t first, std::size_t count, std::size_t sam
                 mc.samples = monteCarloSamples(p.riskBound, samples);
                 mc.seed = 9000 + k;
                 const McResult r = monteCarloCollision(p, plan, mc);
-                const double n = static_cast<double>(mc.samples), d = p.riskBound;
-                const bool over = static_cast<double>(r.collisions) > std::floor(n * d + 4.0 * std::sqrt(n * d * (1.0 - d)));
+                const double d = p.riskBound;
+                const bool over = r.collisions > allowedCollisions(d, r.samples);
                 t.mcFailed += over ? 1U : 0U;
                 std::printf("  factor %.2f instance %zu: Delta %.1e, scale 1 %s, wide plan %.2f m, certified %.2e, MC rate "
                             "%.2e%s\n",
@@ -249,10 +249,9 @@ int main(int argc, char** argv) {
                     mc.samples = a == 1 ? monteCarloSamples(problem.riskBound, samples) : samples;
                     mc.seed = 7000 + k;
                     const McResult r = monteCarloCollision(problem, plans[a], mc);
-                    const double n = static_cast<double>(mc.samples), d = problem.riskBound;
-                    const double allowed = std::floor(n * d + 4.0 * std::sqrt(n * d * (1.0 - d)));
+                    const double d = problem.riskBound;
                     ++mcChecked;
-                    mcFailed += static_cast<double>(r.collisions) > allowed ? 1U : 0U;
+                    mcFailed += r.collisions > allowedCollisions(d, r.samples) ? 1U : 0U;
                     if (a == 1) {
                         const Conservatism c = conservatism(d, r);
                         optimisedRatios.push_back(c.ratio);

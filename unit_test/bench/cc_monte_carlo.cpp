@@ -195,6 +195,11 @@ McResult monteCarloCollision(const CcProblem& problem, const CcPlan& plan, const
     return monteCarloCollision(problem, plan.meanX, plan.meanY, options);
 }
 
+std::size_t allowedCollisions(double riskBound, std::size_t samples) {
+    const double n = static_cast<double>(samples);
+    return static_cast<std::size_t>(std::floor(n * riskBound + 4.0 * std::sqrt(n * riskBound * (1.0 - riskBound))));
+}
+
 std::size_t monteCarloSamples(double riskBound, std::size_t minimum) {
     if (!(riskBound > 0.0)) {
         return minimum;

@@ -46,6 +46,11 @@ McResult monteCarloCollision(const CcProblem& problem, const CcPlan& plan,
 // shows about 5 collisions (1e5 at Delta = 0.05, 5e5 at 1e-3).
 std::size_t monteCarloSamples(double riskBound, std::size_t minimum = 100000);
 
+// The most collisions a plan at risk bound Delta may show in n samples and
+// still pass: n Delta + 4 sqrt(n Delta (1 - Delta)), floored (a plan exactly at
+// Delta fails it by sampling noise about once in 10^4).
+std::size_t allowedCollisions(double riskBound, std::size_t samples);
+
 // The conservatism of a plan's risk bound, Delta / (empirical collision rate).
 // With no collision in the sample the rate says nothing; then the ratio is
 // Delta / (the Clopper-Pearson upper bound), a lower bound on the conservatism

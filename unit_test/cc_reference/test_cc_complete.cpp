@@ -94,9 +94,7 @@ TEST(CcComplete, PlansThroughNarrowGapsStayWithinTheirRiskBound) {
         options.samples = 20000;
         options.seed = 500 + k;
         const McResult r = monteCarloCollision(p, completePlan, options);
-        const double n = static_cast<double>(r.samples);
-        const double allowed = std::floor(n * p.riskBound + 4.0 * std::sqrt(n * p.riskBound * (1.0 - p.riskBound)));
-        CHECK_TEXT(static_cast<double>(r.collisions) <= allowed,
+        CHECK_TEXT(r.collisions <= allowedCollisions(p.riskBound, r.samples),
                    ("instance " + std::to_string(k) + ": " + std::to_string(r.collisions) + " collisions").c_str());
     }
 }

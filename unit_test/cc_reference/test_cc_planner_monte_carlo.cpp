@@ -48,12 +48,6 @@ constexpr std::size_t kSamples = 20000;
 CcPlanner planner;  // ~450 kB: static storage, as in flight
 CcPlan plan;
 
-// The largest collision count a plan at risk bound Delta may show in n samples.
-std::size_t allowedCollisions(double delta, std::size_t n) {
-    const double nd = static_cast<double>(n);
-    return static_cast<std::size_t>(std::floor(nd * delta + 4.0 * std::sqrt(nd * delta * (1.0 - delta))));
-}
-
 McResult sample(const CcProblem& problem, const double* meanX, const double* meanY, std::uint64_t seed) {
     McOptions options;
     options.samples = kSamples;
