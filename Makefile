@@ -338,6 +338,11 @@ $(BUILD)/bin/bench_cc_reference: $(BUILD)/obj/unit_test/bench/bench_cc_reference
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) $(CBC_LDLIBS)
 
+# How tight each risk bound is against Monte Carlo (issue 15 item 3): no CBC.
+$(BUILD)/bin/bench_cc_risk_bounds: $(BUILD)/obj/unit_test/bench/bench_cc_risk_bounds.o $(CC_BENCH_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
 # The completeness and hard-budget benchmark of the same planner (issue 15): CBC decides instances without a witness.
 $(BUILD)/bin/bench_cc_complete: $(BUILD)/obj/unit_test/bench/bench_cc_complete.o $(CC_BENCH_OBJS) $(CC_MILP_OBJ) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)

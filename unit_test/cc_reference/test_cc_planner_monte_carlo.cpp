@@ -109,7 +109,7 @@ TEST(CcPlannerMonteCarlo, APlanThatIgnoresTheUncertaintyFailsTheSameCheck) {
 TEST(CcPlannerMonteCarlo, StretchedAllocationsSpendTheirRiskAndStayWithinIt) {
     // The optimised allocation stretched on the certified bound: its plans
     // within Delta by sampling, and their median rate within 10x of Delta
-    // (Boole's sum alone left it 30 - 80x below on these sets).
+    // (bench_cc_risk_bounds shows what the deltas' sum alone would certify).
     std::vector<double> ratios;
     const std::vector<CcProblem> loose = provableSet(0.05, 5);
     for (std::size_t k = 0; k < loose.size(); ++k) {
