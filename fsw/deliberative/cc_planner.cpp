@@ -153,6 +153,7 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
     hintPending_ = false;
     hintSeedCost_ = INFINITY;
     iraDone_ = 0;
+    iraLastRound_ = false;
     iraReady_ = false;
     evalRunning_ = false;
     tautenDone_ = false;
@@ -1376,7 +1377,7 @@ void CcPlanner::allocateStep() {
         return;
     }
     if (best_.status == CcStatus::kNoPlan || obstacles_ == 0 ||
-        problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || !workLeft) {
+        problem_.allocation != RiskAllocation::kOptimised || iraDone_ >= params_.iraRounds || iraLastRound_ || !workLeft) {
         endAllocation();
         return;
     }
@@ -1444,7 +1445,7 @@ void CcPlanner::allocateStep() {
         // deltas (each is at least its need there), so it is this round's
         // candidate as it stands, the last one (an uncertified search plan
         // still gets its evaluation).
-        iraDone_ = params_.iraRounds;
+        iraLastRound_ = true;
         allocationCandidate();
         return;
     }

@@ -404,6 +404,7 @@ private:
     double delta_[kMaxPlanSteps][kMaxPlanObstacles][2] = {};
     std::uint32_t iraDone_ = 0;
     bool iraReady_ = false;
+    bool iraLastRound_ = false;  // nothing left to stretch: this round's candidate is the last
     double iraBudget_ = 0.0;   // the allocation's sum of deltas this round (may pass Delta)
     double budgetLo_ = 0.0;    // the largest budget whose plan certified within Delta
     double budgetHi_ = 0.0;    // the least budget whose plan did not (INFINITY: none yet)
