@@ -26,7 +26,8 @@ constexpr double kRiskSafety = 1e-12;  // Delta' = Delta (1 - kRiskSafety)
 constexpr std::uint64_t kScoreWork = 20;
 constexpr std::uint64_t kMarginWork = 200;
 // The certified risk (plan_risk.hpp): one normal tail (an erfc, ~8 ns on the
-// development host) and one bivariate orthant (~145 ns), at ~0.45 ns a unit.
+// development host) and one bivariate orthant (~145 ns; bench_cc_risk_bounds
+// prints both), at ~0.45 ns a unit.
 constexpr std::uint64_t kTailWork = 20;
 constexpr std::uint64_t kOrthantWork = 320;
 // Stretching the allocation: a round that certifies r <= Delta raises the

@@ -120,7 +120,8 @@
 // (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
 // pivots in all; a certified-risk evaluation does one segment (M pairs: at
 // most 8 x (16 tails and 8 + 28 bivariate orthants), charged 20 units a tail
-// and 320 an orthant, their measured ~8 and ~145 ns) per unit; a
+// and 320 an orthant, their ~8 and ~145 ns of CPU as bench_cc_risk_bounds
+// prints them) per unit; a
 // visibility seed builds its graph in one unit and settles
 // one Dijkstra vertex per unit; the layered seed handles kLayerPairsPerUnit
 // (256) line pairs of a layer per unit. Every unit checks the budget first, so
@@ -148,7 +149,7 @@
 // N = 24, M = 8 median 11 ms, max 12 ms. Budget checks, reproducible:
 // bench_cc_reference and bench_cc_complete (docs/performance.md).
 //
-// Memory: sizeof(CcPlanner) = 493 416 B on x86-64: one CcLp (216 KiB), the
+// Memory: sizeof(CcPlanner) = 493 416 B on x86-64 (bench_cc_risk_bounds prints it): one CcLp (216 KiB), the
 // factor ring (4 x 72 x 73 doubles, 164 KiB), the search stack (192 levels
 // with a basis each, 32 KiB), the layered seed's layers (25 x 256 points:
 // two line indices and a predecessor each, 25 KiB, and the last two layers'

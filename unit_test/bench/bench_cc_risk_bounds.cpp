@@ -19,17 +19,22 @@
 // The median of each ratio is printed per set: the gap between two columns is
 // what the tighter bound recovers. A plan without a sampled collision enters
 // at 1 / samples (its ratios are then lower bounds).
+// Also printed: the CPU cost of one bivariate orthant and one normal tail (the
+// planner charges them as work units, cc_planner.cpp kOrthantWork, kTailWork)
+// and sizeof(CcPlanner).
 // Target (bench_targets.hpp): the certified bound holds against sampling on
 // every plan (collisions <= cc::allowedCollisions(certified, samples)).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/gaussian.hpp"
 #include "fsw/deliberative/plan_risk.hpp"
 #include "unit_test/bench/bench_targets.hpp"
 #include "unit_test/bench/cc_common.hpp"
@@ -133,6 +138,30 @@ void measurePlan(const CcProblem& p, const CcPlan& plan, std::size_t samples, st
     }
 }
 
+double cpuSeconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// CPU ns per call of f over a grid of arguments (best of 5 passes).
+template <typename F>
+double nsPerCall(F f) {
+    double best = 1e30;
+    volatile double sink = 0.0;
+    for (int pass = 0; pass < 5; ++pass) {
+        const double t0 = cpuSeconds();
+        int calls = 0;
+        for (int i = 0; i < 200; ++i) {
+            for (int j = 0; j < 100; ++j, ++calls) {
+                sink = sink + f(i, j);
+            }
+        }
+        best = std::min(best, 1e9 * (cpuSeconds() - t0) / calls);
+    }
+    return best;
+}
+
 void report(const char* name, const SetResult& r) {
     std::printf("%-16s %5zu", name, r.plans);
     for (std::size_t col = 0; col < kColumns; ++col) {
@@ -187,6 +216,12 @@ int main(int argc, char** argv) {
     std::printf("\n");
     report("provable 1e-3", sets[0]);
     report("hard", sets[1]);
+    const double orthantNs = nsPerCall([](int i, int j) {
+        return rse::deliberative::bivariateUpperTail(-1.0 + 0.03 * i, 0.5 + 0.02 * j, -0.95 + 0.01 * ((7 * i + j) % 190));
+    });
+    const double tailNs = nsPerCall([](int i, int j) { return rse::deliberative::PhiComplement(0.5 + 1e-4 * (100 * i + j)); });
+    std::printf("CPU ns per bivariate orthant %.1f, per normal tail %.1f; sizeof(CcPlanner) %zu B\n", orthantNs, tailNs,
+                sizeof(CcPlanner));
     rse::bench::Targets targets;
     const std::size_t below = sets[0].certifiedBelow + sets[1].certifiedBelow;
     const bool ok = targets.check(below == 0);

@@ -468,9 +468,9 @@ TEST(DeliberativeTask, AWholeGoalFromPlanToArrivalAllocatesNothing) {
 // Issue 15 item 3: a wall across the site with a gap Boole's even split refuses
 // at the operator's bound (no plan at scale 1), but the wide search finds a
 // path through it that certifies within the same bound: event 929, then a plan
-// at 1e-3, nothing relaxed. The window is narrow on this map (a half-gap of
-// 1.02 - 1.07 m plans this way; 1.01 m gives no plan either way, 1.08 m plans
-// at scale 1), so the test sits in its middle.
+// at 1e-3, nothing relaxed. The window of half-gaps where this happens on this
+// map is a few centimetres wide (the rock grown by the footprint leaves little
+// room); the half-gap here was chosen inside it.
 TEST(DeliberativeTask, ANarrowGapBooleRefusesIsPlannedByTheWideSearchAtTheSameRisk) {
     tables::CoarseMapTable map = rig->tables.coarseMap();
     map.obstacle_count = 2;
