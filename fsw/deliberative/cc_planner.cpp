@@ -27,7 +27,8 @@ constexpr std::uint64_t kScoreWork = 20;
 constexpr std::uint64_t kMarginWork = 200;
 // The certified risk (plan_risk.hpp): one normal tail (an erfc, ~8 ns on the
 // development host) and one bivariate orthant (~145 ns; bench_cc_risk_bounds
-// prints both), at ~0.45 ns a unit.
+// prints both), at ~0.45 ns a unit. A 2x2 solve building a segment's own
+// line is charged as a face score.
 constexpr std::uint64_t kTailWork = 20;
 constexpr std::uint64_t kOrthantWork = 320;
 // Stretching the allocation: a round that certifies r <= Delta raises the
@@ -1524,7 +1525,7 @@ void CcPlanner::startEvaluation() {
 bool CcPlanner::evaluateUnit(CcPlan* plan) {
     RiskWork w;
     const double r = certifiedSegmentRisk(problem_, *plan, evalT_, &w);
-    geometryWork_ += kTailWork * w.tails + kOrthantWork * w.orthants;
+    geometryWork_ += kTailWork * w.tails + kOrthantWork * w.orthants + kScoreWork * w.lineSolves;
     plan->segmentRisk[evalT_] = r;
     evalTotal_ += r;
     if (++evalT_ < steps_) {

@@ -119,7 +119,7 @@
 // kPivotsPerUnit (16) pivots per unit and resumes from its basis in the next
 // (LpSolver keeps it on kIterationLimit), each LP capped at perLpIterations
 // pivots in all; a certified-risk evaluation does one segment (M pairs: at
-// most 8 x (16 tails and 8 + 28 bivariate orthants), charged 20 units a tail
+// most 8 x (18 tails and 9 + 32 bivariate orthants), charged 20 units a tail
 // and 320 an orthant, their ~8 and ~145 ns of CPU as bench_cc_risk_bounds
 // prints them) per unit; a
 // visibility seed builds its graph in one unit and settles

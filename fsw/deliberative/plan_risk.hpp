@@ -26,6 +26,13 @@
 // a corner cheap: beside a corner a point is beyond both faces' lines only
 // with the product-like orthant probability. The anchor j is the face with
 // the least P(U_j); every other face k is tried; the least bound wins.
+// The faces are not the only separating lines: any supporting line of the
+// obstacle is one, and past a corner the faces all fail (each end is on the
+// obstacle's side of one of the corner's faces) while the line through the
+// corner parallel to the segment separates both ends. So the candidates are
+// the F faces and that line, built from the mean segment as a nonnegative
+// combination of two faces (valid as computed, by weak duality; no vertices);
+// it is a function of the means only, so the bound stays a bound.
 // Each orthant is bivariateUpperTail() (gaussian.hpp), whose absolute error
 // kBivariateAbsError is added per orthant used, so the bound stays an upper
 // bound in floating point. An end with no variance (Sigma_0 = 0 at t = 0, or
@@ -37,10 +44,11 @@
 // delta0 + delta1; certifiedPairRisk takes the smaller. planRiskBound is
 // independent of the planner's search: checkPlan (cc_planner.hpp) calls it.
 //
-// Cost: per pair F faces (2 erfc and at most 1 orthant each) and, unless the
-// best face's bound is already below kNegligibleRisk, F - 1 face pairs of 4
-// orthants: at most 8 + 28 orthants; pairs far from their obstacle cost F
-// erfc calls only (their first face's ends are many sigma clear).
+// Cost: per pair F + 1 lines (2 erfc and at most 1 orthant each; the
+// segment's line also takes F (F - 1) / 2 2x2 solves) and, unless the best
+// line's bound is already below kNegligibleRisk, F line pairs of 4 orthants:
+// at most 9 + 32 orthants; pairs far from their obstacle cost 2 (F + 1) erfc
+// calls only.
 // RiskWork counts the calls; the planner charges them as work units. Pure
 // functions: no state, no allocation.
 #pragma once
@@ -59,6 +67,7 @@ constexpr double kNegligibleRisk = 1e-30;
 struct RiskWork {
     std::uint32_t tails = 0;      // single-end normal tails (erfc)
     std::uint32_t orthants = 0;   // bivariate orthants
+    std::uint32_t lineSolves = 0; // 2x2 solves building a segment's own line
 };
 
 // Upper bound on P(the sampled segment t meets obstacle i's interior) for

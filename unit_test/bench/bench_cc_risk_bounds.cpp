@@ -13,7 +13,10 @@
 //   ends       P(end beyond its face's line), both ends of every pair, the plan's faces
 //   one face   min over faces j of P(E_j(t) u E_j(t+1)): the best single face
 //   face pair  min over face pairs of P(U_j n U_k): the best two faces (all pairs)
-//   certified  plan_risk.hpp's bound (computed, not sampled)
+//   certified  plan_risk.hpp's bound (computed, not sampled): the faces and,
+//              per segment, the obstacle's supporting line parallel to it
+//              (the separating axis the faces lack past a corner), so it can
+//              be tighter than the sampled face columns
 //   per pair   P(segment t meets obstacle i) itself: the best any bound with
 //              Boole across pairs could do
 // The median of each ratio is printed per set: the gap between two columns is

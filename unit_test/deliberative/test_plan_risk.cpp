@@ -79,6 +79,20 @@ void boundHoldsAgainstSampling(const CcProblem& p, const double* mx, const doubl
     CHECK(rate <= bound + 4.0 * sd);
 }
 
+// Segment 0's least Boole bound over obstacle 0's faces: min over j of
+// P(E_j(0)) + P(E_j(1)), the two ends counted apart.
+double leastFaceEnds(const CcProblem& p, const double* mx, const double* my) {
+    const PlanObstacle& o = p.obstacles[0];
+    double least = 1.0;
+    for (std::size_t j = 0; j < o.faceCount; ++j) {
+        const double v0 = faceVariance(o.normalX[j], o.normalY[j], p.startCov, p.processSigmaM, 0);
+        const double v1 = faceVariance(o.normalX[j], o.normalY[j], p.startCov, p.processSigmaM, 1);
+        const double r = endRisk(endSlack(o, j, mx[0], my[0], 0.0), v0) + endRisk(endSlack(o, j, mx[1], my[1], 0.0), v1);
+        least = r < least ? r : least;
+    }
+    return least;
+}
+
 }  // namespace
 
 TEST_GROUP(PlanRisk){};
@@ -132,6 +146,11 @@ TEST(PlanRisk, BoundHoldsAgainstMonteCarlo) {
     p.obstacleCount = 2;
     straightPath(8, 0.0, 0.0, 10.0, 8.0, mx, my);
     boundHoldsAgainstSampling(p, mx, my, 14);
+    // Diagonally past a box's corner, where no face separates a segment's ends.
+    p.obstacles[0] = makeBox(1, 2.0, 6.0, -4.0, 1.0);
+    p.obstacleCount = 1;
+    straightPath(8, 0.0, 3.5, 8.0, -4.5, mx, my);
+    boundHoldsAgainstSampling(p, mx, my, 15);
 }
 
 TEST(PlanRisk, ACornerCostsFarLessThanItsHalfPlane) {
@@ -148,14 +167,7 @@ TEST(PlanRisk, ACornerCostsFarLessThanItsHalfPlane) {
     RiskWork work;
     const double pair = pairRiskBound(p, mx, my, 0, 0, &work);
     CHECK(work.orthants > 0U);
-    double leastFace = 1.0;
-    for (std::size_t j = 0; j < 4; ++j) {
-        const double v0 = faceVariance(p.obstacles[0].normalX[j], p.obstacles[0].normalY[j], p.startCov, 0.1, 0);
-        const double v1 = faceVariance(p.obstacles[0].normalX[j], p.obstacles[0].normalY[j], p.startCov, 0.1, 1);
-        const double r = endRisk(endSlack(p.obstacles[0], j, mx[0], my[0], 0.0), v0) +
-                         endRisk(endSlack(p.obstacles[0], j, mx[1], my[1], 0.0), v1);
-        leastFace = r < leastFace ? r : leastFace;
-    }
+    const double leastFace = leastFaceEnds(p, mx, my);
     CHECK(pair < 0.2 * leastFace);
     const double rate = sampledRate(p, mx, my, 0, 100000, 21);
     CHECK(rate <= pair + 4.0 * std::sqrt(pair / 100000.0));
@@ -183,4 +195,30 @@ TEST(PlanRisk, PlansCertifyNoMoreThanTheirDeltas) {
     CHECK(certified < 0.5 * deltas);
     DOUBLES_EQUAL(certified, plan.riskUsed, 1e-12 * p.riskBound);
     CHECK(certified <= planRiskBound(p, plan.meanX, plan.meanY, nullptr, nullptr) * (1.0 + 1e-12));
+}
+
+TEST(PlanRisk, ASegmentPassingACornerIsBoundedByItsOwnLine) {
+    // A segment passing a box's corner diagonally, 0.28 m outside it: each
+    // end lies on the box's side of one face's line (no face separates both
+    // ends, so every face's bound is ~1), but the line through the corner
+    // parallel to the segment has both ends 0.28 m beyond it.
+    CcProblem p = noisyProblem(1, 0.05, 0.01);
+    p.obstacles[0] = makeBox(1, -5.0, 0.0, -5.0, 0.0);
+    p.obstacleCount = 1;
+    double mx[2] = {-1.0, 1.4};
+    double my[2] = {1.4, -1.0};
+    const double leastFace = leastFaceEnds(p, mx, my);
+    CHECK(leastFace > 0.9);
+    const double pair = pairRiskBound(p, mx, my, 0, 0, nullptr);
+    CHECK(pair < 0.05);
+    const double rate = sampledRate(p, mx, my, 0, 100000, 31);
+    CHECK(rate > 0.0);  // the risk is real: it is sampled
+    CHECK(rate <= pair + 4.0 * std::sqrt(pair / 100000.0));
+    // The same segment turned round, and mirrored past the box's other corner.
+    double rx[2] = {mx[1], mx[0]};
+    double ry[2] = {my[1], my[0]};
+    DOUBLES_EQUAL(pair, pairRiskBound(p, rx, ry, 0, 0, nullptr), 0.5 * pair);
+    double sx[2] = {-4.0, -6.4};
+    double sy[2] = {1.4, -1.0};
+    CHECK(pairRiskBound(p, sx, sy, 0, 0, nullptr) < 0.05);
 }
