@@ -3,8 +3,10 @@
 // five-minute runs) and the lockstep tests (a few short runs).
 //
 // The harness plays the part of a higher layer: it commands body speed and yaw
-// rate from a seeded random profile. It alone reads the simulator's truth, to
-// score the flight software's estimate; nothing of it reaches the flight code.
+// rate from a seeded random profile, kept on the flight software's site (the
+// COARSE_MAP bounds) by steering on the flight software's own pose estimate, as
+// a higher layer would. It alone reads the simulator's truth, to score the
+// flight software's estimate; nothing of it reaches the flight code.
 #pragma once
 
 #include <algorithm>
@@ -15,6 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "fsw/geometry/geometry2d.hpp"
+#include "fsw/geometry/site_bounds.hpp"
+#include "fsw/msg/estimator_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 
@@ -28,15 +33,42 @@ namespace rse::test {
 // because skid-steer scrubbing loads the motors: a nominal drive then draws at
 // most ~1.8 A, below the 2.5 A over-current threshold, while a drive degraded
 // by 1.6 still stays under the drives' own 3 A trip.
+//
+// Kept on a site (the second constructor and the at() that takes the pose
+// estimate): the simulated world may be larger than the flight software's
+// site, and a rover the estimate puts off the site raises fault 46 (off the
+// map) — rightly, so the drive must not leave it. Within kSiteMarginM of an
+// edge, heading out through it, the profile drops its segment and arcs back
+// (kReturnSpeedMS, kReturnYawRateRadS: a 1 m radius, inside the profile's own
+// range of commands) towards the site's centre until it heads in through
+// every edge it is near, then draws a new segment. The rover goes on outwards
+// for a while (slowing from up to 0.3 m/s, reversing the yaw rate, the arc's
+// radius): in bench_estimator's 100 runs it came within 1.06 m of an edge,
+// its footprint (radius 0.6 m) still on the site.
 class DriveProfile {
 public:
     static constexpr double kMaxAccelMS2 = 0.2;   // rover geometry table max_accel_m_s2
     static constexpr double kMaxYawAccelRadS2 = 0.2;
+    static constexpr double kSiteMarginM = 3.0;
+    static constexpr double kReturnSpeedMS = 0.1;
+    static constexpr double kReturnYawRateRadS = 0.1;
 
     explicit DriveProfile(std::uint64_t seed) : rng_(seed ^ 0x5EEDD12E5ULL) {}
+    DriveProfile(std::uint64_t seed, const geometry::SiteBox& site) : DriveProfile(seed) {
+        site_ = site;
+        keepOnSite_ = true;
+    }
+
+    // Steers on the estimate (when initialised) to keep on the site, if one was given.
+    void at(core::TimeNs now, const msg::PoseEstimateMsg& estimate, double* speedMS, double* yawRateRadS) {
+        if (keepOnSite_ && estimate.initialised != 0) {
+            steer(now, estimate);
+        }
+        at(now, speedMS, yawRateRadS);
+    }
 
     void at(core::TimeNs now, double* speedMS, double* yawRateRadS) {
-        while (now >= segmentEnd_) {
+        while (!returning_ && now >= segmentEnd_) {
             next();
         }
         const double dt = static_cast<double>(now - last_) * 1e-9;
@@ -47,8 +79,50 @@ public:
         *yawRateRadS = yawRate_;
     }
 
+    // Times the profile turned back from a site edge.
+    unsigned siteReturns() const { return siteReturns_; }
+
 private:
     static double clamp(double delta, double limit) { return std::max(-limit, std::min(limit, delta)); }
+
+    // Whether a rover at (x, y) heading `heading` is within kSiteMarginM of an
+    // edge (or beyond it) and moves out through it (outward > 0), or moves in
+    // through every edge it is that near (outward < 0 for all: returns false
+    // with *inward true).
+    bool headingOut(double x, double y, double heading, bool* inward) const {
+        const double c = std::cos(heading);
+        const double sn = std::sin(heading);
+        // Each edge: distance inside it, and the heading's component along its outward normal.
+        const double inside[4] = {x - site_.minX, site_.maxX - x, y - site_.minY, site_.maxY - y};
+        const double outward[4] = {-c, c, -sn, sn};
+        bool out = false;
+        *inward = true;
+        for (std::size_t e = 0; e < 4; ++e) {
+            if (inside[e] < kSiteMarginM) {
+                out = out || outward[e] > 0.0;
+                *inward = *inward && outward[e] < 0.0;
+            }
+        }
+        return out;
+    }
+
+    void steer(core::TimeNs now, const msg::PoseEstimateMsg& est) {
+        bool inward = false;
+        const bool out = headingOut(est.xM, est.yM, est.headingRad, &inward);
+        if (!returning_ && out) {
+            // Turn the shorter way towards the centre, and keep that way round.
+            const double toCentre = std::atan2(0.5 * (site_.minY + site_.maxY) - est.yM,
+                                               0.5 * (site_.minX + site_.maxX) - est.xM);
+            const double error = geometry::wrapAngleRad(toCentre - est.headingRad);
+            returning_ = true;
+            ++siteReturns_;
+            targetSpeed_ = kReturnSpeedMS;
+            targetYawRate_ = error >= 0.0 ? kReturnYawRateRadS : -kReturnYawRateRadS;
+        } else if (returning_ && inward) {
+            returning_ = false;
+            segmentEnd_ = now;  // a new segment from here
+        }
+    }
 
     void next() {
         std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -76,6 +150,10 @@ private:
     double targetYawRate_ = 0.0;
     double speed_ = 0.0;
     double yawRate_ = 0.0;
+    geometry::SiteBox site_;
+    bool keepOnSite_ = false;
+    bool returning_ = false;
+    unsigned siteReturns_ = 0;
 };
 
 inline double wrapPi(double a) {
@@ -142,6 +220,9 @@ struct NominalRun {
     bool initialised = false;
     unsigned driveModeAlarms = 0;  // frames x wheels declared other than nominal
     std::uint32_t faultsRaised = 0;
+    std::uint32_t raisedById[msg::fault::kCount] = {};  // faultsRaised by fault id
+    double closestToEdgeM = INFINITY;  // the rover (truth) to the nearest site edge; negative: off the site
+    unsigned siteReturns = 0;          // times the profile turned back from the site's edge
     std::uint32_t fixesRejected = 0;
     double distanceM = 0.0;
     // Host CPU per run of the estimator, drive_modes and health tasks (ns).
@@ -151,7 +232,9 @@ struct NominalRun {
 
 constexpr const char* kEstimatorTaskNames[3] = {"estimator", "drive_modes", "health"};
 
-inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, double durationS) {
+// keepOnSite false: the profile alone, wherever it leads (to see fault 46 raised).
+inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, double durationS,
+                             bool keepOnSite = true) {
     sim::Scenario scenario = base;
     scenario.seed = seed;
     auto rig = std::make_unique<sim::LockstepRig>(scenario);
@@ -159,18 +242,20 @@ inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, doub
     if (!core::isOk(rig->init())) {
         return out;
     }
-    DriveProfile profile(seed);
+    const geometry::SiteBox site = geometry::siteBox(rig->fsw().tables().coarseMap(), 0.0);
+    DriveProfile profile = keepOnSite ? DriveProfile(seed, site) : DriveProfile(seed);
     const core::TimeNs end = static_cast<core::TimeNs>(durationS * 1e9);
     const core::TimeNs firstSample = 1500 * core::kNsPerMs;  // then every second, half-way between fixes
     core::TimeNs nextSample = firstSample;
     while (rig->clock().now() < end) {
         double v = 0.0;
         double w = 0.0;
-        profile.at(rig->clock().now(), &v, &w);
+        profile.at(rig->clock().now(), rig->fsw().poseEstimator().latest(), &v, &w);
         rig->commandBody(v, w);
         rig->runFor(app::kMinorFramePeriod);
         const msg::PoseEstimateMsg& est = rig->fsw().poseEstimator().latest();
         const sim::TruthRecord& truth = rig->rover().truth();
+        out.closestToEdgeM = std::min(out.closestToEdgeM, -geometry::outsideBy(site, truth.pose.x, truth.pose.y));
         for (std::size_t wheel = 0; wheel < msg::kWheelCount; ++wheel) {
             if (rig->fsw().driveModes().declared(wheel) != msg::DriveMode::kNominal) {
                 ++out.driveModeAlarms;
@@ -193,6 +278,10 @@ inline NominalRun runNominal(const sim::Scenario& base, std::uint64_t seed, doub
         }
     }
     out.faultsRaised = rig->fsw().health().status().raisedTotal;
+    for (std::uint8_t id = 0; id < msg::fault::kCount; ++id) {
+        out.raisedById[id] = rig->fsw().health().raisedCount(id);
+    }
+    out.siteReturns = profile.siteReturns();
     out.fixesRejected = rig->fsw().poseEstimator().latest().fixesRejected;
     out.distanceM = rig->rover().truth().distanceM;
     const core::Executive& exec = rig->fsw().executive();
@@ -236,7 +325,7 @@ inline FaultRun runFaulted(const sim::Scenario& base, std::uint64_t seed) {
     if (!core::isOk(rig->init())) {
         return out;
     }
-    DriveProfile profile(seed);
+    DriveProfile profile(seed, geometry::siteBox(rig->fsw().tables().coarseMap(), 0.0));
     const auto degradeAt = static_cast<core::TimeNs>(out.degradeAtS * 1e9);
     const auto failAt = static_cast<core::TimeNs>(out.failAtS * 1e9);
     const core::TimeNs end = failAt + 3 * core::kNsPerSec;
@@ -254,7 +343,7 @@ inline FaultRun runFaulted(const sim::Scenario& base, std::uint64_t seed) {
         }
         double v = 0.0;
         double w = 0.0;
-        profile.at(now, &v, &w);
+        profile.at(now, rig->fsw().poseEstimator().latest(), &v, &w);
         rig->commandBody(v, w);
         rig->runFor(app::kMinorFramePeriod);
         const double t = static_cast<double>(rig->clock().now()) * 1e-9;
