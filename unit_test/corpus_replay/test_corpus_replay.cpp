@@ -15,6 +15,9 @@
 //   NAME.tbl             valid image of table NAME; decodeTable + encodeTable
 //                        reproduce it byte for byte
 //   invalid.REASON[.WHAT].tbl   checkTableImage refuses it with REASON
+// Plan seeds (plan/, hand-written):
+//   NAME.plan            parsePlan accepts it (the odd-but-legal inputs among them)
+//   invalid.REASON.plan  parsePlan refuses it with REASON (kPlanSeedReasons)
 #include <dirent.h>
 
 #include <algorithm>
@@ -30,6 +33,7 @@
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/core/byte_codec.hpp"
+#include "fsw/plan_executive/plan_parser.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "fsw/tables/table_types.hpp"
 #include "unit_test/support/decoded_args_check.hpp"
@@ -46,6 +50,22 @@ const char* const kCommandSeeds = "unit_test/fuzz/corpus/command";
 const char* const kTableSeeds = "unit_test/fuzz/corpus/table";
 const char* const kCommandRegressions = "unit_test/fuzz/regressions/command";
 const char* const kTableRegressions = "unit_test/fuzz/regressions/table";
+const char* const kPlanSeeds = "unit_test/fuzz/corpus/plan";
+const char* const kPlanRegressions = "unit_test/fuzz/regressions/plan";
+
+// The REASON of an invalid plan seed's name and the error it must give.
+struct PlanSeedReason {
+    const char* name;
+    plan_executive::PlanError error;
+};
+const PlanSeedReason kPlanSeedReasons[] = {
+    {"empty", plan_executive::PlanError::kEmptyText},
+    {"cycle", plan_executive::PlanError::kCycle},
+    {"unknown_activity", plan_executive::PlanError::kUnknownActivityKind},
+    {"bounds_reversed", plan_executive::PlanError::kBoundsReversed},
+    {"no_end_marker", plan_executive::PlanError::kNoEndMarker},
+    {"unterminated_string", plan_executive::PlanError::kUnterminatedString},
+};
 
 constexpr Mode kModes[kModeCount] = {Mode::kSafe, Mode::kStandby, Mode::kAutonomous, Mode::kManual};
 
@@ -295,5 +315,40 @@ TEST(CorpusReplay, TableRegressionsReplayCleanly) {
         const tables::TableCheck c = tables::checkTableImage(image.data(), image.size());
         CHECK_TEXT(static_cast<std::size_t>(c.reason) < tables::kTableRejectCount, file.c_str());
         CHECK_EQUAL_TEXT(c.ok(), roundTrips(image), file.c_str());
+    }
+}
+
+TEST(CorpusReplay, PlanSeedsGiveTheVerdictTheirNameGives) {
+    static plan_executive::Tpn plan;
+    std::size_t valid = 0, invalid = 0;
+    for (const std::string& file : listInputs(kPlanSeeds)) {
+        const Bytes text = readFile(std::string(kPlanSeeds) + "/" + file);
+        const plan_executive::ParseResult r =
+            plan_executive::parsePlan(reinterpret_cast<const char*>(text.data()), text.size(), &plan);
+        if (file.rfind("invalid.", 0) == 0) {
+            const std::string reason = file.substr(8, file.size() - 8 - 5);  // between "invalid." and ".plan"
+            const PlanSeedReason* expected = nullptr;
+            for (const PlanSeedReason& k : kPlanSeedReasons) {
+                expected = reason == k.name ? &k : expected;
+            }
+            CHECK_TEXT(expected != nullptr, ("no reason for plan seed " + file).c_str());
+            CHECK_TEXT(r.error == expected->error, (file + ": " + plan_executive::toString(r.error)).c_str());
+            ++invalid;
+        } else {
+            CHECK_TEXT(r.error == plan_executive::PlanError::kOk, (file + ": " + plan_executive::toString(r.error)).c_str());
+            ++valid;
+        }
+    }
+    CHECK(valid >= 6);
+    CHECK(invalid >= 6);
+}
+
+TEST(CorpusReplay, PlanRegressionsReplayCleanly) {
+    static plan_executive::Tpn plan;
+    for (const std::string& file : listInputs(kPlanRegressions)) {
+        const Bytes text = readFile(std::string(kPlanRegressions) + "/" + file);
+        const plan_executive::ParseResult r =
+            plan_executive::parsePlan(reinterpret_cast<const char*>(text.data()), text.size(), &plan);
+        CHECK_TEXT(static_cast<std::size_t>(r.error) < plan_executive::kPlanErrorCount, file.c_str());
     }
 }

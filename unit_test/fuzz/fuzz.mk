@@ -17,7 +17,7 @@ FUZZ_SRC_DIR := unit_test/fuzz
 # fuzz_table_service: those and the table service's whole load sequence (a few
 # hundred a second). A target's seeds and reproducers are those of the name
 # before its first '_' (table_service: corpus/table, regressions/table).
-FUZZ_TARGETS := command table table_service
+FUZZ_TARGETS := command table table_service plan
 FUZZ_CORPUS := $(FUZZ_SRC_DIR)/corpus
 FUZZ_REGRESSIONS := $(FUZZ_SRC_DIR)/regressions
 
