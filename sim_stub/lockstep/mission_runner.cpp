@@ -1,5 +1,6 @@
 #include "sim_stub/lockstep/mission_runner.hpp"
 
+#include <bitset>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -7,10 +8,13 @@
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/estimator/health_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/node_msgs.hpp"
 #include "ground/command_encoder.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/memory_ground.hpp"
@@ -87,24 +91,101 @@ const char* modeName(std::uint8_t mode) {
     return mode < cmdtlm::kModeCount ? cmdtlm::toString(static_cast<cmdtlm::Mode>(mode)) : "?";
 }
 
+// The health monitor's fault ids by range (fsw/msg/health_msgs.hpp): the raise
+// event of each (fsw/estimator/health_events.hpp) and whether the ids are per wheel.
+struct FaultRange {
+    std::uint8_t first;
+    std::size_t count;
+    core::EventId raiseEvent;
+    bool perWheel;
+};
+constexpr FaultRange kFaultRanges[] = {
+    {msg::fault::kDriveHeartbeatLost, msg::kWheelCount, estimator::events::kHealthDriveHeartbeatLost, true},
+    {msg::fault::kDeviceHeartbeatLost, msg::kDeviceNodeCount, estimator::events::kHealthDeviceHeartbeatLost, false},
+    {msg::fault::kDriveOvercurrent, msg::kWheelCount, estimator::events::kHealthDriveOvercurrent, true},
+    {msg::fault::kBatteryLow, 1, estimator::events::kHealthBatteryLow, false},
+    {msg::fault::kBusOvercurrent, 1, estimator::events::kHealthBusOvercurrent, false},
+    {msg::fault::kPoseUncertain, 1, estimator::events::kHealthPoseUncertain, false},
+    {msg::fault::kTaskStalled, msg::fault::kTaskStalledCount, estimator::events::kHealthTaskStalled, false},
+    {msg::fault::kSensorStale, msg::kDeviceNodeCount, estimator::events::kHealthSensorStale, false},
+    {msg::fault::kDriveOvertemp, msg::kWheelCount, estimator::events::kHealthDriveOvertemp, true},
+    {msg::fault::kOffMap, 1, estimator::events::kHealthOffMap, false},
+};
+
+const FaultRange* rangeOf(std::uint8_t faultId) {
+    for (const FaultRange& r : kFaultRanges) {
+        if (faultId >= r.first && faultId < r.first + r.count) {
+            return &r;
+        }
+    }
+    return nullptr;
+}
+
+bool isRaiseEvent(core::EventId id) {
+    for (const FaultRange& r : kFaultRanges) {
+        if (r.raiseEvent == id) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The drive a fault id is about (kNoWheel: none).
+std::uint8_t wheelOf(std::uint8_t faultId) {
+    const FaultRange* r = rangeOf(faultId);
+    return r != nullptr && r->perWheel ? static_cast<std::uint8_t>(faultId - r->first) : kNoWheel;
+}
+
+bool responseResting(msg::ResponseState s) {
+    return s == msg::ResponseState::kIdle || s == msg::ResponseState::kRecovered;
+}
+
 // What the operator sees of the flight software: its published plan status
 // and mode (a pipe on the software bus) and its events (a reader of its own on
-// the event log), read once per frame; nothing is sent.
+// the event log), read once per frame; nothing is sent. The fault status, fault
+// protection's status and its requests (drive recovery, task restart, replan)
+// on the same pipe name the fault of each raise, response and action mark
+// (MissionMark::faultId, wheel): each is published in the frame of its event.
 class FlightWatch {
 public:
     FlightWatch(core::SoftwareBus& bus, const core::EventLog& events) : bus_(bus), events_(events) {}
     bool subscribe() {
-        return core::isOk(bus_.createPipe("rse-demo", 16, &pipe_)) &&
-               core::isOk(bus_.subscribe(pipe_, msg::ids::kPlanStatus)) &&
-               core::isOk(bus_.subscribe(pipe_, msg::ids::kMode)) &&
-               core::isOk(bus_.subscribe(pipe_, msg::ids::kMissionHold));
+        bool ok = core::isOk(bus_.createPipe("rse-demo", kPipeDepth, &pipe_));
+        const core::MsgId ids[] = {msg::ids::kPlanStatus,    msg::ids::kMode,        msg::ids::kMissionHold,
+                                   msg::ids::kFaultStatus,   msg::ids::kFaultProtectionStatus,
+                                   msg::ids::kDriveRecovery, msg::ids::kTaskRestart, msg::ids::kReplanRequest};
+        for (core::MsgId id : ids) {
+            ok = ok && core::isOk(bus_.subscribe(pipe_, id));
+        }
+        pending_.reserve(kPipeDepth + msg::fault::kCount);
+        return ok;
     }
     void drain() {
         while (core::isOk(bus_.receive(pipe_, &inbox_))) {
             msg::PlanStatusMsg p{};
             msg::ModeMsg m{};
             msg::MissionHoldMsg h{};
-            if (inbox_.header.id == msg::ids::kPlanStatus && core::isOk(inbox_.decode(&p))) {
+            msg::FaultStatusMsg f{};
+            msg::FaultProtectionStatusMsg fps{};
+            msg::DriveRecoveryMsg d{};
+            msg::TaskRestartMsg tr{};
+            msg::ReplanRequestMsg rr{};
+            namespace fp = fault_protection::events;
+            if (inbox_.header.id == msg::ids::kFaultStatus && core::isOk(inbox_.decode(&f))) {
+                noteRaises(f);
+            } else if (inbox_.header.id == msg::ids::kFaultProtectionStatus && core::isOk(inbox_.decode(&fps))) {
+                noteResponses(fps);
+            } else if (inbox_.header.id == msg::ids::kDriveRecovery && core::isOk(inbox_.decode(&d))) {
+                if (d.action != msg::DriveRecoveryAction::kResetInterlock && d.wheel < msg::kWheelCount) {
+                    const auto id = static_cast<std::uint8_t>(msg::fault::kDriveHeartbeatLost + d.wheel);
+                    pending_.push_back(Attribution{fp::kDriveAction, d.timeNs, id, d.wheel});
+                }
+            } else if (inbox_.header.id == msg::ids::kTaskRestart && core::isOk(inbox_.decode(&tr))) {
+                const auto id = static_cast<std::uint8_t>(msg::fault::kTaskStalled + tr.row);
+                pending_.push_back(Attribution{fp::kTaskRestart, tr.timeNs, id, kNoWheel});
+            } else if (inbox_.header.id == msg::ids::kReplanRequest && core::isOk(inbox_.decode(&rr))) {
+                pending_.push_back(Attribution{fp::kReplanRequested, rr.timeNs, rr.faultId, wheelOf(rr.faultId)});
+            } else if (inbox_.header.id == msg::ids::kPlanStatus && core::isOk(inbox_.decode(&p))) {
                 plan_ = p;
             } else if (inbox_.header.id == msg::ids::kMode && core::isOk(inbox_.decode(&m))) {
                 mode_ = m;
@@ -136,13 +217,12 @@ public:
                 ++responses_;
                 firstResponseNs_ = firstResponseNs_ < 0 ? e.time : firstResponseNs_;
             }
-            const bool raise = e.id >= 720 && e.id <= 738 && e.id % 2 == 0;  // health raise events
-            if (raise) {
-                mark(MarkKind::kFaultRaised, e.id, e.time);
+            if (isRaiseEvent(e.id)) {
+                markAttributed(MarkKind::kFaultRaised, e);
             } else if (e.id == fp::kResponseStarted) {
-                mark(MarkKind::kResponseStarted, e.id, e.time);
+                markAttributed(MarkKind::kResponseStarted, e);
             } else if (isRecoveryAction(e.id)) {
-                mark(MarkKind::kRecoveryAction, e.id, e.time);
+                markAttributed(MarkKind::kRecoveryAction, e);
             } else if (e.id == fp::kGaveUp) {
                 mark(MarkKind::kGaveUp, e.id, e.time);
             }
@@ -150,6 +230,9 @@ public:
             gaveUp_ += e.id == fp::kGaveUp ? 1 : 0;
             actions_ += isRecoveryAction(e.id) ? 1U : 0U;
         }
+        // The telemetry and the events of a frame are read together: what no
+        // event of this frame took is not kept for a later one.
+        pending_.clear();
     }
     static bool isRecoveryAction(core::EventId id) {
         namespace fp = fault_protection::events;
@@ -168,6 +251,7 @@ public:
         s->marks = marks_;
         s->markCount = markCount_;
         s->marksDropped = marksDropped_;
+        s->marksUnattributed = unattributed_;
     }
     bool faultProtectionCalledHome() const { return fpCalledHome_; }
     // The call home in the flight software's words (its CRITICAL event), from
@@ -207,10 +291,92 @@ private:
     std::array<MissionMark, kMissionMarks> marks_{};
     std::size_t markCount_ = 0;
     std::size_t marksDropped_ = 0;
+    std::size_t unattributed_ = 0;
 
-    void mark(MarkKind kind, std::uint16_t id, core::TimeNs t) {
+    // Who the event `eventId` of the frame at timeNs is about, from the
+    // telemetry published in that frame; taken by the first such event.
+    struct Attribution {
+        core::EventId eventId;
+        core::TimeNs timeNs;
+        std::uint8_t faultId;
+        std::uint8_t wheel;
+    };
+    static constexpr std::uint16_t kPipeDepth = 32;
+    std::vector<Attribution> pending_;
+    std::uint64_t activeFaults_ = 0;  // FaultStatusMsg last seen
+    std::uint32_t raisedTotal_ = 0;
+    std::array<msg::ResponseState, msg::fault::kCount> responseState_{};  // by fault id, FaultProtectionStatusMsg last seen
+    std::uint32_t responsesStartedTlm_ = 0;
+
+    // The fault ids newly active: one raise event each, in the health
+    // monitor's order within a raise event (ascending ids). When the raise
+    // count does not add up (a status missed), none is named.
+    void noteRaises(const msg::FaultStatusMsg& f) {
+        const std::uint64_t raised = f.activeMask & ~activeFaults_;
+        if (std::bitset<64>(raised).count() == f.raisedTotal - raisedTotal_) {
+            for (std::uint8_t id = 1; id < msg::fault::kCount; ++id) {
+                const FaultRange* r = rangeOf(id);
+                if (((raised >> id) & 1U) != 0 && r != nullptr) {
+                    pending_.push_back(Attribution{r->raiseEvent, f.timeNs, id, wheelOf(id)});
+                }
+            }
+        }
+        activeFaults_ = f.activeMask;
+        raisedTotal_ = f.raisedTotal;
+    }
+
+    // The responses newly active (resting before, settling, waiting or given
+    // up now): one event 930 each, in the status's order (wheels, then fault
+    // ids), which is the order fault protection starts them in. A list cut at
+    // kResponseSlots keeps the unlisted ones as they were, and names only the
+    // starts it lists: the first ones in that order (the events after them stay
+    // unattributed). When the count of starts does not add up otherwise, none
+    // is named.
+    void noteResponses(const msg::FaultProtectionStatusMsg& s) {
+        const bool cut = s.activeCount >= msg::kResponseSlots;
+        std::array<msg::ResponseState, msg::fault::kCount> now{};
+        if (cut) {
+            now = responseState_;
+        }
+        std::uint8_t started[msg::kResponseSlots] = {};
+        std::size_t startedCount = 0;
+        for (std::size_t i = 0; i < s.activeCount && i < msg::kResponseSlots; ++i) {
+            const msg::ResponseTlm& r = s.responses[i];
+            if (r.faultId == 0 || r.faultId >= msg::fault::kCount) {
+                continue;
+            }
+            now[r.faultId] = r.state;
+            if (responseResting(responseState_[r.faultId]) && !responseResting(r.state)) {
+                started[startedCount++] = r.faultId;
+            }
+        }
+        const std::uint32_t starts = s.responsesStarted - responsesStartedTlm_;
+        if (startedCount == starts || (cut && startedCount < starts)) {
+            for (std::size_t i = 0; i < startedCount; ++i) {
+                pending_.push_back(Attribution{fault_protection::events::kResponseStarted, s.timeNs, started[i],
+                                               wheelOf(started[i])});
+            }
+        }
+        responseState_ = now;
+        responsesStartedTlm_ = s.responsesStarted;
+    }
+
+    void markAttributed(MarkKind kind, const core::Event& e) {
+        for (auto it = pending_.begin(); it != pending_.end(); ++it) {
+            if (it->eventId == e.id && it->timeNs == e.time) {
+                mark(kind, e.id, e.time, it->faultId, it->wheel);
+                pending_.erase(it);
+                return;
+            }
+        }
+        ++unattributed_;
+        mark(kind, e.id, e.time);
+    }
+
+    void mark(MarkKind kind, std::uint16_t id, core::TimeNs t, std::uint8_t faultId = 0,
+              std::uint8_t wheel = kNoWheel) {
         if (markCount_ < marks_.size()) {
-            marks_[markCount_++] = MissionMark{kind, id, seconds(t)};
+            marks_[markCount_++] = MissionMark{kind, id, seconds(t), faultId, wheel};
         } else {
             ++marksDropped_;
         }
@@ -317,6 +483,16 @@ const MissionMark* MissionSummary::firstMark(MarkKind kind, double timeS) const 
         }
     }
     return nullptr;
+}
+
+bool MissionSummary::heldBefore(double timeS) const {
+    bool held = false;
+    for (std::size_t i = 0; i < markCount; ++i) {
+        if (marks[i].timeS < timeS && (marks[i].kind == MarkKind::kHoldSet || marks[i].kind == MarkKind::kHoldReleased)) {
+            held = marks[i].kind == MarkKind::kHoldSet;
+        }
+    }
+    return held;
 }
 
 const char* toString(MissionOutcome outcome) {

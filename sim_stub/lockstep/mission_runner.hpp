@@ -57,7 +57,8 @@ enum class MissionOutcome : std::uint8_t {
 };
 const char* toString(MissionOutcome outcome);
 
-// A moment of fault handling the operator can see: what happened and when.
+// A moment of fault handling the operator can see: what happened, when, and
+// which fault it was about.
 enum class MarkKind : std::uint8_t {
     kFaultRaised,      // a health raise event (720..738, even ids)
     kResponseStarted,  // fault protection event 930
@@ -66,10 +67,25 @@ enum class MarkKind : std::uint8_t {
     kHoldReleased,     // ... back to 0
     kGaveUp,           // 933
 };
+constexpr std::uint8_t kNoWheel = 0xFF;
+// faultId and wheel come from the telemetry the flight software publishes in
+// the frame of the mark's event, never from the event's text:
+//   kFaultRaised      the fault id newly set in FaultStatusMsg::activeMask
+//   kResponseStarted  the fault id of the response FaultProtectionStatusMsg
+//                     newly lists as active (a drive lost or faulted: 1 + wheel,
+//                     msg::fault::kDriveHeartbeatLost + wheel, as fault protection names it)
+//   kRecoveryAction   931: 1 + DriveRecoveryMsg::wheel; 935: msg::fault::kTaskStalled +
+//                     TaskRestartMsg::row; 942: ReplanRequestMsg::faultId
+// faultId 0 for the hold and give-up marks, and for a mark no telemetry named
+// (MissionSummary::marksUnattributed counts those). wheel is the drive's (0..5)
+// for a wheel's fault id (drive heartbeat, over-current, over-temperature) and a
+// drive action, else kNoWheel.
 struct MissionMark {
     MarkKind kind = MarkKind::kFaultRaised;
     std::uint16_t eventId = 0;
     double timeS = 0.0;
+    std::uint8_t faultId = 0;
+    std::uint8_t wheel = kNoWheel;
 };
 constexpr std::size_t kMissionMarks = 256;  // the first ones are kept; marksDropped counts the rest
 
@@ -125,8 +141,12 @@ struct MissionSummary {
     std::array<MissionMark, kMissionMarks> marks{};  // in time order
     std::size_t markCount = 0;
     std::size_t marksDropped = 0;
+    std::size_t marksUnattributed = 0;  // raise, response and action marks with faultId 0 (no telemetry named them)
     // The first mark of a kind at or after timeS (nullptr: none).
     const MissionMark* firstMark(MarkKind kind, double timeS) const;
+    // Whether the mission hold was in force just before timeS (its last change
+    // before timeS set it).
+    bool heldBefore(double timeS) const;
 
     // The simulator's truth at the end.
     double finalX = 0.0;

@@ -85,6 +85,18 @@ void checkReachedAfterResponse(const MissionSummary& s, double faultAtS) {
     CHECK(s.holdsReleased >= 1);
     CHECK(s.firstHoldTimeS >= faultAtS);
     CHECK(s.lastResumeTimeS > s.firstHoldTimeS);
+    LONGS_EQUAL(0, s.marksUnattributed);  // every raise, response and action named its fault (telemetry)
+}
+
+// The first mark of a kind at or after timeS about fault `faultId` (nullptr: none).
+const sim::MissionMark* firstFor(const MissionSummary& s, sim::MarkKind kind, double timeS, std::uint8_t faultId) {
+    for (std::size_t i = 0; i < s.markCount; ++i) {
+        const sim::MissionMark& m = s.marks[i];
+        if (m.kind == kind && m.timeS >= timeS && m.faultId == faultId) {
+            return &m;
+        }
+    }
+    return nullptr;
 }
 
 FaultSpec wheelFault(FaultType type, std::size_t wheel, double atS, double untilS = -1.0, double value = 0.0) {
@@ -111,6 +123,64 @@ TEST(LockstepFaultProtection, ADriveThatCrashesAndRestartsIsBroughtBackAndTheGoa
     const MissionSummary s = runWith({wheelFault(FaultType::kDriveCrash, 4, 20.0, 22.0)});
     report("drive MR crash at 20 s, restart at 22 s", s);
     checkReachedAfterResponse(s, 20.0);
+    // The marks name the crashed drive: its heartbeat fault (5 = 1 + wheel 4),
+    // the response to it and its node reset.
+    const std::uint8_t lost = msg::fault::kDriveHeartbeatLost + 4;
+    const sim::MissionMark* raised = firstFor(s, sim::MarkKind::kFaultRaised, 20.0, lost);
+    const sim::MissionMark* started = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, lost);
+    const sim::MissionMark* reset = firstFor(s, sim::MarkKind::kRecoveryAction, 20.0, lost);
+    CHECK(raised != nullptr && started != nullptr && reset != nullptr);
+    LONGS_EQUAL(720, raised->eventId);
+    LONGS_EQUAL(4, raised->wheel);
+    LONGS_EQUAL(4, started->wheel);
+    LONGS_EQUAL(931, reset->eventId);
+    LONGS_EQUAL(4, reset->wheel);
+    DOUBLES_EQUAL(raised->timeS, started->timeS, 1e-9);
+    DOUBLES_EQUAL(started->timeS + 0.5, reset->timeS, 0.011);  // FAULT_RESPONSE.heartbeat_loss_ms, then the reset
+}
+
+// Two drives in trouble at once: ML (wheel 1) reports a resettable fault
+// (EMCY) at 20 s and MR (wheel 4) crashes at 20 s and restarts at 22 s. Fault
+// protection sees ML's fault in the drive status at once and MR's loss only
+// when its heartbeat times out, about 0.2 s later; the first response and the
+// first hold after 20 s are ML's. Each mark names its own drive (from the
+// telemetry, not from the order of events), so MR's detection, response,
+// hold and node reset can be told from ML's.
+TEST(LockstepFaultProtection, TheMarksOfTwoDrivesInTroubleAtOnceNameEachDrive) {
+    FaultSpec emcy = wheelFault(FaultType::kDriveFault, 1, 20.0);
+    emcy.cobId = 0x2310;
+    const MissionSummary s = runWith({emcy, wheelFault(FaultType::kDriveCrash, 4, 20.0, 22.0)});
+    report("drive ML fault (EMCY) and drive MR crash at 20 s", s);
+    checkReachedAfterResponse(s, 20.0);
+    const std::uint8_t ml = msg::fault::kDriveHeartbeatLost + 1;
+    const std::uint8_t mr = msg::fault::kDriveHeartbeatLost + 4;
+    const sim::MissionMark* first = s.firstMark(sim::MarkKind::kResponseStarted, 20.0);
+    const sim::MissionMark* mlStarted = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, ml);
+    const sim::MissionMark* mrRaised = firstFor(s, sim::MarkKind::kFaultRaised, 20.0, mr);
+    const sim::MissionMark* mrStarted = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, mr);
+    const sim::MissionMark* mrReset = firstFor(s, sim::MarkKind::kRecoveryAction, 20.0, mr);
+    CHECK(first != nullptr && mlStarted != nullptr && mrRaised != nullptr && mrStarted != nullptr &&
+          mrReset != nullptr);
+    std::printf("\n    ML response %.2f s; MR heartbeat fault %.2f s, response %.2f s, node reset %.2f s (wheel %u); "
+                "held before MR's detection: %s",
+                mlStarted->timeS, mrRaised->timeS, mrStarted->timeS, mrReset->timeS,
+                static_cast<unsigned>(mrReset->wheel), s.heldBefore(mrRaised->timeS) ? "yes" : "no");
+    // The first response after the faults is ML's, in the frame after them.
+    CHECK(first == mlStarted);
+    LONGS_EQUAL(1, mlStarted->wheel);
+    CHECK(mlStarted->timeS < 20.0 + 0.025);
+    // MR's own: detected by its heartbeat (720) later, answered in that frame,
+    // reset (NMT) once its heartbeat_loss_ms settle is over.
+    LONGS_EQUAL(720, mrRaised->eventId);
+    CHECK(mrRaised->timeS > mlStarted->timeS + 0.1);
+    DOUBLES_EQUAL(mrRaised->timeS, mrStarted->timeS, 1e-9);
+    LONGS_EQUAL(4, mrStarted->wheel);
+    LONGS_EQUAL(931, mrReset->eventId);
+    LONGS_EQUAL(4, mrReset->wheel);
+    DOUBLES_EQUAL(mrStarted->timeS + 0.5, mrReset->timeS, 0.011);
+    // The hold at MR's detection: already in force (ML's), or set in that frame.
+    const sim::MissionMark* hold = s.firstMark(sim::MarkKind::kHoldSet, mrRaised->timeS);
+    CHECK(s.heldBefore(mrRaised->timeS) || (hold != nullptr && hold->timeS - mrRaised->timeS < 0.011));
 }
 
 TEST(LockstepFaultProtection, ADriveFaultIsResetAndTheGoalReached) {
@@ -193,12 +263,10 @@ TEST(LockstepFaultProtection, ARoverCarriedOffTheMapIsReplannedFromWhereItStands
     };
     const MissionSummary s = sim::runMission(o, printConsole() ? stdout : nullptr);
     report("slid 2.5 m south off the map at 25-27 s", s);
-    double offMapAtS = -1.0;  // health event 738: fault 46 raised
-    for (std::size_t i = 0; i < s.markCount && offMapAtS < 0.0; ++i) {
-        offMapAtS = s.marks[i].kind == sim::MarkKind::kFaultRaised && s.marks[i].eventId == 738 ? s.marks[i].timeS
-                                                                                                 : -1.0;
-    }
+    const sim::MissionMark* offMap = firstFor(s, sim::MarkKind::kFaultRaised, 0.0, msg::fault::kOffMap);
+    const double offMapAtS = offMap != nullptr ? offMap->timeS : -1.0;
     std::printf("\n  off the map (fault 46) raised at %.2f s", offMapAtS);
+    CHECK(offMap != nullptr && offMap->eventId == 738);
     CHECK(offMapAtS >= 25.0 && offMapAtS < 35.0);
     CHECK_TRUE_TEXT(s.outcome == MissionOutcome::kGoalReached, s.callHomeText.c_str());
     CHECK(s.goalDistanceM < 0.6);
@@ -210,6 +278,9 @@ TEST(LockstepFaultProtection, ARoverCarriedOffTheMapIsReplannedFromWhereItStands
     CHECK(s.recoveryActions >= 1);  // the replan asked for (event 942)
     const sim::MissionMark* replan = s.firstMark(sim::MarkKind::kRecoveryAction, 25.0);
     CHECK(replan != nullptr && replan->timeS >= offMapAtS && replan->timeS < offMapAtS + 0.011);  // same frame
+    LONGS_EQUAL(msg::fault::kOffMap, replan->faultId);  // ReplanRequestMsg::faultId
+    LONGS_EQUAL(sim::kNoWheel, replan->wheel);
+    LONGS_EQUAL(0, s.marksUnattributed);
 }
 
 // 1.3x the current for the same torque: the drive trips (3 A held 100 ms)
@@ -265,14 +336,17 @@ TEST(LockstepFaultProtection, AStalledHabitualLayerIsRestartedAndTheGoalReached)
     LONGS_EQUAL(0, s.commandsRejected);
     // Detected as that row's stall: event 732, three 100 ms periods after its last run.
     LONGS_EQUAL(732, raised->eventId);
+    LONGS_EQUAL(msg::fault::kTaskStalled + 12, raised->faultId);  // the row's own fault id
     CHECK(raised->timeS > s.taskStallTimeS + 0.3 - 0.1);
     CHECK(raised->timeS <= s.taskStallTimeS + 0.3 + 0.02);
     // Fault protection's response in the same frame (930), the hold, then the
     // restart (935) once the class's settle time is over.
     LONGS_EQUAL(930, started->eventId);
+    LONGS_EQUAL(msg::fault::kTaskStalled + 12, started->faultId);
     CHECK(started->timeS - raised->timeS < 0.011);
     CHECK(held->timeS - raised->timeS < 0.011);
     LONGS_EQUAL(935, restarted->eventId);
+    LONGS_EQUAL(msg::fault::kTaskStalled + 12, restarted->faultId);  // TaskRestartMsg::row 12
     CHECK(restarted->timeS >= started->timeS);
     CHECK(restarted->timeS - raised->timeS <= 1.5);
     CHECK(released->timeS > restarted->timeS);
