@@ -4,7 +4,7 @@
 // as every suite is) and fails for any #include "..." that breaks the rule:
 //
 // - a file in a layer folder (fsw/estimator, fsw/reflexive, fsw/habitual,
-//   fsw/deliberative, fsw/fault_protection) includes only its own folder and
+//   fsw/deliberative, fsw/fault_protection, fsw/plan_executive) includes only its own folder and
 //   the folders below every layer: fsw/msg, fsw/core, fsw/geometry, fsw/tables,
 //   fsw/rover_model. Not another layer, not fsw/cmdtlm or fsw/app, not hal/
 //   (no layer uses it), not the simulator or the ground tools;
@@ -25,7 +25,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", "deliberative", "fault_protection"};
+const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", "deliberative", "fault_protection",
+                                          "plan_executive"};
 const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "tables", "rover_model"};
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
