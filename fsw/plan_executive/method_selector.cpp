@@ -400,12 +400,12 @@ core::Status MethodSelector::start(const Tpn& plan, const SelectionInput& input,
 
 bool MethodSelector::step(std::uint32_t maxUnits) {
     const std::uint64_t limit = stats_.work + maxUnits;
-    while (phase_ != Phase::kDone && stats_.work < limit) {
-        if (stats_.work >= params_.workBudget) {
-            finish(best_.hasSelection ? SelectionStatus::kSelectedInBudget : SelectionStatus::kNoneFound);
-            break;
-        }
+    while (phase_ != Phase::kDone && stats_.work < limit && stats_.work < params_.workBudget) {
         action();
+    }
+    // The slice that spends the budget ends the selection (not the next one).
+    if (phase_ != Phase::kDone && stats_.work >= params_.workBudget) {
+        finish(best_.hasSelection ? SelectionStatus::kSelectedInBudget : SelectionStatus::kNoneFound);
     }
     return phase_ == Phase::kDone;
 }
@@ -413,11 +413,7 @@ bool MethodSelector::step(std::uint32_t maxUnits) {
 SelectionStatus MethodSelector::solve(const Tpn& plan, const SelectionInput& input, const SelectionParams& params,
                                       SelectionResult* out) {
     if (core::isOk(start(plan, input, params))) {
-        // The budget fits in 32 bits: the first call runs to it (or to the
-        // end), the second stops there.
-        for (int calls = 0; calls < 2 && !finished(); ++calls) {
-            (void)step(UINT32_MAX);
-        }
+        (void)step(UINT32_MAX);  // the budget fits in 32 bits: one call runs to it, or to the end
     }
     if (out != nullptr) {
         *out = best_;

@@ -63,7 +63,7 @@
 //
 // Bounded and sliceable. No clock is read: work is counted, in units of about
 // one elementary operation (an edge looked at, a queue entry scanned, an
-// element visited: 1.5 - 3.3 ns on the development host, by its load).
+// element visited: 1.5 - 4.3 ns on the development host, by its load).
 // step(maxUnits)
 // runs actions until its work reaches maxUnits; one action is one Dijkstra
 // settle, one edge turned on, one option tried, one thread undone or one
@@ -72,7 +72,7 @@
 // than kMaxActionWork (test_method_selector asserts both on the largest
 // plan). start() validates and analyses the plan in time linear in its size
 // (quadratic only in a choice's own thread, for its implied edges), not
-// counted: under 50 us for kMaxActivities activities (bench_plan_executive).
+// counted: under 100 us for kMaxActivities activities (bench_plan_executive).
 // The budget ends the search: the best selection so far stands, not proven.
 //
 // Status. kSelected: the search was exhausted, the selection is optimal.
@@ -126,8 +126,8 @@ struct SelectionParams {
     double degradedPenalty = 0.5;  // an activity asking a degraded component: x (1 + this)
     double drivePenalty = 0.25;    // a drive: x (1 + this x degraded drives)
     // Work units (see above), >= 1. The default: ten deliberative periods of
-    // 200 k units (bench_plan_executive's slice).
-    std::uint32_t workBudget = 2000000;
+    // 150 k units (bench_plan_executive's slice).
+    std::uint32_t workBudget = 1500000;
 };
 
 enum class SelectionStatus : std::uint8_t {
@@ -201,7 +201,7 @@ public:
 
     // Runs actions until maxUnits work units are done (the last action may
     // pass that by less than kMaxActionWork) or the selection is finished;
-    // true when finished.
+    // true when finished (also when this call spent the budget).
     bool step(std::uint32_t maxUnits);
     bool finished() const { return phase_ == Phase::kDone; }
 

@@ -115,7 +115,7 @@ public:
     std::int32_t distance(std::size_t from, std::size_t to) const;
 
     std::size_t size() const { return n_; }
-    // Units done since reset(): check rows, and n per row for each update.
+    // Units done since reset(): the check's rows, and n for each update (a row each).
     std::uint64_t work() const { return work_; }
     // Distances the range could not hold (see "Arithmetic"), since reset().
     std::uint32_t rangeLosses() const { return rangeLosses_; }
