@@ -15,6 +15,10 @@ RoverSim::RoverSim(const Scenario& scenario, hal::CanBus& bus, const std::array<
       power_(bus, world_, scenario.devices.power, scenario.seed, false),
       hazard_(bus, world_, scenario.devices.hazard, scenario.seed, false),
       fix_(bus, world_, scenario.devices.positionFix, scenario.seed, false),
+      grinder_(bus, world_, hal::instrument::Kind::kGrinder, scenario.devices.grinder, scenario.targets, scenario.seed,
+               false),
+      camera_(bus, world_, hal::instrument::Kind::kCamera, scenario.devices.camera, scenario.targets, scenario.seed,
+              false),
       scheduler_(scenario.faults, *this),
       time_(world_.time()) {}
 
@@ -45,6 +49,8 @@ void RoverSim::step(core::TimeNs now) {
     power_.step(now);
     hazard_.step(now);
     fix_.step(now);
+    grinder_.step(now);
+    camera_.step(now);
     stepBabblers();
 
     scheduler_.step(now);
@@ -60,6 +66,8 @@ void RoverSim::receive() {
         power_.onFrame(frame);
         hazard_.onFrame(frame);
         fix_.onFrame(frame);
+        grinder_.onFrame(frame);
+        camera_.onFrame(frame);
         if (wiring_.frameListener != nullptr) {
             wiring_.frameListener->onFrame(frame, time_);
         }
@@ -108,8 +116,25 @@ DeviceEmulator& RoverSim::deviceFor(SimDevice device) {
             return hazard_;
         case SimDevice::kPositionFix:
             return fix_;
+        case SimDevice::kGrinder:
+            return grinder_;
+        case SimDevice::kCamera:
+            return camera_;
     }
     return imu_;
+}
+
+void RoverSim::failInstrument(SimDevice device, std::uint8_t faultCode, bool silent, bool on) {
+    InstrumentEmulator* instrument =
+        device == SimDevice::kGrinder ? &grinder_ : (device == SimDevice::kCamera ? &camera_ : nullptr);
+    if (instrument == nullptr || (on && !instrument->fail(faultCode, silent))) {
+        ++stats_.faultsUnhandled;
+        return;
+    }
+    if (!on) {
+        instrument->clearFault();
+    }
+    ++stats_.faultsApplied;
 }
 
 bool RoverSim::driveTargetFor(std::size_t wheel) {

@@ -1,13 +1,16 @@
-// rse-sim's rover: the world, the four RSE device emulators, six wheel models
-// and the scenario's fault schedule, advanced together in lockstep.
+// rse-sim's rover: the world, the four RSE sensor emulators, the two science
+// instruments (grinder/sampler, camera: the scenario's targets), six wheel
+// models and the scenario's fault schedule, advanced together in lockstep.
 //
 // step(now) does, in this fixed order (deterministic for a given scenario, seed
 // and sequence of step times):
 //   0. reads the frames waiting on its bus (at most kRoverSimMaxRxPerStep) and
-//      hands each to the device emulators (NMT) and to the optional frame listener;
+//      hands each to the device emulators (NMT; the instruments' commands) and
+//      to the optional frame listener;
 //   1. wheel models: setLoadTorqueNm(load from the world's last step), step(now);
 //   2. kinematics, loads and battery: World::advance(now, wheel speeds, currents);
-//   3. device emulators step(now) (they send their frames), then babbling nodes;
+//   3. device emulators step(now) (they send their frames; the instruments act
+//      on the commands of step 0 and on the world of step 2), then babbling nodes;
 //   4. fault schedule: every fault due at now is applied through the FaultTarget
 //      hooks below (so it takes effect from the next step).
 // Nothing allocates and nothing throws after construction.
@@ -37,6 +40,7 @@
 #include "hal/can/memory_can_bus.hpp"
 #include "sim_stub/devices/hazard_detector_emulator.hpp"
 #include "sim_stub/devices/imu_emulator.hpp"
+#include "sim_stub/devices/instrument_emulator.hpp"
 #include "sim_stub/devices/position_fix_emulator.hpp"
 #include "sim_stub/devices/power_monitor_emulator.hpp"
 #include "sim_stub/scenario/fault_scheduler.hpp"
@@ -97,6 +101,8 @@ public:
     PowerMonitorEmulator& powerMonitor() { return power_; }
     HazardDetectorEmulator& hazardDetector() { return hazard_; }
     PositionFixEmulator& positionFix() { return fix_; }
+    InstrumentEmulator& grinder() { return grinder_; }
+    InstrumentEmulator& camera() { return camera_; }
     const FaultScheduler& faultSchedule() const { return scheduler_; }
     const RoverSimStats& stats() const { return stats_; }
     // The ground link's owner, for task stalls (a rig builds its ground after the rover; nullptr: none).
@@ -114,6 +120,8 @@ public:
     void setDeviceDropout(SimDevice device, bool on) override;
     void crashDevice(SimDevice device) override;
     void restartDevice(SimDevice device) override;
+    // The grinder or camera fails (on) or is healthy again (off); another device: unhandled.
+    void failInstrument(SimDevice device, std::uint8_t faultCode, bool silent, bool on) override;
     void stepImuBias(double deltaRadS) override;
     void addBusFault(const hal::CanFaultRule& rule) override;
     void babble(std::uint32_t cobId, double framesPerSecond, bool on) override;
@@ -145,6 +153,8 @@ private:
     PowerMonitorEmulator power_;
     HazardDetectorEmulator hazard_;
     PositionFixEmulator fix_;
+    InstrumentEmulator grinder_;
+    InstrumentEmulator camera_;
     FaultScheduler scheduler_;
     std::array<Babbler, kMaxBabblers> babblers_{};
     core::TimeNs time_ = 0;

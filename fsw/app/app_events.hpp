@@ -15,7 +15,8 @@ constexpr core::EventId kEstopCleared = 207;
 constexpr core::EventId kGoalsChanged = 208;    // GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND
 constexpr core::EventId kWheelCommandHeld = 209; // wheel commands ignored while the e-stop holds (throttled)
 constexpr core::EventId kGroundLinkOpened = 210; // start-up: which ground links carry commands and telemetry
-constexpr core::EventId kBusMessageMalformed = 211; // a bus message that does not decode as its id's type (throttled)
+constexpr core::EventId kBusMessageMalformed = 211; // a bus message that does not decode as its id's type, or an
+                                                    // InstrumentCommandMsg naming no instrument (throttled)
 constexpr core::EventId kWheelsStoppedOnModeChange = 212; // the rover mode changed while a wheel was commanded: all to zero
 constexpr core::EventId kEstopWheelsStopped = 213; // e-stop: every drive reports stopped, and how long it took
 constexpr core::EventId kEstopStopOverrun = 214;   // e-stop: a wheel still turns after FAULT_RESPONSE.estop_stop_time_ms

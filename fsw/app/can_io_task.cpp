@@ -17,8 +17,47 @@ static_assert(static_cast<int>(msg::DriveHealth::kWaitingBootUp) == static_cast<
                   static_cast<int>(msg::DriveHealth::kLost) == static_cast<int>(hal::DriveState::kLost),
               "msg::DriveHealth must mirror hal::DriveState");
 
+// The instrument enums on the bus mirror hal/devices/instrument_protocol.hpp value for value.
+namespace inst = hal::instrument;
+static_assert(static_cast<int>(msg::Instrument::kGrinder) == static_cast<int>(inst::Kind::kGrinder) &&
+                  static_cast<int>(msg::Instrument::kCamera) == static_cast<int>(inst::Kind::kCamera) &&
+                  msg::kInstrumentCount == inst::kCount,
+              "msg::Instrument must mirror hal::instrument::Kind");
+static_assert(static_cast<int>(msg::InstrumentAction::kSample) == static_cast<int>(inst::Action::kSample) &&
+                  static_cast<int>(msg::InstrumentAction::kDig) == static_cast<int>(inst::Action::kDig) &&
+                  static_cast<int>(msg::InstrumentAction::kImage) == static_cast<int>(inst::Action::kImage) &&
+                  static_cast<int>(msg::InstrumentAction::kCancel) == static_cast<int>(inst::Action::kCancel),
+              "msg::InstrumentAction must mirror hal::instrument::Action");
+static_assert(static_cast<int>(msg::InstrumentResult::kAborted) == static_cast<int>(inst::Result::kAborted) &&
+                  static_cast<int>(msg::InstrumentResult::kCancelled) == static_cast<int>(inst::Result::kCancelled) &&
+                  static_cast<int>(msg::InstrumentResult::kTimedOut) == static_cast<int>(inst::Result::kTimedOut) &&
+                  static_cast<int>(msg::InstrumentResult::kOutOfReach) == static_cast<int>(inst::Result::kOutOfReach),
+              "msg::InstrumentResult must mirror hal::instrument::Result");
+static_assert(static_cast<int>(msg::InstrumentRefusal::kBusy) == static_cast<int>(inst::Refusal::kBusy) &&
+                  static_cast<int>(msg::InstrumentRefusal::kUnsupportedAction) ==
+                      static_cast<int>(inst::Refusal::kUnsupportedAction) &&
+                  static_cast<int>(msg::InstrumentRefusal::kUnknownTarget) ==
+                      static_cast<int>(inst::Refusal::kUnknownTarget) &&
+                  static_cast<int>(msg::InstrumentRefusal::kOutOfReach) == static_cast<int>(inst::Refusal::kOutOfReach) &&
+                  static_cast<int>(msg::InstrumentRefusal::kFaulted) == static_cast<int>(inst::Refusal::kFaulted) &&
+                  static_cast<int>(msg::InstrumentRefusal::kMalformed) == static_cast<int>(inst::Refusal::kMalformed) &&
+                  static_cast<int>(msg::InstrumentRefusal::kNoSuchCommand) ==
+                      static_cast<int>(inst::Refusal::kNoSuchCommand) &&
+                  static_cast<int>(msg::InstrumentRefusal::kOffline) == static_cast<int>(inst::Refusal::kOffline) &&
+                  static_cast<int>(msg::InstrumentRefusal::kNotSent) == static_cast<int>(inst::Refusal::kNotSent),
+              "msg::InstrumentRefusal must mirror hal::instrument::Refusal");
+
 namespace {
 constexpr double kMrad = 1e-3;
+
+// The bus state of an instrument: offline unless it reported lately, else its
+// reported state (msg::InstrumentState is the wire state + 1).
+msg::InstrumentState busState(const hal::InstrumentStatus& s) {
+    return s.online ? static_cast<msg::InstrumentState>(static_cast<int>(s.state) + 1) : msg::InstrumentState::kOffline;
+}
+static_assert(static_cast<int>(msg::InstrumentState::kFailed) == static_cast<int>(inst::State::kFailed) + 1 &&
+                  static_cast<int>(msg::InstrumentState::kIdle) == static_cast<int>(inst::State::kIdle) + 1,
+              "msg::InstrumentState must be the wire state + 1");
 }  // namespace
 
 CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
@@ -40,6 +79,7 @@ CanIoTask::CanIoTask(hal::CanBus& can, const core::Clock& clock, core::SoftwareB
       power_(events),
       hazard_(events),
       fix_(events),
+      instruments_{{can, events, inst::Kind::kGrinder}, {can, events, inst::Kind::kCamera}},
       interlock_(events),
       groundLink_(can, clock, events) {}
 
@@ -93,8 +133,13 @@ core::Status CanIoTask::init() {
     const struct {
         std::uint32_t cob;
         hal::canopen::CanFrameSink* sink;
-    } sinks[] = {{ids::kImuRates, &imu_}, {ids::kPower, &power_}, {ids::kHazard, &hazard_},
-                 {ids::kFixX, &fix_},     {ids::kFixY, &fix_},
+    } sinks[] = {{ids::kImuRates, &imu_},
+                 {ids::kPower, &power_},
+                 {ids::kHazard, &hazard_},
+                 {ids::kFixX, &fix_},
+                 {ids::kFixY, &fix_},
+                 {inst::idsOf(inst::Kind::kGrinder).statusCobId, &instruments_[0]},
+                 {inst::idsOf(inst::Kind::kCamera).statusCobId, &instruments_[1]},
                  {kGroundUplinkCobId, &groundLink_}};
     for (const auto& s : sinks) {
         st = master_.addSink(s.cob, s.sink);
@@ -107,7 +152,7 @@ core::Status CanIoTask::init() {
         return st;
     }
     for (core::MsgId id : {msg::ids::kWheelCommand, msg::ids::kInterlockReset, msg::ids::kMode,
-                           msg::ids::kDriveRecovery, msg::ids::kMissionHold}) {
+                           msg::ids::kDriveRecovery, msg::ids::kMissionHold, msg::ids::kInstrumentCommand}) {
         st = bus_.subscribe(pipe_, id);
         if (!core::isOk(st)) {
             return st;
@@ -191,6 +236,24 @@ void CanIoTask::takeHold() {
     }
 }
 
+void CanIoTask::takeInstrumentCommand() {
+    msg::InstrumentCommandMsg c{};
+    const bool decoded = core::isOk(inbox_.decode(&c));
+    const auto which = static_cast<std::size_t>(c.instrument);
+    if (!decoded || which >= msg::kInstrumentCount) {
+        ++instrumentCommandsDropped_;
+        if (core::isReportableOccurrence(instrumentCommandsDropped_)) {
+            events_.report(events::kBusMessageMalformed, core::Severity::kError,
+                           "app: CAN I/O dropped an instrument command: %s (%u so far)",
+                           decoded ? "no such instrument" : "malformed message",
+                           static_cast<unsigned>(instrumentCommandsDropped_));
+        }
+        return;
+    }
+    // Checked and counted by the instrument client (refusals are in its status).
+    (void)instruments_[which].command(static_cast<inst::Action>(c.action), c.targetId, c.commandId, c.maxDurationS);
+}
+
 void CanIoTask::refuse(const char* why) {
     ++commandsRejected_;
     if (core::isReportableOccurrence(commandsRejected_)) {
@@ -247,6 +310,10 @@ void CanIoTask::takeCommands(core::TimeNs now) {
         }
         if (inbox_.header.id == msg::ids::kMissionHold) {
             takeHold();
+            continue;
+        }
+        if (inbox_.header.id == msg::ids::kInstrumentCommand) {
+            takeInstrumentCommand();
             continue;
         }
         if (inbox_.header.id == msg::ids::kInterlockReset) {
@@ -311,9 +378,47 @@ void CanIoTask::run(const core::FrameContext& frame) {
     groundLink_.service();
     link_.check();
     hazard_.expire(now);
+    for (hal::Instrument& instrument : instruments_) {
+        instrument.step(now);
+    }
     publishStatus(now);
     watchEstopStop(now);
     publishSensors(frame);
+    publishInstruments(frame);
+}
+
+void CanIoTask::publishInstruments(const core::FrameContext& frame) {
+    for (std::size_t i = 0; i < msg::kInstrumentCount; ++i) {
+        const hal::Instrument& device = instruments_[i];
+        const hal::InstrumentStatus& s = device.status();
+        const std::uint32_t framesBad = device.frameStats().badLength + device.frameStats().badValue;
+        if (s.changes == instrumentPublished_[i] && framesBad == instrumentBadFrames_[i] && frame.frame % 100 != 0) {
+            continue;
+        }
+        instrumentPublished_[i] = s.changes;
+        instrumentBadFrames_[i] = framesBad;
+        msg::InstrumentStatusMsg& m = instrumentMsg_;
+        m = msg::InstrumentStatusMsg{};
+        m.timeNs = frame.actualStart;
+        m.lastReportNs = s.everHeard ? s.lastHeard : 0;
+        m.instrument = static_cast<msg::Instrument>(i);
+        m.state = busState(s);
+        m.action = static_cast<msg::InstrumentAction>(s.action);
+        m.targetId = s.target;
+        m.commandId = s.commandId;
+        m.progressPct = s.progressPct;
+        m.result = static_cast<msg::InstrumentResult>(s.result);
+        m.faultCode = s.faultCode;
+        m.lastRefusal = static_cast<msg::InstrumentRefusal>(s.lastRefusal);
+        m.lastRefusedCommandId = s.lastRefusedCommandId;
+        m.commandsSent = s.commandsSent;
+        m.commandsAccepted = s.commandsAccepted;
+        m.commandsRefused = s.commandsRefused;
+        m.commandsNotSent = s.commandsNotSent;
+        m.framesBad = framesBad;
+        m.offlineCount = s.offlineCount;
+        (void)bus_.publish(m);
+    }
 }
 
 void CanIoTask::watchEstopStop(core::TimeNs now) {

@@ -19,12 +19,18 @@
 //        commanded to zero and wheel commands are ignored and counted, like the
 //        operator's e-stop but on a flag of its own, so neither releases the
 //        other's hold (event 218 on each change).
+//        InstrumentCommandMsg (the plan executive): sent at once to the
+//        instrument it names (hal/devices/instrument.hpp checks it first; one
+//        that cannot be sent is counted and named in that instrument's status).
+//        A message that does not decode or names no instrument: dropped,
+//        counted, event 211.
 //   Node ids (drives and devices), the heartbeat and boot timeouts, and the
 //   drives' SDO retries / timeout and fault-reset count / wait come from the
 //   CAN_NODE_MAP and FAULT_RESPONSE tables at init (a changed table applies at
 //   the next start). Device data frames keep the ICD's fixed COB-IDs.
 //   out: DriveStatusMsg and NodeStatusMsg (heartbeat liveness of every node) every frame; ImuMsg, PowerMsg, PositionFixMsg per fresh
-//        sample; HazardMsg at 10 Hz.
+//        sample; HazardMsg at 10 Hz; InstrumentStatusMsg for each science
+//        instrument on every change and at 1 Hz.
 // It also services the ISO-TP ground link on CAN (CanGroundLink).
 // The reflexive drive interlock is applied here, in the same frame the drive
 // status arrives, until the reflexive task exists to own it.
@@ -35,6 +41,7 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/node_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/reflexive/drive_interlock.hpp"
@@ -44,6 +51,7 @@
 #include "hal/canopen/canopen_master.hpp"
 #include "hal/devices/hazard_detector.hpp"
 #include "hal/devices/imu.hpp"
+#include "hal/devices/instrument.hpp"
 #include "hal/devices/position_fix.hpp"
 #include "hal/devices/power_monitor.hpp"
 #include "hal/devices/wheel_drive.hpp"
@@ -52,9 +60,10 @@ namespace rse::app {
 
 // Inputs one frame may bring: a DriveRecoveryMsg per wheel (fault protection
 // may reset every drive at once), a hold, a mode change, an interlock reset and
-// the two wheel commanders (follower, manual drive). A deeper pipe than that
-// would only hide a producer that floods; a full pipe is counted by the bus.
-constexpr std::uint16_t kCanIoPipeDepth = msg::kWheelCount + 6;
+// the two wheel commanders (follower, manual drive), and a command and a
+// cancel for each science instrument. A deeper pipe than that would only hide
+// a producer that floods; a full pipe is counted by the bus.
+constexpr std::uint16_t kCanIoPipeDepth = msg::kWheelCount + 6 + 2 * msg::kInstrumentCount;
 
 // Below this reported speed a wheel counts as stopped for the e-stop watch.
 constexpr double kEstopStoppedRadS = 0.05;
@@ -69,6 +78,8 @@ public:
 
     const hal::canopen::CanOpenMaster& master() const { return master_; }
     const hal::WheelDrive& drive(std::size_t wheel) const { return drives_[wheel]; }
+    const hal::Instrument& instrument(std::size_t i) const { return instruments_[i < msg::kInstrumentCount ? i : 0]; }
+    std::uint32_t instrumentCommandsDropped() const { return instrumentCommandsDropped_; }
     const reflexive::DriveInterlock& interlock() const { return interlock_; }
     const CanGroundLink& groundLink() const { return groundLink_; }
     CanGroundLink& groundLink() { return groundLink_; }  // command ingest and telemetry output use it
@@ -94,12 +105,14 @@ private:
     void takeCommands(core::TimeNs now);
     void takeRecovery(core::TimeNs now);
     void takeHold();
+    void takeInstrumentCommand();
     void refuseRecovery(const char* why, unsigned wheel);
     bool anyWheelCommanded() const;
     void refuse(const char* why);  // counts and events a bus input that was not applied
     void publishStatus(core::TimeNs now);
     void publishNodes(core::TimeNs now);
     void publishSensors(const core::FrameContext& frame);
+    void publishInstruments(const core::FrameContext& frame);
     void watchEstopStop(core::TimeNs now);
 
     hal::CanBus& can_;
@@ -113,6 +126,7 @@ private:
     hal::PowerMonitor power_;
     hal::HazardDetector hazard_;
     hal::PositionFixSource fix_;
+    hal::Instrument instruments_[msg::kInstrumentCount];  // msg::Instrument order: grinder, camera
     reflexive::DriveInterlock interlock_;
     CanGroundLink groundLink_;
     core::PipeId pipe_ = 0;
@@ -132,6 +146,10 @@ private:
     core::TimeNs lastEstopStopTime_ = -1;
     std::uint32_t estopOverruns_ = 0;
     std::uint32_t imuSeen_ = 0, powerSeen_ = 0, fixSeen_ = 0;
+    std::uint32_t instrumentCommandsDropped_ = 0;
+    std::uint32_t instrumentPublished_[msg::kInstrumentCount] = {};   // InstrumentStatus::changes last published
+    std::uint32_t instrumentBadFrames_[msg::kInstrumentCount] = {};   // framesBad last published
+    msg::InstrumentStatusMsg instrumentMsg_{};
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};
     msg::NodeStatusMsg nodes_{};

@@ -8,13 +8,13 @@
 namespace rse::app {
 
 core::Status TelemetryTask::init() {
-    // Depth: drive status and the pose estimate arrive every frame, the rest
-    // seldom, and this task runs every frame.
-    core::Status status = bus_.createPipe("telemetry", 10, &pipe_);
+    // Depth: drive status and the pose estimate arrive every frame, at most one
+    // status per instrument, the rest seldom, and this task runs every frame.
+    core::Status status = bus_.createPipe("telemetry", 12, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
                                msg::ids::kGoalList, msg::ids::kPlanStatus, msg::ids::kFaultProtectionStatus,
-                               msg::ids::kMissionHold};
+                               msg::ids::kMissionHold, msg::ids::kInstrumentStatus};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -46,6 +46,10 @@ void TelemetryTask::run(const core::FrameContext& frame) {
     if (frame.slot == kFaultProtectionSlot || protectionChanged_) {
         protectionChanged_ = false;
         sendFaultProtection();
+    }
+    if (frame.slot == kInstrumentsSlot || instrumentsChanged_) {
+        instrumentsChanged_ = false;
+        sendInstruments();
     }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
         planChanged_ = false;
@@ -85,6 +89,23 @@ void TelemetryTask::takeBusMessages() {
                 // Published at 1 Hz and on every change: each one is news here.
                 status = inbox_.decode(&protection_);
                 protectionChanged_ = protectionChanged_ || core::isOk(status);
+                break;
+            }
+            case msg::ids::kInstrumentStatus: {
+                msg::InstrumentStatusMsg m{};
+                status = inbox_.decode(&m);
+                const auto i = static_cast<std::size_t>(m.instrument);
+                if (core::isOk(status) && i >= msg::kInstrumentCount) {
+                    status = core::Status::kInvalidArgument;
+                }
+                if (core::isOk(status)) {
+                    const msg::InstrumentStatusMsg& before = instruments_[i];
+                    instrumentsChanged_ = instrumentsChanged_ || m.state != before.state ||
+                                          m.commandId != before.commandId || m.result != before.result ||
+                                          m.faultCode != before.faultCode || m.lastRefusal != before.lastRefusal ||
+                                          m.lastRefusedCommandId != before.lastRefusedCommandId;
+                    instruments_[i] = m;
+                }
                 break;
             }
             case msg::ids::kGoalList:
@@ -356,6 +377,31 @@ void TelemetryTask::sendFaultProtection() {
         tlm.attempts_used[i] = r.attemptsUsed;
         tlm.last_action[i] = r.lastAction;
         tlm.state_since[i] = static_cast<float>(static_cast<double>(r.sinceNs) / static_cast<double>(core::kNsPerSec));
+    }
+    output_.send(tlm);
+}
+
+void TelemetryTask::sendInstruments() {
+    cmdtlm::INSTRUMENTS_Tlm tlm{};
+    for (std::size_t i = 0; i < msg::kInstrumentCount; ++i) {
+        const msg::InstrumentStatusMsg& m = instruments_[i];
+        tlm.state[i] = static_cast<std::uint8_t>(m.state);
+        tlm.action[i] = static_cast<std::uint8_t>(m.action);
+        tlm.target[i] = m.targetId;
+        tlm.command_id[i] = m.commandId;
+        tlm.progress[i] = m.progressPct;
+        tlm.result[i] = static_cast<std::uint8_t>(m.result);
+        tlm.fault_code[i] = m.faultCode;
+        tlm.last_refusal[i] = static_cast<std::uint8_t>(m.lastRefusal);
+        tlm.last_refused_command[i] = m.lastRefusedCommandId;
+        tlm.last_report[i] =
+            static_cast<float>(static_cast<double>(m.lastReportNs) / static_cast<double>(core::kNsPerSec));
+        tlm.commands_sent[i] = m.commandsSent;
+        tlm.commands_accepted[i] = m.commandsAccepted;
+        tlm.commands_refused[i] = m.commandsRefused;
+        tlm.commands_not_sent[i] = m.commandsNotSent;
+        tlm.frames_bad[i] = m.framesBad;
+        tlm.offline_count[i] = m.offlineCount;
     }
     output_.send(tlm);
 }

@@ -2,10 +2,13 @@
 //   every frame  EVENT packets for events not yet sent (at most kEventsPerFrame a frame;
 //                the event log is this task's to drain, so the rest wait there)
 //   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
-//                slot 50, ROVER_STATE in slot 60, HEALTH in slot 70: spread over
+//                slot 50, ROVER_STATE in slot 60, HEALTH in slot 70,
+//                FAULT_PROTECTION in slot 80, INSTRUMENTS in slot 90: spread over
 //                the second so the slow CAN downlink never gets them in one burst
 //   on change    PLAN (goal list), and every 5 s; HEALTH when the active faults
-//                or a declared drive mode change
+//                or a declared drive mode change; FAULT_PROTECTION with every
+//                status; INSTRUMENTS when an instrument's state, command,
+//                result, fault code or last refusal changes (not its progress)
 //   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
 //                (table commands) through the send helpers below
 #pragma once
@@ -22,6 +25,7 @@
 #include "fsw/msg/estimator_msgs.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
@@ -35,6 +39,7 @@ constexpr std::uint32_t kDrivesSlot = 50;
 constexpr std::uint32_t kRoverStateSlot = 60;
 constexpr std::uint32_t kHealthSlot = 70;
 constexpr std::uint32_t kFaultProtectionSlot = 80;
+constexpr std::uint32_t kInstrumentsSlot = 90;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -76,6 +81,7 @@ private:
     void sendHealth();
     void sendPlan();
     void sendFaultProtection();
+    void sendInstruments();
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -101,6 +107,8 @@ private:
     msg::FaultProtectionStatusMsg protection_{};
     msg::MissionHoldMsg hold_{};
     bool protectionChanged_ = false;
+    msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
+    bool instrumentsChanged_ = false;
     // Packet structs kept out of the task's stack.
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};

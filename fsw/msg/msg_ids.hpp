@@ -12,7 +12,7 @@ namespace rse::msg::ids {
 
 constexpr core::MsgId kHousekeeping = 0x0801;  // HousekeepingMsg, 1 Hz, cmdtlm -> telemetry
 
-// hal I/O <-> layers (drive_msgs.hpp, sensor_msgs.hpp)
+// hal I/O <-> layers (drive_msgs.hpp, sensor_msgs.hpp, node_msgs.hpp)
 constexpr core::MsgId kDriveStatus = 0x0110;   // DriveStatusMsg, 100 Hz, can_io -> estimator, reflexive, telemetry
 constexpr core::MsgId kWheelCommand = 0x0111;  // WheelCommandMsg, on change, reflexive -> can_io
 constexpr core::MsgId kImu = 0x0120;           // ImuMsg, per sample (100 Hz), can_io -> estimator
@@ -20,6 +20,10 @@ constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), 
 constexpr core::MsgId kPositionFix = 0x0122;   // PositionFixMsg, per fix (1 Hz), can_io -> estimator
 constexpr core::MsgId kHazards = 0x0123;       // HazardMsg, 10 Hz, can_io -> habitual
 constexpr core::MsgId kNodeStatus = 0x0124;    // NodeStatusMsg, 100 Hz, can_io -> health
+
+// science instruments <-> hal I/O (instrument_msgs.hpp)
+constexpr core::MsgId kInstrumentStatus = 0x0125;   // InstrumentStatusMsg per instrument, on change and 1 Hz, can_io -> plan executive, telemetry
+constexpr core::MsgId kInstrumentCommand = 0x0126;  // InstrumentCommandMsg, per command, plan executive -> can_io
 
 // estimator and health -> layers, executive, telemetry (estimator_msgs.hpp, health_msgs.hpp)
 constexpr core::MsgId kPoseEstimate = 0x0150;  // PoseEstimateMsg, 100 Hz, estimator -> layers, health, telemetry

@@ -1,7 +1,5 @@
 #include "hal/devices/device_frame_sink.hpp"
 
-#include "hal/devices/device_events.hpp"
-
 namespace rse::hal {
 
 using core::Severity;
@@ -10,7 +8,7 @@ void DeviceFrameSink::onFrame(const CanFrame& frame, core::TimeNs now) {
     if (frame.dlc != 8 || frame.remote()) {
         ++stats_.badLength;
         if (core::isReportableOccurrence(stats_.badLength)) {
-            events_.report(events::kDeviceBadFrame, Severity::kWarning,
+            events_.report(badFrameEvent_, Severity::kWarning,
                            "%s: frame 0x%03X with dlc %u rejected (%u so far)", name_, static_cast<unsigned>(frame.id),
                            static_cast<unsigned>(frame.dlc), static_cast<unsigned>(stats_.badLength));
         }
@@ -20,7 +18,7 @@ void DeviceFrameSink::onFrame(const CanFrame& frame, core::TimeNs now) {
     if (!decode(frame, now, &reason)) {
         ++stats_.badValue;
         if (core::isReportableOccurrence(stats_.badValue)) {
-            events_.report(events::kDeviceBadValue, Severity::kWarning, "%s: frame 0x%03X rejected: %s (%u so far)",
+            events_.report(badValueEvent_, Severity::kWarning, "%s: frame 0x%03X rejected: %s (%u so far)",
                            name_, static_cast<unsigned>(frame.id), reason, static_cast<unsigned>(stats_.badValue));
         }
         return;

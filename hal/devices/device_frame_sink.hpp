@@ -1,13 +1,15 @@
 // Common front of the RSE (non-CANopen) device clients: every frame is checked
 // before it is decoded. Wrong DLC, remote frames and values outside the device's
 // documented range are rejected, counted and evented (1st, 2nd, 4th ...), and the
-// last good sample is kept.
+// last good sample is kept. The sensors report events 450 / 451; a device family
+// may name its own pair (the science instruments: 452 / 453).
 #pragma once
 
 #include <cstdint>
 
 #include "fsw/core/event_log.hpp"
 #include "hal/canopen/canopen_master.hpp"
+#include "hal/devices/device_events.hpp"
 
 namespace rse::hal {
 
@@ -25,7 +27,9 @@ public:
     const char* deviceName() const { return name_; }
 
 protected:
-    DeviceFrameSink(core::EventLog& events, const char* name) : events_(events), name_(name) {}
+    DeviceFrameSink(core::EventLog& events, const char* name, core::EventId badFrameEvent = events::kDeviceBadFrame,
+                    core::EventId badValueEvent = events::kDeviceBadValue)
+        : events_(events), name_(name), badFrameEvent_(badFrameEvent), badValueEvent_(badValueEvent) {}
     ~DeviceFrameSink() = default;
 
     // Decodes a frame of the right length; returns false (with a reason) when a
@@ -37,6 +41,8 @@ protected:
 private:
     core::EventLog& events_;
     const char* name_;
+    core::EventId badFrameEvent_;
+    core::EventId badValueEvent_;
     DeviceFrameStats stats_;
     bool haveCounter_ = false;
     std::uint32_t lastCounter_ = 0;

@@ -36,8 +36,11 @@ void DeviceEmulator::restart() {
 }
 
 void DeviceEmulator::onFrame(const CanFrame& frame) {
-    if (!poweredOn_ || crashed_ || frame.id != hal::canopen::kNmt || frame.extended() || frame.remote() ||
-        frame.dlc != 2) {
+    if (!poweredOn_ || crashed_) {
+        return;
+    }
+    if (frame.id != hal::canopen::kNmt || frame.extended() || frame.remote() || frame.dlc != 2) {
+        onDataFrame(frame);
         return;
     }
     const std::uint8_t target = frame.data[1];

@@ -1,5 +1,5 @@
 // Common behaviour of the simulated RSE devices (docs/icd.md §1.1-1.3): node ids
-// 0x20-0x23, CANopen-style NMT slave, boot-up and heartbeat, fixed-rate data.
+// 0x20-0x25, CANopen-style NMT slave, boot-up and heartbeat, fixed-rate data.
 //
 // Life cycle:
 //   off        until the first step(): that step is power-on.
@@ -16,7 +16,10 @@
 //   stopped    (NMT 0x02) only heartbeats (state 0x04); NMT start 0x01 or enter
 //              pre-operational 0x80 resumes data.
 // Fault hooks: setDropout(true) silences data frames but not heartbeats;
-// crash() silences everything and ignores NMT until restart().
+// crash() silences everything and ignores NMT (and every other frame) until
+// restart().
+// Frames other than NMT go to onDataFrame() (a device that takes commands:
+// the science instruments), while powered and not crashed.
 //
 // The device keeps sampling while silent (stopped, dropout), so its counters
 // advance and the receiver sees the gap. Incoming frames are either read from
@@ -69,7 +72,8 @@ public:
     // Power-on on the first call; then receive (when polling), boot if due,
     // data frames, heartbeat.
     void step(core::TimeNs now);
-    // An incoming frame; only NMT (COB-ID 0x000, DLC 2) is acted on.
+    // An incoming frame: NMT (COB-ID 0x000, DLC 2) is acted on here, any other
+    // goes to onDataFrame().
     void onFrame(const hal::CanFrame& frame);
 
     void setDropout(bool on) { dropout_ = on; }
@@ -94,6 +98,9 @@ protected:
     virtual void onBoot(core::TimeNs now, bool resetApplication) = 0;
     // Sample and send whatever is due at now (via sendData).
     virtual void produce(core::TimeNs now) = 0;
+    // A frame that is not NMT, received since the last step (the device acts on
+    // it at its next produce()). Ignored unless a device takes commands.
+    virtual void onDataFrame(const hal::CanFrame& /*frame*/) {}
 
     // Sends a data frame unless stopped or in dropout (then counted as suppressed).
     void sendData(const hal::CanFrame& frame);

@@ -54,6 +54,7 @@ public:
     void setDeviceDropout(SimDevice, bool) override {}
     void crashDevice(SimDevice) override {}
     void restartDevice(SimDevice) override {}
+    void failInstrument(SimDevice, std::uint8_t, bool, bool) override {}
     void stepImuBias(double) override {}
     void addBusFault(const hal::CanFaultRule&) override {}
     void babble(std::uint32_t, double, bool) override {}

@@ -45,8 +45,10 @@ core::Status LockstepRig::initWith(std::FILE* console) {
     const core::Status s = fsw_.init(console);
     if (core::isOk(s)) {
         drives_.powerOn();
-        (void)fsw_.bus().createPipe("test-probe", 8, &probe_);
+        // A frame brings one drive status and at most one status per instrument.
+        (void)fsw_.bus().createPipe("test-probe", 16, &probe_);
         (void)fsw_.bus().subscribe(probe_, msg::ids::kDriveStatus);
+        (void)fsw_.bus().subscribe(probe_, msg::ids::kInstrumentStatus);
     }
     return s;
 }
@@ -95,6 +97,18 @@ void LockstepRig::commandBody(double speedMS, double yawRateRadS) {
     commandWheels(speeds);
 }
 
+void LockstepRig::commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
+                                    std::uint16_t commandId, double maxDurationS) {
+    msg::InstrumentCommandMsg cmd{};
+    cmd.timeNs = clock_.now();
+    cmd.instrument = instrument;
+    cmd.action = action;
+    cmd.targetId = targetId;
+    cmd.commandId = commandId;
+    cmd.maxDurationS = maxDurationS;
+    (void)fsw_.bus().publish(cmd);
+}
+
 bool LockstepRig::allDrivesOperational() const {
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         if (fsw_.canIo().drive(w).state() != hal::DriveState::kOperational) {
@@ -132,9 +146,14 @@ std::array<hal::CanBus*, kWheelCount> LockstepRig::attachDrives() {
 }
 
 void LockstepRig::drainProbe() {
+    msg::InstrumentStatusMsg instrument{};
     while (core::isOk(fsw_.bus().receive(probe_, &inbox_))) {
         if (core::isOk(inbox_.decode(&status_))) {
             ++statusCount_;
+        } else if (core::isOk(inbox_.decode(&instrument)) &&
+                   static_cast<std::size_t>(instrument.instrument) < msg::kInstrumentCount) {
+            instruments_[static_cast<std::size_t>(instrument.instrument)] = instrument;
+            ++instrumentCount_;
         }
     }
 }

@@ -18,6 +18,7 @@
 
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/nvm/record_store.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
@@ -68,6 +69,10 @@ public:
     // geometry from the flight tables (what a trajectory follower would send).
     void commandBody(double speedMS, double yawRateRadS);
     bool allDrivesOperational() const;
+    // What the plan executive would publish: one command to a science instrument
+    // (cancel: commandId names the command to stop).
+    void commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
+                           std::uint16_t commandId, double maxDurationS = 0.0);
 
     // Occurrences of text in what the memory console has written so far (e.g. "EVT 434 ").
     unsigned consoleCount(const char* text);
@@ -83,6 +88,11 @@ public:
     // The flight software's latest published drive status (what a layer sees).
     const msg::DriveStatusMsg& driveStatus() const { return status_; }
     std::uint32_t driveStatusCount() const { return statusCount_; }
+    // The flight software's latest InstrumentStatusMsg of each instrument, and how many came.
+    const msg::InstrumentStatusMsg& instrumentStatus(msg::Instrument instrument) const {
+        return instruments_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
+    }
+    std::uint32_t instrumentStatusCount() const { return instrumentCount_; }
     void setOnFrame(void (*callback)(LockstepRig&)) { onFrame_ = callback; }
 
 private:
@@ -103,6 +113,8 @@ private:
     core::Message inbox_{};
     msg::DriveStatusMsg status_{};
     std::uint32_t statusCount_ = 0;
+    msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
+    std::uint32_t instrumentCount_ = 0;
     void (*onFrame_)(LockstepRig&) = nullptr;
     std::FILE* memoryConsole_ = nullptr;  // owned: the fmemopen stream over consoleText_
     char consoleBuffer_[4096] = {};

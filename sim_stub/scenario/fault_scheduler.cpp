@@ -64,6 +64,10 @@ FaultScheduler::FaultScheduler(const std::vector<FaultSpec>& faults, FaultTarget
                 add(f.at, FaultAction::kTaskStallStart);
                 addEnd(FaultAction::kTaskStallEnd);
                 break;
+            case FaultType::kInstrumentFailure:
+                add(f.at, FaultAction::kInstrumentFailStart);
+                addEnd(FaultAction::kInstrumentFailEnd);
+                break;
         }
     }
     std::stable_sort(events_.begin(), events_.end(),
@@ -140,6 +144,12 @@ void FaultScheduler::fire(const FaultEvent& e) {
             break;
         case FaultAction::kTaskStallEnd:
             target_.stallFlightTask(f.taskRow, f.taskName, false);
+            break;
+        case FaultAction::kInstrumentFailStart:
+            target_.failInstrument(f.device, f.faultCode, f.silent, true);
+            break;
+        case FaultAction::kInstrumentFailEnd:
+            target_.failInstrument(f.device, f.faultCode, f.silent, false);
             break;
     }
 }

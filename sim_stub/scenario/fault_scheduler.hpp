@@ -38,6 +38,8 @@ enum class FaultAction : std::uint8_t {
     kSlide,
     kTaskStallStart,
     kTaskStallEnd,
+    kInstrumentFailStart,
+    kInstrumentFailEnd,
 };
 
 struct FaultEvent {

@@ -22,10 +22,13 @@
 
 namespace rse::sim {
 
-enum class SimDevice : std::uint8_t { kImu = 0, kPower, kHazard, kPositionFix };
-constexpr std::size_t kSimDeviceCount = 4;
-// The names scenario files use: "imu", "power", "hazard", "position_fix".
+enum class SimDevice : std::uint8_t { kImu = 0, kPower, kHazard, kPositionFix, kGrinder, kCamera };
+constexpr std::size_t kSimDeviceCount = 6;
+// The names scenario files use: "imu", "power", "hazard", "position_fix",
+// "grinder", "camera".
 const char* toString(SimDevice device);
+// The science instruments among the devices (instrument_failure acts on these only).
+constexpr bool isInstrument(SimDevice device) { return device == SimDevice::kGrinder || device == SimDevice::kCamera; }
 
 class FaultTarget {
 public:
@@ -48,6 +51,11 @@ public:
     virtual void setDeviceDropout(SimDevice device, bool on) = 0;
     virtual void crashDevice(SimDevice device) = 0;
     virtual void restartDevice(SimDevice device) = 0;
+    // A science instrument (grinder, camera) fails with faultCode (1..255): it
+    // reports failed with the code and refuses every command, or when silent
+    // sends no report and ignores commands (its heartbeat goes on); off: healthy
+    // again (idle). A target without instruments ignores it.
+    virtual void failInstrument(SimDevice device, std::uint8_t faultCode, bool silent, bool on) = 0;
     // Adds deltaRadS to the IMU's yaw-rate bias.
     virtual void stepImuBias(double deltaRadS) = 0;
     // A rule for the in-memory bus (drop / corrupt / delay the next N matching frames).

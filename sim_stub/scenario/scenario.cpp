@@ -12,6 +12,10 @@ const char* toString(SimDevice device) {
             return "hazard";
         case SimDevice::kPositionFix:
             return "position_fix";
+        case SimDevice::kGrinder:
+            return "grinder";
+        case SimDevice::kCamera:
+            return "camera";
     }
     return "?";
 }
@@ -46,6 +50,8 @@ const char* toString(FaultType type) {
             return "slide";
         case FaultType::kTaskStall:
             return "task_stall";
+        case FaultType::kInstrumentFailure:
+            return "instrument_failure";
     }
     return "?";
 }

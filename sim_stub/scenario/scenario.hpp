@@ -14,6 +14,7 @@
 #include "hal/can/memory_can_bus.hpp"
 #include "sim_stub/devices/hazard_detector_emulator.hpp"
 #include "sim_stub/devices/imu_emulator.hpp"
+#include "sim_stub/devices/instrument_emulator.hpp"
 #include "sim_stub/devices/position_fix_emulator.hpp"
 #include "sim_stub/devices/power_monitor_emulator.hpp"
 #include "sim_stub/scenario/fault_target.hpp"
@@ -39,8 +40,9 @@ enum class FaultType : std::uint8_t {
     kDriveFault,        // wheel, cobId = EMCY code: a one-shot fault a fault reset clears
     kSlide,             // value = offset, m; bearingRad; until = end of the slide
     kTaskStall,         // taskRow or taskName, until = the row enabled again (kNever: never by the schedule)
+    kInstrumentFailure, // device (grinder, camera), faultCode, silent, until = healthy again (kNever: never)
 };
-constexpr FaultType kLastFaultType = FaultType::kTaskStall;
+constexpr FaultType kLastFaultType = FaultType::kInstrumentFailure;
 // The names scenario files use ("motor_degradation", ...).
 const char* toString(FaultType type);
 
@@ -57,6 +59,8 @@ struct FaultSpec {
     double bearingRad = 0.0;  // position_fix_outlier, slide: direction of the offset (map frame, CCW from +x)
     std::size_t taskRow = 0;  // task_stall: the flight software's rate-group row, when taskName is empty
     std::string taskName;     // task_stall: the row by its task name (TASK_TIMING.task_name), "" for by taskRow
+    std::uint8_t faultCode = 1;  // instrument_failure: the code the instrument reports (1..255)
+    bool silent = false;         // instrument_failure: no report, commands ignored (else failed + code)
 };
 
 // Measurement noise of the six wheel drives' reports (scenario [drives]; see
@@ -72,6 +76,8 @@ struct DeviceParams {
     PowerMonitorParams power;
     HazardDetectorParams hazard;
     PositionFixParams positionFix;
+    InstrumentParams grinder = defaultInstrumentParams(hal::instrument::Kind::kGrinder);
+    InstrumentParams camera = defaultInstrumentParams(hal::instrument::Kind::kCamera);
 };
 
 struct Scenario {
@@ -86,6 +92,7 @@ struct Scenario {
     MapBounds map;
     Pose2 start;
     std::vector<Obstacle> obstacles;
+    std::vector<ScienceTarget> targets;  // what the instruments can work on (ids 1..255, unique)
     DeviceParams devices;
     DriveNoiseParams drives;
     std::vector<FaultSpec> faults;  // in time order (by at)

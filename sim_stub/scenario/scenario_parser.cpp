@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -158,6 +159,37 @@ private:
         return n->as_string()->get();
     }
 
+    // An array of tables ([[p]]): every element must be a table.
+    const toml::array& tableArray(const toml::node& n, const std::string& p) const {
+        const toml::array* a = n.as_array();
+        if (a == nullptr) {
+            fail(p, "must be an array of tables ([[" + p + "]]) (got " + typeName(n) + ")");
+        }
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const toml::node& e = *a->get(i);
+            if (!e.is_table()) {
+                fail(indexed(p, i), std::string("must be a table (got ") + typeName(e) + ")");
+            }
+        }
+        return *a;
+    }
+
+    // The id (1..255) of element i of the array p, unused by the elements before it.
+    template <typename T>
+    std::uint8_t uniqueId(const toml::table& t, const std::string& p, std::size_t i, const std::vector<T>& before) const {
+        const std::string path = join(indexed(p, i), "id");
+        const std::int64_t id = integer(t, indexed(p, i), "id", 0, true);
+        if (id < 1 || id > 255) {
+            fail(path, "must be 1..255 (got " + std::to_string(id) + ")");
+        }
+        for (std::size_t j = 0; j < before.size(); ++j) {
+            if (before[j].id == id) {
+                fail(path, std::to_string(id) + " is already used by " + indexed(p, j));
+            }
+        }
+        return static_cast<std::uint8_t>(id);
+    }
+
     // Range checks; the message names the bound.
     void above(const std::string& path, double v, double lo) const {
         if (!(v > lo)) {
@@ -201,11 +233,14 @@ private:
     void parseObstacles(const toml::node& n, const MapBounds& map, std::vector<Obstacle>* out) const;
     void parseStart(const toml::table& t, const Scenario& s, Pose2* start) const;
     void parseDevices(const toml::table& t, DeviceParams* devices) const;
+    void parseInstrument(const toml::table& devices, const std::string& path, hal::instrument::Kind kind,
+                         InstrumentParams* params) const;
+    void parseTargets(const toml::node& n, const MapBounds& map, std::vector<ScienceTarget>* out) const;
     void parseDrives(const toml::table& t, DriveNoiseParams* drives) const;
     void parseFaults(const toml::node& n, std::vector<FaultSpec>* out) const;
     FaultSpec parseFault(const toml::table& t, const std::string& path) const;
     std::size_t wheel(const toml::table& t, const std::string& path) const;
-    SimDevice device(const toml::table& t, const std::string& path) const;
+    SimDevice device(const toml::table& t, const std::string& path, bool instrumentsOnly = false) const;
     std::uint32_t cobId(const toml::table& t, const std::string& path, std::string_view key, std::uint32_t fallback,
                         bool required) const;
     core::TimeNs intervalEnd(const toml::table& t, const std::string& path, double atS) const;
@@ -249,8 +284,8 @@ void Parser::parseRover(const toml::table& t, RoverParams* r) const {
             if (id < 1 || id > 127) {
                 fail(ip, "must be 1..127 (got " + std::to_string(id) + ")");
             }
-            if (id >= kImuNodeId && id <= kPositionFixNodeId) {
-                fail(ip, "node " + std::to_string(id) + " belongs to an RSE device (0x20-0x23)");
+            if (id >= kImuNodeId && id <= hal::instrument::kCameraNodeId) {
+                fail(ip, "node " + std::to_string(id) + " belongs to an RSE device (0x20-0x25)");
             }
             for (std::size_t j = 0; j < i; ++j) {
                 if (r->driveNodes[j] == id) {
@@ -307,30 +342,14 @@ void Parser::parseMap(const toml::table& t, MapBounds* m) const {
 
 void Parser::parseObstacles(const toml::node& n, const MapBounds& map, std::vector<Obstacle>* out) const {
     const std::string p = "obstacles";
-    const toml::array* a = n.as_array();
-    if (a == nullptr) {
-        fail(p, std::string("must be an array of tables ([[obstacles]]) (got ") + typeName(n) + ")");
-    }
-    out->reserve(a->size());
-    for (std::size_t i = 0; i < a->size(); ++i) {
+    const toml::array& a = tableArray(n, p);
+    out->reserve(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
         const std::string op = indexed(p, i);
-        const toml::node& on = *a->get(i);
-        if (!on.is_table()) {
-            fail(op, std::string("must be a table (got ") + typeName(on) + ")");
-        }
-        const toml::table& t = *on.as_table();
+        const toml::table& t = *a.get(i)->as_table();
         onlyKeys(t, op, {"id", "known", "vertices"});
         Obstacle o;
-        const std::int64_t id = integer(t, op, "id", 0, true);
-        if (id < 1 || id > 255) {
-            fail(join(op, "id"), "must be 1..255 (got " + std::to_string(id) + ")");
-        }
-        for (std::size_t j = 0; j < out->size(); ++j) {
-            if ((*out)[j].id == id) {
-                fail(join(op, "id"), std::to_string(id) + " is already used by " + indexed(p, j));
-            }
-        }
-        o.id = static_cast<std::uint8_t>(id);
+        o.id = uniqueId(t, p, i, *out);
         o.known = boolean(t, op, "known", true, true);
         const std::string vp = join(op, "vertices");
         const toml::node* vn = node(t, op, "vertices", true);
@@ -383,7 +402,7 @@ void Parser::parseStart(const toml::table& t, const Scenario& s, Pose2* start) c
 
 void Parser::parseDevices(const toml::table& t, DeviceParams* d) const {
     const std::string p = "devices";
-    onlyKeys(t, p, {"imu", "power", "hazard", "position_fix"});
+    onlyKeys(t, p, {"imu", "power", "hazard", "position_fix", "grinder", "camera"});
     if (const toml::table* imu = table(t, p, "imu", false)) {
         const std::string ip = join(p, "imu");
         onlyKeys(*imu, ip, {"noise_sigma_rad_s", "bias_rad_s"});
@@ -412,6 +431,51 @@ void Parser::parseDevices(const toml::table& t, DeviceParams* d) const {
         d->positionFix.headingSigmaRad =
             ranged(*fx, fp, "heading_sigma_rad", d->positionFix.headingSigmaRad, 0.0, 1.0);
     }
+    parseInstrument(t, p, hal::instrument::Kind::kGrinder, &d->grinder);
+    parseInstrument(t, p, hal::instrument::Kind::kCamera, &d->camera);
+}
+
+void Parser::parseInstrument(const toml::table& devices, const std::string& path, hal::instrument::Kind kind,
+                             InstrumentParams* ip) const {
+    const char* name = hal::instrument::toString(kind);
+    const toml::table* t = table(devices, path, name, false);
+    if (t == nullptr) {
+        return;
+    }
+    const std::string p = join(path, name);
+    // Durations up to the command's largest max duration (6553.5 s); the
+    // camera's reach is its range, and is called so in the file.
+    const bool grinder = kind == hal::instrument::Kind::kGrinder;
+    const char* reachKey = grinder ? "reach_m" : "range_m";
+    if (grinder) {
+        onlyKeys(*t, p, {"sample_s", "dig_s", "duration_sigma", reachKey});
+        ip->sampleS = positive(*t, p, "sample_s", ip->sampleS, hal::instrument::kMaxDurationS);
+        ip->digS = positive(*t, p, "dig_s", ip->digS, hal::instrument::kMaxDurationS);
+    } else {
+        onlyKeys(*t, p, {"image_s", "duration_sigma", reachKey});
+        ip->imageS = positive(*t, p, "image_s", ip->imageS, hal::instrument::kMaxDurationS);
+    }
+    ip->durationSigma = ranged(*t, p, "duration_sigma", ip->durationSigma, 0.0, 0.5);
+    ip->reachM = positive(*t, p, reachKey, ip->reachM, 100.0);
+}
+
+void Parser::parseTargets(const toml::node& n, const MapBounds& map, std::vector<ScienceTarget>* out) const {
+    const std::string p = "targets";
+    const toml::array& a = tableArray(n, p);
+    out->reserve(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const std::string tp = indexed(p, i);
+        const toml::table& t = *a.get(i)->as_table();
+        onlyKeys(t, tp, {"id", "x_m", "y_m"});
+        ScienceTarget target;
+        target.id = uniqueId(t, p, i, *out);
+        target.position.x = number(t, tp, "x_m", 0.0, true);
+        target.position.y = number(t, tp, "y_m", 0.0, true);
+        if (!map.containsDisc(target.position, 0.0)) {
+            fail(tp, "(" + num(target.position.x) + ", " + num(target.position.y) + ") is not inside the map");
+        }
+        out->push_back(target);
+    }
 }
 
 void Parser::parseDrives(const toml::table& t, DriveNoiseParams* d) const {
@@ -430,15 +494,26 @@ std::size_t Parser::wheel(const toml::table& t, const std::string& path) const {
     return static_cast<std::size_t>(w - 1);
 }
 
-SimDevice Parser::device(const toml::table& t, const std::string& path) const {
+SimDevice Parser::device(const toml::table& t, const std::string& path, bool instrumentsOnly) const {
     const std::string name = string(t, path, "device", "", true);
+    // The list is the enum's, so a new device cannot be left out of it.
+    std::vector<std::string> names;
     for (std::size_t i = 0; i < kSimDeviceCount; ++i) {
         const SimDevice d = static_cast<SimDevice>(i);
+        if (instrumentsOnly && !isInstrument(d)) {
+            continue;
+        }
         if (name == toString(d)) {
             return d;
         }
+        names.emplace_back(toString(d));
     }
-    fail(join(path, "device"), "unknown device \"" + name + "\" (expected imu, power, hazard or position_fix)");
+    std::string expected;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        expected += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i];
+    }
+    fail(join(path, "device"), std::string(instrumentsOnly ? "unknown instrument" : "unknown device") + " \"" + name +
+                                   "\" (expected " + expected + ")");
 }
 
 std::uint32_t Parser::cobId(const toml::table& t, const std::string& path, std::string_view key,
@@ -645,25 +720,33 @@ FaultSpec Parser::parseFault(const toml::table& t, const std::string& p) const {
                 f.until = intervalEnd(t, p, atS);
             }
             break;
+        case FaultType::kInstrumentFailure: {
+            onlyKeys(t, p, {"type", "at_s", "device", "fault_code", "silent", "duration_s", "until_s"}, ctx);
+            f.device = device(t, p, true);
+            const std::int64_t code = integer(t, p, "fault_code", 1);
+            if (code < 1 || code > 255) {
+                fail(join(p, "fault_code"), "must be 1..255 (got " + std::to_string(code) + ")");
+            }
+            f.faultCode = static_cast<std::uint8_t>(code);
+            f.silent = boolean(t, p, "silent", false);
+            // Without an end the instrument stays failed.
+            if (t.get("duration_s") != nullptr || t.get("until_s") != nullptr) {
+                f.until = intervalEnd(t, p, atS);
+            }
+            break;
+        }
     }
     return f;
 }
 
 void Parser::parseFaults(const toml::node& n, std::vector<FaultSpec>* out) const {
     const std::string p = "faults";
-    const toml::array* a = n.as_array();
-    if (a == nullptr) {
-        fail(p, std::string("must be an array of tables ([[faults]]) (got ") + typeName(n) + ")");
-    }
-    out->reserve(a->size());
+    const toml::array& a = tableArray(n, p);
+    out->reserve(a.size());
     double previousS = 0.0;
-    for (std::size_t i = 0; i < a->size(); ++i) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
         const std::string fp = indexed(p, i);
-        const toml::node& fn = *a->get(i);
-        if (!fn.is_table()) {
-            fail(fp, std::string("must be a table (got ") + typeName(fn) + ")");
-        }
-        const FaultSpec f = parseFault(*fn.as_table(), fp);
+        const FaultSpec f = parseFault(*a.get(i)->as_table(), fp);
         const double atS = static_cast<double>(f.at) * 1e-9;
         if (i > 0 && f.at < out->back().at) {
             fail(join(fp, "at_s"), num(atS) + " is earlier than the previous fault's " + num(previousS) +
@@ -685,7 +768,7 @@ Scenario Parser::parse(std::string_view text) {
     }
     onlyKeys(root, "",
              {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
-              "devices", "drives", "faults"});
+              "targets", "devices", "drives", "faults"});
     Scenario s;
     s.source = source_;
     s.name = string(root, "", "name", source_);
@@ -710,6 +793,9 @@ Scenario Parser::parse(std::string_view text) {
         parseObstacles(*n, s.map, &s.obstacles);
     }
     parseStart(*table(root, "", "start", true), s, &s.start);
+    if (const toml::node* n = node(root, "", "targets", false)) {
+        parseTargets(*n, s.map, &s.targets);
+    }
     if (const toml::table* t = table(root, "", "devices", false)) {
         parseDevices(*t, &s.devices);
     }

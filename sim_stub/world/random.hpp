@@ -2,7 +2,8 @@
 //
 // xoshiro256** seeded through splitmix64 from (scenario seed, stream id), so each
 // noise source (wheel slip, IMU, power monitor, hazard detector, position fix,
-// and each drive's reported current and velocity) has its own stream: adding samples to one never shifts another, and the same
+// each drive's reported current and velocity, and each science instrument's
+// work durations) has its own stream: adding samples to one never shifts another, and the same
 // seed gives the same numbers on every run and every compiler (no dependence on
 // the standard library's distributions). Gaussian samples by Box-Muller.
 #pragma once
@@ -23,6 +24,8 @@ enum class RngStream : std::uint64_t {
     kPositionFix = 5,
     kDriveCurrent0 = 6,  // .. kDriveCurrent0 + 5
     kDriveVelocity0 = 12,  // .. kDriveVelocity0 + 5
+    kGrinder = 18,         // the grinder/sampler's work durations
+    kCamera = 19,          // the camera's
 };
 constexpr std::size_t kDriveNoiseStreams = 6;
 

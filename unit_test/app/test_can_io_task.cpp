@@ -3,6 +3,7 @@
 // actions and mission hold, against six emulated drives on an in-memory bus.
 #include <array>
 #include <functional>
+#include <vector>
 
 #include "fsw/app/app_events.hpp"
 #include "fsw/app/can_io_task.hpp"
@@ -11,6 +12,9 @@
 #include "fsw/tables/default_tables.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/canopen/canopen_events.hpp"
+#include "hal/devices/device_events.hpp"
+#include "hal/devices/instrument_protocol.hpp"
+#include "hal/devices/rse_device_ids.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
 #include "unit_test/support/table_loader.hpp"
 
@@ -319,4 +323,119 @@ TEST(CanIoRecovery, TheHoldAndTheOperatorsEstopAreReleasedEachByItsOwner) {
     s.run(kFrame);
     LONGS_EQUAL(1000, s.io.drive(0).targetVelocityMradS());
     LONGS_EQUAL(2, rig.eventCount[app::events::kHoldEstopChanged]);
+}
+
+// The science instruments through the CAN I/O task: a hand-made instrument on
+// the bus (its reports written here, its command frames read here).
+TEST_GROUP(CanIoInstruments) {};
+
+TEST(CanIoInstruments, CommandsGoOutStatusIsPublishedOnChangeAndAt1HzAndBadMessagesAreDropped) {
+    CanIoRig rig;
+    core::PipeId pipe = 0;
+    CHECK(core::Status::kOk == rig.bus.createPipe("instruments", 8, &pipe));
+    CHECK(core::Status::kOk == rig.bus.subscribe(pipe, msg::ids::kInstrumentStatus));
+    hal::MemoryCanEndpoint* instrumentEnd = rig.wire.attach("instruments");
+    Started s(rig);
+    msg::InstrumentStatusMsg latest[msg::kInstrumentCount] = {};
+    unsigned published[msg::kInstrumentCount] = {};
+    auto collect = [&] {
+        core::Message m;
+        msg::InstrumentStatusMsg st{};
+        while (core::isOk(rig.bus.receive(pipe, &m))) {
+            CHECK(core::isOk(m.decode(&st)));
+            const auto i = static_cast<std::size_t>(st.instrument);
+            CHECK(i < msg::kInstrumentCount);
+            latest[i] = st;
+            ++published[i];
+        }
+    };
+    auto report = [&](hal::instrument::Kind kind, hal::instrument::State state, hal::instrument::Action action,
+                      std::uint8_t target, std::uint16_t id, std::uint8_t progress) {
+        const hal::instrument::Report r{hal::instrument::ReportKind::kStatus, state, action, target, id, progress};
+        hal::CanFrame f;
+        hal::instrument::encodeReport(kind, r, &f);
+        CHECK(core::Status::kOk == instrumentEnd->send(f));
+    };
+    // Frame 0 publishes both (offline: never heard); then nothing until 1 s.
+    s.run(kFrame);
+    collect();
+    LONGS_EQUAL(1, published[0]);
+    LONGS_EQUAL(1, published[1]);
+    CHECK(latest[0].state == msg::InstrumentState::kOffline);
+    CHECK(latest[1].instrument == msg::Instrument::kCamera);
+    s.run(50 * kFrame);
+    collect();
+    LONGS_EQUAL(1, published[0]);
+    // The grinder reports: published in that frame.
+    report(hal::instrument::Kind::kGrinder, hal::instrument::State::kIdle, hal::instrument::Action::kNone, 0, 0, 0);
+    s.run(kFrame);
+    collect();
+    LONGS_EQUAL(2, published[0]);
+    LONGS_EQUAL(1, published[1]);
+    CHECK(latest[0].state == msg::InstrumentState::kIdle);
+    CHECK(latest[0].lastReportNs > 0);
+    // A command to it goes out as its frame.
+    msg::InstrumentCommandMsg cmd{};
+    cmd.instrument = msg::Instrument::kGrinder;
+    cmd.action = msg::InstrumentAction::kDig;
+    cmd.targetId = 12;
+    cmd.commandId = 600;
+    cmd.maxDurationS = 90.0;
+    CHECK(core::Status::kOk == rig.bus.publish(cmd));
+    s.run(kFrame);
+    collect();
+    hal::CanFrame f;
+    std::vector<hal::CanFrame> commands;
+    while (core::isOk(instrumentEnd->receive(&f))) {
+        if (f.id == hal::device_ids::kGrinderCommand) {
+            commands.push_back(f);
+        }
+    }
+    LONGS_EQUAL(1, commands.size());
+    hal::instrument::Command c;
+    hal::instrument::Refusal why = hal::instrument::Refusal::kNone;
+    CHECK_TRUE(hal::instrument::decodeCommand(commands[0], &c, &why));
+    CHECK(c.action == hal::instrument::Action::kDig);
+    LONGS_EQUAL(12, c.target);
+    LONGS_EQUAL(600, c.commandId);
+    LONGS_EQUAL(900, c.maxDurationDs);
+    LONGS_EQUAL(1, latest[0].commandsSent);  // a change: published
+    // Its busy report is news too; a camera command while the camera is offline is not sent.
+    report(hal::instrument::Kind::kGrinder, hal::instrument::State::kBusy, hal::instrument::Action::kDig, 12, 600, 0);
+    cmd.instrument = msg::Instrument::kCamera;
+    cmd.action = msg::InstrumentAction::kImage;
+    CHECK(core::Status::kOk == rig.bus.publish(cmd));
+    s.run(kFrame);
+    collect();
+    CHECK(latest[0].state == msg::InstrumentState::kBusy);
+    LONGS_EQUAL(600, latest[0].commandId);
+    LONGS_EQUAL(1, latest[0].commandsAccepted);
+    CHECK(latest[1].lastRefusal == msg::InstrumentRefusal::kOffline);
+    LONGS_EQUAL(1, latest[1].commandsNotSent);
+    // Malformed or naming no instrument: dropped, counted, event 211.
+    cmd.instrument = static_cast<msg::Instrument>(2);
+    CHECK(core::Status::kOk == rig.bus.publish(cmd));
+    const msg::WheelCommandMsg wrong{};
+    CHECK(core::Status::kOk == rig.bus.publish(msg::ids::kInstrumentCommand, &wrong, sizeof wrong));
+    s.run(kFrame);
+    LONGS_EQUAL(2, s.io.instrumentCommandsDropped());
+    CHECK(rig.eventCount[app::events::kBusMessageMalformed] >= 2);
+    // Reports that break the protocol are counted in framesBad (and published).
+    hal::CanFrame bad;
+    bad.id = hal::device_ids::kGrinderStatus;
+    bad.dlc = 3;
+    CHECK(core::Status::kOk == instrumentEnd->send(bad));
+    s.run(kFrame);
+    collect();
+    LONGS_EQUAL(1, latest[0].framesBad);
+    CHECK(latest[0].state == msg::InstrumentState::kBusy);  // the last good status kept
+    CHECK(rig.eventCount[hal::events::kInstrumentBadFrame] >= 1);
+    // Silent: offline 500 ms after its last report, published when it happens.
+    const unsigned before = published[0];
+    s.run(60 * kFrame);
+    collect();
+    CHECK(latest[0].state == msg::InstrumentState::kOffline);
+    LONGS_EQUAL(1, latest[0].offlineCount);
+    CHECK(published[0] >= before + 1);
+    CHECK(rig.eventCount[hal::events::kInstrumentOffline] >= 1);
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fsw/app/fsw_app.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
@@ -52,6 +53,22 @@ TEST(ZeroAllocation, RealExecutiveWithAllTasksAllocatesNothingAfterInit) {
     LONGS_EQUAL(kCycles / 100, fsw.console().housekeepingSeen());
     CHECK(fsw.console().eventsWritten() > 0);
     LONGS_EQUAL(0, fsw.bus().stats().dropped);
+
+    // Instrument commands (no instrument on this bus: each is checked, refused
+    // as offline or invalid, counted, evented and published) allocate nothing either.
+    rse::test::AllocationWatch instrumentWatch;
+    for (std::uint16_t id = 1; id <= 50; ++id) {
+        msg::InstrumentCommandMsg cmd{};
+        cmd.instrument = id % 2 == 0 ? msg::Instrument::kGrinder : msg::Instrument::kCamera;
+        cmd.action = id % 3 == 0 ? msg::InstrumentAction::kSample : msg::InstrumentAction::kImage;
+        cmd.targetId = static_cast<std::uint8_t>(id);
+        cmd.commandId = id;
+        cmd.maxDurationS = 30.0;
+        CHECK(core::Status::kOk == fsw.bus().publish(cmd));
+        fsw.run(nullptr, 20);
+    }
+    LONGS_EQUAL(0, instrumentWatch.count());
+    LONGS_EQUAL(50, fsw.canIo().instrument(0).status().commandsNotSent + fsw.canIo().instrument(1).status().commandsNotSent);
 }
 
 // The guard itself must be able to fail: these show it sees allocations made by

@@ -41,7 +41,7 @@ struct ScheduledFrame {
 int main() {
     rse::bench::Targets targets;
     const int drives = static_cast<int>(msg::kWheelCount);
-    const int heartbeatNodes = drives + 4;  // + IMU, power, hazard, position fix
+    const int heartbeatNodes = drives + 6;  // + IMU, power, hazard, position fix, grinder, camera
     const ScheduledFrame schedule[] = {
         {"RPDO1 to each drive", drives, 6, 100.0},
         {"SYNC", 1, 0, 100.0},
@@ -50,6 +50,7 @@ int main() {
         {"power monitor", 1, 8, 10.0},
         {"hazard reports (4 obstacles in view, 5 Hz)", 4, 8, 5.0},
         {"position fix (2 frames)", 2, 8, 1.0},
+        {"instrument status reports (grinder, camera)", 2, 8, 10.0},
         {"heartbeats", heartbeatNodes, 1, 10.0},
     };
     std::printf("== CAN bus load at 1 Mbit/s from the frame schedule (worst-case stuffing)\n");

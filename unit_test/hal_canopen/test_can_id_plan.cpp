@@ -12,6 +12,7 @@
 #include "ground/ground_link.hpp"
 #include "hal/can/ground_link_ids.hpp"
 #include "hal/canopen/canopen_ids.hpp"
+#include "hal/devices/instrument_protocol.hpp"
 #include "hal/devices/rse_device_ids.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -87,4 +88,43 @@ TEST(CanIdPlan, IcdListsTheRestrictedRangesAndTheGroundLinkIds) {
     }
     CHECK(icd.find("| 0x6C0 | ground→rover") != std::string::npos);
     CHECK(icd.find("| 0x6C1 | rover→ground") != std::string::npos);
+}
+
+// The science instruments' ids (docs/icd.md §1.7): outside every restricted
+// range, no predefined-connection-set id of any node, no other device's or the
+// ground link's, distinct; their node ids after the sensors'; all in the ICD.
+TEST(CanIdPlan, InstrumentIdsAreFreeDistinctAndInTheIcd) {
+    namespace ids = hal::device_ids;
+    const std::uint32_t instruments[] = {ids::kGrinderStatus, ids::kCameraStatus, ids::kGrinderCommand,
+                                         ids::kCameraCommand};
+    const std::uint32_t others[] = {ids::kImuRates, ids::kPower,          ids::kHazard,
+                                    ids::kFixX,     ids::kFixY,           hal::kGroundUplinkCanId,
+                                    hal::kGroundDownlinkCanId};
+    const std::uint32_t functions[] = {kEmcy,  kTpdo1, kRpdo1, kTpdo2, 0x300,       0x380,       0x400,
+                                       0x480, 0x500,  kSdoResponse, kSdoRequest, kHeartbeat};
+    for (std::size_t i = 0; i < sizeof instruments / sizeof instruments[0]; ++i) {
+        const std::uint32_t id = instruments[i];
+        CHECK_TEXT(!isCia301Restricted(id), std::to_string(id).c_str());
+        CHECK(id != kNmt && id != kSync);
+        for (const std::uint32_t f : functions) {
+            for (std::uint32_t node = 1; node <= kMaxNodeId; ++node) {
+                CHECK_TEXT(id != f + node, std::to_string(f + node).c_str());
+            }
+        }
+        for (const std::uint32_t o : others) {
+            CHECK(id != o);
+        }
+        for (std::size_t j = 0; j < i; ++j) {
+            CHECK(id != instruments[j]);
+        }
+    }
+    CHECK(hal::instrument::kGrinderNodeId == 0x24 && hal::instrument::kCameraNodeId == 0x25);
+    std::ifstream in("docs/icd.md");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string icd = text.str();
+    for (const char* entry : {"| 0x6A5 | grinder→M", "| 0x6A6 | camera→M", "| 0x6B5 | M→grinder", "| 0x6B6 | M→camera",
+                              "| 0x24 | grinder/sampler", "| 0x25 | camera"}) {
+        CHECK_TEXT(icd.find(entry) != std::string::npos, entry);
+    }
 }

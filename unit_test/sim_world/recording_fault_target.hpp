@@ -25,6 +25,10 @@ public:
     void setDeviceDropout(sim::SimDevice d, bool on) override { add("dropout %s %s", sim::toString(d), onOff(on)); }
     void crashDevice(sim::SimDevice d) override { add("crash-device %s", sim::toString(d)); }
     void restartDevice(sim::SimDevice d) override { add("restart-device %s", sim::toString(d)); }
+    void failInstrument(sim::SimDevice d, std::uint8_t code, bool silent, bool on) override {
+        add("instrument-failure %s %u%s %s", sim::toString(d), static_cast<unsigned>(code), silent ? " silent" : "",
+            onOff(on));
+    }
     void stepImuBias(double delta) override { add("imu-bias %.3f", delta); }
     void addBusFault(const hal::CanFaultRule& r) override {
         add("bus-fault %d 0x%03X/0x%03X x%u", static_cast<int>(r.kind), static_cast<unsigned>(r.id),

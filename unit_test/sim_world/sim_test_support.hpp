@@ -5,12 +5,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "fsw/core/clock.hpp"
 #include "hal/can/memory_can_bus.hpp"
+#include "sim_stub/devices/device_emulator.hpp"
 #include "sim_stub/world/kinematics.hpp"
 #include "sim_stub/world/wheel_model.hpp"
+#include "sim_stub/world/world.hpp"
 
 namespace rse::test {
 
@@ -80,6 +83,76 @@ inline std::size_t countId(const std::vector<hal::CanFrame>& frames, std::uint32
     }
     return n;
 }
+
+// The smallest scenario: seed 1, an open 20 m x 20 m site, the rover at the
+// origin heading +x. Tests append the tables they need.
+inline const std::string kOpenSiteScenario = R"(
+seed = 1
+[map]
+x_min_m = -10.0
+x_max_m = 10.0
+y_min_m = -10.0
+y_max_m = 10.0
+[start]
+x_m = 0.0
+y_m = 0.0
+)";
+
+// The bench a device emulator's test steps one device on: an in-memory bus
+// with a flight endpoint and the device's, a world, the time, and every frame
+// the flight endpoint received with the world's truth when it came. open() in
+// the test group's setup() and close() in its teardown() (CppUTest counts
+// leaks between the two). A group takes it as a base beside Utest
+// (TEST_GROUP_BASE).
+struct DeviceBench {
+    core::VirtualClock clock;
+    hal::MemoryCanBus wire{clock};
+    hal::MemoryCanEndpoint* flight = nullptr;
+    hal::MemoryCanEndpoint* simPort = nullptr;
+    sim::World* world = nullptr;
+    sim::WheelArray speeds{};
+    core::TimeNs t = 0;
+    std::vector<hal::CanFrame> frames;
+    std::vector<sim::TruthRecord> truthAtFrame;  // the world's truth when each frame was captured
+
+    void open(const sim::Pose2& start) {
+        flight = wire.attach("flight");
+        simPort = wire.attach("sim");
+        sim::WorldConfig c;
+        c.start = start;
+        world = new sim::World(c);
+    }
+    void close() {
+        delete world;
+        world = nullptr;
+    }
+    // Steps world and device every 1 ms up to and including until, capturing frames.
+    void runUntil(sim::DeviceEmulator& device, core::TimeNs until) {
+        for (; t <= until; t += core::kNsPerMs) {
+            clock.sleepUntil(t);
+            world->advance(t, speeds, sim::WheelArray{});
+            device.step(t);
+            hal::CanFrame f;
+            while (core::isOk(flight->receive(&f))) {
+                frames.push_back(f);
+                truthAtFrame.push_back(world->truth());
+            }
+        }
+    }
+    std::vector<hal::CanFrame> withId(std::uint32_t id) const {
+        std::vector<hal::CanFrame> out;
+        for (const hal::CanFrame& f : frames) {
+            if (f.id == id) {
+                out.push_back(f);
+            }
+        }
+        return out;
+    }
+    void clear() {
+        frames.clear();
+        truthAtFrame.clear();
+    }
+};
 
 inline hal::CanFrame nmt(std::uint8_t command, std::uint8_t node) {
     hal::CanFrame f;

@@ -23,53 +23,12 @@ namespace {
 constexpr core::TimeNs kMs = core::kNsPerMs;
 }
 
-TEST_GROUP(SimDevices) {
-    core::VirtualClock clock;
-    hal::MemoryCanBus wire{clock};
-    hal::MemoryCanEndpoint* flight = nullptr;
-    hal::MemoryCanEndpoint* simPort = nullptr;
-    World* world = nullptr;
-    WheelArray speeds{};
-    core::TimeNs t = 0;
-    std::vector<CanFrame> frames;
-    std::vector<TruthRecord> truthAtFrame;  // the world's truth when each frame was captured
+struct SimDevicesBench : public Utest, public test::DeviceBench {};
 
-    void setup() override {
-        flight = wire.attach("flight");
-        simPort = wire.attach("sim");
-        WorldConfig c;
-        c.start = Pose2{1.5, -2.0, 0.7};
-        world = new World(c);
-    }
-    void teardown() override { delete world; }
-
-    // Steps world and device every 1 ms up to and including until, capturing frames.
-    void runUntil(DeviceEmulator& device, core::TimeNs until) {
-        for (; t <= until; t += kMs) {
-            clock.sleepUntil(t);
-            world->advance(t, speeds, WheelArray{});
-            device.step(t);
-            CanFrame f;
-            while (core::isOk(flight->receive(&f))) {
-                frames.push_back(f);
-                truthAtFrame.push_back(world->truth());
-            }
-        }
-    }
+TEST_GROUP_BASE(SimDevices, SimDevicesBench) {
+    void setup() override { open(Pose2{1.5, -2.0, 0.7}); }
+    void teardown() override { close(); }
     void send(const CanFrame& f) { CHECK(core::Status::kOk == flight->send(f)); }
-    std::vector<CanFrame> withId(std::uint32_t id) const {
-        std::vector<CanFrame> out;
-        for (const CanFrame& f : frames) {
-            if (f.id == id) {
-                out.push_back(f);
-            }
-        }
-        return out;
-    }
-    void clear() {
-        frames.clear();
-        truthAtFrame.clear();
-    }
 };
 
 TEST(SimDevices, ImuBootsSendsHeartbeatsAndHundredSamplesASecond) {

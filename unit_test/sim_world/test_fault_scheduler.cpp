@@ -4,6 +4,7 @@
 #include "sim_stub/scenario/fault_scheduler.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 #include "unit_test/sim_world/recording_fault_target.hpp"
+#include "unit_test/sim_world/sim_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -12,17 +13,7 @@ using namespace rse::sim;
 
 namespace {
 
-const char* const kSchedule = R"(
-seed = 5
-[map]
-x_min_m = -10.0
-x_max_m = 10.0
-y_min_m = -10.0
-y_max_m = 10.0
-[start]
-x_m = 0.0
-y_m = 0.0
-
+const std::string kSchedule = test::kOpenSiteScenario + R"(
 [[faults]]
 type = "motor_degradation"
 at_s = 1.0
@@ -83,6 +74,17 @@ duration_s = 0.4
 type = "task_stall"
 at_s = 9.6
 task = 11
+[[faults]]
+type = "instrument_failure"
+at_s = 9.7
+device = "grinder"
+fault_code = 0x42
+until_s = 9.95
+[[faults]]
+type = "instrument_failure"
+at_s = 9.8
+device = "camera"
+silent = true
 )";
 
 const std::vector<std::string> kExpected = {
@@ -102,7 +104,10 @@ const std::vector<std::string> kExpected = {
     "9.000 fix-outlier 12.50 1.5708 x3",
     "9.500 task-stall habitual on",
     "9.600 task-stall row 11 on",  // no end: the schedule never enables it again
+    "9.700 instrument-failure grinder 66 on",
+    "9.800 instrument-failure camera 1 silent on",  // no end: it stays failed
     "9.900 task-stall habitual off",
+    "9.950 instrument-failure grinder 66 off",
 };
 
 void checkLog(const std::vector<std::string>& expected, const std::vector<std::string>& got) {
@@ -120,14 +125,14 @@ TEST(SimFaultScheduler, EventsFireAtTheirTimesInOrder) {
     const Scenario s = parseScenario(kSchedule, "schedule.toml");
     test::RecordingFaultTarget target;
     FaultScheduler scheduler(s.faults, target);
-    LONGS_EQUAL(17, scheduler.eventCount());
+    LONGS_EQUAL(20, scheduler.eventCount());
     CHECK_EQUAL(core::kNsPerSec, scheduler.nextAt());
     for (core::TimeNs t = 0; t <= 10 * core::kNsPerSec; t += 10 * core::kNsPerMs) {
         target.now = t;
         scheduler.step(t);
     }
     checkLog(kExpected, target.log);
-    LONGS_EQUAL(17, scheduler.fired());
+    LONGS_EQUAL(20, scheduler.fired());
     CHECK_EQUAL(kNever, scheduler.nextAt());
 }
 

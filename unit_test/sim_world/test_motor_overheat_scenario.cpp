@@ -8,6 +8,7 @@
 #include "sim_stub/scenario/fault_scheduler.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 #include "unit_test/sim_world/recording_fault_target.hpp"
+#include "unit_test/sim_world/sim_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -15,17 +16,7 @@ using namespace rse;
 using namespace rse::sim;
 
 namespace {
-const std::string kBase = R"(
-seed = 1
-[map]
-x_min_m = -10.0
-x_max_m = 10.0
-y_min_m = -10.0
-y_max_m = 10.0
-[start]
-x_m = 0.0
-y_m = 0.0
-)";
+const std::string kBase = test::kOpenSiteScenario;
 const std::string kOverheat = kBase + R"(
 [drives]
 ambient_c = -60

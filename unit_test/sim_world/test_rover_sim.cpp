@@ -62,6 +62,9 @@ public:
     void setDeviceDropout(SimDevice d, bool on) override { record.setDeviceDropout(d, on); }
     void crashDevice(SimDevice d) override { record.crashDevice(d); }
     void restartDevice(SimDevice d) override { record.restartDevice(d); }
+    void failInstrument(SimDevice d, std::uint8_t code, bool silent, bool on) override {
+        record.failInstrument(d, code, silent, on);
+    }
     void stepImuBias(double delta) override { record.stepImuBias(delta); }
     void addBusFault(const hal::CanFaultRule& r) override { record.addBusFault(r); }
     void babble(std::uint32_t id, double rate, bool on) override { record.babble(id, rate, on); }

@@ -4,6 +4,7 @@
 
 #include "sim_stub/scenario/scenario_parser.hpp"
 #include "sim_stub/world/terrain.hpp"
+#include "unit_test/sim_world/sim_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -12,17 +13,7 @@ using namespace rse::sim;
 
 namespace {
 
-const std::string kBase = R"(
-seed = 1
-[map]
-x_min_m = -10.0
-x_max_m = 10.0
-y_min_m = -10.0
-y_max_m = 10.0
-[start]
-x_m = 0.0
-y_m = 0.0
-)";
+const std::string kBase = test::kOpenSiteScenario;
 
 std::string errorOf(const std::string& text) {
     Scenario s;
@@ -239,7 +230,9 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
         {kBase + "\n[rover]\ndrive_nodes = [1, 2, 3, 4, 5]\n",
          "inline.toml: rover.drive_nodes: must list 6 node ids (got 5)"},
         {kBase + "\n[rover]\ndrive_nodes = [1, 2, 0x21, 4, 5, 6]\n",
-         "inline.toml: rover.drive_nodes[2]: node 33 belongs to an RSE device (0x20-0x23)"},
+         "inline.toml: rover.drive_nodes[2]: node 33 belongs to an RSE device (0x20-0x25)"},
+        {kBase + "\n[rover]\ndrive_nodes = [1, 2, 3, 4, 5, 0x25]\n",
+         "inline.toml: rover.drive_nodes[5]: node 37 belongs to an RSE device (0x20-0x25)"},
         {kBase + "\n[rover]\ndrive_nodes = [1, 2, 3, 4, 5, 1]\n",
          "inline.toml: rover.drive_nodes[5]: node 1 is listed twice"},
         {kBase + "\n[battery]\ninitial_soc = 1.5\n",
@@ -264,7 +257,7 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
         {kBase + "\n[[faults]]\ntype = \"motor_failure\"\nat_s = 1\nwheel = 0\n",
          "inline.toml: faults[0].wheel: must be 1..6 (got 0)"},
         {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"lidar\"\nduration_s = 1\n",
-         "inline.toml: faults[0].device: unknown device \"lidar\" (expected imu, power, hazard or position_fix)"},
+         "inline.toml: faults[0].device: unknown device \"lidar\" (expected imu, power, hazard, position_fix, grinder or camera)"},
         {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"imu\"\n",
          "inline.toml: faults[0]: needs duration_s or until_s"},
         {kBase + "\n[[faults]]\ntype = \"sensor_dropout\"\nat_s = 1\ndevice = \"imu\"\nduration_s = 1\nuntil_s = 3\n",
@@ -280,7 +273,8 @@ TEST(SimScenario, BadScenariosAreRejectedWithSpecificMessages) {
         {kBase + "\n[[faults]]\ntype = \"meteor\"\nat_s = 1\n",
          "inline.toml: faults[0].type: unknown fault type \"meteor\" (expected motor_degradation, motor_failure, "
          "drive_heartbeat_loss, drive_crash, sensor_dropout, device_crash, imu_bias_step, bus_fault, "
-         "babbling_node, position_fix_outlier, motor_overheat, drive_fault, slide or task_stall)"},
+         "babbling_node, position_fix_outlier, motor_overheat, drive_fault, slide, task_stall or "
+         "instrument_failure)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = -1\nwheel = 1\ncurrent_factor = 2\n",
          "inline.toml: faults[0].at_s: must be in [0, 1e+07] (got -1)"},
         {kBase + "\n[[faults]]\ntype = \"motor_degradation\"\nat_s = 1\nwheel = 1\n",
@@ -502,4 +496,151 @@ TEST(SimScenario, TheHabitualStallScenarioLoadsWithItsOneTaskStall) {
     CHECK_EQUAL(20 * kSec, s.faults[0].at);
     CHECK_EQUAL(kNever, s.faults[0].until);
     LONGS_EQUAL(5, s.obstacles.size());  // the demo's site
+}
+
+TEST(SimScenario, ScienceTargetsInstrumentTimingAndInstrumentFailuresParse) {
+    const Scenario s = parseScenario(kBase + R"(
+[[targets]]
+id = 1
+x_m = 5.0
+y_m = -2.5
+[[targets]]
+id = 255
+x_m = -9.0
+y_m = 9.0
+[devices.grinder]
+sample_s = 30
+dig_s = 60.5
+duration_sigma = 0.2
+reach_m = 2.0
+[devices.camera]
+image_s = 4
+range_m = 8
+[[faults]]
+type = "instrument_failure"
+at_s = 10
+device = "grinder"
+[[faults]]
+type = "instrument_failure"
+at_s = 12
+device = "camera"
+fault_code = 0xFF
+silent = true
+duration_s = 3
+[[faults]]
+type = "sensor_dropout"
+at_s = 13
+device = "camera"
+duration_s = 1
+[[faults]]
+type = "device_crash"
+at_s = 14
+device = "grinder"
+restart_at_s = 15
+)",
+                                     "instruments.toml");
+    LONGS_EQUAL(2, s.targets.size());
+    LONGS_EQUAL(1, s.targets[0].id);
+    DOUBLES_EQUAL(5.0, s.targets[0].position.x, 0.0);
+    DOUBLES_EQUAL(-2.5, s.targets[0].position.y, 0.0);
+    LONGS_EQUAL(255, s.targets[1].id);
+    DOUBLES_EQUAL(30.0, s.devices.grinder.sampleS, 0.0);
+    DOUBLES_EQUAL(60.5, s.devices.grinder.digS, 0.0);
+    DOUBLES_EQUAL(0.2, s.devices.grinder.durationSigma, 0.0);
+    DOUBLES_EQUAL(2.0, s.devices.grinder.reachM, 0.0);
+    DOUBLES_EQUAL(4.0, s.devices.camera.imageS, 0.0);
+    DOUBLES_EQUAL(8.0, s.devices.camera.reachM, 0.0);
+    DOUBLES_EQUAL(0.05, s.devices.camera.durationSigma, 0.0);  // default
+    LONGS_EQUAL(4, s.faults.size());
+    CHECK(FaultType::kInstrumentFailure == s.faults[0].type);
+    CHECK(SimDevice::kGrinder == s.faults[0].device);
+    LONGS_EQUAL(1, s.faults[0].faultCode);  // default
+    CHECK_FALSE(s.faults[0].silent);
+    CHECK_EQUAL(kNever, s.faults[0].until);  // no end: failed for good
+    CHECK(SimDevice::kCamera == s.faults[1].device);
+    LONGS_EQUAL(0xFF, s.faults[1].faultCode);
+    CHECK_TRUE(s.faults[1].silent);
+    CHECK_EQUAL(15 * kSec, s.faults[1].until);
+    CHECK(SimDevice::kCamera == s.faults[2].device);
+    CHECK(SimDevice::kGrinder == s.faults[3].device);
+    // Without a [devices.*] table the defaults hold: the grinder's reach, the camera's range.
+    const Scenario plain = parseScenario(kBase, "plain.toml");
+    LONGS_EQUAL(0, plain.targets.size());
+    DOUBLES_EQUAL(150.0, plain.devices.grinder.sampleS, 0.0);
+    DOUBLES_EQUAL(1.5, plain.devices.grinder.reachM, 0.0);
+    DOUBLES_EQUAL(40.0, plain.devices.camera.imageS, 0.0);
+    DOUBLES_EQUAL(5.0, plain.devices.camera.reachM, 0.0);
+}
+
+TEST(SimScenario, BadTargetsInstrumentKeysAndInstrumentFailuresAreRejectedWithTheKeyPath) {
+    struct Case {
+        std::string text;
+        const char* message;
+    };
+    const std::string target = "\n[[targets]]\n";
+    const std::string failure = "\n[[faults]]\ntype = \"instrument_failure\"\nat_s = 1\n";
+    const std::vector<Case> cases = {
+        {kBase + target + "id = 0\nx_m = 1\ny_m = 1\n", "inline.toml: targets[0].id: must be 1..255 (got 0)"},
+        {kBase + target + "id = 256\nx_m = 1\ny_m = 1\n", "inline.toml: targets[0].id: must be 1..255 (got 256)"},
+        {kBase + target + "id = 3\nx_m = 1\ny_m = 1\n" + target + "id = 3\nx_m = 2\ny_m = 2\n",
+         "inline.toml: targets[1].id: 3 is already used by targets[0]"},
+        {kBase + target + "id = 3\nx_m = 11\ny_m = 1\n", "inline.toml: targets[0]: (11, 1) is not inside the map"},
+        {kBase + target + "id = 3\nx_m = 1\n", "inline.toml: targets[0].y_m: missing (required)"},
+        {kBase + target + "id = 3\nx_m = 1\ny_m = 1\nz_m = 0\n", "inline.toml: targets[0].z_m: unknown key"},
+        {"targets = 4\n" + kBase, "inline.toml: targets: must be an array of tables ([[targets]]) (got an integer)"},
+        {kBase + "\n[devices.grinder]\nimage_s = 3\n", "inline.toml: devices.grinder.image_s: unknown key"},
+        {kBase + "\n[devices.camera]\nreach_m = 3\n", "inline.toml: devices.camera.reach_m: unknown key"},
+        {kBase + "\n[devices.grinder]\nsample_s = 0\n",
+         "inline.toml: devices.grinder.sample_s: must be in (0, 6553.5] (got 0)"},
+        {kBase + "\n[devices.camera]\nimage_s = 7000\n",
+         "inline.toml: devices.camera.image_s: must be in (0, 6553.5] (got 7000)"},
+        {kBase + "\n[devices.grinder]\nduration_sigma = 0.6\n",
+         "inline.toml: devices.grinder.duration_sigma: must be in [0, 0.5] (got 0.6)"},
+        {kBase + "\n[devices.camera]\nrange_m = -1\n", "inline.toml: devices.camera.range_m: must be in (0, 100] (got -1)"},
+        {kBase + failure + "device = \"imu\"\n",
+         "inline.toml: faults[0].device: unknown instrument \"imu\" (expected grinder or camera)"},
+        {kBase + failure, "inline.toml: faults[0].device: missing (required)"},
+        {kBase + failure + "device = \"camera\"\nfault_code = 0\n",
+         "inline.toml: faults[0].fault_code: must be 1..255 (got 0)"},
+        {kBase + failure + "device = \"camera\"\nfault_code = 256\n",
+         "inline.toml: faults[0].fault_code: must be 1..255 (got 256)"},
+        {kBase + failure + "device = \"camera\"\nsilent = 1\n",
+         "inline.toml: faults[0].silent: must be true or false (got an integer)"},
+        {kBase + failure + "device = \"camera\"\nrestart_at_s = 3\n",
+         "inline.toml: faults[0].restart_at_s: unknown key for fault type instrument_failure"},
+        {kBase + failure + "device = \"camera\"\nduration_s = 1\nuntil_s = 3\n",
+         "inline.toml: faults[0]: give duration_s or until_s, not both"},
+    };
+    for (const Case& c : cases) {
+        const std::string got = errorOf(c.text);
+        STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
+    }
+}
+
+TEST(SimScenario, TheTwoTargetsScenarioLoadsWithItsTargetsInstrumentsAndGrinderFailure) {
+    const Scenario s = loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    STRCMP_EQUAL("two_targets", s.name.c_str());
+    LONGS_EQUAL(2, s.targets.size());
+    LONGS_EQUAL(1, s.targets[0].id);
+    DOUBLES_EQUAL(10.0, s.targets[0].position.x, 0.0);
+    DOUBLES_EQUAL(0.0, s.targets[0].position.y, 0.0);
+    LONGS_EQUAL(2, s.targets[1].id);
+    DOUBLES_EQUAL(20.0, s.targets[1].position.x, 0.0);
+    DOUBLES_EQUAL(5.0, s.targets[1].position.y, 0.0);
+    // Both targets stand clear of every rock by more than the rover's footprint,
+    // so the rover can park within reach of each.
+    for (const ScienceTarget& t : s.targets) {
+        for (const Obstacle& o : s.obstacles) {
+            CHECK(distanceToPolygon(t.position, o.shape) > s.rover.radiusM);
+        }
+    }
+    DOUBLES_EQUAL(150.0, s.devices.grinder.sampleS, 0.0);
+    DOUBLES_EQUAL(40.0, s.devices.camera.imageS, 0.0);
+    LONGS_EQUAL(1, s.faults.size());
+    CHECK(FaultType::kInstrumentFailure == s.faults[0].type);
+    CHECK(SimDevice::kGrinder == s.faults[0].device);
+    LONGS_EQUAL(0x42, s.faults[0].faultCode);
+    CHECK_FALSE(s.faults[0].silent);
+    CHECK_EQUAL(240 * kSec, s.faults[0].at);
+    CHECK_EQUAL(kNever, s.faults[0].until);
 }

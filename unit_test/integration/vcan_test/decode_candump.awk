@@ -11,7 +11,7 @@ function u16(s, i) { return hexbyte(s, i) + 256 * hexbyte(s, i + 1) }
 function s16(s, i,   v) { v = u16(s, i); return v >= 32768 ? v - 65536 : v }
 function s32(s, i,   v) { v = u16(s, i) + 65536 * u16(s, i + 2); return v >= 2147483648 ? v - 4294967296 : v }
 function drive(n) { return n >= 1 && n <= 6 }
-function node(n) { return drive(n) || (n >= 32 && n <= 35) }
+function node(n) { return drive(n) || (n >= 32 && n <= 37) }
 function ok(kind, text) { count[kind]++; printf "%s %-14s %s\n", time, kind, text }
 function bad(why) { undecoded++; printf "%s UNDECODED      %s#%s (%s)\n", time, idhex, data, why }
 {
@@ -42,6 +42,14 @@ function bad(why) { undecoded++; printf "%s UNDECODED      %s#%s (%s)\n", time, 
     if (dlc != 8) { bad("device frame needs 8 bytes"); next }
     split("IMU POWER HAZARD FIX-X FIX-Y", dev, " ")
     ok(dev[id - 1695], "")
+  } else if (id == 1701 || id == 1702) {
+    if (dlc != 8) { bad("instrument report needs 8 bytes"); next }
+    k = int(hexbyte(data, 0) / 16); s = hexbyte(data, 0) % 16
+    if ((k != 1 && k != 2) || s > 3) { bad("instrument report kind or state"); next }
+    ok(id == 1701 ? "GRINDER" : "CAMERA", sprintf("%s state %d command %d", k == 1 ? "status" : "refusal", s, u16(data, 3)))
+  } else if (id == 1717 || id == 1718) {
+    if (dlc != 8) { bad("instrument command needs 8 bytes"); next }
+    ok(id == 1717 ? "GRINDER-CMD" : "CAMERA-CMD", sprintf("action %d target %d command %d", hexbyte(data, 0), hexbyte(data, 1), u16(data, 2)))
   } else if (id == 1728 || id == 1729) {
     if (dlc < 1 || dlc > 8) { bad("ISO-TP frame length"); next }
     ok(id == 1728 ? "ISOTP-uplink" : "ISOTP-downlink", sprintf("pci 0x%X", int(hexbyte(data, 0) / 16)))
