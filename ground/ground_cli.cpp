@@ -17,6 +17,7 @@
 #include "ground/ground_link.hpp"
 #include "ground/ground_session.hpp"
 #include "ground/key_file.hpp"
+#include "ground/plan_tool.hpp"
 #include "ground/script_runner.hpp"
 #include "ground/sequence_store.hpp"
 #include "ground/table_compiler.hpp"
@@ -50,6 +51,7 @@ constexpr const char* kUsage =
     "  table dump ID|NAME [--inactive] [-o FILE]             download a table image and print it\n"
     "  table build|show|check|list ...                       table images on this machine\n"
     "  dict --markdown|--json [-o FILE]                      export the command/telemetry dictionary\n"
+    "  plan check FILE [--failed C,...] [--degraded C,...]   check a mission plan with the flight code\n"
     "  encode NAME [arg=value ...] [--auth-seq N] [-o FILE]  write a command packet (hex without -o)\n"
     "global options:\n"
     "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
@@ -110,13 +112,14 @@ std::uint32_t parseCanId(const std::string& option, const std::string& text) {
 }
 
 // Splits the global options out of args (everything after the program name).
-// Stops at "table build|show|check|list": those arguments belong to the table tool.
+// Stops at "table build|show|check|list" and "plan check": those arguments
+// belong to the table and plan tools.
 std::vector<std::string> takeGlobalOptions(const std::vector<std::string>& args, GlobalOptions* g) {
     std::vector<std::string> rest;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        if (rest.size() == 1 && rest[0] == "table" &&
-            (a == "build" || a == "show" || a == "check" || a == "list")) {
+        if (rest.size() == 1 && ((rest[0] == "table" && (a == "build" || a == "show" || a == "check" || a == "list")) ||
+                                 (rest[0] == "plan" && a == "check"))) {
             rest.insert(rest.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
             return rest;
         }
@@ -655,6 +658,9 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
         }
         if (command == "dict") {
             return cli.dict(commandArgs);
+        }
+        if (command == "plan") {
+            return runPlanCommand(commandArgs, out, err);
         }
         err << "rse-ground: unknown command '" << command << "'\n" << kUsage;
         return kExitUsage;

@@ -1,0 +1,131 @@
+#include "ground/plan_tool.hpp"
+
+#include <fstream>
+#include <iomanip>
+#include <iterator>
+#include <memory>
+#include <ostream>
+#include <sstream>
+
+#include "fsw/plan_executive/method_selector.hpp"
+#include "fsw/plan_executive/plan_parser.hpp"
+#include "fsw/plan_executive/stn.hpp"
+
+namespace rse::ground {
+
+namespace {
+
+using namespace rse::plan_executive;
+
+constexpr int kExitOk = 0;
+constexpr int kExitRead = 1;
+constexpr int kExitBad = 2;
+
+constexpr const char* kPlanUsage =
+    "usage: rse-ground plan check FILE [--failed COMPONENT,...] [--degraded COMPONENT,...]\n"
+    "  components: drive_FL drive_ML drive_RL drive_FR drive_MR drive_RR grinder camera\n";
+
+// "a,b,c" -> components set to state; false (and a message) on an unknown name.
+bool setComponents(const std::string& list, ComponentState state, SelectionInput* input, std::ostream& err) {
+    std::stringstream names(list);
+    std::string name;
+    while (std::getline(names, name, ',')) {
+        bool found = false;
+        for (std::size_t c = 0; c < kComponentCount; ++c) {
+            if (name == toString(static_cast<Component>(c))) {
+                input->components[c] = state;
+                found = true;
+            }
+        }
+        if (!found) {
+            err << "rse-ground: plan check: unknown component '" << name << "'\n" << kPlanUsage;
+            return false;
+        }
+    }
+    return true;
+}
+
+std::string seconds(std::int32_t ms) {
+    if (ms >= kInfiniteMs) {
+        return "inf";
+    }
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(3) << static_cast<double>(ms) / 1000.0;
+    return s.str();
+}
+
+}  // namespace
+
+int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    if (args.size() < 2 || args[0] != "check") {
+        err << kPlanUsage;
+        return kExitBad;
+    }
+    const std::string path = args[1];
+    SelectionInput input;
+    for (std::size_t i = 2; i < args.size(); i += 2) {
+        if (i + 1 >= args.size() || (args[i] != "--failed" && args[i] != "--degraded")) {
+            err << "rse-ground: plan check: unexpected '" << args[i] << "'\n" << kPlanUsage;
+            return kExitBad;
+        }
+        const ComponentState state = args[i] == "--failed" ? ComponentState::kFailed : ComponentState::kDegraded;
+        if (!setComponents(args[i + 1], state, &input, err)) {
+            return kExitBad;
+        }
+    }
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        err << "rse-ground: plan check: cannot read '" << path << "'\n";
+        return kExitRead;
+    }
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    // The flight objects are large (the STN holds a 256 KiB matrix): heap here, on the ground.
+    const auto plan = std::make_unique<Tpn>();
+    const ParseResult parsed = parsePlan(text.data(), text.size(), plan.get());
+    if (parsed.error != PlanError::kOk) {
+        err << path << ":" << parsed.line << ": " << toString(parsed.error);
+        if (parsed.token[0] != '\0') {
+            err << " at '" << parsed.token << "'";
+        }
+        err << " (the rover would refuse this plan)\n";
+        return kExitBad;
+    }
+    out << "plan '" << plan->name << "': " << plan->eventCount << " events, " << plan->activityCount
+        << " activities, " << plan->constraintCount << " constraints, " << static_cast<unsigned>(plan->choiceCount)
+        << " choices\n";
+    const auto selector = std::make_unique<MethodSelector>();
+    SelectionResult result;
+    const SelectionParams params;
+    const SelectionStatus status = selector->solve(*plan, input, params, &result);
+    out << "selection: " << toString(status) << " (" << selector->work() << " work units)\n";
+    if (!result.hasSelection) {
+        const SelectionStats& st = selector->stats();
+        err << path << ": no valid selection of methods: " << toString(status) << " (rejected: ask failed "
+            << st.rejected[0] << ", deprecated " << st.rejected[1] << ", causal link missing " << st.rejected[2]
+            << ", inconsistent " << st.rejected[3] << ")\n";
+        return kExitBad;
+    }
+    for (std::size_t c = 0; c < plan->choiceCount; ++c) {
+        const std::uint8_t o = result.selection.option[c];
+        out << "  choice " << plan->choices[c].name << ": "
+            << (o == kNoOption ? std::string("(does not exist)") : std::string(plan->choices[c].options[o].name))
+            << "\n";
+    }
+    out << "expected cost: " << std::fixed << std::setprecision(3) << result.cost << "\n";
+    const auto stn = std::make_unique<Stn>();
+    if (loadStn(*plan, result.selection, stn.get()) != core::Status::kOk || stn->check() != StnState::kConsistent) {
+        err << path << ": the selected plan's temporal network is not consistent\n";
+        return kExitBad;
+    }
+    out << "event windows (s from the plan's start):\n";
+    for (std::size_t e = 0; e < plan->eventCount; ++e) {
+        if (!exists(plan->events[e].guard, result.selection)) {
+            continue;
+        }
+        const Window w = stn->window(e);
+        out << "  " << plan->events[e].name << ": [" << seconds(w.earliestMs) << ", " << seconds(w.latestMs) << "]\n";
+    }
+    return kExitOk;
+}
+
+}  // namespace rse::ground
