@@ -227,7 +227,8 @@ void MethodSelector::analyse(const SelectionInput& input) {
         for (std::size_t k = 0; k < act.askCount && activityOk_[a]; ++k) {
             const Condition& c = act.asks[k];
             if (!c.planVariable) {
-                activityOk_[a] = componentAskHolds(c, input);
+                // A started activity's Asks held when it started (SelectionInput).
+                activityOk_[a] = input.started[a] || componentAskHolds(c, input);
                 activityWhy_[a] = RejectReason::kAskFailed;
                 continue;
             }

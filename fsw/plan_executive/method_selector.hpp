@@ -127,7 +127,12 @@ inline bool exists(const Guard& guard, const Selection& s) {
 // longer be met from here is ruled out, and executed times that contradict
 // the plan give kNoneExists. An option already under way (its activity
 // started) is not forced here: the caller forces it by deprecating the
-// choice's other options. Defaults (0, nothing executed) change nothing.
+// choice's other options. An activity already started (done, or running
+// and not failed) is marked in started[]: its component Asks held when it
+// started and are not judged again (a grinder failing after sample 1 leaves
+// that sample's option usable; a running activity whose component failed is
+// to be reported failed, and not marked, first). Defaults (0, nothing
+// executed or started) change nothing.
 // start() refuses (kInvalidArgument) notBeforeMs outside [0, kMaxBoundMs] and
 // an executed time outside [0, kMaxBoundMs].
 struct SelectionInput {
@@ -135,6 +140,7 @@ struct SelectionInput {
     bool deprecated[kMaxChoices][kMaxOptions] = {};
     std::int32_t notBeforeMs = 0;
     std::int32_t executedAtMs[kMaxEvents];  // kInfiniteMs: not executed
+    bool started[kMaxActivities] = {};
     SelectionInput() {
         for (std::int32_t& t : executedAtMs) {
             t = kInfiniteMs;

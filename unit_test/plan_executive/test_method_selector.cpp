@@ -11,13 +11,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
 
 #include "fsw/plan_executive/method_selector.hpp"
-#include "fsw/plan_executive/plan_parser.hpp"
 #include "fsw/plan_executive/stn.hpp"
 #include "unit_test/plan_executive/selection_reference.hpp"
 #include "unit_test/plan_executive/tpn_builders.hpp"
@@ -308,7 +306,7 @@ namespace {
 constexpr std::int32_t kSecond = 1000;
 
 void parsed(const char* text) {
-    const ParseResult r = parsePlan(text, std::strlen(text), &plan);
+    const ParseResult r = rse::test::plan::parseText(text, &plan);
     CHECK_TEXT(r.error == PlanError::kOk, toString(r.error));
 }
 
@@ -375,6 +373,15 @@ TEST(MethodSelector, TwoTargetsReSelectedWithTheFirstScienceDoneAndALongDrive) {
     CHECK_EQUAL(kSample, result.selection.option[0]);
     CHECK_EQUAL(kImage, result.selection.option[1]);
     DOUBLES_EQUAL(37.5, result.cost, 1e-12);
+    checkDispatchable(plan, result.selection, input);
+    // The grinder has failed since: sample(target 1) is done, its Ask is not
+    // judged again when it is marked started; unmarked, nothing is left.
+    input.components[static_cast<std::size_t>(Component::kGrinder)] = ComponentState::kFailed;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kNoneExists);
+    input.started[0] = input.started[1] = input.started[3] = true;  // drive1, sample1, drive2
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[0]);
+    CHECK_EQUAL(kImage, result.selection.option[1]);
     checkDispatchable(plan, result.selection, input);
 }
 

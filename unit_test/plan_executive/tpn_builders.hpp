@@ -9,9 +9,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 
 #include "fsw/plan_executive/method_selector.hpp"
+#include "fsw/plan_executive/plan_parser.hpp"
 #include "fsw/plan_executive/tpn.hpp"
 
 namespace rse::test::plan {
@@ -39,6 +41,9 @@ inline constexpr const char* kTwoTargetsText =
     "activity image2 image at2 done2 [30, 60] cost 8 target 2 ask camera=ok when science2.image\n"
     "constraint start done2 [0, 3600]\n"
     "end\n";
+
+// A NUL-terminated plan text parsed into *t.
+inline ParseResult parseText(const char* text, Tpn* t) { return parsePlan(text, std::strlen(text), t); }
 
 inline Guard under(std::size_t choice, std::size_t option) {
     Guard g;
