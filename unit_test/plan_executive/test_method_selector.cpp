@@ -67,6 +67,28 @@ void checkDispatchable(const Tpn& t, const Selection& s, const SelectionInput& i
     CHECK(referenceValid(t, pick, input, &stn));
 }
 
+// The plan selected under the input (unlimited budget) agrees with the
+// exhaustive reference: status, cost, and the selection valid and priced
+// alike by the reference. True when a valid selection exists.
+bool agreesWithReference(std::uint32_t seed, const SelectionInput& input, std::size_t* selections) {
+    const SelectionParams params = unlimited();
+    const SelectionStatus st = selector.solve(plan, input, params, &result);
+    const ReferenceOutcome ref = exhaustiveOptimum(plan, input, params, &stn);
+    *selections += ref.selections;
+    const std::string where = "seed " + std::to_string(seed);
+    if (!ref.found) {
+        CHECK_TEXT(st == SelectionStatus::kNoneExists, where.c_str());
+        return false;
+    }
+    CHECK_TEXT(st == SelectionStatus::kSelected, where.c_str());
+    DOUBLES_EQUAL_TEXT(ref.cost, result.cost, 1e-9 * (1.0 + std::fabs(ref.cost)), where.c_str());
+    std::uint8_t pick[kMaxChoices] = {};
+    pickOf(result.selection, plan.choiceCount, pick);
+    CHECK_TEXT(referenceValid(plan, pick, input, &stn), where.c_str());
+    DOUBLES_EQUAL_TEXT(referenceCost(plan, pick, input, params), result.cost, 1e-9, where.c_str());
+    return true;
+}
+
 }  // namespace
 
 TEST_GROUP(MethodSelector){};
@@ -276,23 +298,9 @@ TEST(MethodSelector, EqualsTheExhaustiveReferenceOnRandomPlans) {
     for (std::uint32_t seed = 1; seed <= 600; ++seed) {
         SelectionInput input;
         randomSmallPlan(seed, 6, &plan, &input);
-        const SelectionParams params = unlimited();
-        const SelectionStatus st = selector.solve(plan, input, params, &result);
-        const ReferenceOutcome ref = exhaustiveOptimum(plan, input, params, &stn);
-        selections += ref.selections;
-        const std::string where = "seed " + std::to_string(seed);
-        if (ref.found) {
-            ++feasible;
-            CHECK_TEXT(st == SelectionStatus::kSelected, where.c_str());
-            DOUBLES_EQUAL_TEXT(ref.cost, result.cost, 1e-9 * (1.0 + std::fabs(ref.cost)), where.c_str());
-            std::uint8_t pick[kMaxChoices] = {};
-            pickOf(result.selection, plan.choiceCount, pick);
-            CHECK_TEXT(referenceValid(plan, pick, input, &stn), where.c_str());
-            DOUBLES_EQUAL_TEXT(referenceCost(plan, pick, input, params), result.cost, 1e-9, where.c_str());
-        } else {
-            ++infeasible;
-            CHECK_TEXT(st == SelectionStatus::kNoneExists, where.c_str());
-        }
+        const bool found = agreesWithReference(seed, input, &selections);
+        feasible += found ? 1U : 0U;
+        infeasible += found ? 0U : 1U;
     }
     std::printf("\n  exhaustive reference: %zu plans with a valid selection, %zu without; %zu selections judged\n",
                 feasible, infeasible, selections);
@@ -438,21 +446,10 @@ TEST(MethodSelector, EqualsTheReferenceOnRandomPlansMidExecution) {
             const std::int32_t at = uniform(0, 40) * kSecond;
             input.executedAtMs[e] = executed ? at : kInfiniteMs;
         }
-        const SelectionParams params = unlimited();
-        const SelectionStatus st = selector.solve(plan, input, params, &result);
-        const ReferenceOutcome ref = exhaustiveOptimum(plan, input, params, &stn);
-        const std::string where = "seed " + std::to_string(seed);
-        if (ref.found) {
-            ++feasible;
-            CHECK_TEXT(st == SelectionStatus::kSelected, where.c_str());
-            DOUBLES_EQUAL_TEXT(ref.cost, result.cost, 1e-9 * (1.0 + std::fabs(ref.cost)), where.c_str());
-            std::uint8_t pick[kMaxChoices] = {};
-            pickOf(result.selection, plan.choiceCount, pick);
-            CHECK_TEXT(referenceValid(plan, pick, input, &stn), where.c_str());
-        } else {
-            ++infeasible;
-            CHECK_TEXT(st == SelectionStatus::kNoneExists, where.c_str());
-        }
+        std::size_t selections = 0;
+        const bool found = agreesWithReference(seed, input, &selections);
+        feasible += found ? 1U : 0U;
+        infeasible += found ? 0U : 1U;
     }
     std::printf("\n  mid-execution reference: %zu plans with a valid selection, %zu without\n", feasible, infeasible);
     CHECK(feasible > 20);
