@@ -198,7 +198,8 @@ public:
     // The activity failed at nowMs: kFailed, regeneration. Refused as completed().
     core::Status failed(std::uint16_t activity, std::int32_t nowMs, DispatchOutput* out);
     // Stops the plan (no alternative remains): every running activity
-    // cancelled (Cancel), the dispatcher idle.
+    // cancelled (Cancel in *out; with out null nothing is cancelled, the
+    // dispatcher only stops), the dispatcher idle.
     void abort(DispatchOutput* out);
 
     // Where execution stands, for a re-selection at nowMs: not before nowMs,
