@@ -5,8 +5,8 @@
 // with the done activities carried over, image(target 2) dispatched, the
 // costs before and after; a dropped running activity cancelled; events with
 // no activity waiting for their windows and their predecessors, and a missed
-// window; refusals; the sliced check; bounded output and no heap over many
-// ticks.
+// window; refusals; abort; the sliced check; bounded output and no heap
+// over many ticks.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -154,6 +154,19 @@ TEST(PlanDispatcher, AnEarlyCompletionIsHeldToItsEarliest) {
     CHECK_EQUAL(2U, dispatcher.counts().early);
     tickNothing(170 * kS);
     tickStarts(180 * kS, kDrive2);
+}
+
+TEST(PlanDispatcher, AbortCancelsWhatRuns) {
+    parsed(kTwoTargetsText);
+    selectAndStart(SelectionInput{});
+    tickStarts(0, kDrive1);
+    dispatcher.abort(&out);
+    onlyCommand(DispatchCommandKind::kCancel, kDrive1);
+    CHECK(dispatcher.state(kDrive1) == ActivityState::kCancelled);
+    CHECK(dispatcher.state(kSample1) == ActivityState::kWaiting);
+    CHECK(dispatcher.phase() == DispatchPhase::kIdle);
+    CHECK(dispatcher.tick(1, &out) == Status::kNotInitialized);
+    CHECK_EQUAL(1U, dispatcher.counts().cancelled);
 }
 
 TEST(PlanDispatcher, ALateActivityIsCancelledAndThePlanRegenerated) {
