@@ -109,13 +109,36 @@ double selectionCost(const Tpn& plan, const Selection& s, const SelectionInput& 
     return cost;
 }
 
-core::Status loadStn(const Tpn& plan, const Selection& s, Stn* stn) {
-    if (stn == nullptr || plan.activityCount > kMaxActivities || plan.constraintCount > kMaxConstraints) {
+namespace {
+
+bool timeOk(std::int32_t t) { return t >= 0 && t <= kMaxBoundMs; }
+
+// Where execution stands is usable: times after the start, within the bounds' range.
+bool executionOk(const SelectionInput& input, std::size_t events) {
+    bool ok = timeOk(input.notBeforeMs);
+    for (std::size_t e = 1; e < events && e < kMaxEvents; ++e) {
+        ok = ok && (input.executedAtMs[e] == kInfiniteMs || timeOk(input.executedAtMs[e]));
+    }
+    return ok;
+}
+
+// The start's bounds to event e (SelectionInput "Regeneration"); input null: [0, inf).
+Bounds fromStart(const SelectionInput* input, std::size_t e) {
+    if (input == nullptr) {
+        return Bounds{0, kInfiniteMs};
+    }
+    const std::int32_t at = input->executedAtMs[e];
+    return at == kInfiniteMs ? Bounds{input->notBeforeMs, kInfiniteMs} : Bounds{at, at};
+}
+
+core::Status loadStnFrom(const Tpn& plan, const Selection& s, const SelectionInput* input, Stn* stn) {
+    if (stn == nullptr || plan.activityCount > kMaxActivities || plan.constraintCount > kMaxConstraints ||
+        (input != nullptr && !executionOk(*input, plan.eventCount))) {
         return core::Status::kInvalidArgument;
     }
     core::Status st = stn->reset(plan.eventCount);
     for (std::size_t e = 1; e < plan.eventCount && core::isOk(st); ++e) {
-        st = stn->addBounds(0, e, Bounds{0, kInfiniteMs});
+        st = stn->addBounds(0, e, fromStart(input, e));
     }
     for (std::size_t a = 0; a < plan.activityCount && core::isOk(st); ++a) {
         const Activity& act = plan.activities[a];
@@ -126,6 +149,14 @@ core::Status loadStn(const Tpn& plan, const Selection& s, Stn* stn) {
         st = exists(tc.guard, s) ? stn->addBounds(tc.from, tc.to, tc.bounds) : st;
     }
     return st;
+}
+
+}  // namespace
+
+core::Status loadStn(const Tpn& plan, const Selection& s, Stn* stn) { return loadStnFrom(plan, s, nullptr, stn); }
+
+core::Status loadStn(const Tpn& plan, const Selection& s, const SelectionInput& input, Stn* stn) {
+    return loadStnFrom(plan, s, &input, stn);
 }
 
 // ---------------------------------------------------------------------------
@@ -196,7 +227,8 @@ void MethodSelector::analyse(const SelectionInput& input) {
         for (std::size_t k = 0; k < act.askCount && activityOk_[a]; ++k) {
             const Condition& c = act.asks[k];
             if (!c.planVariable) {
-                activityOk_[a] = componentAskHolds(c, input);
+                // A started activity's Asks held when it started (SelectionInput).
+                activityOk_[a] = input.started[a] || componentAskHolds(c, input);
                 activityWhy_[a] = RejectReason::kAskFailed;
                 continue;
             }
@@ -300,7 +332,7 @@ std::int32_t MethodSelector::tightestInGroup(std::size_t g, std::size_t from, st
     return w;
 }
 
-void MethodSelector::buildNetwork() {
+void MethodSelector::buildNetwork(const SelectionInput& input) {
     const Tpn& plan = *plan_;
     // [lb, ub] from a to b: b - a <= ub (none when ub is infinite) and a - b <= -lb.
     edgeCount_ = 0;
@@ -318,8 +350,11 @@ void MethodSelector::buildNetwork() {
         const TemporalConstraint& tc = plan.constraints[k];
         addBounds(tc.from, tc.to, tc.bounds, tc.guard);
     }
+    // The start precedes every event; where execution stands, an executed
+    // event is fixed and the others are no earlier than notBeforeMs.
     for (std::size_t e = 1; e < n_; ++e) {
-        addEdge(e, 0, 0, 0);  // the start precedes every event
+        const Bounds b = fromStart(&input, e);
+        addBounds(0, e, b, Guard{});
     }
     sortEdgesByGroup();
     // Implied edges: an edge a -> b that every usable option of a choice
@@ -378,13 +413,13 @@ core::Status MethodSelector::start(const Tpn& plan, const SelectionInput& input,
     params_ = params;
     const bool paramsOk = std::isfinite(params.degradedPenalty) && params.degradedPenalty >= 0.0 &&
                           std::isfinite(params.drivePenalty) && params.drivePenalty >= 0.0 && params.workBudget > 0;
-    if (!paramsOk || !validate(plan)) {
+    if (!paramsOk || !validate(plan) || !executionOk(input, plan.eventCount)) {
         finish(SelectionStatus::kBadPlan);
         return core::Status::kInvalidArgument;
     }
     n_ = plan.eventCount;
     analyse(input);
-    buildNetwork();
+    buildNetwork(input);
     if (!baseOk_) {
         reject(baseWhy_);
         finish(SelectionStatus::kNoneExists);

@@ -80,7 +80,7 @@
 // kNoneExists: proven, no valid selection. kNoneFound: none found within the
 // budget. kBadPlan: start() refused the plan (kInvalidArgument).
 //
-// Memory: sizeof(MethodSelector) = 44 800 B on x86-64 (bench_plan_executive
+// Memory: sizeof(MethodSelector) = 48 640 B on x86-64 (bench_plan_executive
 // prints it): the kMaxEdges edges (tail, head, weight, group, on) and their
 // two indexes (by group, by tail), per-event potentials and Dijkstra scratch,
 // the option tables, the search stack of kMaxChoices levels, two selections.
@@ -114,11 +114,38 @@ inline bool exists(const Guard& guard, const Selection& s) {
     return !guard.guarded() || (guard.choice < kMaxChoices && s.option[guard.choice] == guard.option);
 }
 
-// What selection is made under: the components' states and the options the
-// executive has deprecated.
+// What selection is made under: the components' states, the options the
+// executive has deprecated and, for a plan re-selected mid-execution (a
+// regeneration), where execution stands.
+//
+// Regeneration. Times are ms since the plan's start (event 0, at 0). An event
+// already executed is fixed at its time: executedAtMs[e] (kInfiniteMs: not
+// executed; executedAtMs[0] is ignored, the start is at 0). Every event not
+// yet executed happens at or after notBeforeMs ("now"). In the network the
+// start's edge pair to an event is then [executedAtMs, executedAtMs] or
+// [notBeforeMs, inf) instead of [0, inf), so an option whose bounds can no
+// longer be met from here is ruled out, and executed times that contradict
+// the plan give kNoneExists. An option already under way (its activity
+// started) is not forced here: the caller forces it by deprecating the
+// choice's other options. An activity already started (done, or running
+// and not failed) is marked in started[]: its component Asks held when it
+// started and are not judged again (a grinder failing after sample 1 leaves
+// that sample's option usable; a running activity whose component failed is
+// to be reported failed, and not marked, first). Defaults (0, nothing
+// executed or started) change nothing.
+// start() refuses (kInvalidArgument) notBeforeMs outside [0, kMaxBoundMs] and
+// an executed time outside [0, kMaxBoundMs].
 struct SelectionInput {
     ComponentState components[kComponentCount] = {};  // all kOk
     bool deprecated[kMaxChoices][kMaxOptions] = {};
+    std::int32_t notBeforeMs = 0;
+    std::int32_t executedAtMs[kMaxEvents];  // kInfiniteMs: not executed
+    bool started[kMaxActivities] = {};
+    SelectionInput() {
+        for (std::int32_t& t : executedAtMs) {
+            t = kInfiniteMs;
+        }
+    }
 };
 
 // The expected-cost model's penalties (table-driven later); each >= 0.
@@ -178,13 +205,20 @@ double selectionCost(const Tpn& plan, const Selection& s, const SelectionInput& 
 // constraints and the start's [0, inf) to every event, added to a reset
 // network (not checked). kInvalidArgument for a plan outside the limits.
 core::Status loadStn(const Tpn& plan, const Selection& s, Stn* stn);
+// The same with where execution stands (SelectionInput "Regeneration"): the
+// start's bounds to an event are [executedAtMs, executedAtMs] when executed,
+// else [notBeforeMs, inf): the network the selector judged, which the
+// dispatcher executes. kInvalidArgument as start() refuses the times.
+core::Status loadStn(const Tpn& plan, const Selection& s, const SelectionInput& input, Stn* stn);
 
 class MethodSelector {
 public:
     // The network's edges: an activity's or constraint's two (one when ub
-    // is infinite), each event's "after the start", and the implied edges
-    // (at most one per edge of the choices' options).
-    static constexpr std::size_t kMaxEdges = 4 * (kMaxActivities + kMaxConstraints) + kMaxEvents;
+    // is infinite), the implied edges (at most one per edge of the choices'
+    // options), and each event's bounds from the start: one edge ("not
+    // before"), two for an executed event (SelectionInput "Regeneration").
+    static constexpr std::size_t kMaxEdges = 4 * (kMaxActivities + kMaxConstraints) + 2 * kMaxEvents;
+    static_assert(kMaxEdges < 0xFFFF, "edge indexes are 16 bits");
     // The most one action does. The largest is a Dijkstra settle: the queue
     // scan, one event's edges, then committing and clearing what the
     // Dijkstra touched. The others are smaller: undoing a thread
@@ -196,7 +230,8 @@ public:
     // Checks and analyses the plan and starts a selection. kInvalidArgument
     // (status kBadPlan, finished) for a plan outside tpn.hpp's limits or
     // rules (indices, guards, nesting cycles, lb > ub, negative or
-    // non-finite costs), negative or non-finite penalties or a zero budget.
+    // non-finite costs), negative or non-finite penalties, a zero budget or
+    // execution times out of range (SelectionInput "Regeneration").
     core::Status start(const Tpn& plan, const SelectionInput& input, const SelectionParams& params);
 
     // Runs actions until maxUnits work units are done (the last action may
@@ -233,7 +268,7 @@ private:
 
     bool validate(const Tpn& plan) const;
     void analyse(const SelectionInput& input);
-    void buildNetwork();
+    void buildNetwork(const SelectionInput& input);
     void addEdge(std::size_t from, std::size_t to, std::int32_t weight, std::size_t g);
     void sortEdgesByGroup();
     // The tightest weight of the group's edges from -> to (kInfiniteMs: none).

@@ -2,7 +2,9 @@
 // bench_plan_executive): every selection of a small plan enumerated and
 // judged on its own, with nothing of the selector's search, bound, presolve
 // or incremental network: existence from the guards, the Asks against the
-// states, deprecations, the STN built here and closed by Floyd-Warshall
+// states, deprecations, where execution stands (executed times, not before,
+// started activities' Asks taken as held),
+// the STN built here and closed by Floyd-Warshall
 // (stn.hpp), supports read off the closed matrix, the cost summed here.
 // Exponential: for plans of a few choices.
 #pragma once
@@ -81,8 +83,11 @@ inline bool referenceValid(const Tpn& t, const std::uint8_t* pick, const Selecti
         return false;
     }
     bool ok = true;
+    // Where execution stands: an executed event at its time, the others from notBeforeMs on.
     for (std::size_t e = 1; e < t.eventCount; ++e) {
-        ok = ok && stn->addBounds(0, e, Bounds{0, kInfiniteMs}) == rse::core::Status::kOk;
+        const std::int32_t at = in.executedAtMs[e];
+        const Bounds fromStart = at == kInfiniteMs ? Bounds{in.notBeforeMs, kInfiniteMs} : Bounds{at, at};
+        ok = ok && stn->addBounds(0, e, fromStart) == rse::core::Status::kOk;
     }
     for (std::size_t i = 0; i < t.activityCount && ok; ++i) {
         const Activity& a = t.activities[i];
@@ -91,7 +96,8 @@ inline bool referenceValid(const Tpn& t, const std::uint8_t* pick, const Selecti
         }
         for (std::size_t k = 0; k < a.askCount; ++k) {
             const Condition& q = a.asks[k];
-            const bool holds = (in.components[q.variable] == static_cast<ComponentState>(q.value)) != q.negated;
+            const bool holds =
+                in.started[i] || (in.components[q.variable] == static_cast<ComponentState>(q.value)) != q.negated;
             ok = ok && (q.planVariable || holds);
         }
         ok = ok && stn->addBounds(a.from, a.to, a.duration) == rse::core::Status::kOk;

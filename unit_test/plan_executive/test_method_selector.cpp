@@ -4,12 +4,15 @@
 // valid selection reported as proven, the expected-cost penalties, bad plans;
 // exactness against an exhaustive reference on seeded random plans; the hard
 // work budget on the largest plan; sliced runs equal to one-shot runs; no
-// heap use.
+// heap use. Regeneration inputs (executed times, not before): a late first
+// activity rules out the slow option, contradicting times give kNoneExists,
+// random plans with random execution states against the reference.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <random>
 #include <string>
 
 #include "fsw/plan_executive/method_selector.hpp"
@@ -23,6 +26,7 @@
 using namespace rse::plan_executive;
 using rse::core::Status;
 using rse::test::plan::exhaustiveOptimum;
+using rse::test::plan::kTwoTargetsText;
 using rse::test::plan::missionPlan;
 using rse::test::plan::pickOf;
 using rse::test::plan::PlanBuilder;
@@ -61,6 +65,28 @@ void checkDispatchable(const Tpn& t, const Selection& s, const SelectionInput& i
     std::uint8_t pick[kMaxChoices] = {};
     pickOf(s, t.choiceCount, pick);
     CHECK(referenceValid(t, pick, input, &stn));
+}
+
+// The plan selected under the input (unlimited budget) agrees with the
+// exhaustive reference: status, cost, and the selection valid and priced
+// alike by the reference. True when a valid selection exists.
+bool agreesWithReference(std::uint32_t seed, const SelectionInput& input, std::size_t* selections) {
+    const SelectionParams params = unlimited();
+    const SelectionStatus st = selector.solve(plan, input, params, &result);
+    const ReferenceOutcome ref = exhaustiveOptimum(plan, input, params, &stn);
+    *selections += ref.selections;
+    const std::string where = "seed " + std::to_string(seed);
+    if (!ref.found) {
+        CHECK_TEXT(st == SelectionStatus::kNoneExists, where.c_str());
+        return false;
+    }
+    CHECK_TEXT(st == SelectionStatus::kSelected, where.c_str());
+    DOUBLES_EQUAL_TEXT(ref.cost, result.cost, 1e-9 * (1.0 + std::fabs(ref.cost)), where.c_str());
+    std::uint8_t pick[kMaxChoices] = {};
+    pickOf(result.selection, plan.choiceCount, pick);
+    CHECK_TEXT(referenceValid(plan, pick, input, &stn), where.c_str());
+    DOUBLES_EQUAL_TEXT(referenceCost(plan, pick, input, params), result.cost, 1e-9, where.c_str());
+    return true;
 }
 
 }  // namespace
@@ -272,29 +298,162 @@ TEST(MethodSelector, EqualsTheExhaustiveReferenceOnRandomPlans) {
     for (std::uint32_t seed = 1; seed <= 600; ++seed) {
         SelectionInput input;
         randomSmallPlan(seed, 6, &plan, &input);
-        const SelectionParams params = unlimited();
-        const SelectionStatus st = selector.solve(plan, input, params, &result);
-        const ReferenceOutcome ref = exhaustiveOptimum(plan, input, params, &stn);
-        selections += ref.selections;
-        const std::string where = "seed " + std::to_string(seed);
-        if (ref.found) {
-            ++feasible;
-            CHECK_TEXT(st == SelectionStatus::kSelected, where.c_str());
-            DOUBLES_EQUAL_TEXT(ref.cost, result.cost, 1e-9 * (1.0 + std::fabs(ref.cost)), where.c_str());
-            std::uint8_t pick[kMaxChoices] = {};
-            pickOf(result.selection, plan.choiceCount, pick);
-            CHECK_TEXT(referenceValid(plan, pick, input, &stn), where.c_str());
-            DOUBLES_EQUAL_TEXT(referenceCost(plan, pick, input, params), result.cost, 1e-9, where.c_str());
-        } else {
-            ++infeasible;
-            CHECK_TEXT(st == SelectionStatus::kNoneExists, where.c_str());
-        }
+        const bool found = agreesWithReference(seed, input, &selections);
+        feasible += found ? 1U : 0U;
+        infeasible += found ? 0U : 1U;
     }
     std::printf("\n  exhaustive reference: %zu plans with a valid selection, %zu without; %zu selections judged\n",
                 feasible, infeasible, selections);
     // The generator must exercise both outcomes.
     CHECK(feasible > 100);
     CHECK(infeasible > 30);
+}
+
+namespace {
+
+constexpr std::int32_t kSecond = 1000;
+
+void parsed(const char* text) {
+    const ParseResult r = rse::test::plan::parseText(text, &plan);
+    CHECK_TEXT(r.error == PlanError::kOk, toString(r.error));
+}
+
+// A drive to a, then a slow cheap sample or a fast dear image, all done by 1000 s.
+const char* const kOneStop =
+    "plan one_stop; event a; event b; choice science sample image\n"
+    "activity go drive start a [60, 900] cost 10 at 1 0\n"
+    "activity s sample a b [300, 600] cost 5 target 1 when science.sample\n"
+    "activity i image a b [30, 60] cost 8 target 1 when science.image\n"
+    "constraint start b [0, 1000]\n"
+    "end\n";
+
+}  // namespace
+
+TEST(MethodSelector, ALateFirstActivityRulesOutTheSlowOption) {
+    parsed(kOneStop);
+    constexpr std::uint16_t kA = 1, kB = 2;
+    SelectionInput input;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[0]);
+    DOUBLES_EQUAL(15.0, result.cost, 1e-12);
+    // The drive arrived at 650 s: the sample (>= 300 s) still ends by 1000 s.
+    input.executedAtMs[kA] = 650 * kSecond;
+    input.notBeforeMs = 650 * kSecond;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[0]);
+    // At 800 s it cannot: the image is chosen, dearer.
+    input.executedAtMs[kA] = 800 * kSecond;
+    input.notBeforeMs = 800 * kSecond;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kImage, result.selection.option[0]);
+    DOUBLES_EQUAL(18.0, result.cost, 1e-12);
+    CHECK(rejected(RejectReason::kInconsistent) >= 1U);
+    checkDispatchable(plan, result.selection, input);
+    // The dispatcher's network (loadStn with the input) holds a at its time.
+    CHECK(loadStn(plan, result.selection, input, &stn) == Status::kOk);
+    CHECK(stn.check() == StnState::kConsistent);
+    CHECK_EQUAL(800 * kSecond, stn.window(kA).earliestMs);
+    CHECK_EQUAL(800 * kSecond, stn.window(kA).latestMs);
+    CHECK_EQUAL(830 * kSecond, stn.window(kB).earliestMs);
+    CHECK_EQUAL(860 * kSecond, stn.window(kB).latestMs);
+    // Not before alone (nothing executed yet) rules the sample out too.
+    input = SelectionInput{};
+    input.notBeforeMs = 800 * kSecond;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kImage, result.selection.option[0]);
+}
+
+TEST(MethodSelector, TwoTargetsReSelectedWithTheFirstScienceDoneAndALongDrive) {
+    parsed(kTwoTargetsText);
+    CHECK(selector.solve(plan, SelectionInput{}, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[1]);
+    DOUBLES_EQUAL(32.5, result.cost, 1e-12);
+    // Sampled target 1 (at1 600 s, done1 800 s); the second drive took until
+    // 3500 s: sampling target 2 (>= 120 s) would pass the 3600 s deadline.
+    // The first choice is done: the caller forces it by deprecating image1.
+    SelectionInput input;
+    input.executedAtMs[1] = 600 * kSecond;
+    input.executedAtMs[2] = 800 * kSecond;
+    input.executedAtMs[3] = 3500 * kSecond;
+    input.notBeforeMs = 3500 * kSecond;
+    input.deprecated[0][kImage] = true;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[0]);
+    CHECK_EQUAL(kImage, result.selection.option[1]);
+    DOUBLES_EQUAL(37.5, result.cost, 1e-12);
+    checkDispatchable(plan, result.selection, input);
+    // The grinder has failed since: sample(target 1) is done, its Ask is not
+    // judged again when it is marked started; unmarked, nothing is left.
+    input.components[static_cast<std::size_t>(Component::kGrinder)] = ComponentState::kFailed;
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kNoneExists);
+    input.started[0] = input.started[1] = input.started[3] = true;  // drive1, sample1, drive2
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK_EQUAL(kSample, result.selection.option[0]);
+    CHECK_EQUAL(kImage, result.selection.option[1]);
+    checkDispatchable(plan, result.selection, input);
+}
+
+TEST(MethodSelector, ExecutedTimesThatContradictThePlanHaveNoSelection) {
+    parsed(kOneStop);
+    SelectionInput input;
+    input.executedAtMs[1] = 30 * kSecond;  // the drive takes at least 60 s
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kNoneExists);
+    CHECK_FALSE(result.hasSelection);
+    input.executedAtMs[1] = 950 * kSecond;  // and at most 900 s
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kNoneExists);
+    input.executedAtMs[1] = kInfiniteMs;
+    input.notBeforeMs = 1001 * kSecond;  // b can no longer meet its deadline
+    CHECK(selector.solve(plan, input, unlimited(), &result) == SelectionStatus::kNoneExists);
+    // Times out of range are refused, not judged.
+    input.notBeforeMs = -1;
+    CHECK(selector.start(plan, input, unlimited()) == Status::kInvalidArgument);
+    CHECK(loadStn(plan, Selection{}, input, &stn) == Status::kInvalidArgument);
+    input.notBeforeMs = 0;
+    input.executedAtMs[2] = kMaxBoundMs + 1;
+    CHECK(selector.start(plan, input, unlimited()) == Status::kInvalidArgument);
+    input.executedAtMs[2] = kInfiniteMs;
+    input.executedAtMs[0] = -5;  // ignored: the start is at 0
+    CHECK(selector.start(plan, input, unlimited()) == Status::kOk);
+}
+
+TEST(MethodSelector, DefaultExecutionInputsLoadTheSameNetwork) {
+    parsed(kTwoTargetsText);
+    CHECK(selector.solve(plan, SelectionInput{}, unlimited(), &result) == SelectionStatus::kSelected);
+    CHECK(loadStn(plan, result.selection, &stn) == Status::kOk);
+    CHECK(stn.check() == StnState::kConsistent);
+    static Stn withInput;
+    CHECK(loadStn(plan, result.selection, SelectionInput{}, &withInput) == Status::kOk);
+    CHECK(withInput.check() == StnState::kConsistent);
+    for (std::size_t a = 0; a < plan.eventCount; ++a) {
+        for (std::size_t b = 0; b < plan.eventCount; ++b) {
+            CHECK_EQUAL(stn.distance(a, b), withInput.distance(a, b));
+        }
+    }
+}
+
+TEST(MethodSelector, EqualsTheReferenceOnRandomPlansMidExecution) {
+    // The random plans again, re-selected mid-execution: a random "not
+    // before" and about a third of the events executed at random times.
+    std::size_t feasible = 0, infeasible = 0;
+    for (std::uint32_t seed = 1; seed <= 300; ++seed) {
+        SelectionInput input;
+        randomSmallPlan(seed, 6, &plan, &input);
+        std::mt19937 rng(seed * 7919U);
+        const auto uniform = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+        input.notBeforeMs = uniform(0, 20) * kSecond;
+        for (std::size_t e = 1; e < plan.eventCount; ++e) {
+            const bool executed = uniform(0, 2) == 0;
+            const std::int32_t at = uniform(0, 40) * kSecond;
+            input.executedAtMs[e] = executed ? at : kInfiniteMs;
+        }
+        std::size_t selections = 0;
+        const bool found = agreesWithReference(seed, input, &selections);
+        feasible += found ? 1U : 0U;
+        infeasible += found ? 0U : 1U;
+    }
+    std::printf("\n  mid-execution reference: %zu plans with a valid selection, %zu without\n", feasible, infeasible);
+    CHECK(feasible > 20);
+    CHECK(infeasible > 20);
 }
 
 TEST(MethodSelector, TheWorkBudgetIsHardOnTheLargestPlan) {

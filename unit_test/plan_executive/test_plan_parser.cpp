@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fsw/plan_executive/plan_parser.hpp"
+#include "unit_test/plan_executive/tpn_builders.hpp"
 #include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -35,24 +36,8 @@ void refused(const std::string& text, PlanError error, std::uint32_t line, const
     LONGS_EQUAL(0, plan.choiceCount);
 }
 
-const char* const kTwoTargets =
-    "# Two targets: sample each with the grinder, or image it if the grinder is out.\n"
-    "plan two_targets\n"
-    "var sampled no yes\n"
-    "event at1\n"
-    "event done1\n"
-    "event at2\n"
-    "event done2\n"
-    "choice science1 sample image cost 2\n"
-    "choice science2 sample image cost 2\n"
-    "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 0.8 ask drive_ML!=failed\n"
-    "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok tell sampled=yes when science1.sample\n"
-    "activity image1 image at1 done1 [30, 60] cost 8 target 1 ask camera=ok when science1.image\n"
-    "activity drive2 drive done1 at2 [60, inf] cost 12.5 at 20 5\n"
-    "activity sample2 sample at2 done2 [120, 300] cost 5 target 2 ask grinder=ok when science2.sample\n"
-    "activity image2 image at2 done2 [30, 60] cost 8 target 2 ask camera=ok when science2.image\n"
-    "constraint start done2 [0, 3600]\n"
-    "end\n";
+// The example of docs/plan_executive.md (tpn_builders.hpp).
+const char* const kTwoTargets = rse::test::plan::kTwoTargetsText;
 
 }  // namespace
 

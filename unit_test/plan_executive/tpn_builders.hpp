@@ -9,14 +9,41 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 
 #include "fsw/plan_executive/method_selector.hpp"
+#include "fsw/plan_executive/plan_parser.hpp"
 #include "fsw/plan_executive/tpn.hpp"
 
 namespace rse::test::plan {
 
 using namespace rse::plan_executive;
+
+// The two-targets example of docs/plan_executive.md as text (as in
+// unit_test/fuzz/corpus/plan/two_targets.plan), for parsePlan: bounds in
+// seconds, the parser's costs (not twoTargets() below).
+inline constexpr const char* kTwoTargetsText =
+    "# Two targets: sample each with the grinder, or image it if the grinder is out.\n"
+    "plan two_targets\n"
+    "var sampled no yes\n"
+    "event at1\n"
+    "event done1\n"
+    "event at2\n"
+    "event done2\n"
+    "choice science1 sample image cost 2\n"
+    "choice science2 sample image cost 2\n"
+    "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 0.8 ask drive_ML!=failed\n"
+    "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok tell sampled=yes when science1.sample\n"
+    "activity image1 image at1 done1 [30, 60] cost 8 target 1 ask camera=ok when science1.image\n"
+    "activity drive2 drive done1 at2 [60, inf] cost 12.5 at 20 5\n"
+    "activity sample2 sample at2 done2 [120, 300] cost 5 target 2 ask grinder=ok when science2.sample\n"
+    "activity image2 image at2 done2 [30, 60] cost 8 target 2 ask camera=ok when science2.image\n"
+    "constraint start done2 [0, 3600]\n"
+    "end\n";
+
+// A NUL-terminated plan text parsed into *t.
+inline ParseResult parseText(const char* text, Tpn* t) { return parsePlan(text, std::strlen(text), t); }
 
 inline Guard under(std::size_t choice, std::size_t option) {
     Guard g;
