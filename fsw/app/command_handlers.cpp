@@ -1,10 +1,14 @@
 #include "fsw/app/command_handlers.hpp"
 
+#include <algorithm>
+#include <cstring>
+
 #include "fsw/app/app_events.hpp"
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 
 namespace rse::app {
 
@@ -195,6 +199,11 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
         case CommandCode::TABLE_ACTIVATE:
         case CommandCode::TABLE_DUMP:
             return executeTable(verdict);
+        case CommandCode::PLAN_LOAD:
+        case CommandCode::PLAN_START:
+        case CommandCode::PLAN_SHORT:
+        case CommandCode::PLAN_ABORT:
+            return executePlan(verdict);
         case CommandCode::kCount:
             break;
     }
@@ -267,6 +276,45 @@ CommandOutcome AppCommandHandler::executeTable(const cmdtlm::CommandVerdict& ver
         return failed(static_cast<std::int16_t>(check.reason));
     }
     return {};
+}
+
+// The plan commands go to the plan executive task as they are: it checks
+// them (offsets, length, CRC, the text) and events every refusal. The
+// command is accepted when the bus took the message (detail 0: it did not).
+CommandOutcome AppCommandHandler::executePlan(const cmdtlm::CommandVerdict& verdict) {
+    msg::PlanCommandMsg& m = planCommand_;
+    m = msg::PlanCommandMsg{};
+    m.timeNs = parts_.clock.now();
+    switch (verdict.command->code) {
+        case CommandCode::PLAN_LOAD: {
+            const auto a = decoded<cmdtlm::PLAN_LOAD_Args>(verdict);
+            m.kind = msg::PlanCommandKind::kChunk;
+            m.offset = a.offset;
+            m.length = static_cast<std::uint16_t>(std::min<std::size_t>(a.data_length, msg::kPlanChunkBytes));
+            std::memcpy(m.data, a.data, m.length);
+            break;
+        }
+        case CommandCode::PLAN_START: {
+            const auto a = decoded<cmdtlm::PLAN_START_Args>(verdict);
+            m.kind = msg::PlanCommandKind::kStart;
+            m.textLength = a.length;
+            m.crc32 = a.crc32;
+            break;
+        }
+        case CommandCode::PLAN_SHORT: {
+            const auto a = decoded<cmdtlm::PLAN_SHORT_Args>(verdict);
+            m.kind = msg::PlanCommandKind::kShort;
+            m.length = static_cast<std::uint16_t>(std::min<std::size_t>(a.text_length, msg::kPlanChunkBytes));
+            std::memcpy(m.data, a.text, m.length);
+            break;
+        }
+        case CommandCode::PLAN_ABORT:
+            m.kind = msg::PlanCommandKind::kAbort;
+            break;
+        default:
+            return failed(-1);
+    }
+    return core::isOk(parts_.bus.publish(m)) ? CommandOutcome{} : failed(0);
 }
 
 void AppCommandHandler::setMode(cmdtlm::Mode mode) {

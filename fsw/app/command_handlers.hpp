@@ -2,7 +2,7 @@
 // (fsw/cmdtlm/command_task.hpp). Owns the rover mode and the software e-stop
 // flag and announces both on the bus (ModeMsg); mission goals go to the goal
 // list (GoalListMsg), manual drives to the manual-drive task, table commands to
-// the table service, counter resets to everything that counts. Onboard layers
+// the table service, plan commands to the plan executive (PlanCommandMsg), counter resets to everything that counts. Onboard layers
 // may ask for SAFE (SafeRequestMsg, pipe "mode_requests"); fault protection may
 // ask for a stalled rate-group row to run again (TaskRestartMsg, same pipe);
 // ground may disable or enable a row (EXEC_SET_TASK), except the rows whose
@@ -18,6 +18,7 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/deliberative/goal_list.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::app {
@@ -65,6 +66,7 @@ public:
 
 private:
     cmdtlm::CommandOutcome executeTable(const cmdtlm::CommandVerdict& verdict);
+    cmdtlm::CommandOutcome executePlan(const cmdtlm::CommandVerdict& verdict);
     cmdtlm::CommandOutcome setTask(const cmdtlm::EXEC_SET_TASK_Args& args);
     void setMode(cmdtlm::Mode mode);
     void setEstop(bool set);
@@ -90,6 +92,7 @@ private:
     TaskCommandRefusal lastTaskRefusal_ = TaskCommandRefusal::kNone;
     TaskCommandRefusal protected_[core::kMaxTasks] = {};  // kNone: ground may disable the row
     core::Message inbox_{};
+    msg::PlanCommandMsg planCommand_{};  // kept off the stack
 };
 
 }  // namespace rse::app

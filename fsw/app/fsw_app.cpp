@@ -47,7 +47,8 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
       habitual_(bus_, events_, tables_),
-      deliberative_(bus_, events_, tables_) {
+      deliberative_(bus_, events_, tables_),
+      planExecutive_(bus_, events_) {
     handler_.attach(&commands_, &telemetry_);
 }
 
@@ -112,6 +113,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(deliberative_.init(), "deliberative layer init");
     }
     if (core::isOk(status)) {
+        status = initStep(planExecutive_.init(), "plan executive init");
+    }
+    if (core::isOk(status)) {
         status = initStep(handler_.init(), "command handlers init");
     }
     if (!core::isOk(status)) {
@@ -133,7 +137,9 @@ core::Status FswApp::init(std::FILE* console) {
     // after them so it steers from this frame's pose. The habitual layer runs at
     // 10 Hz on its own offset, so its planning slice does not share a frame with
     // housekeeping or the console; the deliberative layer likewise on offset 7,
-    // its planner sliced to about kSliceWork per run. The watchdog is fed last
+    // its planner sliced to about kSliceWork per run, the plan executive just
+    // before it (what it asks of the deliberative layer is seen in the same
+    // frame; its selection and network check sliced, plan_executive_task.hpp). The watchdog is fed last
     // in its frame, from what every task left behind. Command ingest has 2 ms: draining
     // a 100 000 packet/s flood of the UDP link takes 0.5-0.8 ms a frame (docs/icd.md
     // "Floods"); it is also timed in thread CPU time (cpu_timed), so an overrun it
@@ -155,6 +161,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"telemetry", &telemetry_, 1, 0, 2000},
         {"console", &console_, 10, 1, 2000},
         {"habitual", &habitual_, 10, 5, 4000},
+        {"plan_exec", &planExecutive_, 10, 7, 2000},
         {"deliberative", &deliberative_, 10, 7, 5000},
         {"watchdog", &watchdog_, 10, 3, 100},
     };

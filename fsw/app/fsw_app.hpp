@@ -26,6 +26,7 @@
 #include "fsw/estimator/pose_estimator_task.hpp"
 #include "fsw/fault_protection/fault_protection_task.hpp"
 #include "fsw/habitual/habitual_task.hpp"
+#include "fsw/plan_executive/plan_executive_task.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "fsw/reflexive/trajectory_task.hpp"
 #include "fsw/tables/table_service.hpp"
@@ -93,6 +94,7 @@ public:
     const reflexive::TrajectoryTask& follower() const { return follower_; }
     const habitual::HabitualTask& habitual() const { return habitual_; }
     const deliberative::DeliberativeTask& deliberative() const { return deliberative_; }
+    const plan_executive::PlanExecutiveTask& planExecutive() const { return planExecutive_; }
 
 private:
     core::Status initStep(core::Status status, const char* what);
@@ -122,6 +124,7 @@ private:
     // planner): an FswApp belongs in static storage.
     habitual::HabitualTask habitual_;
     deliberative::DeliberativeTask deliberative_;
+    plan_executive::PlanExecutiveTask planExecutive_;
 };
 
 }  // namespace rse::app

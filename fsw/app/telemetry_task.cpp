@@ -10,11 +10,12 @@ namespace rse::app {
 core::Status TelemetryTask::init() {
     // Depth: drive status and the pose estimate arrive every frame, at most one
     // status per instrument, the rest seldom, and this task runs every frame.
-    core::Status status = bus_.createPipe("telemetry", 12, &pipe_);
+    core::Status status = bus_.createPipe("telemetry", 13, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
                                msg::ids::kGoalList, msg::ids::kPlanStatus, msg::ids::kFaultProtectionStatus,
-                               msg::ids::kMissionHold, msg::ids::kInstrumentStatus};
+                               msg::ids::kMissionHold, msg::ids::kInstrumentStatus,
+                               msg::ids::kPlanExecutiveStatus};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -50,6 +51,10 @@ void TelemetryTask::run(const core::FrameContext& frame) {
     if (frame.slot == kInstrumentsSlot || instrumentsChanged_) {
         instrumentsChanged_ = false;
         sendInstruments();
+    }
+    if (frame.slot == kPlanExecSlot || planExecChanged_) {
+        planExecChanged_ = false;
+        sendPlanExec();
     }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
         planChanged_ = false;
@@ -105,6 +110,21 @@ void TelemetryTask::takeBusMessages() {
                                           m.faultCode != before.faultCode || m.lastRefusal != before.lastRefusal ||
                                           m.lastRefusedCommandId != before.lastRefusedCommandId;
                     instruments_[i] = m;
+                }
+                break;
+            }
+            case msg::ids::kPlanExecutiveStatus: {
+                // Published at 1 Hz and on change; slack and plan time alone are not news.
+                msg::PlanExecutiveStatusMsg m{};
+                status = inbox_.decode(&m);
+                if (core::isOk(status)) {
+                    msg::PlanExecutiveStatusMsg a = m;
+                    msg::PlanExecutiveStatusMsg b = planExec_;
+                    a.timeNs = b.timeNs = 0;
+                    a.slackMs = b.slackMs = 0;
+                    a.planTimeMs = b.planTimeMs = 0;
+                    planExecChanged_ = planExecChanged_ || std::memcmp(&a, &b, sizeof a) != 0;
+                    planExec_ = m;
                 }
                 break;
             }
@@ -378,6 +398,40 @@ void TelemetryTask::sendFaultProtection() {
         tlm.last_action[i] = r.lastAction;
         tlm.state_since[i] = static_cast<float>(static_cast<double>(r.sinceNs) / static_cast<double>(core::kNsPerSec));
     }
+    output_.send(tlm);
+}
+
+void TelemetryTask::sendPlanExec() {
+    cmdtlm::PLAN_EXEC_Tlm tlm{};
+    const msg::PlanExecutiveStatusMsg& m = planExec_;
+    tlm.state = static_cast<std::uint8_t>(m.state);
+    std::memcpy(tlm.plan_name, m.planName, std::min(sizeof tlm.plan_name, sizeof m.planName));
+    tlm.selection_status = m.selectionStatus;
+    tlm.cost = m.cost;
+    tlm.cost_before = m.costBefore;
+    tlm.choice_count = m.choiceCount;
+    std::memcpy(tlm.options, m.options, std::min(sizeof tlm.options, sizeof m.options));
+    tlm.activity_count = m.activityCount;
+    tlm.running = m.running;
+    std::memcpy(tlm.activity_states, m.activityStates, std::min(sizeof tlm.activity_states, sizeof m.activityStates));
+    tlm.deprecated = m.deprecatedCount;
+    tlm.slack = m.slackMs;
+    tlm.plan_time = m.planTimeMs;
+    tlm.plans_accepted = m.plansAccepted;
+    tlm.plans_refused = m.plansRefused;
+    tlm.regenerations = m.regenerations;
+    tlm.started = m.activitiesStarted;
+    tlm.completed = m.activitiesCompleted;
+    tlm.early = m.activitiesEarly;
+    tlm.late = m.activitiesLate;
+    tlm.failed = m.activitiesFailed;
+    tlm.operator_calls = m.operatorCalls;
+    tlm.last_refusal = static_cast<std::uint8_t>(m.lastRefusal);
+    tlm.parse_error = m.lastParseError;
+    tlm.refusal_line = m.refusalLine;
+    std::memcpy(tlm.refusal_token, m.refusalToken, std::min(sizeof tlm.refusal_token, sizeof m.refusalToken));
+    tlm.last_regeneration = static_cast<std::uint8_t>(m.lastRegeneration);
+    tlm.call_home = m.callHomeReason;
     output_.send(tlm);
 }
 

@@ -3,12 +3,15 @@
 //                the event log is this task's to drain, so the rest wait there)
 //   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
 //                slot 50, ROVER_STATE in slot 60, HEALTH in slot 70,
-//                FAULT_PROTECTION in slot 80, INSTRUMENTS in slot 90: spread over
+//                FAULT_PROTECTION in slot 80, INSTRUMENTS in slot 90, PLAN_EXEC
+//                in slot 40: spread over
 //                the second so the slow CAN downlink never gets them in one burst
 //   on change    PLAN (goal list), and every 5 s; HEALTH when the active faults
 //                or a declared drive mode change; FAULT_PROTECTION with every
 //                status; INSTRUMENTS when an instrument's state, command,
-//                result, fault code or last refusal changes (not its progress)
+//                result, fault code or last refusal changes (not its progress);
+//                PLAN_EXEC when the plan executive's state, counters,
+//                selection or activities change (not its slack or time)
 //   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
 //                (table commands) through the send helpers below
 #pragma once
@@ -28,6 +31,7 @@
 #include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::app {
@@ -40,6 +44,7 @@ constexpr std::uint32_t kRoverStateSlot = 60;
 constexpr std::uint32_t kHealthSlot = 70;
 constexpr std::uint32_t kFaultProtectionSlot = 80;
 constexpr std::uint32_t kInstrumentsSlot = 90;
+constexpr std::uint32_t kPlanExecSlot = 40;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -82,6 +87,7 @@ private:
     void sendPlan();
     void sendFaultProtection();
     void sendInstruments();
+    void sendPlanExec();
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -109,6 +115,8 @@ private:
     bool protectionChanged_ = false;
     msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
     bool instrumentsChanged_ = false;
+    msg::PlanExecutiveStatusMsg planExec_{};
+    bool planExecChanged_ = false;
     // Packet structs kept out of the task's stack.
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};

@@ -37,6 +37,7 @@ const char* reasonName(msg::CallHomeReason r) {
         case msg::CallHomeReason::kInsufficientPower: return "insufficient power";
         case msg::CallHomeReason::kMobilityLost: return "mobility lost";
         case msg::CallHomeReason::kFaultUnrecovered: return "fault unrecovered";
+        case msg::CallHomeReason::kPlanNoMethod: return "no plan method remains";
     }
     return "?";
 }

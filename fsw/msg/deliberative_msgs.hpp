@@ -30,6 +30,7 @@ enum class CallHomeReason : std::uint8_t {
     kInsufficientPower = 4, // a leg's energy bound would pass PLANNER.bound_relax_limit, replans exhausted
     kMobilityLost = 5,      // a drive declared failed: the rover cannot drive (the interlock holds every drive)
     kFaultUnrecovered = 6,  // fault protection used every attempt of a response (docs/fault_protection.md)
+    kPlanNoMethod = 7,      // the plan executive: no method of the running plan remains (docs/plan_executive.md)
 };
 
 struct PlanLeg {

@@ -56,4 +56,8 @@ constexpr core::MsgId kTaskRestart = 0x0182;    // TaskRestartMsg, per action, f
 constexpr core::MsgId kFaultProtectionStatus = 0x0183;  // FaultProtectionStatusMsg, on change and 1 Hz, fault protection -> telemetry
 constexpr core::MsgId kReplanRequest = 0x0184;  // ReplanRequestMsg, per try, fault protection -> deliberative
 
+// command handlers <-> plan executive -> telemetry (plan_executive_msgs.hpp)
+constexpr core::MsgId kPlanCommand = 0x0190;         // PlanCommandMsg, per PLAN_* command, command handlers -> plan executive
+constexpr core::MsgId kPlanExecutiveStatus = 0x0191; // PlanExecutiveStatusMsg, on change and 1 Hz, plan executive -> telemetry
+
 }  // namespace rse::msg::ids

@@ -36,11 +36,12 @@ TEST(FswApp, PublishesHousekeepingOncePerSecondWithTaskTiming) {
         ++seen;
     }
     LONGS_EQUAL(4, seen);
-    LONGS_EQUAL(15, hk.taskCount);
+    LONGS_EQUAL(16, hk.taskCount);
     const char* const names[] = {"tables",   "can_io",       "estimator",    "drive_modes", "health",
                                  "fault_prot", "follower",   "commands",     "manual_drive", "housekeeping",
-                                 "telemetry", "console",     "habitual",     "deliberative", "watchdog"};
-    for (std::size_t i = 0; i < 15; ++i) {
+                                 "telemetry", "console",     "habitual",     "plan_exec",    "deliberative",
+                                 "watchdog"};
+    for (std::size_t i = 0; i < 16; ++i) {
         STRCMP_EQUAL(names[i], hk.tasks[i].name);
     }
     LONGS_EQUAL(301, hk.tasks[1].runs);    // every frame, this one included
@@ -76,7 +77,7 @@ TEST(FswApp, ConsoleWritesHousekeepingAndEventLines) {
     std::fclose(stream);
     CHECK(std::strstr(text, "HK  #1 frames=0") != nullptr);
     CHECK(std::strstr(text, "HK  #2 frames=100") != nullptr);
-    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 15 tasks, ") != nullptr);
+    CHECK(std::strstr(text, "EVT 202 INFO  app: rse-fsw initialised, 16 tasks, ") != nullptr);
     CHECK(std::strstr(text, "EVT 203 INFO  app: test over, shutting down cleanly") != nullptr);
 }
 

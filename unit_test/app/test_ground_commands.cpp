@@ -178,10 +178,10 @@ TEST(GroundCommands, SetModeIsAcknowledgedAndShownInHousekeeping) {
     LONGS_EQUAL(1, static_cast<long>(field(hk, "mode")));
     LONGS_EQUAL(2, static_cast<long>(field(hk, "cmd_accepted")));
     LONGS_EQUAL(1, static_cast<long>(field(hk, "auth_required")));
-    LONGS_EQUAL(15, static_cast<long>(field(hk, "task_count")));
+    LONGS_EQUAL(16, static_cast<long>(field(hk, "task_count")));
     LONGS_EQUAL(0, countOf("TASK_TIMING"));
     runFrames(30);
-    LONGS_EQUAL(15, countOf("TASK_TIMING"));  // one per task, in minor frames 10..24
+    LONGS_EQUAL(16, countOf("TASK_TIMING"));  // one per task, in minor frames 10..25
     CHECK(countOf("EVENT") > 5);             // the start-up events came down
 }
 
@@ -463,14 +463,14 @@ TEST(GroundCommands, ExecSetTaskDisablesARowWhichFaultProtectionThenRestarts) {
     LONGS_EQUAL(0, fsw.commandHandler().taskCommandsRefused());
 }
 
-// A row the table does not have: the dictionary's range (0..15) lets row 15
-// through, the executive's 15-row table does not (execution_failed, detail 1:
-// no such row); row 16 is outside the dictionary's range (argument_out_of_range,
+// A row the table does not have: the dictionary's range (0..31) lets row 16
+// through, the executive's 16-row table does not (execution_failed, detail 1:
+// no such row); row 32 is outside the dictionary's range (argument_out_of_range,
 // detail 0: the first argument). Each is counted by reason in HK and evented.
 TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
-    LONGS_EQUAL(15, fsw.executive().taskCount());
+    LONGS_EQUAL(16, fsw.executive().taskCount());
     runFrames(50);  // the start-up events downlinked (8 a frame)
-    send("EXEC_SET_TASK", {15, 0});
+    send("EXEC_SET_TASK", {16, 0});
     runFrames(1);
     const Packet& ack = last("CMD_ACK");
     LONGS_EQUAL(14, static_cast<long>(field(ack, "reason")));
@@ -478,7 +478,7 @@ TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
     LONGS_EQUAL(1, eventCount(225));
     LONGS_EQUAL(1, fsw.commandHandler().taskCommandsRefused());
     CHECK(app::TaskCommandRefusal::kNoSuchRow == fsw.commandHandler().lastTaskRefusal());
-    send("EXEC_SET_TASK", {16, 0});
+    send("EXEC_SET_TASK", {32, 0});
     runFrames(1);
     LONGS_EQUAL(12, static_cast<long>(field(last("CMD_ACK"), "reason")));
     LONGS_EQUAL(0, static_cast<long>(field(last("CMD_ACK"), "detail")));

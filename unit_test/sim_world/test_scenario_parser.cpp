@@ -463,8 +463,8 @@ TEST(SimScenario, BadTaskStallsAreRejectedWithSpecificMessages) {
         const char* message;
     } cases[] = {
         {head, "inline.toml: faults[0].task: missing (required)"},
-        {head + "task = 16\n", "inline.toml: faults[0].task: a row must be 0..15 (got 16)"},
-        {head + "task = -1\n", "inline.toml: faults[0].task: a row must be 0..15 (got -1)"},
+        {head + "task = 32\n", "inline.toml: faults[0].task: a row must be 0..31 (got 32)"},
+        {head + "task = -1\n", "inline.toml: faults[0].task: a row must be 0..31 (got -1)"},
         {head + "task = 2.5\n",
          "inline.toml: faults[0].task: must be a rate-group row (integer) or a task name (string) (got a "
          "floating-point number)"},

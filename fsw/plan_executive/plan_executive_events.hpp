@@ -1,0 +1,32 @@
+// Event ids raised by the plan executive task (range 950-989). Texts start
+// with "plan_exec: ". Documented in docs/plan_executive.md ("Events").
+#pragma once
+
+#include "fsw/core/event_log.hpp"
+
+namespace rse::plan_executive::events {
+
+constexpr core::EventId kPlanAccepted = 950;       // INFO: plan name, text size, events / activities / choices, cost: dispatch begins
+constexpr core::EventId kChunkAccepted = 951;      // DEBUG: a PLAN_LOAD chunk written (offset, length, text so far)
+constexpr core::EventId kUploadRefused = 952;      // ERROR: a chunk or PLAN_START refused: gap, overflow, bad length, bad CRC, nothing uploaded, busy (the plan running kept)
+constexpr core::EventId kParseRefused = 953;       // ERROR: the plan text refused by the parser: reason, line, token (the plan running kept)
+constexpr core::EventId kSelectionRefused = 954;   // ERROR: a new plan with no valid selection (status), or refused by the selector (the plan running kept)
+constexpr core::EventId kSelectionDone = 955;      // INFO: selection finished: status, cost, work, runs
+constexpr core::EventId kActivityStarted = 956;    // INFO: activity started (name, kind, plan time)
+constexpr core::EventId kActivityCompleted = 957;  // INFO: activity completed (name, duration)
+constexpr core::EventId kActivityEarly = 958;      // WARN: activity completed before its end event's earliest: held to it
+constexpr core::EventId kActivityLate = 959;       // WARN: activity timed out (cancelled) or completed after its end's latest time
+constexpr core::EventId kActivityFailed = 960;     // WARN: activity failed
+constexpr core::EventId kActivityCancelled = 961;  // INFO: activity cancelled (dropped by a regeneration, abort, or a new plan)
+constexpr core::EventId kRegenerating = 962;       // WARN: regeneration begun: reason, activity or event, cost before
+constexpr core::EventId kRegenerated = 963;        // WARN: plan regenerated: cost before -> after, status
+constexpr core::EventId kPlanComplete = 964;       // INFO: every event of the plan executed
+constexpr core::EventId kPlanAborted = 965;        // WARN: PLAN_ABORT: selection dropped, running activities cancelled
+constexpr core::EventId kOperatorCalled = 966;     // CRITICAL: no method remains (reason): SafeRequestMsg sent, plan stopped
+constexpr core::EventId kPlanSuperseded = 967;     // INFO: a new plan replaced the one running (its running activities cancelled)
+constexpr core::EventId kMalformedInput = 968;     // ERROR: a bus message that does not decode or fails its checks (throttled)
+constexpr core::EventId kInitFailed = 969;         // ERROR: pipe creation or subscription refused at init
+constexpr core::EventId kPublishFailed = 970;      // ERROR: a status or safe request the bus refused (throttled)
+constexpr core::EventId kNetworkRefused = 971;     // ERROR: the dispatcher found the selected network inconsistent (or refused it): plan stopped
+
+}  // namespace rse::plan_executive::events

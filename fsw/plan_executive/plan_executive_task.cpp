@@ -1,0 +1,575 @@
+#include "fsw/plan_executive/plan_executive_task.hpp"
+
+#include <cstdio>
+#include <cstring>
+
+#include "fsw/core/crc32.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
+
+namespace rse::plan_executive {
+
+namespace {
+
+const char* refusalName(msg::PlanRefusal r) {
+    switch (r) {
+        case msg::PlanRefusal::kNone: return "none";
+        case msg::PlanRefusal::kParse: return "parse error";
+        case msg::PlanRefusal::kBadLength: return "bad length";
+        case msg::PlanRefusal::kBadCrc: return "bad CRC-32";
+        case msg::PlanRefusal::kGap: return "gap";
+        case msg::PlanRefusal::kOverflow: return "overflow";
+        case msg::PlanRefusal::kNoUpload: return "nothing uploaded";
+        case msg::PlanRefusal::kNoSelection: return "no valid selection";
+        case msg::PlanRefusal::kBadPlan: return "bad plan";
+        case msg::PlanRefusal::kBusy: return "busy selecting";
+    }
+    return "?";
+}
+
+msg::PlanRegeneration regenerationOf(RegenerationReason r) {
+    switch (r) {
+        case RegenerationReason::kNone: return msg::PlanRegeneration::kNone;
+        case RegenerationReason::kLate: return msg::PlanRegeneration::kLate;
+        case RegenerationReason::kMissedWindow: return msg::PlanRegeneration::kMissedWindow;
+        case RegenerationReason::kEarly: return msg::PlanRegeneration::kEarly;
+        case RegenerationReason::kActivityFailed: return msg::PlanRegeneration::kActivityFailed;
+    }
+    return msg::PlanRegeneration::kNone;
+}
+
+bool completesAtLb(ActivityKind k) { return k == ActivityKind::kWait || k == ActivityKind::kCommunicate; }
+
+}  // namespace
+
+PlanExecutiveTask::PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events) : bus_(bus), events_(events) {}
+
+core::Status PlanExecutiveTask::init() {
+    core::Status status = bus_.createPipe("plan_exec", kPipeDepth, &pipe_);
+    if (core::isOk(status)) {
+        status = bus_.subscribe(pipe_, msg::ids::kPlanCommand);
+    }
+    if (!core::isOk(status)) {
+        events_.report(events::kInitFailed, core::Severity::kError, "plan_exec: init failed (%s)",
+                       core::toString(status));
+        return status;
+    }
+    ready_ = true;
+    return core::Status::kOk;
+}
+
+void PlanExecutiveTask::run(const core::FrameContext& frame) {
+    if (!ready_) {
+        return;
+    }
+    now_ = frame.scheduledStart;
+    ++runs_;
+    takeMessages();
+    if (job_ != Job::kNone) {
+        stepSelection();
+    }
+    if (checking_) {
+        stepCheck();
+    }
+    // A plan with nothing to run is complete when its check ends: seen here too.
+    if (!checking_ && (dispatcher_.phase() == DispatchPhase::kDispatching ||
+                       dispatcher_.phase() == DispatchPhase::kHolding ||
+                       (dispatcher_.complete() && state_ == msg::PlanExecutiveState::kDispatching))) {
+        dispatch();
+    }
+    if (changed_ || runs_ % kStatusPeriodRuns == 0) {
+        changed_ = false;
+        publishStatus();
+    }
+}
+
+void PlanExecutiveTask::malformedInput(const char* what) {
+    ++malformed_;
+    if (core::isReportableOccurrence(malformed_)) {
+        events_.report(events::kMalformedInput, core::Severity::kError,
+                       "plan_exec: malformed input 0x%04x dropped: %s (%u so far)",
+                       static_cast<unsigned>(inbox_.header.id), what, static_cast<unsigned>(malformed_));
+    }
+}
+
+void PlanExecutiveTask::takeMessages() {
+    for (std::uint16_t i = 0; i < kPipeDepth && core::isOk(bus_.receive(pipe_, &inbox_)); ++i) {
+        if (inbox_.header.id != msg::ids::kPlanCommand || !core::isOk(inbox_.decode(&command_))) {
+            malformedInput("does not decode");
+            continue;
+        }
+        if (static_cast<std::uint8_t>(command_.kind) > static_cast<std::uint8_t>(msg::PlanCommandKind::kAbort) ||
+            command_.length > msg::kPlanChunkBytes) {
+            malformedInput("kind or length out of range");
+            continue;
+        }
+        handle(command_);
+    }
+}
+
+void PlanExecutiveTask::handle(const msg::PlanCommandMsg& m) {
+    switch (m.kind) {
+        case msg::PlanCommandKind::kChunk: loadChunk(m); break;
+        case msg::PlanCommandKind::kStart: startUpload(m); break;
+        case msg::PlanCommandKind::kShort:
+            if (job_ != Job::kNone) {
+                refuse(msg::PlanRefusal::kBusy, events::kUploadRefused, "PLAN_SHORT while a selection is under way");
+                return;
+            }
+            std::memcpy(shortText_, m.data, m.length);
+            beginNewPlan(shortText_, m.length);
+            break;
+        case msg::PlanCommandKind::kAbort: abortPlan(false); break;
+    }
+}
+
+void PlanExecutiveTask::refuse(msg::PlanRefusal why, core::EventId id, const char* detail) {
+    ++plansRefused_;
+    lastRefusal_ = why;
+    changed_ = true;
+    const bool running = planLoaded_ && (state_ == msg::PlanExecutiveState::kDispatching ||
+                                         state_ == msg::PlanExecutiveState::kRegenerating);
+    events_.report(id, core::Severity::kError, "plan_exec: refused (%s): %s; %s", refusalName(why), detail,
+                   running ? "the plan running is kept" : "no plan running");
+}
+
+void PlanExecutiveTask::loadChunk(const msg::PlanCommandMsg& m) {
+    if (m.offset == 0) {
+        uploadLength_ = 0;
+        uploadOpen_ = true;
+        uploadError_ = msg::PlanRefusal::kNone;
+    }
+    if (uploadError_ != msg::PlanRefusal::kNone) {
+        refuse(uploadError_, events::kUploadRefused, "chunk of an upload already spoiled (send offset 0 again)");
+        return;
+    }
+    if (!uploadOpen_ || m.offset > uploadLength_) {
+        uploadError_ = msg::PlanRefusal::kGap;
+        refuse(uploadError_, events::kUploadRefused, "chunk beyond the text assembled so far");
+        return;
+    }
+    if (static_cast<std::size_t>(m.offset) + m.length > kMaxPlanText) {
+        uploadError_ = msg::PlanRefusal::kOverflow;
+        refuse(uploadError_, events::kUploadRefused, "chunk past the 16384-byte plan buffer");
+        return;
+    }
+    std::memcpy(text_ + m.offset, m.data, m.length);
+    const std::size_t end = static_cast<std::size_t>(m.offset) + m.length;
+    uploadLength_ = end > uploadLength_ ? end : uploadLength_;
+    changed_ = true;
+    events_.report(events::kChunkAccepted, core::Severity::kDebug,
+                   "plan_exec: chunk at %u, %u B: %u B of plan text", static_cast<unsigned>(m.offset),
+                   static_cast<unsigned>(m.length), static_cast<unsigned>(uploadLength_));
+}
+
+void PlanExecutiveTask::refuseStart(msg::PlanRefusal why, const char* what, std::uint32_t said,
+                                    std::uint32_t found) {
+    char detail[80];
+    std::snprintf(detail, sizeof detail, "PLAN_START's %s %u, the text's %u", what, static_cast<unsigned>(said),
+                  static_cast<unsigned>(found));
+    refuse(why, events::kUploadRefused, detail);
+}
+
+void PlanExecutiveTask::startUpload(const msg::PlanCommandMsg& m) {
+    if (job_ != Job::kNone) {
+        refuse(msg::PlanRefusal::kBusy, events::kUploadRefused, "PLAN_START while a selection is under way");
+        return;
+    }
+    if (!uploadOpen_ || uploadLength_ == 0) {
+        refuse(msg::PlanRefusal::kNoUpload, events::kUploadRefused, "no plan text uploaded since the last start");
+        return;
+    }
+    if (uploadError_ != msg::PlanRefusal::kNone) {
+        refuse(uploadError_, events::kUploadRefused, "the upload was spoiled by a chunk refused");
+        return;
+    }
+    if (m.textLength != uploadLength_) {
+        refuseStart(msg::PlanRefusal::kBadLength, "length", m.textLength,
+                    static_cast<std::uint32_t>(uploadLength_));
+        return;
+    }
+    const std::uint32_t crc = core::crc32(text_, uploadLength_);
+    if (crc != m.crc32) {
+        refuseStart(msg::PlanRefusal::kBadCrc, "CRC-32", m.crc32, crc);
+        return;
+    }
+    uploadOpen_ = false;  // one start per upload
+    beginNewPlan(text_, uploadLength_);
+}
+
+void PlanExecutiveTask::beginNewPlan(const char* text, std::size_t length) {
+    Tpn& staged = tpn_[1 - active_];
+    const ParseResult r = parsePlan(text, length, &staged);
+    if (r.error != PlanError::kOk) {
+        ++plansRefused_;
+        lastRefusal_ = msg::PlanRefusal::kParse;
+        lastParse_ = r;
+        changed_ = true;
+        events_.report(events::kParseRefused, core::Severity::kError,
+                       "plan_exec: plan refused: %s at line %u, token '%s'; %s", toString(r.error),
+                       static_cast<unsigned>(r.line), r.token,
+                       planLoaded_ ? "the plan running is kept" : "no plan running");
+        return;
+    }
+    newInput_ = SelectionInput{};
+    for (std::size_t c = 0; c < kComponentCount; ++c) {
+        newInput_.components[c] = components_[c];
+    }
+    for (auto& row : deprecated_) {
+        for (bool& d : row) {
+            d = false;  // a new plan: the executive has deprecated none of its options
+        }
+    }
+    if (!core::isOk(selector_.start(staged, newInput_, params_))) {
+        refuse(msg::PlanRefusal::kBadPlan, events::kSelectionRefused, "method selection refused the plan");
+        return;
+    }
+    stagedLength_ = length;
+    job_ = Job::kSelectNew;
+    selectionRuns_ = 0;
+    if (!planLoaded_ || state_ == msg::PlanExecutiveState::kIdle || state_ == msg::PlanExecutiveState::kComplete ||
+        state_ == msg::PlanExecutiveState::kFailed) {
+        state_ = msg::PlanExecutiveState::kSelecting;
+    }
+    changed_ = true;
+}
+
+void PlanExecutiveTask::abortPlan(bool superseded) {
+    if (!superseded) {
+        job_ = Job::kNone;
+    }
+    checking_ = false;
+    if (dispatcher_.phase() != DispatchPhase::kIdle) {
+        const std::int32_t nowMs = planMs();
+        dispatcher_.abort(&out_);
+        handleOutput(out_, nowMs);
+    }
+    changed_ = true;
+    if (superseded) {
+        events_.report(events::kPlanSuperseded, core::Severity::kInfo,
+                       "plan_exec: plan %s replaced by a new plan", tpn_[active_].name);
+        return;
+    }
+    state_ = msg::PlanExecutiveState::kIdle;
+    events_.report(events::kPlanAborted, core::Severity::kWarning,
+                   "plan_exec: PLAN_ABORT: plan %s stopped, selection dropped",
+                   planLoaded_ ? tpn_[active_].name : "(none)");
+}
+
+void PlanExecutiveTask::stepSelection() {
+    ++selectionRuns_;
+    if (!selector_.step(kSelectionUnitsPerRun)) {
+        return;
+    }
+    const SelectionResult& r = selector_.result();
+    events_.report(events::kSelectionDone, core::Severity::kInfo,
+                   "plan_exec: selection %s, cost %.2f, %llu work units in %u runs", toString(r.status), r.cost,
+                   static_cast<unsigned long long>(selector_.work()), static_cast<unsigned>(selectionRuns_));
+    const Job job = job_;
+    job_ = Job::kNone;
+    changed_ = true;
+    if (job == Job::kSelectNew) {
+        adoptNewPlan(r);
+    } else {
+        adoptRegeneration(r);
+    }
+}
+
+void PlanExecutiveTask::adoptNewPlan(const SelectionResult& r) {
+    const Tpn& staged = tpn_[1 - active_];
+    if (!r.hasSelection) {
+        ++plansRefused_;
+        lastRefusal_ = msg::PlanRefusal::kNoSelection;
+        events_.report(events::kSelectionRefused, core::Severity::kError,
+                       "plan_exec: plan %s refused: no valid selection (%s): inconsistent, unschedulable or every "
+                       "method unusable; %s",
+                       staged.name, toString(r.status), planLoaded_ ? "the plan running is kept" : "no plan running");
+        if (!planLoaded_ || state_ == msg::PlanExecutiveState::kSelecting) {
+            state_ = planLoaded_ && dispatcher_.phase() != DispatchPhase::kIdle ? msg::PlanExecutiveState::kDispatching
+                                                                               : msg::PlanExecutiveState::kIdle;
+        }
+        return;
+    }
+    if (planLoaded_ && dispatcher_.phase() != DispatchPhase::kIdle) {
+        abortPlan(true);
+    }
+    active_ = 1 - active_;
+    planLoaded_ = true;
+    selection_ = r.selection;
+    selectionStatus_ = r.status;
+    cost_ = r.cost;
+    costBefore_ = 0.0;
+    input_ = newInput_;
+    planStartNs_ = now_;
+    ++plansAccepted_;
+    const Tpn& p = tpn_[active_];
+    events_.report(events::kPlanAccepted, core::Severity::kInfo,
+                   "plan_exec: plan %s accepted: %u B, %u events, %u activities, %u choices, cost %.2f",
+                   p.name, static_cast<unsigned>(stagedLength_), static_cast<unsigned>(p.eventCount),
+                   static_cast<unsigned>(p.activityCount), static_cast<unsigned>(p.choiceCount), r.cost);
+    state_ = msg::PlanExecutiveState::kDispatching;
+    checking_ = core::isOk(dispatcher_.begin(p, selection_, input_, nullptr));
+    if (!checking_) {
+        events_.report(events::kNetworkRefused, core::Severity::kError,
+                       "plan_exec: plan %s: the dispatcher refused the selection", p.name);
+        state_ = msg::PlanExecutiveState::kFailed;
+    }
+}
+
+void PlanExecutiveTask::adoptRegeneration(const SelectionResult& r) {
+    const Tpn& p = tpn_[active_];
+    if (!r.hasSelection) {
+        callOperator(toString(r.status));
+        return;
+    }
+    costBefore_ = cost_;
+    cost_ = r.cost;
+    selection_ = r.selection;
+    selectionStatus_ = r.status;
+    input_ = regenInput_;
+    events_.report(events::kRegenerated, core::Severity::kWarning,
+                   "plan_exec: plan %s regenerated (%s): cost %.2f -> %.2f", p.name, toString(r.status), costBefore_,
+                   cost_);
+    state_ = msg::PlanExecutiveState::kDispatching;
+    checking_ = core::isOk(dispatcher_.begin(p, selection_, input_, &carried_));
+    if (!checking_) {
+        events_.report(events::kNetworkRefused, core::Severity::kError,
+                       "plan_exec: plan %s: the dispatcher refused the regenerated selection", p.name);
+        callOperator("the regenerated selection was refused");
+    }
+}
+
+void PlanExecutiveTask::stepCheck() {
+    if (!dispatcher_.stepCheck(kCheckUnitsPerRun)) {
+        return;
+    }
+    checking_ = false;
+    changed_ = true;
+    if (dispatcher_.phase() != DispatchPhase::kDispatching && !dispatcher_.complete()) {
+        events_.report(events::kNetworkRefused, core::Severity::kError,
+                       "plan_exec: plan %s: the selected network is not consistent", tpn_[active_].name);
+        callOperator("the selected network is not consistent");
+    }
+}
+
+std::int32_t PlanExecutiveTask::planMs() const {
+    const core::TimeNs t = (now_ - planStartNs_) / core::kNsPerMs;
+    if (t <= 0) {
+        return 0;
+    }
+    return t > kMaxBoundMs ? kMaxBoundMs : static_cast<std::int32_t>(t);
+}
+
+void PlanExecutiveTask::dispatch() {
+    const std::int32_t nowMs = planMs();
+    if (core::isOk(dispatcher_.tick(nowMs, &out_))) {
+        handleOutput(out_, nowMs);
+    }
+    completeTimedActivities(nowMs);
+    if (dispatcher_.complete() && state_ == msg::PlanExecutiveState::kDispatching) {
+        state_ = msg::PlanExecutiveState::kComplete;
+        changed_ = true;
+        events_.report(events::kPlanComplete, core::Severity::kInfo, "plan_exec: plan %s complete at %.1f s",
+                       tpn_[active_].name, static_cast<double>(nowMs) / 1000.0);
+        return;
+    }
+    if (dispatcher_.regenerationNeeded() && job_ == Job::kNone) {
+        startRegeneration(nowMs);
+    }
+}
+
+void PlanExecutiveTask::completeTimedActivities(std::int32_t nowMs) {
+    const Tpn& p = tpn_[active_];
+    for (std::uint16_t a = 0; a < p.activityCount; ++a) {
+        const Activity& act = p.activities[a];
+        if (!completesAtLb(act.kind) || dispatcher_.state(a) != ActivityState::kRunning) {
+            continue;
+        }
+        const std::int32_t start = dispatcher_.startMs(a);
+        if (static_cast<std::int64_t>(nowMs) - start < act.duration.lbMs) {
+            continue;
+        }
+        if (core::isOk(dispatcher_.completed(a, nowMs, &out_))) {
+            ++completed_;
+            changed_ = true;
+            events_.report(events::kActivityCompleted, core::Severity::kInfo,
+                           "plan_exec: %s %s completed after %.1f s", toString(act.kind), act.name,
+                           static_cast<double>(nowMs - start) / 1000.0);
+            handleOutput(out_, nowMs);
+        }
+    }
+}
+
+void PlanExecutiveTask::handleOutput(const DispatchOutput& out, std::int32_t nowMs) {
+    const Tpn& p = tpn_[active_];
+    for (std::uint16_t i = 0; i < out.count && i < DispatchOutput::kCapacity; ++i) {
+        const DispatchCommand& c = out.commands[i];
+        if (c.activity >= p.activityCount) {
+            continue;
+        }
+        const Activity& a = p.activities[c.activity];
+        changed_ = true;
+        if (c.kind == DispatchCommandKind::kStart) {
+            ++started_;
+            events_.report(events::kActivityStarted, core::Severity::kInfo,
+                           "plan_exec: %s %s started at %.1f s (bounds [%.1f, %.1f] s)", toString(a.kind), a.name,
+                           static_cast<double>(nowMs) / 1000.0, static_cast<double>(a.duration.lbMs) / 1000.0,
+                           a.duration.ubMs == kInfiniteMs ? -1.0 : static_cast<double>(a.duration.ubMs) / 1000.0);
+        } else if (dispatcher_.state(c.activity) == ActivityState::kTimedOut) {
+            ++late_;
+            events_.report(events::kActivityLate, core::Severity::kWarning,
+                           "plan_exec: %s %s timed out at %.1f s: cancelled", toString(a.kind), a.name,
+                           static_cast<double>(nowMs) / 1000.0);
+        } else {
+            events_.report(events::kActivityCancelled, core::Severity::kInfo,
+                           "plan_exec: %s %s cancelled at %.1f s", toString(a.kind), a.name,
+                           static_cast<double>(nowMs) / 1000.0);
+        }
+    }
+    if (out.early && out.activity < p.activityCount) {
+        ++early_;
+        events_.report(events::kActivityEarly, core::Severity::kWarning,
+                       "plan_exec: %s completed early at %.1f s: its end held to %.1f s",
+                       p.activities[out.activity].name, static_cast<double>(nowMs) / 1000.0,
+                       static_cast<double>(out.heldToMs) / 1000.0);
+    }
+    if (out.regenerate && out.reason == RegenerationReason::kLate && out.activity < p.activityCount &&
+        dispatcher_.state(out.activity) == ActivityState::kDone) {
+        ++late_;  // completed after its end's latest (a timeout was counted with its Cancel)
+        events_.report(events::kActivityLate, core::Severity::kWarning,
+                       "plan_exec: %s completed late at %.1f s", p.activities[out.activity].name,
+                       static_cast<double>(nowMs) / 1000.0);
+    }
+}
+
+void PlanExecutiveTask::startRegeneration(std::int32_t nowMs) {
+    const Tpn& p = tpn_[active_];
+    const RegenerationReason why = dispatcher_.reason();
+    carried_ = dispatcher_.activities();
+    regenInput_ = input_;
+    for (bool& s : regenInput_.started) {
+        s = false;
+    }
+    for (std::size_t c = 0; c < kComponentCount; ++c) {
+        regenInput_.components[c] = components_[c];
+    }
+    for (std::size_t c = 0; c < kMaxChoices; ++c) {
+        for (std::size_t o = 0; o < kMaxOptions; ++o) {
+            regenInput_.deprecated[c][o] = regenInput_.deprecated[c][o] || deprecated_[c][o];
+        }
+    }
+    dispatcher_.regenerationInput(nowMs, &regenInput_);
+    ++regenerations_;
+    lastRegeneration_ = regenerationOf(why);
+    changed_ = true;
+    const DispatchSnapshot snap = dispatcher_.snapshot(nowMs);
+    events_.report(events::kRegenerating, core::Severity::kWarning,
+                   "plan_exec: plan %s regenerating at %.1f s (%s, activity %s), cost before %.2f", p.name,
+                   static_cast<double>(nowMs) / 1000.0, toString(why),
+                   snap.reasonActivity < p.activityCount ? p.activities[snap.reasonActivity].name : "-", cost_);
+    if (!core::isOk(selector_.start(p, regenInput_, params_))) {
+        callOperator("method selection refused the regeneration");
+        return;
+    }
+    job_ = Job::kRegenerate;
+    selectionRuns_ = 0;
+    state_ = msg::PlanExecutiveState::kRegenerating;
+}
+
+void PlanExecutiveTask::callOperator(const char* why) {
+    ++operatorCalls_;
+    callHomeReason_ = static_cast<std::uint8_t>(msg::CallHomeReason::kPlanNoMethod);
+    checking_ = false;
+    if (dispatcher_.phase() != DispatchPhase::kIdle) {
+        const std::int32_t nowMs = planMs();
+        dispatcher_.abort(&out_);
+        handleOutput(out_, nowMs);
+    }
+    state_ = msg::PlanExecutiveState::kFailed;
+    changed_ = true;
+    events_.report(events::kOperatorCalled, core::Severity::kCritical,
+                   "plan_exec: plan %s: no method remains (%s): operator called, rover safed", tpn_[active_].name,
+                   why);
+    msg::SafeRequestMsg safe{};
+    safe.timeNs = now_;
+    safe.reason = msg::CallHomeReason::kPlanNoMethod;
+    if (!core::isOk(bus_.publish(safe))) {
+        ++publishFailures_;
+        events_.report(events::kPublishFailed, core::Severity::kError, "plan_exec: safe request refused by the bus");
+    }
+}
+
+void PlanExecutiveTask::fillStatus() {
+    msg::PlanExecutiveStatusMsg& s = status_;
+    s = msg::PlanExecutiveStatusMsg{};
+    s.timeNs = now_;
+    s.state = state_;
+    s.selectionStatus = static_cast<std::uint8_t>(selectionStatus_);
+    s.lastRefusal = lastRefusal_;
+    s.lastParseError = static_cast<std::uint8_t>(lastParse_.error);
+    s.lastRegeneration = lastRegeneration_;
+    s.callHomeReason = callHomeReason_;
+    std::memcpy(s.refusalToken, lastParse_.token, sizeof s.refusalToken);
+    s.refusalToken[sizeof s.refusalToken - 1] = '\0';
+    s.refusalLine = lastParse_.line;
+    s.cost = cost_;
+    s.costBefore = costBefore_;
+    s.plansAccepted = plansAccepted_;
+    s.plansRefused = plansRefused_;
+    s.regenerations = regenerations_;
+    s.activitiesStarted = started_;
+    s.activitiesCompleted = completed_;
+    s.activitiesEarly = early_;
+    s.activitiesLate = late_;
+    s.activitiesFailed = failed_;
+    s.operatorCalls = operatorCalls_;
+    s.slackMs = kInfiniteMs;
+    for (std::uint8_t& o : s.options) {
+        o = kNoOption;
+    }
+    if (!planLoaded_) {
+        return;
+    }
+    const Tpn& p = tpn_[active_];
+    std::memcpy(s.planName, p.name, sizeof s.planName);
+    s.planName[sizeof s.planName - 1] = '\0';
+    s.choiceCount = p.choiceCount;
+    s.activityCount = p.activityCount;
+    for (std::size_t c = 0; c < p.choiceCount && c < msg::kPlanStatusOptions; ++c) {
+        s.options[c] = selection_.option[c];
+    }
+    std::uint32_t deprecated = 0;
+    for (std::size_t c = 0; c < p.choiceCount; ++c) {
+        for (std::size_t o = 0; o < kMaxOptions; ++o) {
+            deprecated += deprecated_[c][o] ? 1U : 0U;
+        }
+    }
+    s.deprecatedCount = static_cast<std::uint8_t>(deprecated);
+    const bool dispatched = dispatcher_.phase() != DispatchPhase::kIdle;
+    const std::int32_t nowMs = planMs();
+    if (dispatched) {
+        s.planTimeMs = nowMs;
+        s.slackMs = dispatcher_.slackMs(nowMs);
+    }
+    for (std::uint16_t a = 0; a < p.activityCount; ++a) {
+        const ActivityState st = dispatcher_.state(a);
+        s.running = static_cast<std::uint16_t>(s.running + (st == ActivityState::kRunning ? 1 : 0));
+        if (a < msg::kPlanStatusActivities) {
+            const auto v = static_cast<std::uint8_t>(static_cast<std::uint8_t>(st) & 0x0F);
+            s.activityStates[a / 2] = static_cast<std::uint8_t>(s.activityStates[a / 2] | (a % 2 == 0 ? v : v << 4));
+        }
+    }
+}
+
+void PlanExecutiveTask::publishStatus() {
+    fillStatus();
+    if (!core::isOk(bus_.publish(status_))) {
+        ++publishFailures_;
+        if (core::isReportableOccurrence(publishFailures_)) {
+            events_.report(events::kPublishFailed, core::Severity::kError,
+                           "plan_exec: status refused by the bus (%u so far)", static_cast<unsigned>(publishFailures_));
+        }
+    }
+}
+
+}  // namespace rse::plan_executive

@@ -1,0 +1,165 @@
+// The plan executive task (docs/plan_executive.md "The task"): mission plans
+// from the ground to a running plan. It takes the command handlers'
+// PlanCommandMsg (PLAN_LOAD chunks into a static 16 KiB text buffer,
+// PLAN_START with the assembled text's length and CRC-32, PLAN_SHORT, PLAN_ABORT),
+// parses the plan into a Tpn, selects its methods (MethodSelector, sliced),
+// checks and dispatches it (PlanDispatcher, sliced check then one tick a
+// run), regenerates it when the dispatcher asks (late, missed window,
+// early-inconsistent, failed), and calls the operator (SafeRequestMsg,
+// CallHomeReason::kPlanNoMethod) when no method remains. Every step is an
+// event (plan_executive_events.hpp, 950-989); PlanExecutiveStatusMsg says
+// where it stands, on change and every kStatusPeriodRuns runs.
+//
+// A new plan is staged: the text is parsed into the Tpn not in use and
+// selected there while the plan running keeps running; only a plan with a
+// valid selection replaces it (its running activities cancelled). Anything
+// refused on the way (a chunk with a gap or past the buffer, a bad length or
+// CRC, a parse error, no valid selection) is evented with its reason and
+// counted, and leaves the plan running as it was. One selection at a time:
+// a PLAN_START or PLAN_SHORT while a new plan's selection or a regeneration
+// is under way is refused (busy).
+//
+// Activities. Stage 1: nothing is commanded to the devices yet: wait and
+// communicate complete at their lb; every other activity runs until its ub
+// and is then timed out by the dispatcher (regeneration, kLate).
+//
+// Work per run (10 Hz, deliberative rate group, before the deliberative
+// task): at most kPipeDepth messages (one parse each at most: linear in the
+// text, under 16 KiB); kSelectionUnitsPerRun of MethodSelector::step (about
+// 0.2-0.65 ms on the development host); kCheckUnitsPerRun rows of the
+// dispatcher's sliced STN check (each row n min-adds: about 0.75 ms for 256
+// events); one dispatcher tick (O(n^2) plus at most 8 event executions) and
+// at most one completion per running wait/communicate activity.
+//
+// Memory: two Tpns, the selector, the dispatcher (its STN nearly all of it)
+// and the text buffer: static storage in FswApp, never a stack; no heap.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/executive.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/plan_executive/method_selector.hpp"
+#include "fsw/plan_executive/plan_dispatcher.hpp"
+#include "fsw/plan_executive/plan_parser.hpp"
+#include "fsw/plan_executive/tpn.hpp"
+
+namespace rse::plan_executive {
+
+class PlanExecutiveTask final : public core::Task {
+public:
+    static constexpr std::uint32_t kSelectionUnitsPerRun = 150000;
+    static constexpr std::uint32_t kCheckUnitsPerRun = 4096;
+    static constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz at 10 Hz
+    static constexpr std::uint16_t kPipeDepth = 16;
+
+    PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events);
+
+    // Creates the pipe and subscribes; a refusal is evented (969) and
+    // returned, and run() then does nothing.
+    core::Status init();
+    void run(const core::FrameContext& frame) override;
+
+    // Queries (tests, the app's summary).
+    msg::PlanExecutiveState state() const { return state_; }
+    const msg::PlanExecutiveStatusMsg& status() const { return status_; }
+    const Tpn& plan() const { return tpn_[active_]; }
+    const PlanDispatcher& dispatcher() const { return dispatcher_; }
+    const Selection& selection() const { return selection_; }
+    std::size_t uploadLength() const { return uploadLength_; }
+    std::uint32_t malformed() const { return malformed_; }
+
+private:
+    enum class Job : std::uint8_t { kNone, kSelectNew, kRegenerate };
+
+    void takeMessages();
+    void handle(const msg::PlanCommandMsg& m);
+    void loadChunk(const msg::PlanCommandMsg& m);
+    void startUpload(const msg::PlanCommandMsg& m);
+    void beginNewPlan(const char* text, std::size_t length);
+    void refuse(msg::PlanRefusal why, core::EventId id, const char* detail);
+    // PLAN_START's length or CRC (what) not the text's.
+    void refuseStart(msg::PlanRefusal why, const char* what, std::uint32_t said, std::uint32_t found);
+    void abortPlan(bool superseded);
+    void stepSelection();
+    void adoptNewPlan(const SelectionResult& r);
+    void adoptRegeneration(const SelectionResult& r);
+    void stepCheck();
+    void dispatch();
+    void completeTimedActivities(std::int32_t nowMs);
+    void startRegeneration(std::int32_t nowMs);
+    void handleOutput(const DispatchOutput& out, std::int32_t nowMs);
+    void callOperator(const char* why);
+    std::int32_t planMs() const;
+    void fillStatus();
+    void publishStatus();
+    void malformedInput(const char* what);
+
+    core::SoftwareBus& bus_;
+    core::EventLog& events_;
+    core::PipeId pipe_ = 0;
+    bool ready_ = false;
+    core::Message inbox_{};
+    msg::PlanCommandMsg command_{};
+    core::TimeNs now_ = 0;
+    std::uint32_t runs_ = 0;
+    bool changed_ = true;
+
+    // The upload: text_[0 .. uploadLength_), open since a chunk at offset 0,
+    // spoiled (uploadError_) by a gap or an overflow until the next offset 0.
+    char text_[kMaxPlanText] = {};
+    std::size_t uploadLength_ = 0;
+    bool uploadOpen_ = false;
+    msg::PlanRefusal uploadError_ = msg::PlanRefusal::kNone;
+    char shortText_[msg::kPlanChunkBytes] = {};
+    std::size_t stagedLength_ = 0;
+
+    // Plans: tpn_[active_] running (or last run), the other staged.
+    Tpn tpn_[2];
+    std::size_t active_ = 0;
+    MethodSelector selector_;
+    SelectionParams params_{};
+    SelectionInput newInput_{};    // a new plan's selection
+    SelectionInput input_{};       // the selection in force was made under this
+    SelectionInput regenInput_{};  // a regeneration under way
+    Selection selection_{};
+    SelectionStatus selectionStatus_ = SelectionStatus::kRunning;
+    double cost_ = 0.0;
+    double costBefore_ = 0.0;
+    Job job_ = Job::kNone;
+    std::uint32_t selectionRuns_ = 0;
+    ComponentState components_[kComponentCount] = {};
+    // Options the executive deprecated (a component they ask failed; stage 2).
+    bool deprecated_[kMaxChoices][kMaxOptions] = {};
+
+    PlanDispatcher dispatcher_;
+    ActivityRecord carried_{};
+    DispatchOutput out_{};
+    bool checking_ = false;
+    bool planLoaded_ = false;  // tpn_[active_] is a plan the dispatcher has (had) loaded
+    core::TimeNs planStartNs_ = 0;
+    msg::PlanExecutiveState state_ = msg::PlanExecutiveState::kIdle;
+
+    // Counters and the last refusal / regeneration.
+    std::uint32_t plansAccepted_ = 0;
+    std::uint32_t plansRefused_ = 0;
+    std::uint32_t regenerations_ = 0;
+    std::uint32_t started_ = 0;
+    std::uint32_t completed_ = 0;
+    std::uint32_t early_ = 0;
+    std::uint32_t late_ = 0;
+    std::uint32_t failed_ = 0;
+    std::uint32_t operatorCalls_ = 0;
+    std::uint32_t malformed_ = 0;
+    std::uint32_t publishFailures_ = 0;
+    msg::PlanRefusal lastRefusal_ = msg::PlanRefusal::kNone;
+    ParseResult lastParse_{};
+    msg::PlanRegeneration lastRegeneration_ = msg::PlanRegeneration::kNone;
+    std::uint8_t callHomeReason_ = 0;
+    msg::PlanExecutiveStatusMsg status_{};
+};
+
+}  // namespace rse::plan_executive

@@ -1,0 +1,395 @@
+// The plan executive task on a software bus (plan_executive_task.hpp): the
+// command handlers' PlanCommandMsg in (chunks, start with length and CRC-32,
+// the short form, abort), the status and safe requests out. Uploads in chunks
+// and started; a bad CRC, a bad length, a gap and an overflow refused with the
+// plan running kept; a parse error refused with its reason, line and token; a
+// plan with no valid selection refused; the short form; abort; wait
+// activities completed at their lb to the plan's end; a science activity
+// timed out and the plan regenerated; no heap across many runs.
+#include <cstdint>
+#include <cstring>
+
+#include "fsw/core/clock.hpp"
+#include "fsw/core/crc32.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/software_bus.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
+#include "fsw/plan_executive/plan_executive_task.hpp"
+#include "unit_test/plan_executive/tpn_builders.hpp"
+#include "unit_test/support/alloc_guard.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using msg::PlanExecutiveState;
+using msg::PlanRefusal;
+using plan_executive::PlanExecutiveTask;
+namespace ev = plan_executive::events;
+
+namespace {
+
+// Two waits in a row, then a communicate window: runs to the end by itself.
+constexpr const char* kWaitsText =
+    "plan waits\n"
+    "event a\n"
+    "event b\n"
+    "event c\n"
+    "activity w1 wait start a [1, 5] cost 1\n"
+    "activity w2 wait a b [2, 5] cost 1\n"
+    "activity talk communicate b c [1, 2] cost 1\n"
+    "end\n";
+
+constexpr const char* kShortText = "plan quick;event e;activity w wait start e [1, 2] cost 1;end";
+
+// A plan that parses but cannot be scheduled: 10 s of waiting within 5 s.
+constexpr const char* kInconsistentText =
+    "plan tight\n"
+    "event a\n"
+    "activity w wait start a [10, 20] cost 1\n"
+    "constraint start a [0, 5]\n"
+    "end\n";
+
+struct Rig {
+    static constexpr core::TimeNs kRun = 100 * core::kNsPerMs;
+    core::VirtualClock clock;
+    core::EventLog events;
+    core::SoftwareBus bus;
+    PlanExecutiveTask task;
+    core::PipeId probe = 0;
+    core::Message inbox{};
+    msg::PlanExecutiveStatusMsg status{};
+    std::uint32_t statuses = 0;
+    std::uint32_t safeRequests = 0;
+    msg::CallHomeReason safeReason = msg::CallHomeReason::kNone;
+    std::uint32_t seen[100] = {};  // events 950.. seen
+    std::uint64_t frames = 0;
+    msg::PlanCommandMsg command{};
+
+    Rig() : events(clock), bus(clock, events), task(bus, events) {}
+
+    bool init() {
+        return core::isOk(bus.createPipe("probe", 32, &probe)) &&
+               core::isOk(bus.subscribe(probe, msg::ids::kPlanExecutiveStatus)) &&
+               core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest)) && core::isOk(task.init());
+    }
+    void send(msg::PlanCommandKind kind, const char* data = nullptr, std::size_t length = 0, std::uint32_t offset = 0) {
+        command = msg::PlanCommandMsg{};
+        command.timeNs = clock.now();
+        command.kind = kind;
+        command.offset = offset;
+        command.length = static_cast<std::uint16_t>(length);
+        if (data != nullptr) {
+            std::memcpy(command.data, data, length);
+        }
+        CHECK_TRUE(core::isOk(bus.publish(command)));
+    }
+    void start(std::uint32_t length, std::uint32_t crc) {
+        command = msg::PlanCommandMsg{};
+        command.timeNs = clock.now();
+        command.kind = msg::PlanCommandKind::kStart;
+        command.textLength = length;
+        command.crc32 = crc;
+        CHECK_TRUE(core::isOk(bus.publish(command)));
+    }
+    // Uploads text in chunks of `chunk` bytes (a run after each, as the ground link would).
+    void upload(const char* text, std::size_t chunk = 200) {
+        const std::size_t n = std::strlen(text);
+        for (std::size_t at = 0; at < n; at += chunk) {
+            send(msg::PlanCommandKind::kChunk, text + at, n - at < chunk ? n - at : chunk,
+                 static_cast<std::uint32_t>(at));
+            run();
+        }
+    }
+    void uploadAndStart(const char* text, std::size_t chunk = 200) {
+        upload(text, chunk);
+        const std::size_t n = std::strlen(text);
+        start(static_cast<std::uint32_t>(n), core::crc32(text, n));
+        run();
+    }
+    void run() {
+        clock.advance(kRun);
+        core::FrameContext frame{};
+        frame.frame = ++frames;
+        frame.scheduledStart = clock.now();
+        frame.actualStart = clock.now();
+        task.run(frame);
+        drain();
+    }
+    void runFor(int runs) {
+        for (int i = 0; i < runs; ++i) {
+            run();
+        }
+    }
+    bool runUntil(PlanExecutiveState s, int runs) {
+        for (int i = 0; i < runs && task.state() != s; ++i) {
+            run();
+        }
+        return task.state() == s;
+    }
+    void drain() {
+        while (core::isOk(bus.receive(probe, &inbox))) {
+            if (inbox.header.id == msg::ids::kPlanExecutiveStatus) {
+                CHECK_TRUE(core::isOk(inbox.decode(&status)));
+                ++statuses;
+            } else if (inbox.header.id == msg::ids::kSafeRequest) {
+                msg::SafeRequestMsg s{};
+                CHECK_TRUE(core::isOk(inbox.decode(&s)));
+                ++safeRequests;
+                safeReason = s.reason;
+            }
+        }
+        core::Event e;
+        while (core::isOk(events.pop(&e))) {
+            if (e.id >= 950 && e.id < 1050) {
+                ++seen[e.id - 950];
+            }
+        }
+    }
+    std::uint32_t count(core::EventId id) const { return seen[id - 950]; }
+};
+
+Rig* rig = nullptr;
+
+}  // namespace
+
+TEST_GROUP(PlanExecutiveTask) {
+    void setup() override {
+        rig = new Rig();
+        CHECK_TRUE(rig->init());
+    }
+    void teardown() override {
+        delete rig;
+        rig = nullptr;
+    }
+    // The waits plan accepted and running.
+    void startWaits() {
+        rig->uploadAndStart(kWaitsText, 40);
+        CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+        rig->runFor(2);
+        LONGS_EQUAL(1, rig->count(ev::kPlanAccepted));
+        STRCMP_EQUAL("waits", rig->status.planName);
+    }
+};
+
+TEST(PlanExecutiveTask, UploadInChunksThenStartRunsThePlanToItsEnd) {
+    startWaits();
+    CHECK(rig->count(ev::kChunkAccepted) >= 3);
+    LONGS_EQUAL(1, rig->count(ev::kSelectionDone));
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+    LONGS_EQUAL(1, rig->count(ev::kPlanComplete));
+    LONGS_EQUAL(3, rig->count(ev::kActivityStarted));
+    LONGS_EQUAL(3, rig->count(ev::kActivityCompleted));
+    rig->run();
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kComplete), static_cast<long>(rig->status.state));
+    LONGS_EQUAL(1, rig->status.plansAccepted);
+    LONGS_EQUAL(0, rig->status.plansRefused);
+    LONGS_EQUAL(3, rig->status.activitiesStarted);
+    LONGS_EQUAL(3, rig->status.activitiesCompleted);
+    DOUBLES_EQUAL(3.0, rig->status.cost, 1e-9);
+    LONGS_EQUAL(3, rig->status.activityCount);
+    // Activities 0, 1 (byte 0) and 2 (byte 1) done (3).
+    LONGS_EQUAL(0x33, rig->status.activityStates[0]);
+    LONGS_EQUAL(0x03, rig->status.activityStates[1]);
+}
+
+TEST(PlanExecutiveTask, BadCrcIsRefusedAndThePlanRunningKept) {
+    startWaits();
+    rig->upload(kShortText);
+    const std::size_t n = std::strlen(kShortText);
+    rig->start(static_cast<std::uint32_t>(n), core::crc32(kShortText, n) ^ 1U);
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kUploadRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kBadCrc), static_cast<long>(rig->status.lastRefusal));
+    LONGS_EQUAL(1, rig->status.plansRefused);
+    STRCMP_EQUAL("waits", rig->status.planName);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kDispatching), static_cast<long>(rig->task.state()));
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+}
+
+TEST(PlanExecutiveTask, BadLengthIsRefusedAndThePlanRunningKept) {
+    startWaits();
+    rig->upload(kShortText);
+    const std::size_t n = std::strlen(kShortText);
+    rig->start(static_cast<std::uint32_t>(n + 1), core::crc32(kShortText, n));
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kUploadRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kBadLength), static_cast<long>(rig->status.lastRefusal));
+    STRCMP_EQUAL("waits", rig->status.planName);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+}
+
+TEST(PlanExecutiveTask, GapIsRefusedSpoilsTheUploadAndThePlanRunningIsKept) {
+    startWaits();
+    rig->send(msg::PlanCommandKind::kChunk, kShortText, 10, 0);
+    rig->send(msg::PlanCommandKind::kChunk, kShortText + 20, 10, 20);  // 10..20 missing
+    rig->send(msg::PlanCommandKind::kChunk, kShortText + 10, 10, 10);  // too late: spoiled
+    rig->run();
+    LONGS_EQUAL(2, rig->count(ev::kUploadRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kGap), static_cast<long>(rig->status.lastRefusal));
+    rig->start(30, core::crc32(kShortText, 30));
+    rig->runFor(2);
+    LONGS_EQUAL(3, rig->count(ev::kUploadRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kGap), static_cast<long>(rig->status.lastRefusal));
+    LONGS_EQUAL(3, rig->status.plansRefused);
+    STRCMP_EQUAL("waits", rig->status.planName);
+    // Offset 0 starts over: the same plan now goes in.
+    rig->uploadAndStart(kShortText);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->runFor(2);
+    STRCMP_EQUAL("quick", rig->status.planName);
+    LONGS_EQUAL(1, rig->count(ev::kPlanSuperseded));
+}
+
+TEST(PlanExecutiveTask, OverflowIsRefusedAndThePlanRunningKept) {
+    startWaits();
+    static char filler[200];
+    std::memset(filler, '#', sizeof filler);
+    rig->send(msg::PlanCommandKind::kChunk, filler, sizeof filler, 0);
+    rig->run();
+    // Chunks up to the end of the buffer are taken; one past it is not.
+    std::uint32_t at = 200;
+    for (; at + 200 <= plan_executive::kMaxPlanText; at += 200) {
+        rig->send(msg::PlanCommandKind::kChunk, filler, sizeof filler, at);
+        rig->run();
+    }
+    LONGS_EQUAL(0, rig->count(ev::kUploadRefused));
+    rig->send(msg::PlanCommandKind::kChunk, filler, sizeof filler, at);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kUploadRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kOverflow), static_cast<long>(rig->status.lastRefusal));
+    LONGS_EQUAL(at, static_cast<long>(rig->task.uploadLength()));
+    STRCMP_EQUAL("waits", rig->status.planName);
+    LONGS_EQUAL(1, rig->status.plansAccepted);
+    LONGS_EQUAL(0, rig->count(ev::kPlanSuperseded));
+}
+
+TEST(PlanExecutiveTask, ParseErrorIsRefusedWithReasonLineAndToken) {
+    startWaits();
+    rig->uploadAndStart("plan bad\nevent a\nactivity x fly start a [1, 2] cost 1\nend\n");
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kParseRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kParse), static_cast<long>(rig->status.lastRefusal));
+    LONGS_EQUAL(static_cast<long>(plan_executive::PlanError::kUnknownActivityKind),
+                static_cast<long>(rig->status.lastParseError));
+    LONGS_EQUAL(3, rig->status.refusalLine);
+    STRCMP_EQUAL("fly", rig->status.refusalToken);
+    STRCMP_EQUAL("waits", rig->status.planName);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kDispatching), static_cast<long>(rig->task.state()));
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+}
+
+// An empty text is refused; a plan of only its end marker is legal and
+// empty (the parser's rule): accepted and complete at once, nothing started.
+TEST(PlanExecutiveTask, EmptyPlanIsRefusedAndAnEndOnlyPlanCompletesAtOnce) {
+    rig->send(msg::PlanCommandKind::kShort, "  ", 2);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kParseRefused));
+    LONGS_EQUAL(static_cast<long>(plan_executive::PlanError::kEmptyText),
+                static_cast<long>(rig->status.lastParseError));
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kIdle), static_cast<long>(rig->task.state()));
+    rig->send(msg::PlanCommandKind::kShort, "end", 3);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 10));
+    LONGS_EQUAL(1, rig->count(ev::kPlanAccepted));
+    LONGS_EQUAL(1, rig->count(ev::kPlanComplete));
+    LONGS_EQUAL(0, rig->count(ev::kActivityStarted));
+}
+
+TEST(PlanExecutiveTask, InconsistentPlanIsRefusedAtUpload) {
+    startWaits();
+    rig->uploadAndStart(kInconsistentText);
+    rig->runFor(5);
+    LONGS_EQUAL(1, rig->count(ev::kSelectionRefused));
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kNoSelection), static_cast<long>(rig->status.lastRefusal));
+    STRCMP_EQUAL("waits", rig->status.planName);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+    LONGS_EQUAL(0, rig->safeRequests);
+}
+
+TEST(PlanExecutiveTask, ShortFormIsParsedAndStartedAtOnce) {
+    rig->send(msg::PlanCommandKind::kShort, kShortText, std::strlen(kShortText));
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 100));
+    LONGS_EQUAL(1, rig->count(ev::kPlanAccepted));
+    LONGS_EQUAL(1, rig->count(ev::kActivityCompleted));
+    STRCMP_EQUAL("quick", rig->task.plan().name);
+    // The upload buffer was not touched: nothing to start.
+    rig->start(10, 0);
+    rig->run();
+    LONGS_EQUAL(static_cast<long>(PlanRefusal::kNoUpload), static_cast<long>(rig->status.lastRefusal));
+}
+
+TEST(PlanExecutiveTask, AbortStopsThePlan) {
+    startWaits();
+    rig->send(msg::PlanCommandKind::kAbort);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kPlanAborted));
+    CHECK(rig->count(ev::kActivityCancelled) >= 1);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kIdle), static_cast<long>(rig->task.state()));
+    rig->runFor(100);
+    LONGS_EQUAL(0, rig->count(ev::kPlanComplete));
+    LONGS_EQUAL(0, rig->status.running);
+}
+
+// Stage 1 commands no device: a sample runs to its ub and is timed out; the
+// plan regenerates. The two-targets plan's drive1 has ub 900 s: far off; a
+// plan of one sample with ub 2 s shows it.
+TEST(PlanExecutiveTask, TimedOutActivityRegeneratesAndNoMethodCallsTheOperator) {
+    const char* lone = "plan lone;event e;activity s sample start e [1, 2] cost 1 target 1;end";
+    rig->send(msg::PlanCommandKind::kShort, lone, std::strlen(lone));
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->runFor(40);
+    LONGS_EQUAL(1, rig->count(ev::kActivityStarted));
+    LONGS_EQUAL(1, rig->count(ev::kActivityLate));
+    LONGS_EQUAL(1, rig->count(ev::kRegenerating));
+    LONGS_EQUAL(1, rig->status.regenerations);
+    LONGS_EQUAL(static_cast<long>(msg::PlanRegeneration::kLate), static_cast<long>(rig->status.lastRegeneration));
+    // The start is fixed at 0 and the sample must end by 2 s: from where
+    // execution stands no selection exists, so the operator is called.
+    LONGS_EQUAL(1, rig->count(ev::kOperatorCalled));
+    LONGS_EQUAL(0, rig->count(ev::kRegenerated));
+    LONGS_EQUAL(1, rig->safeRequests);
+    LONGS_EQUAL(static_cast<long>(msg::CallHomeReason::kPlanNoMethod), static_cast<long>(rig->safeReason));
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kFailed), static_cast<long>(rig->status.state));
+    LONGS_EQUAL(1, rig->status.operatorCalls);
+    LONGS_EQUAL(1, rig->status.activitiesLate);
+    LONGS_EQUAL(7, rig->status.callHomeReason);
+}
+
+TEST(PlanExecutiveTask, MalformedCommandsAreDroppedAndCounted) {
+    rig->send(msg::PlanCommandKind::kChunk, "x", 1);
+    rig->command.length = 201;
+    CHECK_TRUE(core::isOk(rig->bus.publish(rig->command)));
+    rig->command.length = 1;
+    rig->command.kind = static_cast<msg::PlanCommandKind>(9);
+    CHECK_TRUE(core::isOk(rig->bus.publish(rig->command)));
+    rig->run();
+    LONGS_EQUAL(2, rig->task.malformed());
+    LONGS_EQUAL(2, rig->count(ev::kMalformedInput));  // the 1st, 2nd, 4th ... evented
+}
+
+TEST(PlanExecutiveTask, TwoTargetsPlanIsAcceptedWithItsCheapestSelection) {
+    rig->uploadAndStart(test::plan::kTwoTargetsText, 200);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->runFor(2);
+    LONGS_EQUAL(0, rig->status.options[0]);  // sample target 1
+    LONGS_EQUAL(0, rig->status.options[1]);  // sample target 2
+    DOUBLES_EQUAL(32.5, rig->status.cost, 1e-9);  // as rse-ground plan check says
+    LONGS_EQUAL(1, rig->count(ev::kActivityStarted));  // drive1
+}
+
+TEST(PlanExecutiveTask, NoHeapAcrossManyRuns) {
+    startWaits();
+    test::AllocationWatch watch;
+    for (int k = 0; k < 5; ++k) {
+        rig->uploadAndStart(kWaitsText, 30);
+        rig->runFor(120);
+        rig->send(msg::PlanCommandKind::kShort, kShortText, std::strlen(kShortText));
+        rig->runFor(60);
+        rig->uploadAndStart(kInconsistentText);
+        rig->runFor(10);
+        rig->send(msg::PlanCommandKind::kAbort);
+        rig->runFor(5);
+    }
+    LONGS_EQUAL(0, watch.count());
+}
