@@ -7,6 +7,7 @@
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/geometry/coarse_map.hpp"
 #include "fsw/geometry/site_bounds.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/rover_model/power_model.hpp"
 
 namespace rse::deliberative {
@@ -84,7 +85,8 @@ core::Status DeliberativeTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("deliberative", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kLegReport,   msg::ids::kDriveModes,
+    const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kPlanGoal,    msg::ids::kLegReport,
+                                  msg::ids::kDriveModes,
                                   msg::ids::kMode,        msg::ids::kKnownHazards, msg::ids::kMissionHold,
                                   msg::ids::kFaultStatus, msg::ids::kReplanRequest};
     for (const core::MsgId id : inputs) {
@@ -192,6 +194,17 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
+            case msg::ids::kPlanGoal: {
+                // The plan executive's drive activity: a goal list of its own
+                // (docs/plan_executive.md "Dispatch to the devices"), taken as GOTO's.
+                msg::PlanGoalMsg goal{};
+                if (core::isOk(inbox_.decode(&goal)) && goalListUsable(goal.goals)) {
+                    onGoals(goal.goals, now);
+                } else {
+                    malformed("plan goal", inbox_.header.id);
+                }
+                break;
+            }
             case msg::ids::kLegReport: {
                 msg::LegReportMsg report{};
                 if (core::isOk(inbox_.decode(&report)) &&
@@ -281,6 +294,7 @@ void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) 
     }
     goals_ = goals;
     goalsSeen_ = true;
+    changed_ = true;  // PlanStatusMsg.goalRevision: the new list is in force
     goalIndex_ = 0;
     riskFactor_ = 1.0;
     goalReplans_ = 0;
@@ -1076,6 +1090,7 @@ void DeliberativeTask::publishStatus(core::TimeNs now) {
     s.boundRelaxations = counters_.boundRelaxations;
     s.callHomes = counters_.callHomes;
     s.currentLegId = leg_.legId;
+    s.goalRevision = goals_.revision;
     s.shownLegs = 0;
     for (std::size_t k = legIndex_; k < legs_.count && s.shownLegs < msg::kPlanStatusLegs; ++k) {
         s.legs[s.shownLegs++] = legs_.legs[k];

@@ -209,7 +209,7 @@ public:
     DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
     // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
-    // (kInputPipeDepth: goals, leg reports, known hazards, drive modes, mode,
+    // (kInputPipeDepth: goals (GoalListMsg, the plan executive's PlanGoalMsg), leg reports, known hazards, drive modes, mode,
     // mission hold, fault status, replan requests). A refusal is
     // evented (917) and returned; run() then does nothing.
     core::Status init();

@@ -66,6 +66,8 @@ struct PlanStatusMsg {
     std::uint32_t boundRelaxations;
     std::uint32_t callHomes;
     std::uint32_t currentLegId;    // legId of the leg in force (0: none)
+    std::uint32_t goalRevision;    // revision of the goal list in force (GoalListMsg or PlanGoalMsg)
+    std::uint8_t pad2[4];
     PlanLeg legs[kPlanStatusLegs];
 };
 

@@ -59,5 +59,6 @@ constexpr core::MsgId kReplanRequest = 0x0184;  // ReplanRequestMsg, per try, fa
 // command handlers <-> plan executive -> telemetry (plan_executive_msgs.hpp)
 constexpr core::MsgId kPlanCommand = 0x0190;         // PlanCommandMsg, per PLAN_* command, command handlers -> plan executive
 constexpr core::MsgId kPlanExecutiveStatus = 0x0191; // PlanExecutiveStatusMsg, on change and 1 Hz, plan executive -> telemetry
+constexpr core::MsgId kPlanGoal = 0x0192;            // PlanGoalMsg, per drive activity started or cancelled, plan executive -> deliberative
 
 }  // namespace rse::msg::ids

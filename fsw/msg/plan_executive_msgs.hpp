@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "fsw/msg/goal_msgs.hpp"
 #include "fsw/msg/msg_ids.hpp"
 
 namespace rse::msg {
@@ -69,6 +70,18 @@ enum class PlanRegeneration : std::uint8_t {
     kEarly = 3,
     kActivityFailed = 4,
     kComponentFailed = 5,  // a component an activity asks failed (mode estimation or the device)
+};
+
+// A drive activity's goal for the deliberative layer: a goal list of one goal
+// (the activity's point, priority 0, the operator's risk bound from the last
+// GoalListMsg) when the activity starts, of none when it is cancelled. Its own
+// id, so the command handlers' GoalListMsg (GOTO, ADD_TARGET...) is untouched;
+// the deliberative task takes either as the goal list in force. Revisions
+// count from 0x80000000, apart from the command handlers'; PlanStatusMsg's
+// goalRevision says which list the deliberative layer is working on.
+struct PlanGoalMsg {
+    static constexpr core::MsgId kMsgId = ids::kPlanGoal;
+    GoalListMsg goals;
 };
 
 // Published on every change of state, selection or activity, and at 1 Hz.

@@ -27,6 +27,8 @@ constexpr core::EventId kPlanSuperseded = 967;     // INFO: a new plan replaced 
 constexpr core::EventId kMalformedInput = 968;     // ERROR: a bus message that does not decode or fails its checks (throttled)
 constexpr core::EventId kInitFailed = 969;         // ERROR: pipe creation or subscription refused at init
 constexpr core::EventId kPublishFailed = 970;      // ERROR: a status or safe request the bus refused (throttled)
+constexpr core::EventId kComponentState = 972;     // INFO/WARN: a component's state changed (drive mode declared, instrument usable or not)
+constexpr core::EventId kComponentFailed = 973;    // WARN: activities not done ask what a component no longer is: running ones failed, options deprecated, regenerating
 constexpr core::EventId kNetworkRefused = 971;     // ERROR: the dispatcher found the selected network inconsistent (or refused it): plan stopped
 
 }  // namespace rse::plan_executive::events

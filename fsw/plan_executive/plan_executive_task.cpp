@@ -49,6 +49,16 @@ core::Status PlanExecutiveTask::init() {
     if (core::isOk(status)) {
         status = bus_.subscribe(pipe_, msg::ids::kPlanCommand);
     }
+    if (core::isOk(status)) {
+        status = bus_.createPipe("plan_exec_in", kStatusPipeDepth, &statusPipe_);
+    }
+    const core::MsgId inputs[] = {msg::ids::kInstrumentStatus, msg::ids::kDriveModes, msg::ids::kPlanStatus,
+                                  msg::ids::kGoalList};
+    for (const core::MsgId id : inputs) {
+        if (core::isOk(status)) {
+            status = bus_.subscribe(statusPipe_, id);
+        }
+    }
     if (!core::isOk(status)) {
         events_.report(events::kInitFailed, core::Severity::kError, "plan_exec: init failed (%s)",
                        core::toString(status));
@@ -65,6 +75,7 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
     now_ = frame.scheduledStart;
     ++runs_;
     takeMessages();
+    takeStatus();
     if (job_ != Job::kNone) {
         stepSelection();
     }
@@ -72,7 +83,8 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
         stepCheck();
     }
     // A plan with nothing to run is complete when its check ends: seen here too.
-    if (!checking_ && (dispatcher_.phase() == DispatchPhase::kDispatching ||
+    if (!checking_ && state_ != msg::PlanExecutiveState::kRegenerating &&
+        (dispatcher_.phase() == DispatchPhase::kDispatching ||
                        dispatcher_.phase() == DispatchPhase::kHolding ||
                        (dispatcher_.complete() && state_ == msg::PlanExecutiveState::kDispatching))) {
         dispatch();
@@ -105,6 +117,296 @@ void PlanExecutiveTask::takeMessages() {
         }
         handle(command_);
     }
+}
+
+void PlanExecutiveTask::takeStatus() {
+    for (std::uint16_t i = 0; i < kStatusPipeDepth && core::isOk(bus_.receive(statusPipe_, &inbox_)); ++i) {
+        core::Status status = core::Status::kWrongType;
+        switch (inbox_.header.id) {
+            case msg::ids::kInstrumentStatus: {
+                msg::InstrumentStatusMsg m{};
+                status = inbox_.decode(&m);
+                if (core::isOk(status) &&
+                    (static_cast<std::size_t>(m.instrument) >= msg::kInstrumentCount ||
+                     static_cast<std::uint8_t>(m.state) > static_cast<std::uint8_t>(msg::InstrumentState::kFailed))) {
+                    status = core::Status::kInvalidArgument;
+                }
+                if (core::isOk(status)) {
+                    onInstrument(m);
+                }
+                break;
+            }
+            case msg::ids::kDriveModes: {
+                msg::DriveModesMsg m{};
+                status = inbox_.decode(&m);
+                for (std::size_t w = 0; core::isOk(status) && w < msg::kWheelCount; ++w) {
+                    if (static_cast<std::uint8_t>(m.drives[w].declared) >= msg::kDriveModeCount) {
+                        status = core::Status::kInvalidArgument;
+                    }
+                }
+                if (core::isOk(status)) {
+                    onDriveModes(m);
+                }
+                break;
+            }
+            case msg::ids::kPlanStatus: {
+                msg::PlanStatusMsg m{};
+                status = inbox_.decode(&m);
+                if (core::isOk(status)) {
+                    onPlanStatus(m);
+                }
+                break;
+            }
+            case msg::ids::kGoalList: {
+                msg::GoalListMsg m{};
+                status = inbox_.decode(&m);
+                if (core::isOk(status) && !(m.riskBound > 0.0 && m.riskBound < 0.5)) {
+                    status = core::Status::kInvalidArgument;  // NaN too
+                }
+                if (core::isOk(status)) {
+                    riskBound_ = m.riskBound;
+                }
+                break;
+            }
+            default: break;
+        }
+        if (!core::isOk(status)) {
+            malformedInput("status does not decode or is out of range");
+        }
+    }
+}
+
+void PlanExecutiveTask::onInstrument(const msg::InstrumentStatusMsg& m) {
+    const auto i = static_cast<std::size_t>(m.instrument);
+    instruments_[i] = m;
+    const Component component = i == 0 ? Component::kGrinder : Component::kCamera;
+    const bool unusable = m.state == msg::InstrumentState::kOffline ||
+                          (m.state == msg::InstrumentState::kFailed && m.faultCode != 0);
+    const ComponentState now = unusable ? ComponentState::kFailed : ComponentState::kOk;
+    ComponentState& c = components_[static_cast<std::size_t>(component)];
+    if (c != now) {
+        c = now;
+        changed_ = true;
+        events_.report(events::kComponentState, now == ComponentState::kOk ? core::Severity::kInfo
+                                                                            : core::Severity::kWarning,
+                       "plan_exec: %s now %s (instrument state %u, fault %u)", toString(component), toString(now),
+                       static_cast<unsigned>(m.state), static_cast<unsigned>(m.faultCode));
+    }
+    if (!planLoaded_) {
+        return;
+    }
+    const Tpn& p = tpn_[active_];
+    for (std::uint16_t a = 0; a < p.activityCount; ++a) {
+        const ActivityKind k = p.activities[a].kind;
+        const bool onThis = (k == ActivityKind::kImage) == (i == 1) &&
+                            (k == ActivityKind::kSample || k == ActivityKind::kDig || k == ActivityKind::kImage);
+        const std::uint16_t id = commandId_[a];
+        if (!onThis || id == 0 || dispatcher_.state(a) != ActivityState::kRunning) {
+            continue;
+        }
+        if (m.commandId == id && m.state == msg::InstrumentState::kDone) {
+            deviceCompleted(a);
+        } else if (m.commandId == id && m.state == msg::InstrumentState::kFailed) {
+            deviceFailed(a, "the instrument reports it failed");
+        } else if (m.lastRefusedCommandId == id && m.lastRefusal != msg::InstrumentRefusal::kNone) {
+            deviceFailed(a, "the instrument refused it");
+        } else if (m.state == msg::InstrumentState::kOffline) {
+            deviceFailed(a, "the instrument is offline");
+        }
+    }
+}
+
+void PlanExecutiveTask::onDriveModes(const msg::DriveModesMsg& m) {
+    for (std::size_t w = 0; w < msg::kWheelCount && w < kComponentCount; ++w) {
+        ComponentState now = ComponentState::kDegraded;  // degraded, and unknown: not known to be ok
+        if (m.drives[w].declared == msg::DriveMode::kNominal) {
+            now = ComponentState::kOk;
+        } else if (m.drives[w].declared == msg::DriveMode::kFailed) {
+            now = ComponentState::kFailed;
+        }
+        if (components_[w] != now) {
+            components_[w] = now;
+            changed_ = true;
+            events_.report(events::kComponentState, now == ComponentState::kOk ? core::Severity::kInfo
+                                                                                : core::Severity::kWarning,
+                           "plan_exec: %s now %s (declared drive mode %u)", toString(static_cast<Component>(w)),
+                           toString(now), static_cast<unsigned>(m.drives[w].declared));
+        }
+    }
+}
+
+void PlanExecutiveTask::onPlanStatus(const msg::PlanStatusMsg& m) {
+    if (driveActivity_ == kNoIndex) {
+        return;
+    }
+    const std::uint16_t a = driveActivity_;
+    if (m.goalRevision == driveRevision_) {
+        driveAdopted_ = true;
+        if (m.state == msg::DeliberativeState::kComplete) {
+            driveActivity_ = kNoIndex;
+            deviceCompleted(a);
+        } else if (m.state == msg::DeliberativeState::kCalledHome) {
+            driveActivity_ = kNoIndex;
+            deviceFailed(a, "the deliberative layer called home");
+        }
+    } else if (driveAdopted_) {
+        driveActivity_ = kNoIndex;
+        deviceFailed(a, "another goal list replaced the drive's");
+    }
+}
+
+void PlanExecutiveTask::deviceCompleted(std::uint16_t a) {
+    const std::int32_t nowMs = planMs();
+    if (dispatcher_.state(a) != ActivityState::kRunning) {
+        return;
+    }
+    const std::int32_t start = dispatcher_.startMs(a);
+    if (!core::isOk(dispatcher_.completed(a, nowMs, &out_))) {
+        return;
+    }
+    commandId_[a] = 0;
+    ++completed_;
+    changed_ = true;
+    const Activity& act = tpn_[active_].activities[a];
+    events_.report(events::kActivityCompleted, core::Severity::kInfo, "plan_exec: %s %s completed after %.1f s",
+                   toString(act.kind), act.name, static_cast<double>(nowMs - start) / 1000.0);
+    handleOutput(out_, nowMs);
+}
+
+void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why) {
+    const std::int32_t nowMs = planMs();
+    if (dispatcher_.state(a) != ActivityState::kRunning || !core::isOk(dispatcher_.failed(a, nowMs, &out_))) {
+        return;
+    }
+    commandId_[a] = 0;
+    if (driveActivity_ == a) {
+        driveActivity_ = kNoIndex;
+    }
+    ++failed_;
+    changed_ = true;
+    const Activity& act = tpn_[active_].activities[a];
+    events_.report(events::kActivityFailed, core::Severity::kWarning, "plan_exec: %s %s failed at %.1f s: %s",
+                   toString(act.kind), act.name, static_cast<double>(nowMs) / 1000.0, why);
+    handleOutput(out_, nowMs);
+}
+
+void PlanExecutiveTask::startActivity(std::uint16_t a) {
+    const Activity& act = tpn_[active_].activities[a];
+    switch (act.kind) {
+        case ActivityKind::kDrive:
+            driveActivity_ = a;
+            driveAdopted_ = false;
+            publishGoal(&act);
+            break;
+        case ActivityKind::kSample: commandInstrument(a, msg::InstrumentAction::kSample); break;
+        case ActivityKind::kDig: commandInstrument(a, msg::InstrumentAction::kDig); break;
+        case ActivityKind::kImage: commandInstrument(a, msg::InstrumentAction::kImage); break;
+        case ActivityKind::kWait:
+        case ActivityKind::kCommunicate: break;  // complete at their lb (completeTimedActivities)
+    }
+}
+
+void PlanExecutiveTask::cancelActivity(std::uint16_t a) {
+    const Activity& act = tpn_[active_].activities[a];
+    if (act.kind == ActivityKind::kDrive && driveActivity_ == a) {
+        driveActivity_ = kNoIndex;
+        publishGoal(nullptr);
+    } else if (commandId_[a] != 0) {
+        commandInstrument(a, msg::InstrumentAction::kCancel);
+        commandId_[a] = 0;
+    }
+}
+
+void PlanExecutiveTask::publishGoal(const Activity* drive) {
+    msg::GoalListMsg& g = goal_.goals;
+    g = msg::GoalListMsg{};
+    g.timeNs = now_;
+    g.riskBound = riskBound_;
+    ++goalRevision_;
+    if (goalRevision_ < kGoalRevisionBase) {
+        goalRevision_ = kGoalRevisionBase;  // wrapped: stay apart from the command handlers' revisions
+    }
+    g.revision = goalRevision_;
+    if (drive != nullptr) {
+        g.count = 1;
+        g.goals[0].xM = drive->x;
+        g.goals[0].yM = drive->y;
+        driveRevision_ = goalRevision_;
+    }
+    if (!core::isOk(bus_.publish(goal_))) {
+        ++publishFailures_;
+        events_.report(events::kPublishFailed, core::Severity::kError, "plan_exec: drive goal refused by the bus");
+    }
+}
+
+void PlanExecutiveTask::commandInstrument(std::uint16_t a, msg::InstrumentAction action) {
+    const Activity& act = tpn_[active_].activities[a];
+    msg::InstrumentCommandMsg& c = instrumentCommand_;
+    c = msg::InstrumentCommandMsg{};
+    c.timeNs = now_;
+    c.instrument = act.kind == ActivityKind::kImage ? msg::Instrument::kCamera : msg::Instrument::kGrinder;
+    c.action = action;
+    c.targetId = act.target;
+    if (action == msg::InstrumentAction::kCancel) {
+        c.commandId = commandId_[a];
+    } else {
+        nextCommandId_ = static_cast<std::uint16_t>(nextCommandId_ == 0xFFFF ? 1 : nextCommandId_ + 1);
+        commandId_[a] = nextCommandId_;
+        c.commandId = nextCommandId_;
+        // The activity's ub as the instrument's own limit (0: none; at most 6553.5 s).
+        const std::int32_t ub = act.duration.ubMs;
+        c.maxDurationS = ub == kInfiniteMs ? 0.0 : (ub > 6553500 ? 6553.5 : static_cast<double>(ub) / 1000.0);
+    }
+    if (!core::isOk(bus_.publish(c))) {
+        ++publishFailures_;
+        events_.report(events::kPublishFailed, core::Severity::kError,
+                       "plan_exec: instrument command %u refused by the bus", static_cast<unsigned>(c.commandId));
+    }
+}
+
+bool PlanExecutiveTask::askHolds(const Condition& c) const {
+    if (c.planVariable || c.variable >= kComponentCount) {
+        return true;  // plan variables are the selector's (causal links)
+    }
+    const bool equal = static_cast<std::uint8_t>(components_[c.variable]) == c.value;
+    return c.negated ? !equal : equal;
+}
+
+bool PlanExecutiveTask::checkComponents(std::int32_t nowMs) {
+    const Tpn& p = tpn_[active_];
+    std::uint16_t affected = 0;
+    std::uint16_t first = kNoIndex;
+    for (std::uint16_t a = 0; a < p.activityCount; ++a) {
+        const ActivityState st = dispatcher_.state(a);
+        if (st != ActivityState::kWaiting && st != ActivityState::kRunning) {
+            continue;
+        }
+        const Activity& act = p.activities[a];
+        bool holds = true;
+        for (std::size_t k = 0; k < act.askCount && k < kMaxAsks; ++k) {
+            holds = holds && askHolds(act.asks[k]);
+        }
+        if (holds) {
+            continue;
+        }
+        ++affected;
+        first = first == kNoIndex ? a : first;
+        if (st == ActivityState::kRunning) {
+            cancelActivity(a);  // the device stops what the plan no longer runs
+            deviceFailed(a, "a component it asks has failed");
+        } else if (act.guard.guarded() && act.guard.choice < kMaxChoices && act.guard.option < kMaxOptions) {
+            deprecated_[act.guard.choice][act.guard.option] = true;
+        }
+    }
+    if (affected == 0) {
+        return false;
+    }
+    events_.report(events::kComponentFailed, core::Severity::kWarning,
+                   "plan_exec: %u activit%s of plan %s ask what a component no longer is (first %s): regenerating",
+                   static_cast<unsigned>(affected), affected == 1 ? "y" : "ies", p.name, p.activities[first].name);
+    regenerateForComponent_ = true;
+    startRegeneration(nowMs);
+    return true;
 }
 
 void PlanExecutiveTask::handle(const msg::PlanCommandMsg& m) {
@@ -295,6 +597,10 @@ void PlanExecutiveTask::adoptNewPlan(const SelectionResult& r) {
     }
     active_ = 1 - active_;
     planLoaded_ = true;
+    for (std::uint16_t& id : commandId_) {
+        id = 0;
+    }
+    driveActivity_ = kNoIndex;
     selection_ = r.selection;
     selectionStatus_ = r.status;
     cost_ = r.cost;
@@ -327,6 +633,7 @@ void PlanExecutiveTask::adoptRegeneration(const SelectionResult& r) {
     selection_ = r.selection;
     selectionStatus_ = r.status;
     input_ = regenInput_;
+    carried_ = dispatcher_.activities();  // completions taken while the selection ran included
     events_.report(events::kRegenerated, core::Severity::kWarning,
                    "plan_exec: plan %s regenerated (%s): cost %.2f -> %.2f", p.name, toString(r.status), costBefore_,
                    cost_);
@@ -362,6 +669,9 @@ std::int32_t PlanExecutiveTask::planMs() const {
 
 void PlanExecutiveTask::dispatch() {
     const std::int32_t nowMs = planMs();
+    if (job_ == Job::kNone && state_ == msg::PlanExecutiveState::kDispatching && checkComponents(nowMs)) {
+        return;
+    }
     if (core::isOk(dispatcher_.tick(nowMs, &out_))) {
         handleOutput(out_, nowMs);
     }
@@ -415,7 +725,11 @@ void PlanExecutiveTask::handleOutput(const DispatchOutput& out, std::int32_t now
                            "plan_exec: %s %s started at %.1f s (bounds [%.1f, %.1f] s)", toString(a.kind), a.name,
                            static_cast<double>(nowMs) / 1000.0, static_cast<double>(a.duration.lbMs) / 1000.0,
                            a.duration.ubMs == kInfiniteMs ? -1.0 : static_cast<double>(a.duration.ubMs) / 1000.0);
-        } else if (dispatcher_.state(c.activity) == ActivityState::kTimedOut) {
+            startActivity(c.activity);
+            continue;
+        }
+        cancelActivity(c.activity);
+        if (dispatcher_.state(c.activity) == ActivityState::kTimedOut) {
             ++late_;
             events_.report(events::kActivityLate, core::Severity::kWarning,
                            "plan_exec: %s %s timed out at %.1f s: cancelled", toString(a.kind), a.name,
@@ -444,7 +758,7 @@ void PlanExecutiveTask::handleOutput(const DispatchOutput& out, std::int32_t now
 
 void PlanExecutiveTask::startRegeneration(std::int32_t nowMs) {
     const Tpn& p = tpn_[active_];
-    const RegenerationReason why = dispatcher_.reason();
+    const RegenerationReason why = dispatcher_.regenerationNeeded() ? dispatcher_.reason() : RegenerationReason::kNone;
     carried_ = dispatcher_.activities();
     regenInput_ = input_;
     for (bool& s : regenInput_.started) {
@@ -460,7 +774,8 @@ void PlanExecutiveTask::startRegeneration(std::int32_t nowMs) {
     }
     dispatcher_.regenerationInput(nowMs, &regenInput_);
     ++regenerations_;
-    lastRegeneration_ = regenerationOf(why);
+    lastRegeneration_ = regenerateForComponent_ ? msg::PlanRegeneration::kComponentFailed : regenerationOf(why);
+    regenerateForComponent_ = false;
     changed_ = true;
     const DispatchSnapshot snap = dispatcher_.snapshot(nowMs);
     events_.report(events::kRegenerating, core::Severity::kWarning,

@@ -19,9 +19,25 @@
 // a PLAN_START or PLAN_SHORT while a new plan's selection or a regeneration
 // is under way is refused (busy).
 //
-// Activities. Stage 1: nothing is commanded to the devices yet: wait and
-// communicate complete at their lb; every other activity runs until its ub
-// and is then timed out by the dispatcher (regeneration, kLate).
+// Activities (docs/plan_executive.md "Dispatch to the devices"). Start(drive):
+// a PlanGoalMsg of one goal (the activity's point, the operator's risk bound)
+// for the deliberative layer; done when its PlanStatusMsg reports that goal
+// list complete, failed on a call home or when another goal list replaces
+// it. Start(sample / dig / image): an InstrumentCommandMsg to the grinder /
+// camera with a fresh command id and the activity's ub as max duration; done
+// on the instrument's status done for that id; failed on failed, refused or
+// offline. Wait and communicate complete at their lb. Cancel: an empty goal
+// list, or the instrument's cancel.
+//
+// Components. Drive modes (DriveModesMsg: nominal ok, degraded degraded,
+// failed failed, unknown degraded) and the instruments (offline, or failed
+// with a fault code: failed; else ok) are the SelectionInput's components.
+// When an activity of the selection not yet done asks what a component no
+// longer is: a running one is failed(), every option with a waiting one is
+// deprecated, and the plan is regenerated from where it stands (reason
+// component failed, event 962/963 with the costs); no method left: operator.
+// While a regeneration's selection runs, the dispatcher is not ticked (no
+// activity starts from the old selection); completions are still taken.
 //
 // Work per run (10 Hz, deliberative rate group, before the deliberative
 // task): at most kPipeDepth messages (one parse each at most: linear in the
@@ -41,6 +57,10 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/goal_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/plan_executive/method_selector.hpp"
 #include "fsw/plan_executive/plan_dispatcher.hpp"
@@ -54,7 +74,14 @@ public:
     static constexpr std::uint32_t kSelectionUnitsPerRun = 150000;
     static constexpr std::uint32_t kCheckUnitsPerRun = 4096;
     static constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz at 10 Hz
-    static constexpr std::uint16_t kPipeDepth = 16;
+    // Pipe depths: the bus's 256 queue slots are nearly all taken (a test
+    // probe and rse-demo's pipe included). Commands: 12 between two runs (the
+    // command task executes up to 20 in 100 ms: a burst of chunks beyond 12 is
+    // lost and shows as a gap). Status: drive modes (10 Hz), the instruments
+    // (on change, 1 Hz), the deliberative status and goal lists.
+    static constexpr std::uint16_t kPipeDepth = 12;
+    static constexpr std::uint16_t kStatusPipeDepth = 12;
+    static constexpr std::uint32_t kGoalRevisionBase = 0x80000000U;
 
     PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events);
 
@@ -76,6 +103,19 @@ private:
     enum class Job : std::uint8_t { kNone, kSelectNew, kRegenerate };
 
     void takeMessages();
+    void takeStatus();
+    void onInstrument(const msg::InstrumentStatusMsg& m);
+    void onDriveModes(const msg::DriveModesMsg& m);
+    void onPlanStatus(const msg::PlanStatusMsg& m);
+    void startActivity(std::uint16_t a);
+    void cancelActivity(std::uint16_t a);
+    void publishGoal(const Activity* drive);
+    void commandInstrument(std::uint16_t a, msg::InstrumentAction action);
+    // Completion / failure of a running activity reported by a device.
+    void deviceCompleted(std::uint16_t a);
+    void deviceFailed(std::uint16_t a, const char* why);
+    bool askHolds(const Condition& c) const;
+    bool checkComponents(std::int32_t nowMs);
     void handle(const msg::PlanCommandMsg& m);
     void loadChunk(const msg::PlanCommandMsg& m);
     void startUpload(const msg::PlanCommandMsg& m);
@@ -101,6 +141,7 @@ private:
     core::SoftwareBus& bus_;
     core::EventLog& events_;
     core::PipeId pipe_ = 0;
+    core::PipeId statusPipe_ = 0;
     bool ready_ = false;
     core::Message inbox_{};
     msg::PlanCommandMsg command_{};
@@ -134,6 +175,20 @@ private:
     ComponentState components_[kComponentCount] = {};
     // Options the executive deprecated (a component they ask failed; stage 2).
     bool deprecated_[kMaxChoices][kMaxOptions] = {};
+
+    // Devices: the instruments' latest status, the command id of each science
+    // activity's command, the drive activity whose goal the deliberative layer has.
+    msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
+    std::uint16_t commandId_[kMaxActivities] = {};
+    std::uint16_t nextCommandId_ = 0;
+    std::uint16_t driveActivity_ = kNoIndex;
+    std::uint32_t driveRevision_ = 0;
+    bool driveAdopted_ = false;   // the deliberative layer reported working on driveRevision_
+    std::uint32_t goalRevision_ = kGoalRevisionBase;
+    double riskBound_ = 1e-3;     // the operator's, from the last GoalListMsg
+    msg::PlanGoalMsg goal_{};
+    msg::InstrumentCommandMsg instrumentCommand_{};
+    bool regenerateForComponent_ = false;
 
     PlanDispatcher dispatcher_;
     ActivityRecord carried_{};

@@ -14,6 +14,9 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/goal_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/plan_executive/plan_executive_events.hpp"
 #include "fsw/plan_executive/plan_executive_task.hpp"
@@ -64,6 +67,11 @@ struct Rig {
     std::uint32_t safeRequests = 0;
     msg::CallHomeReason safeReason = msg::CallHomeReason::kNone;
     std::uint32_t seen[100] = {};  // events 950.. seen
+    // What the executive asked of the devices and the deliberative layer.
+    msg::InstrumentCommandMsg lastInstrument{};
+    std::uint32_t instrumentCommands = 0;
+    msg::PlanGoalMsg lastGoal{};
+    std::uint32_t goals = 0;
     std::uint64_t frames = 0;
     msg::PlanCommandMsg command{};
 
@@ -72,7 +80,42 @@ struct Rig {
     bool init() {
         return core::isOk(bus.createPipe("probe", 32, &probe)) &&
                core::isOk(bus.subscribe(probe, msg::ids::kPlanExecutiveStatus)) &&
-               core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest)) && core::isOk(task.init());
+               core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest)) &&
+               core::isOk(bus.subscribe(probe, msg::ids::kInstrumentCommand)) &&
+               core::isOk(bus.subscribe(probe, msg::ids::kPlanGoal)) && core::isOk(task.init());
+    }
+    // ---- what the devices, mode estimation and the deliberative layer say ----
+    void instrument(msg::Instrument which, msg::InstrumentState state, std::uint16_t commandId,
+                    std::uint8_t faultCode = 0, msg::InstrumentRefusal refusal = msg::InstrumentRefusal::kNone) {
+        msg::InstrumentStatusMsg m{};
+        m.timeNs = clock.now();
+        m.instrument = which;
+        m.state = state;
+        m.commandId = commandId;
+        m.faultCode = faultCode;
+        m.lastRefusal = refusal;
+        m.lastRefusedCommandId = refusal == msg::InstrumentRefusal::kNone ? 0 : commandId;
+        CHECK_TRUE(core::isOk(bus.publish(m)));
+    }
+    void deliberative(msg::DeliberativeState state, std::uint32_t revision) {
+        msg::PlanStatusMsg m{};
+        m.timeNs = clock.now();
+        m.state = state;
+        m.goalRevision = revision;
+        CHECK_TRUE(core::isOk(bus.publish(m)));
+    }
+    void driveModes(std::size_t wheel, msg::DriveMode declared) {
+        msg::DriveModesMsg m{};
+        m.timeNs = clock.now();
+        m.drives[wheel].declared = declared;
+        CHECK_TRUE(core::isOk(bus.publish(m)));
+    }
+    void riskBound(double risk) {
+        msg::GoalListMsg g{};
+        g.timeNs = clock.now();
+        g.riskBound = risk;
+        g.revision = 1;
+        CHECK_TRUE(core::isOk(bus.publish(g)));
     }
     void send(msg::PlanCommandKind kind, const char* data = nullptr, std::size_t length = 0, std::uint32_t offset = 0) {
         command = msg::PlanCommandMsg{};
@@ -133,6 +176,12 @@ struct Rig {
             if (inbox.header.id == msg::ids::kPlanExecutiveStatus) {
                 CHECK_TRUE(core::isOk(inbox.decode(&status)));
                 ++statuses;
+            } else if (inbox.header.id == msg::ids::kInstrumentCommand) {
+                CHECK_TRUE(core::isOk(inbox.decode(&lastInstrument)));
+                ++instrumentCommands;
+            } else if (inbox.header.id == msg::ids::kPlanGoal) {
+                CHECK_TRUE(core::isOk(inbox.decode(&lastGoal)));
+                ++goals;
             } else if (inbox.header.id == msg::ids::kSafeRequest) {
                 msg::SafeRequestMsg s{};
                 CHECK_TRUE(core::isOk(inbox.decode(&s)));
@@ -392,4 +441,171 @@ TEST(PlanExecutiveTask, NoHeapAcrossManyRuns) {
         rig->runFor(5);
     }
     LONGS_EQUAL(0, watch.count());
+}
+
+// ---- Stage 2: the devices and the deliberative layer ------------------------
+
+namespace {
+// The two-targets plan's activities (parse order).
+constexpr std::uint16_t kDrive1 = 0, kSample1 = 1, kDrive2 = 3, kSample2 = 4, kImage2 = 5;
+}  // namespace
+
+TEST_GROUP(PlanExecutiveDevices) {
+    void setup() override {
+        rig = new Rig();
+        CHECK_TRUE(rig->init());
+        rig->riskBound(2e-3);
+        rig->run();
+        rig->uploadAndStart(test::plan::kTwoTargetsText, 200);
+        CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+        rig->runFor(2);
+    }
+    void teardown() override {
+        delete rig;
+        rig = nullptr;
+    }
+    plan_executive::ActivityState state(std::uint16_t a) { return rig->task.dispatcher().state(a); }
+    // drive1 reached, as the deliberative layer says.
+    void reachTarget1() {
+        rig->deliberative(msg::DeliberativeState::kPlanning, rig->lastGoal.goals.revision);
+        rig->runFor(600);  // drive1's lb is 60 s
+        rig->deliberative(msg::DeliberativeState::kComplete, rig->lastGoal.goals.revision);
+        rig->run();
+        CHECK(state(kDrive1) == plan_executive::ActivityState::kDone);
+    }
+};
+
+TEST(PlanExecutiveDevices, DriveIsAGoalForTheDeliberativeLayerAndCompletesWhenItIsReached) {
+    LONGS_EQUAL(1, rig->goals);
+    LONGS_EQUAL(1, rig->lastGoal.goals.count);
+    DOUBLES_EQUAL(10.0, rig->lastGoal.goals.goals[0].xM, 1e-12);
+    DOUBLES_EQUAL(0.0, rig->lastGoal.goals.goals[0].yM, 1e-12);
+    DOUBLES_EQUAL(2e-3, rig->lastGoal.goals.riskBound, 1e-15);
+    CHECK(rig->lastGoal.goals.revision >= PlanExecutiveTask::kGoalRevisionBase);
+    // A status about another goal list before this one is adopted is not news.
+    rig->deliberative(msg::DeliberativeState::kComplete, 1);
+    rig->run();
+    CHECK(state(kDrive1) == plan_executive::ActivityState::kRunning);
+    reachTarget1();
+    // sample1 starts: the grinder, target 1, ub 300 s, a fresh command id.
+    LONGS_EQUAL(1, rig->instrumentCommands);
+    CHECK(rig->lastInstrument.instrument == msg::Instrument::kGrinder);
+    CHECK(rig->lastInstrument.action == msg::InstrumentAction::kSample);
+    LONGS_EQUAL(1, rig->lastInstrument.targetId);
+    DOUBLES_EQUAL(300.0, rig->lastInstrument.maxDurationS, 1e-9);
+    CHECK(rig->lastInstrument.commandId != 0);
+}
+
+TEST(PlanExecutiveDevices, GrinderFailingDeprecatesSample2AndRegeneratesWithImage2) {
+    reachTarget1();
+    const std::uint16_t sampleId = rig->lastInstrument.commandId;
+    rig->instrument(msg::Instrument::kGrinder, msg::InstrumentState::kBusy, sampleId);
+    rig->runFor(1300);
+    rig->instrument(msg::Instrument::kGrinder, msg::InstrumentState::kDone, sampleId);
+    rig->run();
+    CHECK(state(kSample1) == plan_executive::ActivityState::kDone);
+    CHECK(state(kDrive2) == plan_executive::ActivityState::kRunning);
+    LONGS_EQUAL(2, rig->goals);
+    DOUBLES_EQUAL(20.0, rig->lastGoal.goals.goals[0].xM, 1e-12);
+    const std::uint32_t drive2Revision = rig->lastGoal.goals.revision;
+    rig->deliberative(msg::DeliberativeState::kExecuting, drive2Revision);
+    rig->runFor(10);
+    // The grinder faults while the rover drives to target 2.
+    rig->instrument(msg::Instrument::kGrinder, msg::InstrumentState::kFailed, sampleId, 3);
+    rig->runFor(5);
+    LONGS_EQUAL(1, rig->count(ev::kComponentFailed));
+    LONGS_EQUAL(1, rig->count(ev::kRegenerating));
+    LONGS_EQUAL(1, rig->count(ev::kRegenerated));
+    LONGS_EQUAL(static_cast<long>(msg::PlanRegeneration::kComponentFailed),
+                static_cast<long>(rig->status.lastRegeneration));
+    DOUBLES_EQUAL(32.5, rig->status.costBefore, 1e-9);
+    DOUBLES_EQUAL(37.5, rig->status.cost, 1e-9);
+    LONGS_EQUAL(1, rig->status.options[1]);  // science2: image
+    LONGS_EQUAL(1, rig->status.deprecatedCount);
+    // drive2 carried over, not restarted: no new goal.
+    CHECK(state(kDrive2) == plan_executive::ActivityState::kRunning);
+    LONGS_EQUAL(2, rig->goals);
+    rig->runFor(600);
+    rig->deliberative(msg::DeliberativeState::kComplete, drive2Revision);
+    rig->run();
+    CHECK(state(kImage2) == plan_executive::ActivityState::kRunning);
+    CHECK(state(kSample2) == plan_executive::ActivityState::kInactive);
+    CHECK(rig->lastInstrument.instrument == msg::Instrument::kCamera);
+    CHECK(rig->lastInstrument.action == msg::InstrumentAction::kImage);
+    LONGS_EQUAL(2, rig->lastInstrument.targetId);
+    rig->runFor(350);
+    rig->instrument(msg::Instrument::kCamera, msg::InstrumentState::kDone, rig->lastInstrument.commandId);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 20));
+    rig->run();
+    LONGS_EQUAL(4, rig->status.activitiesCompleted);
+    LONGS_EQUAL(0, rig->status.operatorCalls);
+    LONGS_EQUAL(0, rig->safeRequests);
+}
+
+TEST(PlanExecutiveDevices, RefusedOrOfflineInstrumentFailsTheActivity) {
+    reachTarget1();
+    const std::uint16_t sampleId = rig->lastInstrument.commandId;
+    rig->instrument(msg::Instrument::kGrinder, msg::InstrumentState::kIdle, 0, 0, msg::InstrumentRefusal::kOutOfReach);
+    rig->command.timeNs = 0;  // (the refusal names command 0: not ours)
+    rig->run();
+    CHECK(state(kSample1) == plan_executive::ActivityState::kRunning);
+    rig->instrument(msg::Instrument::kGrinder, msg::InstrumentState::kIdle, sampleId, 0,
+                    msg::InstrumentRefusal::kOutOfReach);
+    rig->runFor(3);
+    LONGS_EQUAL(1, rig->count(ev::kActivityFailed));
+    LONGS_EQUAL(1, rig->status.activitiesFailed);
+    LONGS_EQUAL(1, rig->count(ev::kRegenerating));
+    // Re-selected from where it stands: science1 not under way any more (a
+    // failed activity is not "started"), so image1 may take its place.
+    CHECK(rig->count(ev::kRegenerated) + rig->count(ev::kOperatorCalled) == 1);
+}
+
+TEST(PlanExecutiveDevices, CallHomeFailsTheDriveAndAFailedDriveModeCallsTheOperator) {
+    rig->driveModes(1, msg::DriveMode::kFailed);  // drive_ML: drive1 asks drive_ML != failed
+    rig->runFor(5);
+    LONGS_EQUAL(1, rig->count(ev::kComponentFailed));
+    LONGS_EQUAL(1, rig->count(ev::kActivityFailed));
+    LONGS_EQUAL(1, rig->count(ev::kOperatorCalled));
+    LONGS_EQUAL(1, rig->safeRequests);
+    CHECK(rig->safeReason == msg::CallHomeReason::kPlanNoMethod);
+    LONGS_EQUAL(0, rig->lastGoal.goals.count);  // the drive's goal cleared
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kFailed), static_cast<long>(rig->status.state));
+}
+
+// The deliberative layer's call home fails the drive; the plan, regenerated
+// from where it stands, runs drive1 again (its window is still open): a new goal.
+TEST(PlanExecutiveDevices, DeliberativeCallHomeFailsTheDriveAndTheRegeneratedPlanRunsItAgain) {
+    const std::uint32_t first = rig->lastGoal.goals.revision;
+    rig->deliberative(msg::DeliberativeState::kCalledHome, first);
+    rig->runFor(3);
+    LONGS_EQUAL(1, rig->count(ev::kActivityFailed));
+    LONGS_EQUAL(1, rig->count(ev::kRegenerated));
+    LONGS_EQUAL(static_cast<long>(msg::PlanRegeneration::kActivityFailed),
+                static_cast<long>(rig->status.lastRegeneration));
+    LONGS_EQUAL(2, rig->goals);
+    CHECK(rig->lastGoal.goals.revision > first);
+    CHECK(state(kDrive1) == plan_executive::ActivityState::kRunning);
+    // Another goal list (a GOTO) replacing the drive's, once adopted, fails it too.
+    rig->deliberative(msg::DeliberativeState::kExecuting, rig->lastGoal.goals.revision);
+    rig->run();
+    rig->deliberative(msg::DeliberativeState::kWaiting, 7);
+    rig->runFor(3);
+    LONGS_EQUAL(2, rig->count(ev::kActivityFailed));
+}
+
+TEST(PlanExecutiveDevices, AbortCancelsTheInstrumentCommandAndClearsTheGoal) {
+    reachTarget1();
+    const std::uint16_t sampleId = rig->lastInstrument.commandId;
+    rig->send(msg::PlanCommandKind::kAbort);
+    rig->run();
+    CHECK(rig->lastInstrument.action == msg::InstrumentAction::kCancel);
+    LONGS_EQUAL(sampleId, rig->lastInstrument.commandId);
+    LONGS_EQUAL(1, rig->count(ev::kActivityCancelled));
+}
+
+TEST(PlanExecutiveDevices, AbortWhileDrivingClearsTheGoal) {
+    rig->send(msg::PlanCommandKind::kAbort);
+    rig->run();
+    LONGS_EQUAL(2, rig->goals);
+    LONGS_EQUAL(0, rig->lastGoal.goals.count);
 }
