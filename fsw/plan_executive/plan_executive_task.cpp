@@ -206,6 +206,9 @@ void PlanExecutiveTask::onInstrument(const msg::InstrumentStatusMsg& m) {
         }
         if (m.commandId == id && m.state == msg::InstrumentState::kDone) {
             deviceCompleted(a);
+        } else if (m.commandId == id && m.state == msg::InstrumentState::kFailed &&
+                   m.result == msg::InstrumentResult::kTimedOut) {
+            deviceFailed(a, "timed out at its ub (the instrument's limit)", true);
         } else if (m.commandId == id && m.state == msg::InstrumentState::kFailed) {
             deviceFailed(a, "the instrument reports it failed");
         } else if (m.lastRefusedCommandId == id && m.lastRefusal != msg::InstrumentRefusal::kNone) {
@@ -270,10 +273,17 @@ void PlanExecutiveTask::deviceCompleted(std::uint16_t a) {
     const Activity& act = tpn_[active_].activities[a];
     events_.report(events::kActivityCompleted, core::Severity::kInfo, "plan_exec: %s %s completed after %.1f s",
                    toString(act.kind), act.name, static_cast<double>(nowMs - start) / 1000.0);
+    if (out_.early) {
+        ++early_;
+        events_.report(events::kActivityEarly, core::Severity::kWarning,
+                       "plan_exec: %s completed early at %.1f s (lb %.1f s): its end held to %.1f s", act.name,
+                       static_cast<double>(nowMs) / 1000.0, static_cast<double>(act.duration.lbMs) / 1000.0,
+                       static_cast<double>(out_.heldToMs) / 1000.0);
+    }
     handleOutput(out_, nowMs);
 }
 
-void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why) {
+void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why, bool late) {
     const std::int32_t nowMs = planMs();
     if (dispatcher_.state(a) != ActivityState::kRunning || !core::isOk(dispatcher_.failed(a, nowMs, &out_))) {
         return;
@@ -282,11 +292,13 @@ void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why) {
     if (driveActivity_ == a) {
         driveActivity_ = kNoIndex;
     }
-    ++failed_;
+    ++(late ? late_ : failed_);
+    lateByDevice_ = lateByDevice_ || late;
     changed_ = true;
     const Activity& act = tpn_[active_].activities[a];
-    events_.report(events::kActivityFailed, core::Severity::kWarning, "plan_exec: %s %s failed at %.1f s: %s",
-                   toString(act.kind), act.name, static_cast<double>(nowMs) / 1000.0, why);
+    events_.report(late ? events::kActivityLate : events::kActivityFailed, core::Severity::kWarning,
+                   "plan_exec: %s %s %s at %.1f s: %s", toString(act.kind), act.name, late ? "late" : "failed",
+                   static_cast<double>(nowMs) / 1000.0, why);
     handleOutput(out_, nowMs);
 }
 
@@ -402,9 +414,10 @@ bool PlanExecutiveTask::checkComponents(std::int32_t nowMs) {
         return false;
     }
     events_.report(events::kComponentFailed, core::Severity::kWarning,
-                   "plan_exec: %u activit%s of plan %s ask what a component no longer is (first %s): regenerating",
-                   static_cast<unsigned>(affected), affected == 1 ? "y" : "ies", p.name, p.activities[first].name);
+                   "plan_exec: %u activit%s ask a component no longer so (first %s): regenerating",
+                   static_cast<unsigned>(affected), affected == 1 ? "y" : "ies", p.activities[first].name);
     regenerateForComponent_ = true;
+    componentActivity_ = first;
     startRegeneration(nowMs);
     return true;
 }
@@ -699,14 +712,7 @@ void PlanExecutiveTask::completeTimedActivities(std::int32_t nowMs) {
         if (static_cast<std::int64_t>(nowMs) - start < act.duration.lbMs) {
             continue;
         }
-        if (core::isOk(dispatcher_.completed(a, nowMs, &out_))) {
-            ++completed_;
-            changed_ = true;
-            events_.report(events::kActivityCompleted, core::Severity::kInfo,
-                           "plan_exec: %s %s completed after %.1f s", toString(act.kind), act.name,
-                           static_cast<double>(nowMs - start) / 1000.0);
-            handleOutput(out_, nowMs);
-        }
+        deviceCompleted(a);
     }
 }
 
@@ -740,13 +746,6 @@ void PlanExecutiveTask::handleOutput(const DispatchOutput& out, std::int32_t now
                            static_cast<double>(nowMs) / 1000.0);
         }
     }
-    if (out.early && out.activity < p.activityCount) {
-        ++early_;
-        events_.report(events::kActivityEarly, core::Severity::kWarning,
-                       "plan_exec: %s completed early at %.1f s: its end held to %.1f s",
-                       p.activities[out.activity].name, static_cast<double>(nowMs) / 1000.0,
-                       static_cast<double>(out.heldToMs) / 1000.0);
-    }
     if (out.regenerate && out.reason == RegenerationReason::kLate && out.activity < p.activityCount &&
         dispatcher_.state(out.activity) == ActivityState::kDone) {
         ++late_;  // completed after its end's latest (a timeout was counted with its Cancel)
@@ -775,13 +774,20 @@ void PlanExecutiveTask::startRegeneration(std::int32_t nowMs) {
     dispatcher_.regenerationInput(nowMs, &regenInput_);
     ++regenerations_;
     lastRegeneration_ = regenerateForComponent_ ? msg::PlanRegeneration::kComponentFailed : regenerationOf(why);
+    if (lateByDevice_ && why == RegenerationReason::kActivityFailed) {
+        lastRegeneration_ = msg::PlanRegeneration::kLate;  // the instrument's own timeout at the ub
+    }
     regenerateForComponent_ = false;
+    lateByDevice_ = false;
     changed_ = true;
     const DispatchSnapshot snap = dispatcher_.snapshot(nowMs);
+    const bool component = lastRegeneration_ == msg::PlanRegeneration::kComponentFailed;
+    const bool late = lastRegeneration_ == msg::PlanRegeneration::kLate;
+    const std::uint16_t named = component ? componentActivity_ : snap.reasonActivity;
     events_.report(events::kRegenerating, core::Severity::kWarning,
-                   "plan_exec: plan %s regenerating at %.1f s (%s, activity %s), cost before %.2f", p.name,
-                   static_cast<double>(nowMs) / 1000.0, toString(why),
-                   snap.reasonActivity < p.activityCount ? p.activities[snap.reasonActivity].name : "-", cost_);
+                   "plan_exec: %s regenerating at %.1f s: %s (%s), cost before %.2f", p.name,
+                   static_cast<double>(nowMs) / 1000.0, component ? "component failed" : (late ? "late" : toString(why)),
+                   named < p.activityCount ? p.activities[named].name : "-", cost_);
     if (!core::isOk(selector_.start(p, regenInput_, params_))) {
         callOperator("method selection refused the regeneration");
         return;

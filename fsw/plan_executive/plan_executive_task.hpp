@@ -47,7 +47,8 @@
 // events); one dispatcher tick (O(n^2) plus at most 8 event executions) and
 // at most one completion per running wait/communicate activity.
 //
-// Memory: two Tpns, the selector, the dispatcher (its STN nearly all of it)
+// Memory: sizeof 441 776 B on x86-64: two Tpns (49 072 B each), the
+// selector, the dispatcher (its STN nearly all of it)
 // and the text buffer: static storage in FswApp, never a stack; no heap.
 #pragma once
 
@@ -113,7 +114,9 @@ private:
     void commandInstrument(std::uint16_t a, msg::InstrumentAction action);
     // Completion / failure of a running activity reported by a device.
     void deviceCompleted(std::uint16_t a);
-    void deviceFailed(std::uint16_t a, const char* why);
+    // late: the instrument gave up at the activity's ub (its max duration):
+    // counted and evented as late (959), the dispatcher told failed().
+    void deviceFailed(std::uint16_t a, const char* why, bool late = false);
     bool askHolds(const Condition& c) const;
     bool checkComponents(std::int32_t nowMs);
     void handle(const msg::PlanCommandMsg& m);
@@ -189,6 +192,8 @@ private:
     msg::PlanGoalMsg goal_{};
     msg::InstrumentCommandMsg instrumentCommand_{};
     bool regenerateForComponent_ = false;
+    bool lateByDevice_ = false;  // an instrument gave up at an activity's ub: the regeneration is for lateness
+    std::uint16_t componentActivity_ = kNoIndex;  // the first activity a component failure hit
 
     PlanDispatcher dispatcher_;
     ActivityRecord carried_{};

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 #include "fsw/cmdtlm/ccsds.hpp"
@@ -63,8 +64,14 @@ public:
         while (core::isOk(link_.groundReceive(buffer_, sizeof buffer_, &length))) {
             ++downlinked_;
             noteTaskTiming(length);
+            keepPacket(length);
         }
     }
+    // Keeps the latest packet of one APID (0: none) for a test to decode.
+    void keepApid(std::uint16_t apid) { keptApid_ = apid; }
+    const std::uint8_t* kept() const { return kept_; }
+    std::size_t keptLength() const { return keptLength_; }
+    std::uint32_t keptCount() const { return keptCount_; }
     std::uint32_t downlinked() const { return downlinked_; }
 
     // EXEC_SET_TASK for `row`, or for the row TASK_TIMING names `name` when name is not empty.
@@ -91,6 +98,15 @@ public:
     const TaskSeen& task(std::size_t row) const { return tasks_[row < kRows ? row : 0]; }
 
 private:
+    void keepPacket(std::size_t length) {
+        if (keptApid_ == 0 || length < cmdtlm::kTelemetryHeaderSize || length > sizeof kept_ ||
+            cmdtlm::decodePrimaryHeader(buffer_).apid != keptApid_) {
+            return;
+        }
+        std::memcpy(kept_, buffer_, length);
+        keptLength_ = length;
+        ++keptCount_;
+    }
     // A TASK_TIMING packet in buffer_: the row's name and runs (task_index,
     // task_name and runs are its first fields, docs/dictionary.md).
     void noteTaskTiming(std::size_t length) {
@@ -114,6 +130,10 @@ private:
     std::size_t lastTaskRow_ = kRows;
     TaskSeen tasks_[kRows] = {};
     std::uint8_t buffer_[hal::kMemoryLinkMaxPacket] = {};
+    std::uint16_t keptApid_ = 0;
+    std::uint8_t kept_[hal::kMemoryLinkMaxPacket] = {};
+    std::size_t keptLength_ = 0;
+    std::uint32_t keptCount_ = 0;
 };
 
 }  // namespace rse::sim

@@ -1,0 +1,243 @@
+// Lockstep: the plan executive end to end (issue 16, must-show 1 and 2). The
+// test is the operator: the two-targets plan (unit_test/fuzz/corpus/plan/
+// two_targets.plan) goes up as the ground would send it, PLAN_LOAD chunks then
+// PLAN_START with its length and CRC-32, through the authenticated in-memory
+// ground link; the executive drives the rover through the deliberative layer
+// and works the simulated grinder and camera over CAN. The judgement is on
+// what the ground sees: the console's events and the PLAN_EXEC packet.
+//
+// Scenario: sim_stub/scenarios/two_targets.toml: the demo site, targets 1 at
+// (10, 0) and 2 at (20, 5), the grinder failing for good at 240 s, after it
+// sampled target 1 and while the rover drives to target 2.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "fsw/core/byte_codec.hpp"
+#include "fsw/core/crc32.hpp"
+#include "fsw/msg/mode_msgs.hpp"
+#include "ground/telemetry_decoder.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/memory_ground.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using core::kNsPerMs;
+using core::kNsPerSec;
+
+namespace {
+
+sim::MemoryGround* g_ground = nullptr;
+void drain(sim::LockstepRig&) { g_ground->drainDownlink(); }
+
+std::string readFile(const char* path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+TEST_GROUP(LockstepPlanExecutive) {
+    sim::LockstepRig* rig = nullptr;
+    sim::MemoryGround* ground = nullptr;
+
+    void start(const sim::Scenario& scenario) {
+        rig = new sim::LockstepRig(scenario);
+        ground = new sim::MemoryGround;
+        g_ground = ground;
+        ground->keepApid(cmdtlm::PLAN_EXEC_Tlm::kApid);
+        CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
+        CHECK(core::Status::kOk == rig->init());
+        rig->setOnFrame(drain);
+        CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 3 * kNsPerSec));
+        CHECK_TRUE(ground->setMode(2));  // AUTONOMOUS
+        rig->runFor(100 * kNsPerMs);
+    }
+    void teardown() override {
+        delete rig;
+        delete ground;
+        g_ground = nullptr;
+    }
+    // PLAN_LOAD in 200-byte chunks (one every 20 ms), then PLAN_START.
+    void uplink(const std::string& text, std::uint32_t crcXor = 0) {
+        for (std::size_t at = 0; at < text.size(); at += 200) {
+            const std::size_t n = text.size() - at < 200 ? text.size() - at : 200;
+            std::uint8_t args[2 + 200];
+            core::BeWriter w(args, sizeof args);
+            w.u16(static_cast<std::uint16_t>(at));
+            w.bytes(reinterpret_cast<const std::uint8_t*>(text.data() + at), n);
+            CHECK_TRUE(ground->send("PLAN_LOAD", args, 2 + n));
+            rig->runFor(20 * kNsPerMs);
+        }
+        std::uint8_t args[8];
+        core::BeWriter w(args, sizeof args);
+        w.u32(static_cast<std::uint32_t>(text.size()));
+        w.u32(core::crc32(text.data(), text.size()) ^ crcXor);
+        CHECK_TRUE(ground->send("PLAN_START", args, sizeof args));
+    }
+    bool complete() { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kComplete; }
+    ground::DecodedPacket planExec() { return ground::decodeTelemetry(ground->kept(), ground->keptLength()); }
+    double field(const char* name, std::size_t i = 0) {
+        const auto v = planExec().value(name, i);
+        CHECK_TEXT(v.has_value(), name);
+        return v.value_or(-1.0);
+    }
+    void dumpOnFailure(bool ok) {
+        if (!ok || std::getenv("PLAN_EXEC_CONSOLE") != nullptr) {
+            std::printf("%s\n", rig->consoleText());
+        }
+    }
+};
+
+// Must-show 1: target 1 sampled; the grinder fails; sample(target 2)
+// deprecated, the plan regenerated with image(target 2), driven there and
+// imaged; the cost before and after in the events and in PLAN_EXEC.
+TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) {
+    start(sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml"));
+    const std::string plan = readFile("unit_test/fuzz/corpus/plan/two_targets.plan");
+    CHECK(plan.size() > 200);
+    uplink(plan);
+    const bool done = rig->runUntil([&] { return complete(); }, 470 * kNsPerSec);
+    rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked
+    dumpOnFailure(done);
+    CHECK_TRUE(done);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 950 INFO  plan_exec: plan two_targets accepted"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: drive drive1 started"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: sample sample1 started"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: sample sample1 completed"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: drive drive2 started"));
+    // The drives take under their 60 s lb: early, each end held to its earliest.
+    LONGS_EQUAL(1, rig->consoleCount("EVT 958 WARN  plan_exec: drive1 completed early"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 958 WARN  plan_exec: drive2 completed early"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 972 WARN  plan_exec: grinder now failed"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 973 WARN  plan_exec: 1 activity ask a component no longer so (first sample2)"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 962 WARN  plan_exec: two_targets regenerating"));
+    LONGS_EQUAL(1, rig->consoleCount(": component failed (sample2), cost before 32.50"));
+    LONGS_EQUAL(1, rig->consoleCount("cost 32.50 -> 37.50"));
+    LONGS_EQUAL(0, rig->consoleCount("plan_exec: sample sample2 started"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: image image2 started"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: image image2 completed"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 964 INFO  plan_exec: plan two_targets complete"));
+    LONGS_EQUAL(0, rig->consoleCount("EVT 966"));
+    // The ground's view.
+    CHECK(ground->keptCount() > 0);
+    STRCMP_EQUAL("PLAN_EXEC", planExec().name());
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(32.5, field("cost_before"), 1e-9);
+    DOUBLES_EQUAL(37.5, field("cost"), 1e-9);
+    DOUBLES_EQUAL(5.0, field("last_regeneration"), 0.0);  // component failed
+    DOUBLES_EQUAL(0.0, field("options", 0), 0.0);          // science1: sample
+    DOUBLES_EQUAL(1.0, field("options", 1), 0.0);          // science2: image
+    DOUBLES_EQUAL(1.0, field("deprecated"), 0.0);
+    DOUBLES_EQUAL(1.0, field("regenerations"), 0.0);
+    DOUBLES_EQUAL(4.0, field("completed"), 0.0);
+    DOUBLES_EQUAL(2.0, field("early"), 0.0);
+    DOUBLES_EQUAL(1.0, field("plans_accepted"), 0.0);
+    // The truth: the rover at target 2.
+    const sim::Pose2 p = rig->rover().truth().pose;
+    std::printf("\n  two targets: complete at %.1f s, rover at (%.2f, %.2f)\n",
+                static_cast<double>(rig->clock().now()) / 1e9, p.x, p.y);
+}
+
+namespace {
+sim::FaultSpec instrumentFails(sim::SimDevice device, double atS) {
+    sim::FaultSpec f;
+    f.type = sim::FaultType::kInstrumentFailure;
+    f.device = device;
+    f.at = static_cast<core::TimeNs>(atS * 1e9);
+    f.until = sim::kNever;
+    f.faultCode = 0x42;
+    return f;
+}
+}  // namespace
+
+// Must-show 2, late completion (timeout): the grinder takes 400 s, past the
+// sample's ub of 300 s. At its ub the sample is timed out (by the executive,
+// or, in the same run, by the grinder giving up at its max duration, the same
+// ub: either is a late activity) and the plan regenerated from where it
+// stands: the other method, a pause then image(target 1), whose window opens
+// from an event not yet executed. Cost 15 before, 20 after.
+TEST(LockstepPlanExecutive, ASampleTakingLongerThanItsUbIsTimedOutAndThePlanRegenerated) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.clear();
+    s.devices.grinder.sampleS = 400.0;
+    start(s);
+    uplink("plan late_sample\n"
+           "event at1\n"
+           "choice science1 sample image cost 2\n"
+           "event w when science1.image\n"
+           "event done1\n"
+           "activity drive1 drive start at1 [30, 900] cost 10 at 10 0 0.8\n"
+           "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok when science1.sample\n"
+           "activity pause wait at1 w [0, inf] cost 0 when science1.image\n"
+           "activity image1 image w done1 [30, 60] cost 8 target 1 ask camera=ok when science1.image\n"
+           "end\n");
+    const bool done = rig->runUntil([&] { return complete(); }, 470 * kNsPerSec);
+    rig->runFor(1100 * kNsPerMs);
+    dumpOnFailure(done);
+    CHECK_TRUE(done);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 959 WARN  plan_exec: sample sample1 "));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 963 WARN  plan_exec: plan late_sample regenerated (selected): cost 15.00 -> 20.00"));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: image image1 completed"));
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(1.0, field("late"), 0.0);
+    DOUBLES_EQUAL(0.0, field("failed"), 0.0);
+    DOUBLES_EQUAL(1.0, field("last_regeneration"), 0.0);  // late
+    DOUBLES_EQUAL(15.0, field("cost_before"), 1e-9);
+    DOUBLES_EQUAL(20.0, field("cost"), 1e-9);
+    DOUBLES_EQUAL(1.0, field("options", 0), 0.0);
+}
+
+// Must-show 2, an inconsistent plan refused at upload: the rover cannot drive
+// 60 s and sample 120 s within a 100 s deadline. PLAN_START is refused (event
+// 954, PLAN_EXEC last_refusal 7) and nothing moves.
+TEST(LockstepPlanExecutive, AnInconsistentPlanIsRefusedAtUpload) {
+    start(sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml"));
+    const std::string plan =
+        "plan too_tight\n"
+        "event at1\n"
+        "event done1\n"
+        "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 0.8\n"
+        "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok\n"
+        "constraint start done1 [0, 100]\n"
+        "end\n";
+    uplink(plan);
+    rig->runFor(2 * kNsPerSec);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 954 ERROR plan_exec: plan too_tight refused: no valid selection"));
+    LONGS_EQUAL(0, rig->consoleCount("EVT 950 "));
+    DOUBLES_EQUAL(7.0, field("last_refusal"), 0.0);
+    DOUBLES_EQUAL(1.0, field("plans_refused"), 0.0);
+    DOUBLES_EQUAL(0.0, field("state"), 0.0);
+    // A bad CRC is refused before the text is read.
+    uplink(plan, 1);
+    rig->runFor(2 * kNsPerSec);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 952 ERROR plan_exec: refused (bad CRC-32)"));
+    DOUBLES_EQUAL(3.0, field("last_refusal"), 0.0);
+}
+
+// Must-show 2, the operator called when no method remains: the camera fails
+// too, after the grinder, while the rover drives to target 2: image(target 2)
+// has nothing left to run on. Event 966, SafeRequestMsg (reason 7): SAFE.
+TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.push_back(instrumentFails(sim::SimDevice::kCamera, 245.0));
+    start(s);
+    uplink(readFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
+    const bool failed = rig->runUntil(
+        [&] { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kFailed; }, 470 * kNsPerSec);
+    rig->runFor(1100 * kNsPerMs);
+    dumpOnFailure(failed);
+    CHECK_TRUE(failed);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 963 WARN  plan_exec: plan two_targets regenerated"));  // image2, at 240 s
+    LONGS_EQUAL(1, rig->consoleCount("EVT 972 WARN  plan_exec: camera now failed"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 966 CRIT  plan_exec: plan two_targets: no method remains"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 215 "));  // the command handlers: SAFE on the call home
+    CHECK(rig->fsw().commandHandler().mode() == cmdtlm::Mode::kSafe);
+    DOUBLES_EQUAL(5.0, field("state"), 0.0);
+    DOUBLES_EQUAL(1.0, field("operator_calls"), 0.0);
+    DOUBLES_EQUAL(7.0, field("call_home"), 0.0);
+}
