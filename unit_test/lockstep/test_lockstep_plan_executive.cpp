@@ -22,6 +22,7 @@
 #include "ground/telemetry_decoder.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/memory_ground.hpp"
+#include "unit_test/support/alloc_guard.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -100,8 +101,13 @@ TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) 
     start(sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml"));
     const std::string plan = readFile("unit_test/fuzz/corpus/plan/two_targets.plan");
     CHECK(plan.size() > 200);
-    uplink(plan);
-    const bool done = rig->runUntil([&] { return complete(); }, 470 * kNsPerSec);
+    bool done = false;
+    {
+        test::AllocationWatch watch;  // uplink, selection, dispatch, regeneration: no heap
+        uplink(plan);
+        done = rig->runUntil([&] { return complete(); }, 470 * kNsPerSec);
+        LONGS_EQUAL(0, watch.count());
+    }
     rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked
     dumpOnFailure(done);
     CHECK_TRUE(done);
