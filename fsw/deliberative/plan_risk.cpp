@@ -127,21 +127,18 @@ double pairRiskBound(const CcProblem& p, const double* mx, const double* my, std
     RiskWork local;
     RiskWork* w = work != nullptr ? work : &local;
     const PlanObstacle& o = p.obstacles[i];
-    // The obstacle's faces and, when it exists, the segment's own line.
+    // The obstacle's faces first; the segment's own line only where they
+    // leave a risk worth refining (most pairs are far from their obstacle:
+    // their first face is many sigma clear and the line's 2x2 solves would
+    // be wasted in the planner's every evaluation).
     SupportLine lines[kMaxObstacleFaces + 1];
-    std::size_t lineCount = 0;
-    for (std::size_t j = 0; j < o.faceCount; ++j) {
-        lines[lineCount++] = SupportLine{o.normalX[j], o.normalY[j], o.offset[j]};
-    }
-    if (segmentLine(o, mx[t], my[t], mx[t + 1], my[t + 1], &lines[lineCount], w)) {
-        ++lineCount;
-    }
     EndEvent e0[kMaxObstacleFaces + 1];
     EndEvent e1[kMaxObstacleFaces + 1];
     double best = 1.0;
     std::size_t anchor = 0;
     bool random = true;  // every end has variance (the orthants apply)
-    for (std::size_t j = 0; j < lineCount; ++j) {
+    // P(E_j(t) u E_j(t+1)) of line j, kept as the anchor when it is the least.
+    auto consider = [&](std::size_t j) {
         e0[j] = endEvent(p, lines[j], mx[t], my[t], t, w);
         e1[j] = endEvent(p, lines[j], mx[t + 1], my[t + 1], t + 1, w);
         double u = e0[j].risk + e1[j].risk;
@@ -160,6 +157,17 @@ double pairRiskBound(const CcProblem& p, const double* mx, const double* my, std
             best = u;
             anchor = j;
         }
+    };
+    std::size_t lineCount = 0;
+    for (std::size_t j = 0; j < o.faceCount; ++j) {
+        lines[lineCount] = SupportLine{o.normalX[j], o.normalY[j], o.offset[j]};
+        consider(lineCount++);
+    }
+    if (!(best > kNegligibleRisk)) {
+        return best;
+    }
+    if (segmentLine(o, mx[t], my[t], mx[t + 1], my[t + 1], &lines[lineCount], w)) {
+        consider(lineCount++);
     }
     if (!random || !(best > kNegligibleRisk)) {
         return best;

@@ -44,11 +44,11 @@
 // delta0 + delta1; certifiedPairRisk takes the smaller. planRiskBound is
 // independent of the planner's search: checkPlan (cc_planner.hpp) calls it.
 //
-// Cost: per pair F + 1 lines (2 erfc and at most 1 orthant each; the
-// segment's line also takes F (F - 1) / 2 2x2 solves) and, unless the best
-// line's bound is already below kNegligibleRisk, F line pairs of 4 orthants:
-// at most 9 + 32 orthants; pairs far from their obstacle cost 2 (F + 1) erfc
-// calls only.
+// Cost: per pair F faces (2 erfc and at most 1 orthant each); unless the
+// best face's bound is already below kNegligibleRisk, the segment's line
+// (2 x F (F - 1) / 2 2x2 solves, 2 erfc, 1 orthant) and F line pairs of 4
+// orthants: at most 9 + 32 orthants; pairs far from their obstacle cost 2 F
+// erfc calls only.
 // RiskWork counts the calls; the planner charges them as work units. Pure
 // functions: no state, no allocation.
 #pragma once

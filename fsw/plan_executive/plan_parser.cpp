@@ -60,6 +60,8 @@ private:
     // or on an error (result_ set).
     bool nextLine();
     bool fail(PlanError e, const Token* at);
+    // The empty plan: no name, only the start event (event 0).
+    void clearPlan();
     bool statement();
     bool planLine();
     bool varLine();
@@ -172,15 +174,19 @@ bool Parser::nextLine() {
     return true;
 }
 
-ParseResult Parser::run() {
+void Parser::clearPlan() {
     tpn_->name[0] = '\0';
-    tpn_->eventCount = 1;  // event 0: the plan's start
+    tpn_->eventCount = 1;
     tpn_->events[0] = PlanEvent{};
     std::memcpy(tpn_->events[0].name, "start", 6);
     tpn_->activityCount = 0;
     tpn_->constraintCount = 0;
     tpn_->choiceCount = 0;
     tpn_->variableCount = 0;
+}
+
+ParseResult Parser::run() {
+    clearPlan();
     if (length_ > kMaxPlanText) {
         fail(PlanError::kTooLong, nullptr);
     } else {
@@ -202,12 +208,7 @@ ParseResult Parser::run() {
         }
     }
     if (result_.error != PlanError::kOk) {  // nothing half-parsed is left to use
-        tpn_->name[0] = '\0';
-        tpn_->eventCount = 1;
-        tpn_->activityCount = 0;
-        tpn_->constraintCount = 0;
-        tpn_->choiceCount = 0;
-        tpn_->variableCount = 0;
+        clearPlan();
     }
     return result_;
 }
