@@ -43,18 +43,6 @@ const char* reasonName(msg::CallHomeReason r) {
     return "?";
 }
 
-bool goalListUsable(const msg::GoalListMsg& g) {
-    if (g.count > msg::kMaxGoals || !std::isfinite(g.riskBound) || !(g.riskBound > 0.0 && g.riskBound < 0.5)) {
-        return false;
-    }
-    for (std::size_t i = 0; i < g.count; ++i) {
-        if (!std::isfinite(g.goals[i].xM) || !std::isfinite(g.goals[i].yM)) {
-            return false;
-        }
-    }
-    return true;
-}
-
 bool hazardsUsable(const msg::KnownHazardsMsg& h) {
     if (h.count > msg::kMaxKnownHazards) {
         return false;
@@ -85,7 +73,9 @@ core::Status DeliberativeTask::init() {
     if (core::isOk(status)) {
         status = bus_.createPipe("deliberative", kInputPipeDepth, &inputPipe_);
     }
-    const core::MsgId inputs[] = {msg::ids::kGoalList,    msg::ids::kPlanGoal,    msg::ids::kLegReport,
+    // Goals come only from the plan executive (PlanGoalMsg): GOTO and the goal
+    // list are plans of drive activities it runs (docs/plan_executive.md).
+    const core::MsgId inputs[] = {msg::ids::kPlanGoal,    msg::ids::kLegReport,
                                   msg::ids::kDriveModes,
                                   msg::ids::kMode,        msg::ids::kKnownHazards, msg::ids::kMissionHold,
                                   msg::ids::kFaultStatus, msg::ids::kReplanRequest};
@@ -185,21 +175,13 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                 }
                 break;
             }
-            case msg::ids::kGoalList: {
-                msg::GoalListMsg goals{};
-                if (core::isOk(inbox_.decode(&goals)) && goalListUsable(goals)) {
-                    onGoals(goals, now);
-                } else {
-                    malformed("goal list", inbox_.header.id);
-                }
-                break;
-            }
             case msg::ids::kPlanGoal: {
-                // The plan executive's drive activity: a goal list of its own
-                // (docs/plan_executive.md "Dispatch to the devices"), taken as GOTO's.
+                // The plan executive's drive activity: the goal list in force
+                // (docs/plan_executive.md "Dispatch to the devices").
                 msg::PlanGoalMsg goal{};
-                if (core::isOk(inbox_.decode(&goal)) && goalListUsable(goal.goals)) {
-                    onGoals(goal.goals, now);
+                if (core::isOk(inbox_.decode(&goal)) && msg::goalListUsable(goal.goals) &&
+                    goal.listIndex < msg::kMaxGoals) {
+                    onGoals(goal, now);
                 } else {
                     malformed("plan goal", inbox_.header.id);
                 }
@@ -288,11 +270,13 @@ double DeliberativeTask::meanFactor() const {
 // that cannot meet them fails up and is relaxed or replanned as any other.
 bool DeliberativeTask::mobilityLost() const { return interlockTripped_; }
 
-void DeliberativeTask::onGoals(const msg::GoalListMsg& goals, core::TimeNs now) {
+void DeliberativeTask::onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now) {
+    const msg::GoalListMsg& goals = goal.goals;
     if (goalsSeen_ && goals.revision == goals_.revision) {
         return;
     }
     goals_ = goals;
+    listIndex_ = goal.listIndex;
     goalsSeen_ = true;
     changed_ = true;  // PlanStatusMsg.goalRevision: the new list is in force
     goalIndex_ = 0;
@@ -331,7 +315,7 @@ void DeliberativeTask::onMode(const msg::ModeMsg& mode, core::TimeNs now) {
         setState(msg::DeliberativeState::kWaiting);
         events_.report(events::kLeftAutonomous, core::Severity::kInfo,
                        "deliberative: left AUTONOMOUS (mode %u): plan dropped, goal %u replanned when back",
-                       static_cast<unsigned>(mode.mode), static_cast<unsigned>(goalIndex_));
+                       static_cast<unsigned>(mode.mode), static_cast<unsigned>(goalNumber()));
     }
 }
 
@@ -351,7 +335,7 @@ void DeliberativeTask::onLegReport(const msg::LegReportMsg& report, core::TimeNs
                        "deliberative: backed up to (%.2f, %.2f) (%u of %u): replanning goal %u from there", pose_.xM,
                        pose_.yM, static_cast<unsigned>(goalBackUps_),
                        static_cast<unsigned>(tables_.planner().no_path_backup_limit),
-                       static_cast<unsigned>(goalIndex_));
+                       static_cast<unsigned>(goalNumber()));
         captureReplanRequest(msg::LegConstraint::kNoPath, now);
         setState(msg::DeliberativeState::kWaiting);
         return;
@@ -400,7 +384,7 @@ void DeliberativeTask::goalReached() {
             events_.report(events::kGoalUnconfirmed, core::Severity::kWarning,
                            "deliberative: goal %u (%.2f, %.2f): last leg reached but the pose is uncertain (sigma "
                            "%.2f m%s): not claimed, waiting",
-                           static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, pose_.positionSigmaM,
+                           static_cast<unsigned>(goalNumber()), goal.xM, goal.yM, pose_.positionSigmaM,
                            ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U ? ", fault 19" : "");
         }
         goalUnconfirmed_ = true;
@@ -410,7 +394,7 @@ void DeliberativeTask::goalReached() {
     goalUnconfirmed_ = false;
     ++counters_.goalsReached;
     events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
-                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM);
+                   static_cast<unsigned>(goalNumber()), goal.xM, goal.yM);
     ++goalIndex_;
     goalReplans_ = 0;
     goalBackUps_ = 0;
@@ -438,7 +422,7 @@ void DeliberativeTask::checkUnconfirmedGoal(core::TimeNs now) {
     ++counters_.goalLegsResent;
     events_.report(events::kGoalLegResent, core::Severity::kWarning,
                    "deliberative: goal %u: pose certain again %.2f m from the goal: last leg re-sent from (%.2f, %.2f)",
-                   static_cast<unsigned>(goalIndex_), off, pose_.xM, pose_.yM);
+                   static_cast<unsigned>(goalNumber()), off, pose_.xM, pose_.yM);
     legIndex_ = legs_.count > 0 ? legs_.count - 1 : 0;
     resendFromPose(now);
 }
@@ -684,7 +668,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
                                     &report))) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
-                       "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s", static_cast<unsigned>(goalIndex_),
+                       "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s", static_cast<unsigned>(goalNumber()),
                        goal.xM, goal.yM, request.startX, request.startY, toString(report.error));
         callHome(msg::CallHomeReason::kGoalUnreachable, toString(report.error), now);
         return;
@@ -699,7 +683,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     if (!core::isOk(planner_.start(problem_, plannerParams()))) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
-                       "deliberative: planner refused the problem of goal %u", static_cast<unsigned>(goalIndex_));
+                       "deliberative: planner refused the problem of goal %u", static_cast<unsigned>(goalNumber()));
         callHome(msg::CallHomeReason::kGoalUnreachable, "planner refused the problem", now);
         return;
     }
@@ -723,7 +707,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     setState(msg::DeliberativeState::kPlanning);
     events_.report(events::kPlanStarted, core::Severity::kInfo,
                    "deliberative: plan goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u obstacles, %u seen%s",
-                   static_cast<unsigned>(goalIndex_), goal.xM, goal.yM, request.startX, request.startY,
+                   static_cast<unsigned>(goalNumber()), goal.xM, goal.yM, request.startX, request.startY,
                    request.riskBound, static_cast<unsigned>(problem_.obstacleCount),
                    static_cast<unsigned>(report.hazardsUsed), report.startInObstacle ? ", start inside one" : "");
 }
@@ -819,7 +803,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
     ++counters_.noPlans;
     events_.report(events::kNoPlan, core::Severity::kWarning,
                    "deliberative: no plan for goal %u within risk %.3g (%s, %u nodes)",
-                   static_cast<unsigned>(goalIndex_), problem_.riskBound,
+                   static_cast<unsigned>(goalNumber()), problem_.riskBound,
                    planner_.searchExhausted() ? "proven" : "budget spent", static_cast<unsigned>(planner_.nodes()));
     const double limit = static_cast<double>(tables_.planner().risk_relax_limit);
     if (riskFactor_ < limit && problem_.riskBound < kMaxRiskInForce) {
@@ -1049,9 +1033,8 @@ void DeliberativeTask::callHome(msg::CallHomeReason reason, const char* detail, 
     status_.callHome = reason;
     setState(msg::DeliberativeState::kCalledHome);
     events_.report(events::kCallHome, core::Severity::kCritical,
-                   "deliberative: CALL HOME: %s (%s), goal %u of %u, risk bound %.3g: rover safed, waiting for goals",
-                   reasonName(reason), detail, static_cast<unsigned>(goalIndex_), static_cast<unsigned>(goals_.count),
-                   goals_.riskBound);
+                   "deliberative: CALL HOME: %s (%s), goal %u, risk bound %.3g: rover safed, waiting for goals",
+                   reasonName(reason), detail, static_cast<unsigned>(goalNumber()), goals_.riskBound);
 }
 
 void DeliberativeTask::setState(msg::DeliberativeState state) {
@@ -1076,7 +1059,7 @@ void DeliberativeTask::publishStatus(core::TimeNs now) {
     msg::PlanStatusMsg& s = status_;
     s.timeNs = now;
     s.planStatus = static_cast<std::uint8_t>(plan_.status);
-    s.goalIndex = goalIndex_;
+    s.goalIndex = static_cast<std::uint8_t>(goalNumber());
     s.goalCount = goals_.count;
     s.legIndex = static_cast<std::uint8_t>(legIndex_);
     s.legCount = static_cast<std::uint8_t>(legs_.count);

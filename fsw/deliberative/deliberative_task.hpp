@@ -108,6 +108,7 @@
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::deliberative {
@@ -209,7 +210,7 @@ public:
     DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
     // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
-    // (kInputPipeDepth: goals (GoalListMsg, the plan executive's PlanGoalMsg), leg reports, known hazards, drive modes, mode,
+    // (kInputPipeDepth: goals (the plan executive's PlanGoalMsg only), leg reports, known hazards, drive modes, mode,
     // mission hold, fault status, replan requests). A refusal is
     // evented (917) and returned; run() then does nothing.
     core::Status init();
@@ -237,7 +238,10 @@ private:
     double meanFactor() const;
     bool mobilityLost() const;
 
-    void onGoals(const msg::GoalListMsg& goals, core::TimeNs now);
+    void onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now);
+    // The goal in hand as the operator numbers it: its index in the operator's
+    // goal list (PlanGoalMsg.listIndex) plus the index in the list given.
+    std::size_t goalNumber() const { return static_cast<std::size_t>(listIndex_) + goalIndex_; }
     void onMode(const msg::ModeMsg& mode, core::TimeNs now);
     void onLegReport(const msg::LegReportMsg& report, core::TimeNs now);
     void onFailUp(const msg::LegReportMsg& report, core::TimeNs now);
@@ -315,6 +319,7 @@ private:
 
     // Goals.
     msg::GoalListMsg goals_{};
+    std::uint8_t listIndex_ = 0;
     bool goalsSeen_ = false;
     std::uint8_t goalIndex_ = 0;
     double riskFactor_ = 1.0;        // risk in force = Delta x riskFactor_

@@ -1,7 +1,12 @@
-// Mission goals from ground (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND) for
-// the deliberative layer, which turns them into plans.
+// Mission goals from ground (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
+// The command handlers publish the operator's goal list; the plan executive
+// turns it into a plan of drive activities, one per goal, and gives the
+// deliberative layer one goal at a time (PlanGoalMsg, plan_executive_msgs.hpp):
+// the same executive runs GOTO, the goal list and mission plans
+// (docs/plan_executive.md "Goal lists").
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -28,5 +33,19 @@ struct GoalListMsg {
     std::uint8_t pad[3];
     Goal goals[kMaxGoals];
 };
+
+// The checks every reader applies: at most kMaxGoals, finite points, a risk
+// bound in (0, 0.5) (NaN refused).
+inline bool goalListUsable(const GoalListMsg& g) {
+    if (g.count > kMaxGoals || !(g.riskBound > 0.0 && g.riskBound < 0.5)) {
+        return false;
+    }
+    for (std::size_t i = 0; i < g.count; ++i) {
+        if (!std::isfinite(g.goals[i].xM) || !std::isfinite(g.goals[i].yM)) {
+            return false;
+        }
+    }
+    return true;
+}
 
 }  // namespace rse::msg

@@ -43,7 +43,7 @@ constexpr core::MsgId kFollowerStatus = 0x0171;  // FollowerStatusMsg, on change
 constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers
 constexpr core::MsgId kInterlockReset = 0x0133;  // InterlockResetMsg, per RESET_INTERLOCK, command handlers -> can_io
 constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive
-constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> deliberative, telemetry
+constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> plan executive, telemetry
 
 // deliberative -> telemetry, command handlers (deliberative_msgs.hpp)
 constexpr core::MsgId kPlanStatus = 0x0141;    // PlanStatusMsg, on change and 1 Hz, deliberative -> telemetry
@@ -59,6 +59,6 @@ constexpr core::MsgId kReplanRequest = 0x0184;  // ReplanRequestMsg, per try, fa
 // command handlers <-> plan executive -> telemetry (plan_executive_msgs.hpp)
 constexpr core::MsgId kPlanCommand = 0x0190;         // PlanCommandMsg, per PLAN_* command, command handlers -> plan executive
 constexpr core::MsgId kPlanExecutiveStatus = 0x0191; // PlanExecutiveStatusMsg, on change and 1 Hz, plan executive -> telemetry
-constexpr core::MsgId kPlanGoal = 0x0192;            // PlanGoalMsg, per drive activity started or cancelled, plan executive -> deliberative
+constexpr core::MsgId kPlanGoal = 0x0192;            // PlanGoalMsg, per drive activity started or cancelled (GOTO and goal lists too), plan executive -> deliberative
 
 }  // namespace rse::msg::ids

@@ -72,16 +72,19 @@ enum class PlanRegeneration : std::uint8_t {
     kComponentFailed = 5,  // a component an activity asks failed (mode estimation or the device)
 };
 
-// A drive activity's goal for the deliberative layer: a goal list of one goal
-// (the activity's point, priority 0, the operator's risk bound from the last
-// GoalListMsg) when the activity starts, of none when it is cancelled. Its own
-// id, so the command handlers' GoalListMsg (GOTO, ADD_TARGET...) is untouched;
-// the deliberative task takes either as the goal list in force. Revisions
-// count from 0x80000000, apart from the command handlers'; PlanStatusMsg's
-// goalRevision says which list the deliberative layer is working on.
+// A drive activity's goal for the deliberative layer, its only source of
+// goals: a goal list of one goal (the activity's point, priority 0, the
+// operator's risk bound from the last GoalListMsg) when the activity starts,
+// of none when it is cancelled. Revisions count from 0x80000000, apart from
+// the command handlers'; PlanStatusMsg's goalRevision says which list the
+// deliberative layer is working on. listIndex: the goal's index in the
+// operator's goal list when the plan is one made from it (GOTO, ADD_TARGET),
+// else 0; the deliberative layer reports it as PlanStatusMsg.goalIndex.
 struct PlanGoalMsg {
     static constexpr core::MsgId kMsgId = ids::kPlanGoal;
     GoalListMsg goals;
+    std::uint8_t listIndex;
+    std::uint8_t pad[7];
 };
 
 // Published on every change of state, selection or activity, and at 1 Hz.

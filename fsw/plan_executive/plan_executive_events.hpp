@@ -29,6 +29,9 @@ constexpr core::EventId kInitFailed = 969;         // ERROR: pipe creation or su
 constexpr core::EventId kPublishFailed = 970;      // ERROR: a status or safe request the bus refused (throttled)
 constexpr core::EventId kComponentState = 972;     // INFO/WARN: a component's state changed (drive mode declared, instrument usable or not)
 constexpr core::EventId kComponentFailed = 973;    // WARN: activities not done ask what a component no longer is: running ones failed, options deprecated, regenerating
+constexpr core::EventId kGoalPlan = 978;          // INFO: a goal list revision (GOTO, ADD_TARGET, SET_RISK_BOUND) became plan goal_list of its drives
+constexpr core::EventId kGoalPlanStopped = 979;   // WARN: a goal plan's drive failed (the deliberative layer called home): plan stopped, no second call
+constexpr core::EventId kGoalListEmpty = 980;     // INFO: an empty goal list (CLEAR_GOALS): a goal plan running stopped; a mission plan runs on
 constexpr core::EventId kNetworkRefused = 971;     // ERROR: the dispatcher found the selected network inconsistent (or refused it): plan stopped
 
 }  // namespace rse::plan_executive::events

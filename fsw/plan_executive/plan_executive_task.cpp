@@ -76,6 +76,9 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
     ++runs_;
     takeMessages();
     takeStatus();
+    if (goalsPending_ && job_ == Job::kNone) {
+        beginGoalPlan();
+    }
     if (job_ != Job::kNone) {
         stepSelection();
     }
@@ -158,13 +161,12 @@ void PlanExecutiveTask::takeStatus() {
                 break;
             }
             case msg::ids::kGoalList: {
-                msg::GoalListMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status) && !(m.riskBound > 0.0 && m.riskBound < 0.5)) {
-                    status = core::Status::kInvalidArgument;  // NaN too
+                status = inbox_.decode(&goalInbox_);
+                if (core::isOk(status) && !msg::goalListUsable(goalInbox_)) {
+                    status = core::Status::kInvalidArgument;
                 }
                 if (core::isOk(status)) {
-                    riskBound_ = m.riskBound;
+                    onGoalList(goalInbox_);
                 }
                 break;
             }
@@ -308,7 +310,7 @@ void PlanExecutiveTask::startActivity(std::uint16_t a) {
         case ActivityKind::kDrive:
             driveActivity_ = a;
             driveAdopted_ = false;
-            publishGoal(&act);
+            publishGoal(a);
             break;
         case ActivityKind::kSample: commandInstrument(a, msg::InstrumentAction::kSample); break;
         case ActivityKind::kDig: commandInstrument(a, msg::InstrumentAction::kDig); break;
@@ -322,16 +324,16 @@ void PlanExecutiveTask::cancelActivity(std::uint16_t a) {
     const Activity& act = tpn_[active_].activities[a];
     if (act.kind == ActivityKind::kDrive && driveActivity_ == a) {
         driveActivity_ = kNoIndex;
-        publishGoal(nullptr);
+        publishGoal(kNoIndex);
     } else if (commandId_[a] != 0) {
         commandInstrument(a, msg::InstrumentAction::kCancel);
         commandId_[a] = 0;
     }
 }
 
-void PlanExecutiveTask::publishGoal(const Activity* drive) {
+void PlanExecutiveTask::publishGoal(std::uint16_t a) {
+    goal_ = msg::PlanGoalMsg{};
     msg::GoalListMsg& g = goal_.goals;
-    g = msg::GoalListMsg{};
     g.timeNs = now_;
     g.riskBound = riskBound_;
     ++goalRevision_;
@@ -339,11 +341,14 @@ void PlanExecutiveTask::publishGoal(const Activity* drive) {
         goalRevision_ = kGoalRevisionBase;  // wrapped: stay apart from the command handlers' revisions
     }
     g.revision = goalRevision_;
-    if (drive != nullptr) {
+    if (a != kNoIndex) {
+        const Activity& drive = tpn_[active_].activities[a];
         g.count = 1;
-        g.goals[0].xM = drive->x;
-        g.goals[0].yM = drive->y;
+        g.goals[0].xM = drive.x;
+        g.goals[0].yM = drive.y;
         driveRevision_ = goalRevision_;
+        // A goal plan's activities are the operator's goals in order.
+        goal_.listIndex = goalPlan_ && a < msg::kMaxGoals ? static_cast<std::uint8_t>(a) : 0;
     }
     if (!core::isOk(bus_.publish(goal_))) {
         ++publishFailures_;
@@ -432,7 +437,7 @@ void PlanExecutiveTask::handle(const msg::PlanCommandMsg& m) {
                 return;
             }
             std::memcpy(shortText_, m.data, m.length);
-            beginNewPlan(shortText_, m.length);
+            beginNewPlan(shortText_, m.length, false);
             break;
         case msg::PlanCommandKind::kAbort: abortPlan(false); break;
     }
@@ -509,10 +514,10 @@ void PlanExecutiveTask::startUpload(const msg::PlanCommandMsg& m) {
         return;
     }
     uploadOpen_ = false;  // one start per upload
-    beginNewPlan(text_, uploadLength_);
+    beginNewPlan(text_, uploadLength_, false);
 }
 
-void PlanExecutiveTask::beginNewPlan(const char* text, std::size_t length) {
+void PlanExecutiveTask::beginNewPlan(const char* text, std::size_t length, bool fromGoals) {
     Tpn& staged = tpn_[1 - active_];
     const ParseResult r = parsePlan(text, length, &staged);
     if (r.error != PlanError::kOk) {
@@ -540,6 +545,7 @@ void PlanExecutiveTask::beginNewPlan(const char* text, std::size_t length) {
         return;
     }
     stagedLength_ = length;
+    stagedGoalPlan_ = fromGoals;
     job_ = Job::kSelectNew;
     selectionRuns_ = 0;
     if (!planLoaded_ || state_ == msg::PlanExecutiveState::kIdle || state_ == msg::PlanExecutiveState::kComplete ||
@@ -553,13 +559,7 @@ void PlanExecutiveTask::abortPlan(bool superseded) {
     if (!superseded) {
         job_ = Job::kNone;
     }
-    checking_ = false;
-    if (dispatcher_.phase() != DispatchPhase::kIdle) {
-        const std::int32_t nowMs = planMs();
-        dispatcher_.abort(&out_);
-        handleOutput(out_, nowMs);
-    }
-    changed_ = true;
+    cancelDispatch();
     if (superseded) {
         events_.report(events::kPlanSuperseded, core::Severity::kInfo,
                        "plan_exec: plan %s replaced by a new plan", tpn_[active_].name);
@@ -610,6 +610,7 @@ void PlanExecutiveTask::adoptNewPlan(const SelectionResult& r) {
     }
     active_ = 1 - active_;
     planLoaded_ = true;
+    goalPlan_ = stagedGoalPlan_;
     for (std::uint16_t& id : commandId_) {
         id = 0;
     }
@@ -697,8 +698,104 @@ void PlanExecutiveTask::dispatch() {
         return;
     }
     if (dispatcher_.regenerationNeeded() && job_ == Job::kNone) {
-        startRegeneration(nowMs);
+        if (goalPlan_) {
+            stopGoalPlan();
+        } else {
+            startRegeneration(nowMs);
+        }
     }
+}
+
+void PlanExecutiveTask::cancelDispatch() {
+    checking_ = false;
+    if (dispatcher_.phase() != DispatchPhase::kIdle) {
+        const std::int32_t nowMs = planMs();
+        dispatcher_.abort(&out_);
+        handleOutput(out_, nowMs);
+    }
+    changed_ = true;
+}
+
+void PlanExecutiveTask::onGoalList(const msg::GoalListMsg& m) {
+    riskBound_ = m.riskBound;
+    if (goalListSeen_ && m.revision == goalList_.revision) {
+        return;
+    }
+    goalList_ = m;
+    goalListSeen_ = true;
+    goalsPending_ = true;
+}
+
+// GOTO, ADD_TARGET, CLEAR_GOALS and SET_RISK_BOUND (docs/plan_executive.md
+// "Goal lists"): the operator's goal list as plan text, one drive activity a
+// goal in order, [0, inf) each, no choices; parsed, selected and dispatched as
+// any plan. Taken only between selections (a PLAN_START under way first): the
+// latest list wins.
+void PlanExecutiveTask::beginGoalPlan() {
+    goalsPending_ = false;
+    const msg::GoalListMsg& g = goalList_;
+    if (g.count == 0) {
+        const bool running = goalPlan_ && planLoaded_ &&
+                             (state_ == msg::PlanExecutiveState::kDispatching ||
+                              state_ == msg::PlanExecutiveState::kRegenerating);
+        const bool missionPlan = planLoaded_ && !goalPlan_ && !running &&
+                                 (state_ == msg::PlanExecutiveState::kDispatching ||
+                                  state_ == msg::PlanExecutiveState::kRegenerating);
+        // DEBUG when there is nothing to say (the command handlers' first list at boot).
+        events_.report(events::kGoalListEmpty,
+                       running || missionPlan ? core::Severity::kInfo : core::Severity::kDebug,
+                       "plan_exec: goal list rev %u empty: %s", static_cast<unsigned>(g.revision),
+                       running ? "goal plan stopped"
+                               : (missionPlan ? "the mission plan runs on (PLAN_ABORT stops it)" : "no goal plan to stop"));
+        if (running) {
+            cancelDispatch();
+            state_ = msg::PlanExecutiveState::kIdle;
+        }
+        return;
+    }
+    std::size_t n = 0;
+    n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n, "plan goal_list\n"));
+    for (std::size_t i = 0; i < g.count && n < sizeof goalText_; ++i) {
+        n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n, "event goal%u\n",
+                                                    static_cast<unsigned>(i + 1)));
+    }
+    for (std::size_t i = 0; i < g.count && n < sizeof goalText_; ++i) {
+        char from[16] = "start";
+        if (i > 0) {
+            std::snprintf(from, sizeof from, "goal%u", static_cast<unsigned>(i));
+        }
+        n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n,
+                                                    "activity drive%u drive %s goal%u [0, inf] at %.3f %.3f\n",
+                                                    static_cast<unsigned>(i + 1), from, static_cast<unsigned>(i + 1),
+                                                    g.goals[i].xM, g.goals[i].yM));
+    }
+    if (n < sizeof goalText_) {
+        n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n, "end\n"));
+    }
+    if (n >= sizeof goalText_) {
+        refuse(msg::PlanRefusal::kOverflow, events::kUploadRefused, "goal list longer than its plan text buffer");
+        return;
+    }
+    ++goalPlans_;
+    events_.report(events::kGoalPlan, core::Severity::kInfo,
+                   "plan_exec: goal list rev %u: %u goal(s), risk bound %.3g: plan goal_list of %u drive(s)",
+                   static_cast<unsigned>(g.revision), static_cast<unsigned>(g.count), g.riskBound,
+                   static_cast<unsigned>(g.count));
+    beginNewPlan(goalText_, n, true);
+}
+
+// A goal plan's drive failed: the deliberative layer called home (the goal
+// unreachable, replans exhausted: its SafeRequestMsg already sent). A goal
+// plan has no other method, and a second call would only overwrite the
+// deliberative layer's reason: the plan stops, the call home stands.
+void PlanExecutiveTask::stopGoalPlan() {
+    const DispatchSnapshot snap = dispatcher_.snapshot(planMs());
+    const Tpn& p = tpn_[active_];
+    cancelDispatch();
+    state_ = msg::PlanExecutiveState::kFailed;
+    events_.report(events::kGoalPlanStopped, core::Severity::kWarning,
+                   "plan_exec: goal plan stopped at %s: no other method; the deliberative layer's call home stands",
+                   snap.reasonActivity < p.activityCount ? p.activities[snap.reasonActivity].name : "-");
 }
 
 void PlanExecutiveTask::completeTimedActivities(std::int32_t nowMs) {
@@ -800,14 +897,8 @@ void PlanExecutiveTask::startRegeneration(std::int32_t nowMs) {
 void PlanExecutiveTask::callOperator(const char* why) {
     ++operatorCalls_;
     callHomeReason_ = static_cast<std::uint8_t>(msg::CallHomeReason::kPlanNoMethod);
-    checking_ = false;
-    if (dispatcher_.phase() != DispatchPhase::kIdle) {
-        const std::int32_t nowMs = planMs();
-        dispatcher_.abort(&out_);
-        handleOutput(out_, nowMs);
-    }
+    cancelDispatch();
     state_ = msg::PlanExecutiveState::kFailed;
-    changed_ = true;
     events_.report(events::kOperatorCalled, core::Severity::kCritical,
                    "plan_exec: plan %s: no method remains (%s): operator called, rover safed", tpn_[active_].name,
                    why);

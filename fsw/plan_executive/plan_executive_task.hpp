@@ -83,6 +83,9 @@ public:
     static constexpr std::uint16_t kPipeDepth = 12;
     static constexpr std::uint16_t kStatusPipeDepth = 12;
     static constexpr std::uint32_t kGoalRevisionBase = 0x80000000U;
+    // A goal plan's text: a header and "end", an event and a drive line a goal
+    // (at most 64 B each with coordinates up to 100 km to the mm).
+    static constexpr std::size_t kGoalPlanTextBytes = 32 + msg::kMaxGoals * (24 + 72);
 
     PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events);
 
@@ -110,7 +113,8 @@ private:
     void onPlanStatus(const msg::PlanStatusMsg& m);
     void startActivity(std::uint16_t a);
     void cancelActivity(std::uint16_t a);
-    void publishGoal(const Activity* drive);
+    // A drive activity's goal (kNoIndex: none, the drive cancelled).
+    void publishGoal(std::uint16_t a);
     void commandInstrument(std::uint16_t a, msg::InstrumentAction action);
     // Completion / failure of a running activity reported by a device.
     void deviceCompleted(std::uint16_t a);
@@ -122,7 +126,12 @@ private:
     void handle(const msg::PlanCommandMsg& m);
     void loadChunk(const msg::PlanCommandMsg& m);
     void startUpload(const msg::PlanCommandMsg& m);
-    void beginNewPlan(const char* text, std::size_t length);
+    void beginNewPlan(const char* text, std::size_t length, bool fromGoals);
+    void onGoalList(const msg::GoalListMsg& m);
+    void beginGoalPlan();
+    void stopGoalPlan();
+    // Stops dispatch: the check dropped, running activities cancelled.
+    void cancelDispatch();
     void refuse(msg::PlanRefusal why, core::EventId id, const char* detail);
     // PLAN_START's length or CRC (what) not the text's.
     void refuseStart(msg::PlanRefusal why, const char* what, std::uint32_t said, std::uint32_t found);
@@ -190,6 +199,15 @@ private:
     std::uint32_t goalRevision_ = kGoalRevisionBase;
     double riskBound_ = 1e-3;     // the operator's, from the last GoalListMsg
     msg::PlanGoalMsg goal_{};
+    // The operator's goal list (GoalListMsg) and the plan made from it.
+    msg::GoalListMsg goalInbox_{};
+    msg::GoalListMsg goalList_{};
+    bool goalListSeen_ = false;
+    bool goalsPending_ = false;    // a new revision to turn into a plan when no selection runs
+    bool stagedGoalPlan_ = false;  // the plan being selected was made from the goal list
+    bool goalPlan_ = false;        // tpn_[active_] was made from the goal list
+    char goalText_[kGoalPlanTextBytes] = {};
+    std::uint32_t goalPlans_ = 0;
     msg::InstrumentCommandMsg instrumentCommand_{};
     bool regenerateForComponent_ = false;
     bool lateByDevice_ = false;  // an instrument gave up at an activity's ub: the regeneration is for lateness

@@ -9,8 +9,6 @@ namespace {
 // The longest statement (an activity with every field, four asks and two
 // tells) has 31 tokens; a line with more is refused rather than cut.
 constexpr std::size_t kMaxTokens = 40;
-constexpr double kDefaultDriveRadiusM = 0.5;
-constexpr double kMaxRadiusM = 100.0;
 constexpr double kMaxCoordinateM = 100000.0;
 constexpr double kMaxCost = 1000000.0;
 
@@ -662,16 +660,9 @@ bool Parser::activityLine() {
                 !decimal(tokens_[k + 2], 3, -kMaxCoordinateM, kMaxCoordinateM, &a.y)) {
                 return false;
             }
-            a.radiusM = kDefaultDriveRadiusM;
+            // No radius: the deliberative layer reaches every goal to
+            // HABITUAL.goal_tolerance_m (a radius it did not keep would mislead).
             k += 3;
-            // An optional radius: a number right after the point.
-            if (k < count_ && !tokens_[k].quoted && tokens_[k].length > 0 &&
-                ((tokens_[k].text[0] >= '0' && tokens_[k].text[0] <= '9') || tokens_[k].text[0] == '.')) {
-                if (!decimal(tokens_[k], 3, 0.001, kMaxRadiusM, &a.radiusM)) {
-                    return false;
-                }
-                ++k;
-            }
             sawAt = true;
         } else if (equals(t, "target") && !sawTarget && hasNext &&
                    (a.kind == ActivityKind::kSample || a.kind == ActivityKind::kImage || a.kind == ActivityKind::kDig)) {

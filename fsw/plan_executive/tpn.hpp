@@ -104,8 +104,8 @@ struct Activity {
     std::uint16_t to = 0;
     Bounds duration;
     double cost = 0.0;
-    // kDrive: goal (x, y) m and the radius within which it is reached.
-    double x = 0.0, y = 0.0, radiusM = 0.0;
+    // kDrive: the goal (x, y) m, reached to HABITUAL.goal_tolerance_m.
+    double x = 0.0, y = 0.0;
     // kSample, kImage, kDig: the science target's id (1..255).
     std::uint8_t target = 0;
     std::uint8_t askCount = 0;

@@ -1,7 +1,7 @@
 // Test-only: the deliberative task on a real software bus with the default
 // tables, one 10 Hz run at a time. The rig stands in for what surrounds it: the
 // estimator (a PoseEstimateMsg per run from a synthetic pose and covariance),
-// the command handlers (GoalListMsg, ModeMsg), the drive-mode estimator
+// the plan executive (PlanGoalMsg) and the command handlers (ModeMsg), the drive-mode estimator
 // (DriveModesMsg) and the habitual layer (LegReportMsg, written by each test).
 // It records what the task publishes (legs, plan status, safe requests) and
 // the events it raises, without allocating.
@@ -21,6 +21,7 @@
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/default_tables.hpp"
 #include "fsw/tables/table_service.hpp"
 #include "unit_test/support/table_loader.hpp"
@@ -58,9 +59,12 @@ public:
         m.mode = mode;
         (void)bus.publish(m);
     }
-    // GOTO: one goal; ADD_TARGET-style lists with more.
-    void sendGoals(const double (*xy)[2], std::size_t count, double risk) {
-        msg::GoalListMsg g{};
+    // The plan executive's goals: one (a drive activity); lists with more as
+    // well (the task takes them, the executive sends one at a time).
+    void sendGoals(const double (*xy)[2], std::size_t count, double risk, std::uint8_t listIndex = 0) {
+        msg::PlanGoalMsg p{};
+        p.listIndex = listIndex;
+        msg::GoalListMsg& g = p.goals;
         g.timeNs = clock.now();
         g.riskBound = risk;
         g.revision = ++goalRevision;
@@ -69,7 +73,7 @@ public:
             g.goals[i].xM = xy[i][0];
             g.goals[i].yM = xy[i][1];
         }
-        (void)bus.publish(g);
+        (void)bus.publish(p);
     }
     void sendGoal(double gx, double gy, double risk) {
         const double xy[1][2] = {{gx, gy}};

@@ -353,16 +353,19 @@ TEST(DeliberativeTask, ANewGoalListCancelsTheLegInForceAndPlansForTheNewGoal) {
 
 TEST(DeliberativeTask, MalformedInputsAreCountedEventedAndIgnored) {
     rig->setMode(DeliberativeRig::kAutonomous);
-    msg::GoalListMsg bad{};
-    bad.riskBound = 0.7;  // outside (0, 0.5)
-    bad.count = 1;
-    bad.revision = 77;
+    msg::PlanGoalMsg bad{};
+    bad.goals.riskBound = 0.7;  // outside (0, 0.5)
+    bad.goals.count = 1;
+    bad.goals.revision = 77;
     CHECK(core::isOk(rig->bus.publish(bad)));
-    bad.riskBound = 1e-3;
-    bad.goals[0].xM = NAN;
+    bad.goals.riskBound = 1e-3;
+    bad.goals.goals[0].xM = NAN;
     CHECK(core::isOk(rig->bus.publish(bad)));
-    bad.goals[0].xM = 1.0;
-    bad.count = msg::kMaxGoals + 1;
+    bad.goals.goals[0].xM = 1.0;
+    bad.goals.count = msg::kMaxGoals + 1;
+    CHECK(core::isOk(rig->bus.publish(bad)));
+    bad.goals.count = 1;
+    bad.listIndex = msg::kMaxGoals;  // past any goal list
     CHECK(core::isOk(rig->bus.publish(bad)));
     msg::LegReportMsg report{};
     report.state = static_cast<HabitualState>(9);
@@ -373,10 +376,21 @@ TEST(DeliberativeTask, MalformedInputsAreCountedEventedAndIgnored) {
     CHECK(core::isOk(rig->bus.publish(pose)));
     rig->publishPose = false;
     rig->run();
-    LONGS_EQUAL(5, rig->task.counters().malformedInputs);
+    LONGS_EQUAL(6, rig->task.counters().malformedInputs);
     CHECK(rig->seenCount(deliberative::events::kMalformedInput) >= 3);  // throttled: 1st, 2nd, 4th
     CHECK(DeliberativeState::kIdle == rig->task.state());
     LONGS_EQUAL(0, rig->task.counters().goalListsAdopted);
+}
+
+// The plan executive gives a goal plan's goals one at a time with their index
+// in the operator's list: PLAN's goal_index and the events number them so.
+TEST(DeliberativeTask, TheGoalIsNumberedAsInTheOperatorsList) {
+    rig->setMode(DeliberativeRig::kAutonomous);
+    const double xy[1][2] = {{kGoalX, kGoalY}};
+    rig->sendGoals(xy, 1, kRisk, 3);
+    rig->run();
+    LONGS_EQUAL(3, rig->task.status().goalIndex);
+    LONGS_EQUAL(1, rig->task.status().goalCount);
 }
 
 TEST(DeliberativeTask, WithoutAFreshPoseNothingIsPlanned) {

@@ -17,6 +17,8 @@
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/plan_executive/plan_executive_task.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/memory_ground.hpp"
 #include "unit_test/support/alloc_guard.hpp"
@@ -217,4 +219,50 @@ TEST(LockstepDeliberative, ADriveFaultThatHoldsTheWheelsSafesTheRoverAndCallsHom
     // Fault protection's own resets before it gave up, and the operator's.
     CHECK(rig->consoleCount("EVT 602 INFO  reflexive: drive interlock reset") >= 2);
     LONGS_EQUAL(0, rig->rover().truth().collisions);
+}
+
+// The goal list is a plan the executive runs (docs/plan_executive.md "Goal
+// lists"): two ADD_TARGETs, each a new revision, each a plan goal_list of one
+// drive a target (the second replacing the first from its start); the
+// deliberative layer is given one goal at a time, numbered as the operator
+// numbered them, and the plan completes with the rover at the second target.
+TEST(LockstepDeliberative, AGoalListIsAPlanOfDrivesTheExecutiveRunsGoalByGoal) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/demo_mission.toml");
+    s.faults.clear();
+    start(s);
+    CHECK_TRUE(ground->setMode(2));  // AUTONOMOUS
+    CHECK_TRUE(rig->runUntil([&] { return g_watch.mode.mode == 2; }, kNsPerSec));
+    const double targets[2][2] = {{10.0, 0.0}, {20.0, 5.0}};
+    for (const auto& t : targets) {
+        std::uint8_t args[17];
+        core::BeWriter w(args, sizeof args);
+        w.f64(t[0]);
+        w.f64(t[1]);
+        w.u8(5);
+        CHECK_TRUE(ground->send("ADD_TARGET", args, sizeof args));
+        rig->runFor(200 * core::kNsPerMs);
+    }
+    const plan_executive::PlanExecutiveTask& exec = rig->fsw().planExecutive();
+    const bool done = rig->runUntil([&] { return exec.state() == msg::PlanExecutiveState::kComplete ||
+                                                 exec.state() == msg::PlanExecutiveState::kFailed; },
+                                    300 * kNsPerSec);
+    rig->runFor(kNsPerSec);
+    if (!done || std::getenv("RSE_PRINT_CONSOLE") != nullptr) {
+        std::printf("%s\n", rig->consoleText());
+    }
+    CHECK_TRUE(done);
+    CHECK(msg::PlanExecutiveState::kComplete == exec.state());
+    LONGS_EQUAL(2, rig->consoleCount("EVT 978 INFO  plan_exec: goal list rev"));
+    LONGS_EQUAL(1, rig->consoleCount("2 goal(s), risk bound 0.001: plan goal_list of 2 drive(s)"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 967 INFO  plan_exec: plan goal_list replaced by a new plan"));
+    LONGS_EQUAL(1, rig->consoleCount("deliberative: goal 0 (10.00, 0.00) reached"));
+    LONGS_EQUAL(1, rig->consoleCount("deliberative: goal 1 (20.00, 5.00) reached"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 964 INFO  plan_exec: plan goal_list complete"));
+    LONGS_EQUAL(2, exec.status().activitiesCompleted);
+    LONGS_EQUAL(2, g_watch.plan.goalIndex);  // past the last, as PLAN's goal_index always ended
+    const sim::TruthRecord& truth = rig->rover().truth();
+    CHECK(std::hypot(truth.pose.x - 20.0, truth.pose.y - 5.0) < 0.6);
+    LONGS_EQUAL(0, truth.collisions);
+    std::printf("\n  goal list of 2 targets: complete at %.1f s, rover at (%.2f, %.2f)\n",
+                static_cast<double>(rig->clock().now()) * 1e-9, truth.pose.x, truth.pose.y);
 }

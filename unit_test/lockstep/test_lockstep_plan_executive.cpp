@@ -177,7 +177,7 @@ TEST(LockstepPlanExecutive, ASampleTakingLongerThanItsUbIsTimedOutAndThePlanRege
            "choice science1 sample image cost 2\n"
            "event w when science1.image\n"
            "event done1\n"
-           "activity drive1 drive start at1 [30, 900] cost 10 at 10 0 0.8\n"
+           "activity drive1 drive start at1 [30, 900] cost 10 at 10 0\n"
            "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok when science1.sample\n"
            "activity pause wait at1 w [0, inf] cost 0 when science1.image\n"
            "activity image1 image w done1 [30, 60] cost 8 target 1 ask camera=ok when science1.image\n"
@@ -207,7 +207,7 @@ TEST(LockstepPlanExecutive, AnInconsistentPlanIsRefusedAtUpload) {
         "plan too_tight\n"
         "event at1\n"
         "event done1\n"
-        "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 0.8\n"
+        "activity drive1 drive start at1 [60, 900] cost 10 at 10 0\n"
         "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok\n"
         "constraint start done1 [0, 100]\n"
         "end\n";

@@ -6,6 +6,7 @@
 // plan with no valid selection refused; the short form; abort; wait
 // activities completed at their lb to the plan's end; a science activity
 // timed out and the plan regenerated; no heap across many runs.
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -115,6 +116,19 @@ struct Rig {
         g.timeNs = clock.now();
         g.riskBound = risk;
         g.revision = 1;
+        CHECK_TRUE(core::isOk(bus.publish(g)));
+    }
+    // The command handlers' goal list (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
+    void goalList(std::uint32_t revision, const double (*xy)[2], std::size_t count, double risk = 1e-3) {
+        msg::GoalListMsg g{};
+        g.timeNs = clock.now();
+        g.riskBound = risk;
+        g.revision = revision;
+        g.count = static_cast<std::uint8_t>(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            g.goals[i].xM = xy[i][0];
+            g.goals[i].yM = xy[i][1];
+        }
         CHECK_TRUE(core::isOk(bus.publish(g)));
     }
     void send(msg::PlanCommandKind kind, const char* data = nullptr, std::size_t length = 0, std::uint32_t offset = 0) {
@@ -608,4 +622,178 @@ TEST(PlanExecutiveDevices, AbortWhileDrivingClearsTheGoal) {
     rig->run();
     LONGS_EQUAL(2, rig->goals);
     LONGS_EQUAL(0, rig->lastGoal.goals.count);
+}
+
+// GOTO and the goal list (docs/plan_executive.md "Goal lists"): plans of drive
+// activities run by the executive, the deliberative layer given one goal at a time.
+TEST_GROUP(PlanExecutiveGoalLists) {
+    void setup() override {
+        rig = new Rig();
+        CHECK_TRUE(rig->init());
+    }
+    void teardown() override {
+        delete rig;
+        rig = nullptr;
+    }
+    // The deliberative layer reaches the goal it was last given.
+    void reachGoal() {
+        const std::uint32_t revision = rig->lastGoal.goals.revision;
+        rig->deliberative(msg::DeliberativeState::kExecuting, revision);
+        rig->run();
+        rig->deliberative(msg::DeliberativeState::kComplete, revision);
+        rig->runFor(2);
+    }
+};
+
+TEST(PlanExecutiveGoalLists, GotoIsAPlanOfOneDriveCompletedWhenTheGoalIsReached) {
+    const double xy[1][2] = {{12.5, -3.25}};
+    rig->goalList(5, xy, 1, 2e-3);
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kGoalPlan));
+    LONGS_EQUAL(1, rig->count(ev::kPlanAccepted));
+    STRCMP_EQUAL("goal_list", rig->status.planName);
+    LONGS_EQUAL(1, rig->status.activityCount);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kDispatching), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(1, rig->goals);
+    LONGS_EQUAL(1, rig->lastGoal.goals.count);
+    DOUBLES_EQUAL(12.5, rig->lastGoal.goals.goals[0].xM, 1e-9);
+    DOUBLES_EQUAL(-3.25, rig->lastGoal.goals.goals[0].yM, 1e-9);
+    DOUBLES_EQUAL(2e-3, rig->lastGoal.goals.riskBound, 1e-15);
+    LONGS_EQUAL(0, rig->lastGoal.listIndex);
+    CHECK(rig->lastGoal.goals.revision >= PlanExecutiveTask::kGoalRevisionBase);
+    reachGoal();
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kComplete), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(1, rig->count(ev::kPlanComplete));
+    LONGS_EQUAL(1, rig->status.activitiesCompleted);
+    LONGS_EQUAL(1, rig->goals);  // nothing more sent: no cancel of a drive that completed
+    // The same revision again (the command handlers republish): nothing new.
+    rig->goalList(5, xy, 1, 2e-3);
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kGoalPlan));
+}
+
+TEST(PlanExecutiveGoalLists, AGoalListIsDrivenGoalByGoalInItsOrder) {
+    const double xy[3][2] = {{1.0, 0.0}, {2.0, 0.5}, {3.0, 1.5}};
+    rig->goalList(7, xy, 3);
+    rig->runFor(2);
+    LONGS_EQUAL(3, rig->status.activityCount);
+    for (std::size_t i = 0; i < 3; ++i) {
+        LONGS_EQUAL(i + 1, rig->goals);
+        LONGS_EQUAL(1, rig->lastGoal.goals.count);  // one goal at a time
+        DOUBLES_EQUAL(xy[i][0], rig->lastGoal.goals.goals[0].xM, 1e-9);
+        DOUBLES_EQUAL(xy[i][1], rig->lastGoal.goals.goals[0].yM, 1e-9);
+        LONGS_EQUAL(i, rig->lastGoal.listIndex);  // as the operator numbers it
+        reachGoal();
+    }
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kComplete), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(3, rig->status.activitiesCompleted);
+    LONGS_EQUAL(3, rig->goals);
+}
+
+TEST(PlanExecutiveGoalLists, ANewGoalListReplacesTheGoalPlanAndAMissionPlan) {
+    const double first[2][2] = {{1.0, 0.0}, {2.0, 0.0}};
+    rig->goalList(2, first, 2);
+    rig->runFor(2);
+    const std::uint32_t firstRevision = rig->lastGoal.goals.revision;
+    const double second[1][2] = {{-4.0, 4.0}};
+    rig->goalList(3, second, 1);
+    rig->runFor(2);
+    LONGS_EQUAL(2, rig->count(ev::kGoalPlan));
+    LONGS_EQUAL(1, rig->count(ev::kPlanSuperseded));
+    CHECK(rig->lastGoal.goals.revision > firstRevision);
+    DOUBLES_EQUAL(-4.0, rig->lastGoal.goals.goals[0].xM, 1e-9);
+    LONGS_EQUAL(1, rig->status.activityCount);
+    // A mission plan replaces the goal plan; a GOTO then replaces the mission plan.
+    rig->uploadAndStart(kWaitsText, 40);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->runFor(2);
+    STRCMP_EQUAL("waits", rig->status.planName);
+    LONGS_EQUAL(0, rig->lastGoal.goals.count);  // the goal plan's drive cancelled
+    rig->goalList(4, second, 1);
+    rig->runFor(2);
+    STRCMP_EQUAL("goal_list", rig->status.planName);
+    LONGS_EQUAL(3, rig->count(ev::kPlanSuperseded));
+    LONGS_EQUAL(1, rig->lastGoal.goals.count);
+}
+
+TEST(PlanExecutiveGoalLists, AnEmptyGoalListStopsAGoalPlanButNotAMissionPlan) {
+    const double xy[1][2] = {{5.0, 0.0}};
+    rig->goalList(2, xy, 1);
+    rig->runFor(2);
+    rig->goalList(3, nullptr, 0);  // CLEAR_GOALS
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kGoalListEmpty));
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kIdle), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(2, rig->goals);
+    LONGS_EQUAL(0, rig->lastGoal.goals.count);  // the drive cancelled: the deliberative layer idles
+    // A mission plan runs on through an empty list (SET_RISK_BOUND with no
+    // goals); the new risk bound is what its next drive gets.
+    rig->uploadAndStart(kWaitsText, 40);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->goalList(4, nullptr, 0, 4e-3);
+    rig->runFor(2);
+    LONGS_EQUAL(2, rig->count(ev::kGoalListEmpty));
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kDispatching), static_cast<long>(rig->task.state()));
+    STRCMP_EQUAL("waits", rig->status.planName);
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kComplete, 200));
+}
+
+TEST(PlanExecutiveGoalLists, ACallHomeStopsTheGoalPlanWithoutASecondCall) {
+    const double xy[2][2] = {{5.0, 0.0}, {9.0, 0.0}};
+    rig->goalList(2, xy, 2);
+    rig->runFor(2);
+    const std::uint32_t revision = rig->lastGoal.goals.revision;
+    rig->deliberative(msg::DeliberativeState::kPlanning, revision);
+    rig->run();
+    rig->deliberative(msg::DeliberativeState::kCalledHome, revision);  // its own SafeRequestMsg sent
+    rig->runFor(3);
+    LONGS_EQUAL(1, rig->count(ev::kActivityFailed));
+    LONGS_EQUAL(1, rig->count(ev::kGoalPlanStopped));
+    LONGS_EQUAL(0, rig->count(ev::kRegenerating));
+    LONGS_EQUAL(0, rig->count(ev::kOperatorCalled));
+    LONGS_EQUAL(0, rig->safeRequests);
+    LONGS_EQUAL(0, rig->status.operatorCalls);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kFailed), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(1, rig->goals);  // the second goal never given
+    // A new GOTO after the operator looked: a new plan.
+    rig->goalList(3, xy, 1);
+    rig->runFor(2);
+    LONGS_EQUAL(static_cast<long>(PlanExecutiveState::kDispatching), static_cast<long>(rig->task.state()));
+    LONGS_EQUAL(2, rig->goals);
+}
+
+TEST(PlanExecutiveGoalLists, ARiskBoundChangeReplansTheGoalsAtTheNewBound) {
+    const double xy[2][2] = {{5.0, 0.0}, {9.0, 0.0}};
+    rig->goalList(2, xy, 2, 1e-3);
+    rig->runFor(2);
+    reachGoal();
+    LONGS_EQUAL(1, rig->lastGoal.listIndex);
+    rig->goalList(3, xy, 2, 1e-2);  // SET_RISK_BOUND: a new revision, the same goals
+    rig->runFor(2);
+    LONGS_EQUAL(2, rig->count(ev::kGoalPlan));
+    DOUBLES_EQUAL(1e-2, rig->lastGoal.goals.riskBound, 1e-15);
+    LONGS_EQUAL(0, rig->lastGoal.listIndex);  // from the list's start, as the deliberative layer always did
+}
+
+TEST(PlanExecutiveGoalLists, AGoalListWhileASelectionRunsIsTakenWhenItEnds) {
+    const std::size_t n = std::strlen(kWaitsText);
+    rig->upload(kWaitsText, 40);
+    rig->start(static_cast<std::uint32_t>(n), core::crc32(kWaitsText, n));
+    const double xy[1][2] = {{5.0, 0.0}};
+    rig->goalList(2, xy, 1);  // the same run as PLAN_START: the selection first
+    rig->runFor(4);
+    LONGS_EQUAL(2, rig->count(ev::kPlanAccepted));
+    LONGS_EQUAL(1, rig->count(ev::kGoalPlan));
+    STRCMP_EQUAL("goal_list", rig->status.planName);  // the later one wins
+    LONGS_EQUAL(0, rig->count(ev::kUploadRefused));
+}
+
+TEST(PlanExecutiveGoalLists, AMalformedGoalListIsDroppedAndCounted) {
+    const double xy[1][2] = {{NAN, 0.0}};
+    rig->goalList(2, xy, 1);
+    rig->goalList(3, nullptr, 0, 0.7);  // risk bound out of (0, 0.5)
+    rig->runFor(2);
+    LONGS_EQUAL(2, rig->task.malformed());
+    LONGS_EQUAL(0, rig->count(ev::kGoalPlan));
+    LONGS_EQUAL(0, rig->count(ev::kGoalListEmpty));
 }

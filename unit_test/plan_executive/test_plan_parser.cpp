@@ -63,7 +63,6 @@ TEST(PlanParser, TheTwoTargetsPlanIsReadWhole) {
     DOUBLES_EQUAL(10.0, drive1.cost, 0.0);
     DOUBLES_EQUAL(10.0, drive1.x, 0.0);
     DOUBLES_EQUAL(0.0, drive1.y, 0.0);
-    DOUBLES_EQUAL(0.8, drive1.radiusM, 1e-12);
     LONGS_EQUAL(1, drive1.askCount);
     CHECK(!drive1.asks[0].planVariable);
     CHECK(drive1.asks[0].variable == static_cast<std::uint8_t>(Component::kDriveML));
@@ -84,7 +83,6 @@ TEST(PlanParser, TheTwoTargetsPlanIsReadWhole) {
     const Activity& drive2 = plan.activities[3];
     CHECK(drive2.duration.ubMs == kInfiniteMs);
     DOUBLES_EQUAL(12.5, drive2.cost, 0.0);
-    DOUBLES_EQUAL(0.5, drive2.radiusM, 0.0);  // the default radius
 
     const Activity& image2 = plan.activities[5];
     LONGS_EQUAL(1, image2.guard.choice);
@@ -234,7 +232,8 @@ TEST(PlanParser, EachKindHasItsOwnFields) {
     refused("event a; activity x image start a [0, 1] target 0; end", PlanError::kBadNumber, 1, "0");
     refused("event a; activity x image start a [0, 1] target 2.5; end", PlanError::kBadNumber, 1, "2.5");
     refused("event a; activity x drive start a [0, 1] at 1; end", PlanError::kUnexpectedToken, 1, "at");
-    refused("event a; activity x drive start a [0, 1] at 1 2 0; end", PlanError::kBadNumber, 1, "0");
+    // No radius after the point (the goal tolerance is the habitual layer's table's).
+    refused("event a; activity x drive start a [0, 1] at 1 2 0.8; end", PlanError::kUnexpectedToken, 1, "0.8");
     refused("event a; activity x wait start a [0, 1] cost 1 cost 2; end", PlanError::kUnexpectedToken, 1, "cost");
     refused("event a; activity x wait start a [0, 1] cost; end", PlanError::kMissingField, 1, "cost");
     refused("event a; activity x wait start a [0, 1] fast; end", PlanError::kUnexpectedToken, 1, "fast");

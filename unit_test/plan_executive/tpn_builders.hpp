@@ -33,7 +33,7 @@ inline constexpr const char* kTwoTargetsText =
     "event done2\n"
     "choice science1 sample image cost 2\n"
     "choice science2 sample image cost 2\n"
-    "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 0.8 ask drive_ML!=failed\n"
+    "activity drive1 drive start at1 [60, 900] cost 10 at 10 0 ask drive_ML!=failed\n"
     "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok tell sampled=yes when science1.sample\n"
     "activity image1 image at1 done1 [30, 60] cost 8 target 1 ask camera=ok when science1.image\n"
     "activity drive2 drive done1 at2 [60, inf] cost 12.5 at 20 5\n"
