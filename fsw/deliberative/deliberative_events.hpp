@@ -35,6 +35,8 @@ constexpr core::EventId kBackedUp = 926;          // INFO: back-up reached: repl
 constexpr core::EventId kOffMapReplan = 927;      // WARN: off the map (fault protection's request): waypoint cancelled, replanning from the pose
 constexpr core::EventId kPlannedFromReentry = 928; // WARN: the start lies off the site: planned from the nearest point on it (the habitual layer drives there)
 constexpr core::EventId kWideSearch = 929;        // INFO: no plan within Boole's bound: the search widened (factor), the plan certified within the risk
+// 990: the deliberative range 900-929 is full; 990-999 are the deliberative layer's too.
+constexpr core::EventId kFailedDriveModel = 990;  // WARN: plans now take these drives as failed (drive mode estimate): power factor, motion noise
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

@@ -15,7 +15,7 @@ namespace rse::deliberative {
 namespace {
 
 constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
-constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kBadLeg);
+constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kPower);
 
 const char* constraintName(msg::LegConstraint c) {
     switch (c) {
@@ -25,6 +25,7 @@ const char* constraintName(msg::LegConstraint c) {
         case msg::LegConstraint::kNoPath: return "no path";
         case msg::LegConstraint::kCannotFollow: return "cannot follow";
         case msg::LegConstraint::kBadLeg: return "leg refused";
+        case msg::LegConstraint::kPower: return "power";
     }
     return "?";
 }
@@ -41,6 +42,28 @@ const char* reasonName(msg::CallHomeReason r) {
         case msg::CallHomeReason::kPlanNoMethod: return "no plan method remains";
     }
     return "?";
+}
+
+bool unhealthy(msg::DriveHealth h) {
+    return h == msg::DriveHealth::kFaulted || h == msg::DriveHealth::kFailed || h == msg::DriveHealth::kLost;
+}
+
+// "FL ML" for a wheel mask (the wheels' names, space separated).
+void wheelNames(std::uint8_t mask, char* out, std::size_t size) {
+    std::size_t used = 0;
+    out[0] = '\0';
+    for (std::size_t w = 0; w < msg::kWheelCount && used + 4 < size; ++w) {
+        if (((mask >> w) & 1U) != 0U) {
+            const char* name = msg::wheelName(w);
+            if (used > 0) {
+                out[used++] = ' ';
+            }
+            for (std::size_t i = 0; name[i] != '\0' && used + 1 < size; ++i) {
+                out[used++] = name[i];
+            }
+            out[used] = '\0';
+        }
+    }
 }
 
 bool hazardsUsable(const msg::KnownHazardsMsg& h) {
@@ -143,6 +166,9 @@ void DeliberativeTask::drainFast() {
             msg::DriveStatusMsg drives{};
             if (core::isOk(inbox_.decode(&drives))) {
                 interlockTripped_ = drives.interlockTripped != 0;
+                for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+                    driveHealth_[w] = drives.wheels[w].health;
+                }
             } else {
                 malformed("drive status", inbox_.header.id);
             }
@@ -263,12 +289,38 @@ double DeliberativeTask::meanFactor() const {
     return rover_model::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
 }
 
+std::uint8_t DeliberativeTask::failedDrives() const {
+    std::uint8_t mask = 0;
+    for (std::size_t w = 0; modesSeen_ && w < msg::kWheelCount; ++w) {
+        const msg::DriveMode m = modes_.drives[w].declared;
+        if (m == msg::DriveMode::kFailed || m == msg::DriveMode::kUnknown) {
+            mask = static_cast<std::uint8_t>(mask | (1U << w));
+        }
+    }
+    return mask;
+}
+
 // Only a latched interlock stops every wheel. A drive the mode estimator
 // declares failed while its wheels are free (a locked wheel dragged, or a
 // fault report fault protection has already reset) is planned with
-// HABITUAL.failed_drive_power_factor: the legs' energy bounds grow, and a leg
-// that cannot meet them fails up and is relaxed or replanned as any other.
-bool DeliberativeTask::mobilityLost() const { return interlockTripped_; }
+// HABITUAL.failed_drive_power_factor: the legs' energy and power bounds grow,
+// and a leg that cannot meet them fails up and is relaxed or replanned as any
+// other. An interlock latched only on drives the estimator declares failed
+// (fault protection gave them up) is the layer's to decide: it goes on with
+// them failed in its model, and calls home with the reason its planning gives
+// (mobility lost when a plan is found: no drive is isolated yet).
+bool DeliberativeTask::mobilityLost() const {
+    if (!interlockTripped_) {
+        return false;
+    }
+    const std::uint8_t failed = failedDrives();
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (unhealthy(driveHealth_[w]) && ((failed >> w) & 1U) == 0U) {
+            return true;
+        }
+    }
+    return failed == 0;
+}
 
 void DeliberativeTask::onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now) {
     const msg::GoalListMsg& goals = goal.goals;
@@ -283,6 +335,7 @@ void DeliberativeTask::onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now) {
     riskFactor_ = 1.0;
     goalReplans_ = 0;
     goalUnconfirmed_ = false;
+    powerRelax_ = 1.0;
     replanRequest_.pending = false;
     backingUp_ = false;
     goalBackUps_ = 0;
@@ -435,6 +488,8 @@ LegParams DeliberativeTask::legParams() const {
     params.slackFrac = static_cast<double>(planner.leg_slack_frac);
     params.distanceMarginFrac = static_cast<double>(habitual.distance_margin_frac);
     params.powerMarginFrac = static_cast<double>(habitual.power_margin_frac);
+    params.powerSlackFrac = static_cast<double>(planner.leg_power_slack_frac);
+    params.cruiseSpeedMS = static_cast<double>(habitual.cruise_speed_m_s);
     params.power = rover_model::powerModelFrom(habitual);
     params.meanPowerFactor = meanFactor();
     params.headingRad = pose_.headingRad;
@@ -583,13 +638,37 @@ void DeliberativeTask::onFailUp(const msg::LegReportMsg& report, core::TimeNs no
         callHome(msg::CallHomeReason::kReplansExhausted, "the back-up failed up", now);
         return;
     }
+    const bool power = report.violated == msg::LegConstraint::kPower;
+    const bool energy = report.violated == msg::LegConstraint::kEnergy;
+    const double predictedFigure =
+        power ? report.predictedPowerW : (energy ? report.predictedEnergyJ : report.predictedLengthM);
+    const double allowedFigure = power ? report.allowedPowerW : (energy ? report.allowedEnergyJ : report.allowedLengthM);
     events_.report(events::kFailUpReceived, core::Severity::kWarning,
                    "deliberative: leg %u failed up: %s (predicted %.1f, allowed %.1f, excess %.1f)",
-                   static_cast<unsigned>(report.legId), constraintName(report.violated),
-                   report.violated == msg::LegConstraint::kEnergy ? report.predictedEnergyJ : report.predictedLengthM,
-                   report.violated == msg::LegConstraint::kEnergy ? report.allowedEnergyJ : report.allowedLengthM,
-                   report.excess);
-    const bool energy = report.violated == msg::LegConstraint::kEnergy;
+                   static_cast<unsigned>(report.legId), constraintName(report.violated), predictedFigure,
+                   allowedFigure, report.excess);
+    if (power) {
+        // The drives' power is the same on every leg: the bound grows for the
+        // rest of the plan, within the same limit as a leg's other bounds.
+        const double needed = predictedFigure / allowedFigure * kBoundRelaxHeadroom;
+        const double grown = powerRelax_ * needed;
+        const double limit = static_cast<double>(tables_.planner().bound_relax_limit);
+        if (std::isfinite(needed) && allowedFigure > 0.0 && needed > 1.0 && grown <= limit) {
+            powerRelax_ = grown;
+            ++counters_.boundRelaxations;
+            ++counters_.powerRelaxations;
+            events_.report(events::kBoundRelaxed, core::Severity::kWarning,
+                           "deliberative: leg %u power bound relaxed x%.3f to %.0f W (x%.3f of planned, limit x%.2f): "
+                           "resent",
+                           static_cast<unsigned>(leg_.legId), needed, legs_.legs[legIndex_].powerW * powerRelax_,
+                           grown, limit);
+            leg_.legId = 0;
+            sendLeg(now);
+            return;
+        }
+        replan(report.violated, now);
+        return;
+    }
     if (energy || report.violated == msg::LegConstraint::kPathLength) {
         const double predicted = energy ? report.predictedEnergyJ : report.predictedLengthM;
         const double allowed = energy ? report.allowedEnergyJ : report.allowedLengthM;
@@ -663,6 +742,11 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     request.goalX = goal.xM;
     request.goalY = goal.yM;
     request.riskBound = riskInForce();
+    // The motor loss in the state estimate: a drive the mode estimator
+    // declares failed (or cannot tell) is planned as failed - its power factor
+    // in the legs' bounds (legParams) and a rover that tracks its path worse.
+    const std::uint8_t failed = failedDrives();
+    request.noiseFactor = failed != 0U ? static_cast<double>(planner.failed_drive_noise_factor) : 1.0;
     MapProblemReport report;
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,
                                     &report))) {
@@ -705,6 +789,16 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     slices_ = 0;
     status_.riskInForce = request.riskBound;
     setState(msg::DeliberativeState::kPlanning);
+    if (failed != plannedFailedMask_) {
+        plannedFailedMask_ = failed;
+        ++counters_.failedDriveModels;
+        char names[32];
+        wheelNames(failed, names, sizeof names);
+        events_.report(events::kFailedDriveModel, core::Severity::kWarning,
+                       "deliberative: drive estimate: %s%s: plans at power factor %.2f, noise %.3f m/step",
+                       failed != 0U ? names : "every drive", failed != 0U ? " failed" : " back", meanFactor(),
+                       problem_.processSigmaM);
+    }
     events_.report(events::kPlanStarted, core::Severity::kInfo,
                    "deliberative: plan goal %u (%.2f, %.2f) from (%.2f, %.2f), risk %.3g, %u obstacles, %u seen%s",
                    static_cast<unsigned>(goalNumber()), goal.xM, goal.yM, request.startX, request.startY,
@@ -756,6 +850,15 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
             last_.obstacleIds[i] = problem_.obstacles[i].id;
         }
     }
+    if (hasPath && interlockTripped_) {
+        // Only drives declared failed hold the interlock (else mobilityLost()
+        // called home already): a plan fits with them failed, but the rover
+        // cannot drive on the others until they are isolated, which no layer
+        // does yet.
+        ++counters_.plansFound;
+        callHome(msg::CallHomeReason::kMobilityLost, "a plan fits, but the interlock holds every drive", now);
+        return;
+    }
     if (hasPath) {
         const LegParams params = legParams();
         if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
@@ -776,6 +879,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
                            static_cast<unsigned>(legs_.count), static_cast<unsigned>(planner_.nodes()));
             legIndex_ = 0;
             legBoundFactor_ = legEnergyFactor_ = legLengthFactor_ = 1.0;
+            powerRelax_ = 1.0;  // the new legs are bounded at the power factors of the moment
             if (fromReentry_) {
                 widenFirstLegFromPose(params);
             }
@@ -841,8 +945,9 @@ void DeliberativeTask::replan(msg::LegConstraint why, core::TimeNs now) {
         if (why == msg::LegConstraint::kNoPath && startBackUp(now)) {
             return;
         }
-        callHome(why == msg::LegConstraint::kEnergy ? msg::CallHomeReason::kInsufficientPower
-                                                    : msg::CallHomeReason::kReplansExhausted,
+        callHome(why == msg::LegConstraint::kEnergy || why == msg::LegConstraint::kPower
+                     ? msg::CallHomeReason::kInsufficientPower
+                     : msg::CallHomeReason::kReplansExhausted,
                  constraintName(why), now);
         return;
     }
@@ -971,6 +1076,8 @@ void DeliberativeTask::sendBackUpLeg(core::TimeNs now) {
     leg_.goalYM = backUpLeg_.yM;
     leg_.maxPathLengthM = backUpLeg_.lengthM;
     leg_.maxEnergyJ = backUpLeg_.energyJ;
+    // The drives' power is the same on every leg: the plan's power bound.
+    leg_.maxPowerW = legs_.count > 0 ? legs_.legs[legIndex_ < legs_.count ? legIndex_ : 0].powerW * powerRelax_ : 0.0;
     published(bus_.publish(leg_), "back-up leg");
     ++counters_.legsSent;
     changed_ = true;
@@ -1001,13 +1108,15 @@ void DeliberativeTask::sendLeg(core::TimeNs now) {
     leg_.goalYM = leg.yM;
     leg_.maxPathLengthM = leg.lengthM;
     leg_.maxEnergyJ = leg.energyJ;
+    leg_.maxPowerW = leg.powerW * powerRelax_;
     published(bus_.publish(leg_), "leg");
     ++counters_.legsSent;
     changed_ = true;
     events_.report(events::kLegSent, core::Severity::kInfo,
-                   "deliberative: leg %u (%u of %u) to (%.2f, %.2f): <= %.2f m, <= %.0f J, risk %.3g",
+                   "deliberative: leg %u (%u of %u) to (%.2f, %.2f): <= %.2f m, <= %.0f J, <= %.0f W, risk %.3g",
                    static_cast<unsigned>(leg_.legId), static_cast<unsigned>(legIndex_ + 1),
-                   static_cast<unsigned>(legs_.count), leg.xM, leg.yM, leg.lengthM, leg.energyJ, leg.risk);
+                   static_cast<unsigned>(legs_.count), leg.xM, leg.yM, leg.lengthM, leg.energyJ, leg_.maxPowerW,
+                   leg.risk);
 }
 
 void DeliberativeTask::cancelLeg(core::TimeNs now) {

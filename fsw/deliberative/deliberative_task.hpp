@@ -34,13 +34,26 @@
 //              --fail-up (no path, cannot
 //                follow, bad leg)----------> replan from the current estimate
 //              replan: at most PLANNER.replan_limit per goal, then call home
-//                                            (kInsufficientPower when it was energy,
+//                                            (kInsufficientPower when it was energy or power,
 //                                            kReplansExhausted otherwise)
 //   any active --the interlock tripped   --> call home kMobilityLost (the interlock holds
 //                (not during a hold)         every drive and latches: fault protection leaves
-//                                            it latched once it gives a drive up). A drive
-//                                            declared failed with the wheels free is planned
-//                                            with HABITUAL.failed_drive_power_factor instead
+//                                            it latched once it gives a drive up), unless
+//                                            every drive it trips on is one the drive mode
+//                                            estimator declares failed: then the layer goes
+//                                            on deciding (re-sent leg, fail-ups, replans) with
+//                                            the failed drives in its model, and calls home
+//                                            kMobilityLost only when a plan is found (no
+//                                            drive is isolated yet), or with the reason no
+//                                            plan was. Every plan made while drives are
+//                                            declared failed or unknown takes them at
+//                                            HABITUAL.failed_drive_power_factor and its motion
+//                                            noise x PLANNER.failed_drive_noise_factor (event
+//                                            990 when that set changes)
+//              --fail-up (power)---------> every leg's power bound (for the rest of the plan)
+//                                            grows by what the habitual layer predicted (+5 %)
+//                                            and the leg is resent, while the growth stays
+//                                            within PLANNER.bound_relax_limit; else replan
 //   kExecuting --goal's last leg reached, --> no goal claimed: waits (kExecuting, no leg) until
 //                pose uncertain (fault 19  the pose is certain, then claims the goal if the pose
 //                or sigma > pose_fault_     is within HABITUAL.goal_tolerance_m of it, else
@@ -201,6 +214,8 @@ struct DeliberativeCounters {
     std::uint32_t budgetPlans = 0;       // plans found but not proven optimal: the work budget ran out first
     std::uint32_t wideSearches = 0;      // no plan, so the same problem searched at kWideSearchScale
     std::uint32_t wideSearchPlans = 0;   // ... which found a plan certified within the risk in force
+    std::uint32_t powerRelaxations = 0;  // power bounds relaxed (also counted in boundRelaxations)
+    std::uint32_t failedDriveModels = 0; // plans started with a new set of drives taken as failed (event 990)
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -236,6 +251,8 @@ private:
     void malformed(const char* what, core::MsgId id);
     bool poseUsable(core::TimeNs now) const;
     double meanFactor() const;
+    // Wheels the drive mode estimator declares failed or unknown (bit per wheel).
+    std::uint8_t failedDrives() const;
     bool mobilityLost() const;
 
     void onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now);
@@ -299,6 +316,7 @@ private:
     msg::DriveModesMsg modes_{};
     bool modesSeen_ = false;
     bool interlockTripped_ = false;
+    msg::DriveHealth driveHealth_[msg::kWheelCount] = {};  // DriveStatusMsg last seen
     msg::FaultStatusMsg faults_{};
     msg::KnownHazardsMsg hazards_{};
     bool held_ = false;
@@ -347,6 +365,13 @@ private:
     double legBoundFactor_ = 1.0;    // growth of the current leg's bounds by relaxation
     double legEnergyFactor_ = 1.0;   // ... of its energy bound alone (kept when the leg is re-sent after a hold)
     double legLengthFactor_ = 1.0;   // ... of its length bound alone
+    // Growth of every leg's power bound by relaxation, for the rest of the
+    // plan: the drives' power is the same on every leg (reset by a new plan,
+    // whose legs are bounded at the power factors of the moment).
+    double powerRelax_ = 1.0;
+    // Drives the last plan started with took as failed (bit per wheel:
+    // declared failed or unknown by the drive mode estimator): event 990 when it changes.
+    std::uint8_t plannedFailedMask_ = 0;
     msg::LegCommandMsg leg_{};       // the leg in force (legId 0: none)
     std::uint32_t nextLegId_ = 1;
     std::uint32_t slices_ = 0;       // runs the current plan has taken

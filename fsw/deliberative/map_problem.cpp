@@ -161,7 +161,7 @@ double octagonGauge(Point2 centre, Point2 p) {
 
 bool finite(const PlanRequest& r) {
     bool ok = std::isfinite(r.startX) && std::isfinite(r.startY) && std::isfinite(r.goalX) &&
-              std::isfinite(r.goalY) && std::isfinite(r.riskBound);
+              std::isfinite(r.goalY) && std::isfinite(r.riskBound) && std::isfinite(r.noiseFactor);
     for (double c : r.startCov) {
         ok = ok && std::isfinite(c);
     }
@@ -195,7 +195,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         report->error = error;
         return core::Status::kInvalidArgument;
     };
-    if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5)) {
+    if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5) || !(request.noiseFactor >= 1.0)) {
         return fail(MapProblemError::kBadRequest);
     }
     const double radius = rse::geometry::clearanceRadiusM(geometry);
@@ -208,7 +208,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     }
     // The estimator's covariance is symmetric up to rounding; the planner wants it exactly.
     p.startCov[1] = p.startCov[2] = 0.5 * (request.startCov[1] + request.startCov[2]);
-    p.processSigmaM = static_cast<double>(planner.process_noise_sigma_m);
+    p.processSigmaM = static_cast<double>(planner.process_noise_sigma_m) * request.noiseFactor;
     p.goalX = request.goalX;
     p.goalY = request.goalY;
     const geometry::SiteBox site = planningSite(map, geometry);

@@ -23,7 +23,8 @@
 //   chance-constraint tightening (PhiInv(1 - Delta / (2 N kMaxPlanObstacles))
 //   sqrt(trace Sigma_0)); one that leaves no such room is left out (counted).
 // - Site: the coarse map's bounds shrunk by the footprint radius.
-// - Plant: PLANNER.horizon_steps steps, PLANNER.process_noise_sigma_m per step,
+// - Plant: PLANNER.horizon_steps steps, PLANNER.process_noise_sigma_m x the
+//   request's noise factor per step,
 //   Sigma_0 the estimate's (x, y) covariance block; allocation from the table.
 //
 // Pure: no bus, no events, no state.
@@ -48,6 +49,9 @@ struct PlanRequest {
     double startCov[4] = {};   // (x, y) covariance, row major, m^2
     double goalX = 0.0, goalY = 0.0;
     double riskBound = 0.0;    // Delta
+    // Factor on PLANNER.process_noise_sigma_m (>= 1): the deliberative layer
+    // gives PLANNER.failed_drive_noise_factor while a drive is declared failed.
+    double noiseFactor = 1.0;
     const msg::KnownHazard* hazards = nullptr;  // seen hazards (site frame), hazardCount of them
     std::size_t hazardCount = 0;                // at most msg::kMaxKnownHazards are read
 };
@@ -55,7 +59,7 @@ struct PlanRequest {
 // Why a problem could not be built.
 enum class MapProblemError : std::uint8_t {
     kNone = 0,
-    kBadRequest = 1,      // non-finite start, goal or covariance, or Delta outside (0, 0.5)
+    kBadRequest = 1,      // non-finite start, goal or covariance, Delta outside (0, 0.5), noise factor below 1
     kStartOffSite = 2,    // the start lies outside the site shrunk by the footprint
     kGoalOffSite = 3,     // the goal lies outside the site shrunk by the footprint
     kGoalInObstacle = 4,  // the goal lies inside a grown obstacle: no plan can end there

@@ -14,7 +14,9 @@ bool paramsUsable(const LegParams& p) {
     return std::isfinite(p.spacingM) && p.spacingM > 0.0 && std::isfinite(p.slackFrac) && p.slackFrac >= 0.0 &&
            std::isfinite(p.distanceMarginFrac) && p.distanceMarginFrac >= 0.0 && p.distanceMarginFrac < 1.0 &&
            std::isfinite(p.powerMarginFrac) && p.powerMarginFrac >= 0.0 && p.powerMarginFrac < 1.0 &&
-           std::isfinite(p.meanPowerFactor) && p.meanPowerFactor >= 1.0 && std::isfinite(p.headingRad);
+           std::isfinite(p.powerSlackFrac) && p.powerSlackFrac >= 0.0 && std::isfinite(p.cruiseSpeedMS) &&
+           p.cruiseSpeedMS > 0.0 && std::isfinite(p.meanPowerFactor) && p.meanPowerFactor >= 1.0 &&
+           std::isfinite(p.headingRad);
 }
 
 double headingOf(Point2 from, Point2 to) { return std::atan2(to.y - from.y, to.x - from.x); }
@@ -64,6 +66,8 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
     }
     // Runs between corners, cut into pieces of at most spacingM.
     const std::size_t runs = corners - 1;
+    const double powerW = rover_model::cruisePowerW(params.power, params.cruiseSpeedMS, params.meanPowerFactor) *
+                          (1.0 + params.powerSlackFrac) / (1.0 - params.powerMarginFrac);
     double heading = params.headingRad;
     for (std::size_t k = 1; k <= runs; ++k) {
         const Point2 a = corner[k - 1];
@@ -87,6 +91,7 @@ core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegP
             leg.energyJ = rover_model::motionEnergyJ(params.power, legLength + kLengthAllowanceM,
                                                      turn + kTurnAllowanceRad, params.meanPowerFactor) *
                           slack / (1.0 - params.powerMarginFrac);
+            leg.powerW = powerW;
             out->plannedLengthM[out->count] = legLength;
             ++out->count;
         }

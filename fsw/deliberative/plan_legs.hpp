@@ -12,13 +12,17 @@
 // direction; the first leg from the rover's heading):
 //   maxPathLengthM = (L + kLengthAllowanceM) (1 + slack) / (1 - HABITUAL.distance_margin_frac)
 //   maxEnergyJ     = E(L + kLengthAllowanceM, Theta + kTurnAllowanceRad) (1 + slack) / (1 - HABITUAL.power_margin_frac)
-// with E the rover's power model (fsw/rover_model/power_model.hpp, the one the
+//   powerW         = P(fbar) (1 + power slack) / (1 - HABITUAL.power_margin_frac)
+// with E and P the rover's power model (fsw/rover_model/power_model.hpp, the one the
 // habitual layer checks its plans with) at the drives'
-// present mean power factor and slack = PLANNER.leg_slack_frac: the habitual
-// layer holds its own margin back from what it is given, so the division hands
-// it the planned figure plus the slack after its reserve. The allowances cover
+// present mean power factor fbar, slack = PLANNER.leg_slack_frac and power
+// slack = PLANNER.leg_power_slack_frac: the habitual layer holds its own margin
+// back from what it is given, so the division hands it the planned figure plus
+// the slack after its reserve. The allowances cover
 // starting a leg where the last one was reached (within the goal tolerance) in
-// a heading of the follower's choosing.
+// a heading of the follower's choosing. P is the drives' power at the cruise
+// speed: it depends on their health only, so it is the same for every leg of
+// a plan, and what a worn motor breaks first.
 //
 // Pure: no bus, no events, no state.
 #pragma once
@@ -43,6 +47,8 @@ struct LegParams {
     double slackFrac = 0.3;           // PLANNER.leg_slack_frac
     double distanceMarginFrac = 0.1;  // HABITUAL.distance_margin_frac
     double powerMarginFrac = 0.2;     // HABITUAL.power_margin_frac
+    double powerSlackFrac = 0.05;     // PLANNER.leg_power_slack_frac
+    double cruiseSpeedMS = 0.25;      // HABITUAL.cruise_speed_m_s
     rover_model::PowerModel power{};
     double meanPowerFactor = 1.0;     // the drives' present mean factor (>= 1)
     double headingRad = 0.0;          // the rover's heading at the plan's start
@@ -61,7 +67,8 @@ struct LegPlan {
 // legs than corners: a plan has at most kMaxPlanSteps corners).
 core::Status splitPlanIntoLegs(const CcPlan& plan, const LegParams& params, LegPlan* out);
 
-// The bounds of *leg (its end kept) for a rover at (fromX, fromY) heading
+// The length and energy bounds of *leg (its end and power bound kept) for a
+// rover at (fromX, fromY) heading
 // headingRad: the formulas above with L the straight distance to the leg's end
 // and Theta the turn towards it. Used when a leg is re-sent from where the
 // rover stands (after a mission hold, or to confirm a goal). kInvalidArgument

@@ -63,6 +63,8 @@ const char* constraintName(msg::LegConstraint constraint) {
             return "cannot follow";
         case msg::LegConstraint::kBadLeg:
             return "bad leg";
+        case msg::LegConstraint::kPower:
+            return "power";
     }
     return "?";
 }
@@ -362,6 +364,10 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
         refuseLeg(leg, "energy bound not positive and finite", now);
         return;
     }
+    if (!std::isfinite(leg.maxPowerW) || leg.maxPowerW < 0.0) {
+        refuseLeg(leg, "power bound negative or not finite", now);
+        return;
+    }
 
     leg_ = leg;
     legActive_ = true;
@@ -378,7 +384,7 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
     const tables::HabitualTable& hab = tables_.habitual();
     plan_ = Evaluation{0.0, 0.0, leg.maxPathLengthM * (1.0 - static_cast<double>(hab.distance_margin_frac)),
                        leg.maxEnergyJ * (1.0 - static_cast<double>(hab.power_margin_frac)), msg::LegConstraint::kNone,
-                       0.0, 0.0};
+                       0.0, 0.0, 0.0, leg.maxPowerW * (1.0 - static_cast<double>(hab.power_margin_frac))};
     reportViolated_ = msg::LegConstraint::kNone;
     reportExcess_ = 0.0;
     const bool wasPlanning = state_ == msg::HabitualState::kPlanning;
@@ -510,6 +516,13 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
         return;
     }
     if (!queryActive_) {
+        // No path can lower the drives' power: a leg whose power bound no
+        // longer holds fails up before any planning.
+        const Evaluation power = powerCheck();
+        if (power.violated == msg::LegConstraint::kPower) {
+            failUp(msg::LegConstraint::kPower, power, now);
+            return;
+        }
         const bool atRest =
             std::fabs(pose_.speedMS) < kAtRestSpeedMS && std::fabs(pose_.yawRateRadS) < kAtRestYawRateRadS;
         if (!atRest && restWaitRuns_ < kMaxRestWaitRuns) {
@@ -808,7 +821,15 @@ HabitualTask::Evaluation HabitualTask::evaluate(const Point2* path, std::size_t 
     const double relativeLength = lengthExcess / leg_.maxPathLengthM;
     const double relativeEnergy = energyExcess / leg_.maxEnergyJ;
     e.score = relativeLength > relativeEnergy ? relativeLength : relativeEnergy;
-    if (lengthExcess <= 0.0 && energyExcess <= 0.0) {
+    const Evaluation power = powerCheck();
+    e.powerW = power.powerW;
+    e.allowedPowerW = power.allowedPowerW;
+    if (power.violated == msg::LegConstraint::kPower) {
+        // Whatever the path: the power bound is the drives', and no repair mends it.
+        e.violated = msg::LegConstraint::kPower;
+        e.excess = power.excess;
+        e.score = power.score > e.score ? power.score : e.score;
+    } else if (lengthExcess <= 0.0 && energyExcess <= 0.0) {
         e.violated = msg::LegConstraint::kNone;
         e.excess = 0.0;
     } else if (lengthExcess > 0.0 && (energyExcess <= 0.0 || relativeLength >= relativeEnergy)) {
@@ -817,6 +838,23 @@ HabitualTask::Evaluation HabitualTask::evaluate(const Point2* path, std::size_t 
     } else {
         e.violated = msg::LegConstraint::kEnergy;
         e.excess = energyExcess;
+    }
+    return e;
+}
+
+HabitualTask::Evaluation HabitualTask::powerCheck() const {
+    const tables::HabitualTable& hab = tables_.habitual();
+    Evaluation e = plan_;
+    e.powerW = rover_model::cruisePowerW(powerModelFrom(hab), static_cast<double>(hab.cruise_speed_m_s), meanFactor());
+    e.allowedPowerW = leg_.maxPowerW * (1.0 - static_cast<double>(hab.power_margin_frac));
+    const bool bounded = leg_.maxPowerW > 0.0;
+    if (bounded && e.powerW > e.allowedPowerW) {
+        e.violated = msg::LegConstraint::kPower;
+        e.excess = e.powerW - e.allowedPowerW;
+        e.score = e.excess / leg_.maxPowerW;
+    } else if (e.violated == msg::LegConstraint::kPower) {
+        e.violated = msg::LegConstraint::kNone;
+        e.excess = 0.0;
     }
     return e;
 }
@@ -836,6 +874,10 @@ void HabitualTask::keepCandidate(const Point2* path, std::size_t count, const Ev
 void HabitualTask::finishAttempt(std::size_t count, const Evaluation& evaluation, core::TimeNs now) {
     if (count >= 2 && evaluation.violated == msg::LegConstraint::kNone) {
         acceptPlan(count, evaluation, now);
+        return;
+    }
+    if (count >= 2 && evaluation.violated == msg::LegConstraint::kPower) {
+        failUp(msg::LegConstraint::kPower, evaluation, now);  // the power factors rose while planning
         return;
     }
     if (count >= 2) {
@@ -905,7 +947,8 @@ void HabitualTask::failUp(msg::LegConstraint reason, const Evaluation& evaluatio
     ++counters_.failUps;
     plan_ = evaluation;
     reportViolated_ = reason;
-    reportExcess_ = reason == msg::LegConstraint::kPathLength || reason == msg::LegConstraint::kEnergy
+    reportExcess_ = reason == msg::LegConstraint::kPathLength || reason == msg::LegConstraint::kEnergy ||
+                            reason == msg::LegConstraint::kPower
                         ? evaluation.excess
                         : 0.0;
     const unsigned legId = static_cast<unsigned>(leg_.legId);
@@ -924,6 +967,11 @@ void HabitualTask::failUp(msg::LegConstraint reason, const Evaluation& evaluatio
             events_.report(events::kFailUp, core::Severity::kError,
                            "habitual: leg %u fail-up: no path to (%.2f, %.2f) in %u planning runs", legId,
                            leg_.goalXM, leg_.goalYM, static_cast<unsigned>(attempt_) + 1U);
+            break;
+        case msg::LegConstraint::kPower:
+            events_.report(events::kFailUp, core::Severity::kError,
+                           "habitual: leg %u fail-up: power %.1f W > allowed %.1f W by %.1f W (power factor %.3f)",
+                           legId, evaluation.powerW, evaluation.allowedPowerW, evaluation.excess, meanFactor());
             break;
         case msg::LegConstraint::kNone:
         case msg::LegConstraint::kCannotFollow:
@@ -1043,6 +1091,10 @@ void HabitualTask::superviseDriving(core::TimeNs now) {
     const std::size_t n = remainingPath(remaining);
     const Evaluation e = evaluate(remaining, n, pose_.headingRad);
     plan_ = e;
+    if (e.violated == msg::LegConstraint::kPower) {
+        failUp(msg::LegConstraint::kPower, e, now);  // stops the rover; no path mends it
+        return;
+    }
     if (e.energyJ <= e.allowedEnergyJ) {
         return;
     }
@@ -1145,6 +1197,8 @@ void HabitualTask::publishReport(core::TimeNs now) {
     r.allowedLengthM = plan_.allowedLengthM;
     r.predictedEnergyJ = plan_.energyJ;
     r.allowedEnergyJ = plan_.allowedEnergyJ;
+    r.predictedPowerW = plan_.powerW;
+    r.allowedPowerW = plan_.allowedPowerW;
     r.excess = failed ? reportExcess_ : 0.0;
     r.legsAchieved = counters_.legsAchieved;
     r.failUps = counters_.failUps;

@@ -1,7 +1,7 @@
 // The habitual layer (10 Hz): the RSE behavioural policy between the
 // deliberative layer's legs and the reflexive layer's trajectory follower.
 //
-//   in:  LegCommandMsg (a waypoint and its not-to-exceed length and energy),
+//   in:  LegCommandMsg (a waypoint and its not-to-exceed length, energy and power),
 //        PoseEstimateMsg, HazardMsg, DriveModesMsg, FollowerStatusMsg, ModeMsg,
 //        MissionHoldMsg (fault protection)
 //   out: TrajectoryMsg (a plan, or count 0 = stop), LegReportMsg (on every state
@@ -13,7 +13,9 @@
 //   any     --legId 0 (cancel)------> stop, kIdle
 //   any     --mode left AUTONOMOUS--> stop, leg dropped, kIdle
 //   any     --new leg---------------> stop, kPlanning
-//   kPlanning/kRepairing: wait for a usable pose and the rover at rest, then one
+//   kPlanning/kRepairing: the leg's power bound first: the drives' power at the
+//           cruise speed above it -> stop, kFailedUp (kPower) at once (a new path
+//           cannot lower it); else wait for a usable pose and the rover at rest, then one
 //           planning run (RRT* sliced over frames); its plan is checked against
 //           the constraints:
 //             both hold -----------------------------> trajectory sent, kDriving
@@ -22,6 +24,7 @@
 //   kDriving: every run the hazards seen so far are put on the map:
 //             remaining path blocked ----------------> stop, kRepairing (replan;
 //                                                       success = minor anomaly)
+//             new power factors, power now violated --> stop, kFailedUp (kPower) at once
 //             new power factors, energy now violated -> stop, kRepairing (repairs only)
 //             follower kCannotFollow ----------------> stop, kRepairing once per leg,
 //                                                       then kFailedUp (drives held: at once)
@@ -236,9 +239,11 @@ private:
         double energyJ;
         double allowedLengthM;
         double allowedEnergyJ;
-        msg::LegConstraint violated;  // kNone when both hold
+        msg::LegConstraint violated;  // kNone when every bound holds
         double excess;                // of the violated one
-        double score;                 // largest relative excess (<= 0: both hold)
+        double score;                 // largest relative excess (<= 0: every bound holds)
+        double powerW;                // the drives' power at the cruise speed, now
+        double allowedPowerW;         // 0: the leg has no power bound
     };
 
     // Inputs.
@@ -277,6 +282,11 @@ private:
     void acceptPlan(std::size_t count, const Evaluation& evaluation, core::TimeNs now);
     void failUp(msg::LegConstraint reason, const Evaluation& evaluation, core::TimeNs now);
     Evaluation evaluate(const geometry::Point2* path, std::size_t count, double headingRad) const;
+    // The leg's power bound against the drives' power at the cruise speed with
+    // the power factors of the moment (no path involved): the evaluation of
+    // plan_'s path with the power figures refreshed; violated kPower when the
+    // bound no longer holds.
+    Evaluation powerCheck() const;
     void keepCandidate(const geometry::Point2* path, std::size_t count, const Evaluation& evaluation);
     bool rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief = nullptr);
     // A fresh trajectory_ for the leg in force: id, time, cruise speed; no points yet.

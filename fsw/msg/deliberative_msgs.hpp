@@ -38,6 +38,7 @@ struct PlanLeg {
     double yM;
     double lengthM;     // not-to-exceed length handed to the habitual layer
     double energyJ;     // not-to-exceed energy
+    double powerW;      // not-to-exceed drive power at the cruise speed (before any relaxation)
     double risk;        // sum of the deltas of the plan segments in this leg
 };
 

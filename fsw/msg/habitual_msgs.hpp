@@ -21,6 +21,7 @@ struct LegCommandMsg {
     double goalYM;
     double maxPathLengthM;     // not to exceed: path length of the local plan
     double maxEnergyJ;         // not to exceed: energy the drives may draw on this leg
+    double maxPowerW;          // not to exceed: power the drives draw at the cruise speed (0: no power bound)
 };
 
 enum class HabitualState : std::uint8_t {
@@ -40,6 +41,8 @@ enum class LegConstraint : std::uint8_t {
     kNoPath = 3,       // no collision-free path to the waypoint found within the budget
     kCannotFollow = 4, // the reflexive layer could not follow the trajectory
     kBadLeg = 5,       // the leg command was refused (non-finite, non-positive bound, off the map)
+    kPower = 6,        // the drives' predicted power at the cruise speed above the allowed power (no path can
+                       // mend it: failed up at once)
 };
 
 // Published on every state change and at 1 Hz.
@@ -54,7 +57,9 @@ struct LegReportMsg {
     double allowedLengthM;          // maxPathLengthM less the table's distance margin
     double predictedEnergyJ;        // of the best local plan with the drives' estimated power factors
     double allowedEnergyJ;          // maxEnergyJ less the table's power margin
-    double excess;                  // by how much the violated constraint is exceeded (m or J; 0 otherwise)
+    double predictedPowerW;         // the drives' power at the cruise speed with their estimated power factors
+    double allowedPowerW;           // maxPowerW less the table's power margin (0: the leg has no power bound)
+    double excess;                  // by how much the violated constraint is exceeded (m, J or W; 0 otherwise)
     std::uint32_t legsAchieved;
     std::uint32_t failUps;
     std::uint32_t replans;          // local replans (new obstacle on the path, or repair)

@@ -51,6 +51,10 @@ double motionEnergyJ(const PowerModel& model, double lengthM, double headingChan
     return meanFactor * (model.driveEnergyJPerM * lengthM + model.turnEnergyJPerRad * headingChangeRad);
 }
 
+double cruisePowerW(const PowerModel& model, double cruiseSpeedMS, double meanFactor) {
+    return meanFactor * model.driveEnergyJPerM * cruiseSpeedMS;
+}
+
 double pathEnergyJ(const PowerModel& model, const Point2* path, std::size_t count, double headingRad,
                    double meanFactor) {
     if (path == nullptr || count < 2) {

@@ -1,5 +1,6 @@
 // The rover's power model: the energy the six wheel drives will draw to drive
-// a path. The deliberative layer sets each leg's not-to-exceed energy with it;
+// a path, and the power they draw at the cruise speed. The deliberative layer
+// sets each leg's not-to-exceed energy and power with it;
 // the habitual layer checks a plan against that bound before the rover commits
 // to it. Both layers use it, so it sits below both (fsw/rover_model/).
 //
@@ -73,5 +74,11 @@ double motionEnergyJ(const PowerModel& model, double lengthM, double headingChan
 // E of path[0..count) for a rover at path[0] facing headingRad.
 double pathEnergyJ(const PowerModel& model, const geometry::Point2* path, std::size_t count, double headingRad,
                    double meanFactor);
+
+// P = fbar * e_m * v: the power the six drives draw driving straight at the
+// cruise speed v (m/s), e_m being energy per metre at that speed. What a leg's
+// power bound limits: it depends on the drives' health, not on the path, so
+// no local replan can lower it (docs/habitual.md, "Power bound").
+double cruisePowerW(const PowerModel& model, double cruiseSpeedMS, double meanFactor);
 
 }  // namespace rse::rover_model
