@@ -107,12 +107,7 @@ bool allFinite(std::initializer_list<double> values) {
     return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
 
-// Pixel coordinates and lengths: two decimals (a hundredth of a pixel).
-std::string px(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.2f", v);
-    return text;
-}
+std::string px(double v) { return svgNumber(v); }
 
 std::string fixed(double v, int decimals) {
     if (!std::isfinite(v)) {
@@ -132,30 +127,9 @@ std::string scientific(double v) {
     return text;
 }
 
-std::string escapeXml(const std::string& text) {
-    std::string out;
-    for (const char c : text) {
-        switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
-        }
-    }
-    return out;
-}
+std::string escapeXml(const std::string& text) { return svgEscape(text); }
 
-// Site metres to panel pixels, y up.
-struct Frame {
-    double originX;  // pixel of the site's west edge
-    double originY;  // pixel of the site's north edge
-    double scale;    // pixels per metre
-    double xMin;
-    double yMax;
-    double x(double metres) const { return originX + (metres - xMin) * scale; }
-    double y(double metres) const { return originY + (yMax - metres) * scale; }
-};
+using Frame = SvgFrame;
 
 std::string pointsAttribute(const std::vector<Point2>& points, const Frame& f) {
     std::string out;
@@ -181,11 +155,7 @@ std::vector<Point2> mapPolygon(const tables::CoarseMapTable& map, std::size_t sl
     return points;
 }
 
-// The plan's colour per panel (path, ellipses).
-const char* panelColour(std::size_t panel) {
-    static const char* const kColours[] = {"#1f5fbf", "#c0392b", "#1e8449", "#7d3c98"};
-    return kColours[panel % (sizeof kColours / sizeof kColours[0])];
-}
+const char* panelColour(std::size_t panel) { return planColour(panel); }
 
 // The ellipse of Sigma_t = Sigma_0 + t sigma^2 I scaled by k, centred on the mean.
 std::string ellipseElement(const CcProblem& problem, const CcPlan& plan, std::size_t t, double k, const Frame& f) {
@@ -240,10 +210,8 @@ void writePanel(const PlanPicture& picture, std::size_t index, double left, doub
     std::string& s = *svg;
     s += "<g class=\"panel\" id=\"panel-" + std::to_string(index) + "\">\n";
     // Site, and the region the means must stay in (the site shrunk by the footprint).
-    const double siteW = (static_cast<double>(map.x_max_m) - static_cast<double>(map.x_min_m)) * scale;
+    drawSite(map, f, &s);
     const double siteH = (static_cast<double>(map.y_max_m) - static_cast<double>(map.y_min_m)) * scale;
-    s += "<rect class=\"site\" x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" + px(siteW) + "\" height=\"" +
-         px(siteH) + "\" fill=\"#fbf8f1\" stroke=\"#555\" stroke-width=\"1\"/>\n";
     if (allFinite({problem.xMin, problem.xMax, problem.yMin, problem.yMax}) && problem.xMax > problem.xMin &&
         problem.yMax > problem.yMin) {
         s += "<rect class=\"means-region\" x=\"" + px(f.x(problem.xMin)) + "\" y=\"" + px(f.y(problem.yMax)) +
@@ -251,57 +219,11 @@ void writePanel(const PlanPicture& picture, std::size_t index, double left, doub
              px((problem.yMax - problem.yMin) * scale) +
              "\" fill=\"none\" stroke=\"#aaa\" stroke-width=\"0.8\" stroke-dasharray=\"2 3\"/>\n";
     }
-    // Axis labels every 5 m along the west and south edges.
-    for (double x = std::ceil(static_cast<double>(map.x_min_m) / 5.0) * 5.0; x <= static_cast<double>(map.x_max_m);
-         x += 5.0) {
-        s += "<text class=\"tick\" x=\"" + px(f.x(x)) + "\" y=\"" + px(top + siteH + 12.0) +
-             "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#777\">" + fixed(x, 0) + "</text>\n";
-    }
-    for (double y = std::ceil(static_cast<double>(map.y_min_m) / 5.0) * 5.0; y <= static_cast<double>(map.y_max_m);
-         y += 5.0) {
-        s += "<text class=\"tick\" x=\"" + px(left - 3.0) + "\" y=\"" + px(f.y(y) + 3.0) +
-             "\" font-size=\"9\" text-anchor=\"end\" fill=\"#777\">" + fixed(y, 0) + "</text>\n";
-    }
-    // The coarse map's rocks, filled.
-    const std::size_t slots = geometry::coarseMapSlotsUsed(map);
-    for (std::size_t slot = 0; slot < slots; ++slot) {
-        const std::vector<Point2> rock = mapPolygon(map, slot);
-        if (rock.size() >= 3 && finitePoints(rock)) {
-            s += "<polygon class=\"rock\" points=\"" + pointsAttribute(rock, f) +
-                 "\" fill=\"#8d6e63\" fill-opacity=\"0.85\" stroke=\"#5d4037\" stroke-width=\"1\"/>\n";
-        }
-    }
-    // The planner's obstacles: the rocks grown by the footprint.
-    for (std::size_t i = 0; i < problem.obstacleCount; ++i) {
-        const std::vector<Point2> grown = obstacleCorners(problem.obstacles[i]);
-        if (!grown.empty() && finitePoints(grown)) {
-            s += "<polygon class=\"grown\" points=\"" + pointsAttribute(grown, f) +
-                 "\" fill=\"none\" stroke=\"#5d4037\" stroke-width=\"1\" stroke-dasharray=\"5 3\"/>\n";
-        }
-    }
+    drawRocks(map, f, &s);
+    drawGrownObstacles(problem, f, &s);
     // Ellipses, the mean path and its waypoints.
     const bool drawn = hasPath(plan);
-    if (drawn) {
-        s += "<g fill=\"" + std::string(colour) + "\" fill-opacity=\"0.10\" stroke=\"" + colour +
-             "\" stroke-opacity=\"0.6\" stroke-width=\"0.8\">\n";
-        for (std::size_t t = 0; t <= plan.steps; ++t) {
-            s += ellipseElement(problem, plan, t, k, f);
-        }
-        s += "</g>\n";
-        std::vector<Point2> means;
-        for (std::size_t t = 0; t <= plan.steps; ++t) {
-            means.push_back(Point2{plan.meanX[t], plan.meanY[t]});
-        }
-        if (finitePoints(means)) {
-            s += "<polyline class=\"mean-path\" points=\"" + pointsAttribute(means, f) + "\" fill=\"none\" stroke=\"" +
-                 colour + "\" stroke-width=\"2\"/>\n";
-            s += "<g fill=\"" + std::string(colour) + "\">\n";
-            for (const Point2& m : means) {
-                s += "<circle class=\"waypoint\" cx=\"" + px(f.x(m.x)) + "\" cy=\"" + px(f.y(m.y)) + "\" r=\"2.5\"/>\n";
-            }
-            s += "</g>\n";
-        }
-    }
+    drawPlan(problem, plan, colour, f, &s);
     // Start and goal.
     if (allFinite({problem.startX, problem.startY, problem.goalX, problem.goalY})) {
         s += "<circle class=\"start\" cx=\"" + px(f.x(problem.startX)) + "\" cy=\"" + px(f.y(problem.startY)) +
@@ -338,6 +260,102 @@ void writePanel(const PlanPicture& picture, std::size_t index, double left, doub
 }
 
 }  // namespace
+
+std::string svgNumber(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", v);
+    return text;
+}
+
+std::string svgEscape(const std::string& text) {
+    std::string out;
+    for (const char c : text) {
+        switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            default: out += c;
+        }
+    }
+    return out;
+}
+
+const char* planColour(std::size_t index) {
+    static const char* const kColours[] = {"#1f5fbf", "#c0392b", "#1e8449", "#7d3c98"};
+    return kColours[index % (sizeof kColours / sizeof kColours[0])];
+}
+
+std::string svgPoints(const std::vector<Point2>& points, const SvgFrame& f) { return pointsAttribute(points, f); }
+
+void drawSite(const tables::CoarseMapTable& map, const SvgFrame& f, std::string* svg) {
+    std::string& s = *svg;
+    const double left = f.originX;
+    const double top = f.originY;
+    const double siteW = (static_cast<double>(map.x_max_m) - static_cast<double>(map.x_min_m)) * f.scale;
+    const double siteH = (static_cast<double>(map.y_max_m) - static_cast<double>(map.y_min_m)) * f.scale;
+    s += "<rect class=\"site\" x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" + px(siteW) + "\" height=\"" +
+         px(siteH) + "\" fill=\"#fbf8f1\" stroke=\"#555\" stroke-width=\"1\"/>\n";
+    // Axis labels every 5 m along the west and south edges.
+    for (double x = std::ceil(static_cast<double>(map.x_min_m) / 5.0) * 5.0; x <= static_cast<double>(map.x_max_m);
+         x += 5.0) {
+        s += "<text class=\"tick\" x=\"" + px(f.x(x)) + "\" y=\"" + px(top + siteH + 12.0) +
+             "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#777\">" + fixed(x, 0) + "</text>\n";
+    }
+    for (double y = std::ceil(static_cast<double>(map.y_min_m) / 5.0) * 5.0; y <= static_cast<double>(map.y_max_m);
+         y += 5.0) {
+        s += "<text class=\"tick\" x=\"" + px(left - 3.0) + "\" y=\"" + px(f.y(y) + 3.0) +
+             "\" font-size=\"9\" text-anchor=\"end\" fill=\"#777\">" + fixed(y, 0) + "</text>\n";
+    }
+}
+
+void drawRocks(const tables::CoarseMapTable& map, const SvgFrame& f, std::string* svg) {
+    const std::size_t slots = geometry::coarseMapSlotsUsed(map);
+    for (std::size_t slot = 0; slot < slots; ++slot) {
+        const std::vector<Point2> rock = mapPolygon(map, slot);
+        if (rock.size() >= 3 && finitePoints(rock)) {
+            *svg += "<polygon class=\"rock\" points=\"" + pointsAttribute(rock, f) +
+                    "\" fill=\"#8d6e63\" fill-opacity=\"0.85\" stroke=\"#5d4037\" stroke-width=\"1\"/>\n";
+        }
+    }
+}
+
+void drawGrownObstacles(const CcProblem& problem, const SvgFrame& f, std::string* svg) {
+    for (std::size_t i = 0; i < problem.obstacleCount; ++i) {
+        const std::vector<Point2> grown = obstacleCorners(problem.obstacles[i]);
+        if (!grown.empty() && finitePoints(grown)) {
+            *svg += "<polygon class=\"grown\" points=\"" + pointsAttribute(grown, f) +
+                    "\" fill=\"none\" stroke=\"#5d4037\" stroke-width=\"1\" stroke-dasharray=\"5 3\"/>\n";
+        }
+    }
+}
+
+void drawPlan(const CcProblem& problem, const CcPlan& plan, const char* colour, const SvgFrame& f, std::string* svg) {
+    if (!hasPath(plan)) {
+        return;
+    }
+    std::string& s = *svg;
+    const double k = ellipseQuantile(problem.riskBound);
+    s += "<g fill=\"" + std::string(colour) + "\" fill-opacity=\"0.10\" stroke=\"" + colour +
+         "\" stroke-opacity=\"0.6\" stroke-width=\"0.8\">\n";
+    for (std::size_t t = 0; t <= plan.steps; ++t) {
+        s += ellipseElement(problem, plan, t, k, f);
+    }
+    s += "</g>\n";
+    std::vector<Point2> means;
+    for (std::size_t t = 0; t <= plan.steps; ++t) {
+        means.push_back(Point2{plan.meanX[t], plan.meanY[t]});
+    }
+    if (finitePoints(means)) {
+        s += "<polyline class=\"mean-path\" points=\"" + pointsAttribute(means, f) + "\" fill=\"none\" stroke=\"" +
+             colour + "\" stroke-width=\"2\"/>\n";
+        s += "<g fill=\"" + std::string(colour) + "\">\n";
+        for (const Point2& m : means) {
+            s += "<circle class=\"waypoint\" cx=\"" + px(f.x(m.x)) + "\" cy=\"" + px(f.y(m.y)) + "\" r=\"2.5\"/>\n";
+        }
+        s += "</g>\n";
+    }
+}
 
 std::string renderPlanSvg(const PlanPicture& picture) {
     const tables::CoarseMapTable& map = picture.map;

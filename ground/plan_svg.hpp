@@ -62,6 +62,35 @@ struct PlanPicture {
 // The ellipse scale k of a panel: PhiInv(1 - Delta).
 double ellipseQuantile(double riskBound);
 
+// The pieces a panel is drawn with, for other pictures of the same site (the
+// mission map, ground/mission_report.hpp).
+// Site metres to pixels, y up (SVG's y axis points down).
+struct SvgFrame {
+    double originX;  // pixel of the site's west edge
+    double originY;  // pixel of the site's north edge
+    double scale;    // pixels per metre
+    double xMin;
+    double yMax;
+    double x(double metres) const { return originX + (metres - xMin) * scale; }
+    double y(double metres) const { return originY + (yMax - metres) * scale; }
+};
+// A pixel figure with two decimals; text with XML's five specials escaped.
+std::string svgNumber(double v);
+std::string svgEscape(const std::string& text);
+// "x,y x,y ...": a polygon's or polyline's points attribute.
+std::string svgPoints(const std::vector<geometry::Point2>& points, const SvgFrame& f);
+// The colour of plan (or panel) `index`.
+const char* planColour(std::size_t index);
+// The site rectangle and its 5 m ticks; the coarse map's rocks, filled; a
+// problem's obstacles grown by the footprint, dashed; a plan's ellipse at every
+// step (k = PhiInv(1 - Delta)), its mean path and a dot per step in `colour`
+// (nothing when it has no path).
+void drawSite(const tables::CoarseMapTable& map, const SvgFrame& f, std::string* svg);
+void drawRocks(const tables::CoarseMapTable& map, const SvgFrame& f, std::string* svg);
+void drawGrownObstacles(const deliberative::CcProblem& problem, const SvgFrame& f, std::string* svg);
+void drawPlan(const deliberative::CcProblem& problem, const deliberative::CcPlan& plan, const char* colour,
+              const SvgFrame& f, std::string* svg);
+
 // The whole SVG document (UTF-8, with the XML declaration).
 std::string renderPlanSvg(const PlanPicture& picture);
 

@@ -16,7 +16,10 @@
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/node_msgs.hpp"
 #include "ground/command_encoder.hpp"
+#include "ground/mission_points.hpp"
+#include "ground/mission_report.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/mission_recorder.hpp"
 #include "sim_stub/lockstep/memory_ground.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 
@@ -153,15 +156,22 @@ public:
         bool ok = core::isOk(bus_.createPipe("rse-demo", kPipeDepth, &pipe_));
         const core::MsgId ids[] = {msg::ids::kPlanStatus,    msg::ids::kMode,        msg::ids::kMissionHold,
                                    msg::ids::kFaultStatus,   msg::ids::kFaultProtectionStatus,
-                                   msg::ids::kDriveRecovery, msg::ids::kTaskRestart, msg::ids::kReplanRequest};
+                                   msg::ids::kDriveRecovery, msg::ids::kTaskRestart, msg::ids::kReplanRequest,
+                                   msg::ids::kPoseEstimate};
         for (core::MsgId id : ids) {
             ok = ok && core::isOk(bus_.subscribe(pipe_, id));
         }
         pending_.reserve(kPipeDepth + msg::fault::kCount);
         return ok;
     }
+    // Every message read is also handed to the mission recorder (the bus has
+    // no slots left for a pipe of its own).
+    void forwardTo(MissionRecorder* recorder) { recorder_ = recorder; }
     void drain() {
         while (core::isOk(bus_.receive(pipe_, &inbox_))) {
+            if (recorder_ != nullptr) {
+                recorder_->onMessage(inbox_);
+            }
             msg::PlanStatusMsg p{};
             msg::ModeMsg m{};
             msg::MissionHoldMsg h{};
@@ -254,18 +264,8 @@ public:
         s->marksUnattributed = unattributed_;
     }
     bool faultProtectionCalledHome() const { return fpCalledHome_; }
-    // The call home in the flight software's words (its CRITICAL event), from
-    // after "CALL HOME: " to before the goal counts that follow the reason.
-    std::string callHomeText() const {
-        std::string t = callHomeText_;
-        const std::string marker = "CALL HOME: ";
-        const std::size_t at = t.find(marker);
-        if (at != std::string::npos) {
-            t.erase(0, at + marker.size());
-        }
-        const std::size_t goal = t.find(", goal ");
-        return goal == std::string::npos ? t : t.substr(0, goal);
-    }
+    // The call home in the flight software's words (its CRITICAL event).
+    std::string callHomeText() const { return ground::callHomeWords(callHomeText_); }
     const msg::PlanStatusMsg& plan() const { return plan_; }
     bool modeIs(std::uint8_t mode) const { return modeSeen_ && mode_.mode == mode; }
     std::uint8_t mode() const { return mode_.mode; }
@@ -277,6 +277,7 @@ public:
 private:
     core::SoftwareBus& bus_;
     const core::EventLog& events_;
+    MissionRecorder* recorder_ = nullptr;
     core::EventLog::Cursor cursor_{};
     std::string callHomeText_;
     core::PipeId pipe_ = 0;
@@ -508,15 +509,22 @@ const char* toString(MissionOutcome outcome) {
 void printMissionUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
+                 "                [--report DIR | --no-report] [--any-outcome]\n"
                  "  --scenario FILE     TOML scenario (default %s)\n"
                  "  --no-faults         leave the scenario's faults out\n"
                  "  --goto X,Y[,RISK]   the goal in metres and the risk bound (default 20,0,1e-3)\n"
                  "  --duration SECONDS  simulated seconds at most, boot included (default 180)\n"
-                 "  --quiet             no console lines, only the summary\n"
+                 "  --quiet             no console lines, only the points and the summary\n"
+                 "  --report DIR        write the mission report and map to DIR/report.md, DIR/map.svg\n"
+                 "                      (default %s); --no-report writes none\n"
+                 "  --any-outcome       exit 0 whatever the mission showed (else 3 when the ten points\n"
+                 "                      of the RSE demonstration were not all seen, in order)\n"
                  "Runs rse-fsw and rse-sim in lockstep, sends SET_MODE AUTONOMOUS and GOTO through the\n"
                  "authenticated ground link and runs until the rover reaches the goal, calls home or the\n"
-                 "duration passes. Exit status: 0 when the mission ran, 1 setup failure, 2 bad usage.\n",
-                 kDefaultMissionScenario);
+                 "duration passes, printing the ten points as the flight software shows them.\n"
+                 "Exit status: 0 the mission ran and showed the ten points in order, 3 it ran but did not,\n"
+                 "1 setup failure (or the report not written), 2 bad usage.\n",
+                 kDefaultMissionScenario, kDefaultReportDir);
 }
 
 ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* o, std::string* error) {
@@ -541,6 +549,16 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             }
         } else if (a == "--quiet") {
             o->quiet = true;
+        } else if (a == "--report" && hasValue) {
+            o->reportDir = argv[++i];
+            if (o->reportDir.empty()) {
+                *error = "--report wants a folder";
+                return ParseOutcome::kUsageError;
+            }
+        } else if (a == "--no-report") {
+            o->reportDir.clear();
+        } else if (a == "--any-outcome") {
+            o->anyOutcome = true;
         } else if (a == "--help" || a == "-h") {
             return ParseOutcome::kHelp;
         } else {
@@ -593,12 +611,15 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     if (!watch.subscribe()) {
         return setupFailed(summary, "no software-bus pipe for the plan status");
     }
+    MissionRecorder recorder(*rig, out);
+    watch.forwardTo(&recorder);
     say(out, *rig, describeScenario(rig->scenario(), o));
     ScheduledTaskCommands taskCommands(ground, *rig, out);
     rig->rover().attachFlightTasks(&taskCommands);
     const auto service = [&] {
         ground.drainDownlink();
         watch.drain();
+        recorder.frame();
     };
 
     if (!rig->runUntil([&] { service(); return rig->allDrivesOperational(); }, kDrivesUpLimitNs)) {
@@ -677,9 +698,47 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     summary.stateOfCharge = truth.stateOfCharge;
     summary.wallTimeS = std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
 
+    ground::MissionRecord& record = summary.record;
+    record = recorder.record();
+    record.scenario = rig->scenario().name + " (" + o.scenarioPath + ")";
+    record.goalX = o.goalX;
+    record.goalY = o.goalY;
+    record.riskBound = o.risk;
+    record.endTimeS = summary.endTimeS;
+    char outcome[256];
+    if (summary.outcome == MissionOutcome::kGoalReached) {
+        std::snprintf(outcome, sizeof outcome, "goal reached at %.1f s", summary.outcomeTimeS);
+    } else if (summary.outcome == MissionOutcome::kCalledHome) {
+        std::snprintf(outcome, sizeof outcome, "called home at %.1f s, reason %u: %s", summary.outcomeTimeS,
+                      static_cast<unsigned>(summary.callHome), summary.callHomeText.c_str());
+    } else {
+        std::snprintf(outcome, sizeof outcome, "timed out at %.1f s", summary.outcomeTimeS);
+    }
+    record.outcome = outcome;
+    record.legsSent = summary.legsSent;
+    record.legsAchieved = summary.legsAchieved;
+    record.failUps = summary.failUps;
+    record.replans = summary.replans;
+    record.boundRelaxations = summary.boundRelaxations;
+    record.riskRelaxations = summary.riskRelaxations;
+    record.callHomes = summary.callHomes;
+    record.habitualReplans = summary.habitualReplans;
+    summary.tenPointsInOrder = record.allInOrder;
+    if (!o.reportDir.empty() &&
+        !ground::writeMissionFiles(record, o.reportDir, &summary.reportPath, &summary.mapPath, &summary.reportError)) {
+        summary.reportPath.clear();
+        summary.mapPath.clear();
+    }
+
     if (out != nullptr) {
         printMissionSummary(summary, out);
         fsw.printSummary(out);
+        if (!summary.reportPath.empty()) {
+            std::fprintf(out, "\nmission report: %s\nmission map:    %s\n", summary.reportPath.c_str(),
+                         summary.mapPath.c_str());
+        } else if (!summary.reportError.empty()) {
+            std::fprintf(out, "\nmission report NOT written: %s\n", summary.reportError.c_str());
+        }
         std::fflush(out);
     }
     return summary;
@@ -730,7 +789,16 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
                      s.taskStallCommands, s.stalledRow, s.taskStallTimeS, s.stalledRowRunsAtStall,
                      s.stalledRowRunsAtEnd);
     }
-    std::fprintf(out, "commands:   %u accepted, %u rejected\n\n", s.commandsAccepted, s.commandsRejected);
+    std::fprintf(out, "commands:   %u accepted, %u rejected\n", s.commandsAccepted, s.commandsRejected);
+    std::fprintf(out, "points:     %s\n", s.record.verdict.c_str());
+    for (const ground::MissionPoint& p : s.record.points) {
+        if (p.seen) {
+            std::fprintf(out, "            %2d at %8.2f s  %s\n", p.number, p.timeS, p.layer.c_str());
+        } else {
+            std::fprintf(out, "            %2d not seen\n", p.number);
+        }
+    }
+    std::fprintf(out, "\n");
 }
 
 int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* err) {
@@ -751,6 +819,14 @@ int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* er
     if (summary.outcome == MissionOutcome::kSetupFailed) {
         std::fprintf(err, "rse-demo: setup failed: %s\n", summary.setupError.c_str());
         return 1;
+    }
+    if (!options.reportDir.empty() && summary.reportPath.empty()) {
+        std::fprintf(err, "rse-demo: mission report not written: %s\n", summary.reportError.c_str());
+        return 1;
+    }
+    if (!summary.tenPointsInOrder && !options.anyOutcome) {
+        std::fprintf(err, "rse-demo: %s\n", summary.record.verdict.c_str());
+        return 3;
     }
     return 0;
 }

@@ -6,7 +6,13 @@
 // deliberative layer publishes (PlanStatusMsg) that every goal is reached or
 // that it called home, plus kMissionTailNs so the last events reach the
 // console, or until the duration. The simulator's truth is read only for the
-// summary at the end.
+// summary at the end (and the report's driven track and hidden rocks).
+//
+// The ten points of the RSE demonstration are read from the flight software's
+// events and plan status as they come (MissionRecorder, ground/mission_points.hpp),
+// printed as "POINT n" lines, judged ("ten points: all in order" or what is
+// missing or out of order) and written with the rest of the mission to
+// <reportDir>/report.md and <reportDir>/map.svg (ground/mission_report.hpp).
 //
 // Host side (sim_stub/): full language; rse-fsw never links it.
 #pragma once
@@ -20,12 +26,14 @@
 
 #include "fsw/core/clock.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "ground/mission_record.hpp"
 #include "sim_stub/scenario/scenario.hpp"
 
 namespace rse::sim {
 
 constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
 constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
+constexpr const char* kDefaultReportDir = "build/mission";
 
 struct MissionOptions {
     std::string scenarioPath = kDefaultMissionScenario;
@@ -35,6 +43,8 @@ struct MissionOptions {
     double risk = 1e-3;
     double durationS = 180.0;  // simulated seconds, boot included
     bool quiet = false;        // no console lines (the summary is still written)
+    std::string reportDir = kDefaultReportDir;  // --report DIR: report.md and map.svg; "" writes none (--no-report)
+    bool anyOutcome = false;   // --any-outcome: exit 0 even when the ten points are not all in order
     std::vector<std::uint8_t> gotoArgs;  // the GOTO argument bytes (ground encoder; filled by parseMissionArgs)
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
     // before the rig is built; applied after --no-faults.
@@ -158,6 +168,14 @@ struct MissionSummary {
     double leastClearanceM = 0.0;  // least gap between the footprint disc and any rock, hidden ones included
     double energyWh = 0.0;
     double stateOfCharge = 0.0;
+
+    // The ten points and the rest of the mission as the report has it
+    // (points, verdict, legs, decisions, plans, tracks, timing).
+    ground::MissionRecord record;
+    bool tenPointsInOrder = false;
+    std::string reportPath;   // written files ("" when none)
+    std::string mapPath;
+    std::string reportError;  // why they could not be written
 };
 
 // Runs the mission. out gets the narration, the console (unless quiet), the
@@ -165,8 +183,10 @@ struct MissionSummary {
 MissionSummary runMission(const MissionOptions& options, std::FILE* out);
 void printMissionSummary(const MissionSummary& summary, std::FILE* out);
 
-// rse-demo itself: 0 when the mission ran (whatever its outcome) or for
-// --help, 2 for a bad command line, 1 when the setup failed.
+// rse-demo itself: 0 when the mission ran and showed the ten points in order
+// (or ran at all, with --any-outcome) or for --help, 3 when it ran but the ten
+// points were not all seen in order, 2 for a bad command line, 1 when the
+// setup failed or the report could not be written.
 int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* err);
 
 }  // namespace rse::sim

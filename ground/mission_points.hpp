@@ -1,0 +1,118 @@
+// The ten points of the RSE demonstration (issue 17; docs/mission.md), found
+// in what the flight software publishes: its events (the EVENT stream) and
+// its plan status (PLAN: the call-home reason), with the estimated pose
+// (ROVER_STATE) to place each point on the map. The flight software knows
+// nothing of points; this is the ground's reading of its output, so a mission
+// that misbehaves shows a point missing or out of order.
+//
+//   1 operator      the goal list the flight software took from an authenticated GOTO (event 208, >= 1 goal)
+//   2 deliberative  the first plan (902) and its first leg with length, energy and power bounds (905)
+//   3 habitual      the first local plan within the leg's bounds, sent to the follower (803)
+//   4 deliberative  a leg reached (906) and the next one issued (905)
+//   5 habitual      a hidden obstacle (a hazard disc that meets no coarse-map polygon) on the
+//                   path (804), the leg replanned within its bounds (805) and then achieved (808)
+//                   with no fail-up and no new leg between
+//   6 habitual      a power fail-up (807, "power") while no drive is declared failed: a worn
+//                   motor's extra draw broke the leg's power bound
+//   7 deliberative  that power bound relaxed (910) and the leg re-sent; driving resumed (803)
+//   8 habitual      a fail-up (807) while a drive is declared failed (762)
+//   9 deliberative  plans made with the failed drive in the model (990): the motor loss seen in
+//                   the drive-mode estimate
+//  10 deliberative  call home (912) with reason "no plan within the risk limit" (PLAN call_home 1),
+//                   then the rover safed (215: mode SAFE)
+//
+// Each point is taken the first time its evidence is complete; the criteria do
+// not depend on each other, so the order they come in is the mission's.
+// Host only.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "ground/mission_record.hpp"
+
+namespace rse::ground {
+
+// The call home in the flight software's words (event 912's text): from
+// after "CALL HOME: " to before the goal counts that follow the reason, also
+// when the event's 95 characters cut those short.
+std::string callHomeWords(const std::string& eventText);
+
+class TenPointTracker {
+public:
+    explicit TenPointTracker(const tables::CoarseMapTable& map);
+
+    // Flight events, in the order the flight software reported them.
+    void onEvent(const FlightEvent& event);
+    // The estimated position (to place the points).
+    void onPose(double timeS, double xM, double yM);
+    // PLAN's call-home reason (msg::CallHomeReason; 0 none) as published.
+    void onCallHomeReason(std::uint8_t reason);
+
+    // The points seen since the last call, in the order they were seen.
+    std::vector<MissionPoint> takeNew();
+    const std::array<MissionPoint, kMissionPointCount>& points() const { return points_; }
+    // Every point seen, each no earlier than the one before.
+    bool allInOrder() const;
+    // "ten points: all in order", or which are missing and which out of order.
+    std::string verdict() const;
+    // The points, the verdict, the hazards, legs and decisions seen.
+    void fill(MissionRecord* record) const;
+
+    // "[  12.340] POINT 5 habitual: ..." (no newline).
+    static std::string formatPoint(const MissionPoint& point);
+    // A named figure of a point ("power bound before W", ...): NAN when absent.
+    double fact(int number, const std::string& name) const;
+
+private:
+    void see(int number, double timeS, const std::string& layer, const std::string& what, bool atPose = true);
+    void setFact(int number, const std::string& name, double value);
+    LegRecord* leg(std::uint32_t id);
+    void onHazardBlocked(const FlightEvent& e);
+    void onHabitualFailUp(const FlightEvent& e);
+
+    const tables::CoarseMapTable map_;
+    std::array<MissionPoint, kMissionPointCount> points_{};
+    std::vector<int> fresh_;
+    double poseTimeS_ = -1.0, poseX_ = 0.0, poseY_ = 0.0;
+    std::uint8_t callHomeReason_ = 0;
+
+    // What the points are built from.
+    std::string firstPlan_;                // 902 text of the first plan
+    bool planPending_ = false;             // 902 seen, its first leg not yet
+    bool legReachedPending_ = false;       // 906 seen, the next leg not yet
+    std::string legReachedText_;
+    std::uint32_t currentLeg_ = 0;
+    std::vector<LegRecord> legs_;
+    std::vector<HazardSeen> hazards_;
+    std::vector<MissionDecision> decisions_;
+    // Point 5: a hidden obstacle on the path of a leg, until that leg ends.
+    struct HiddenBlock {
+        bool active = false;
+        std::uint32_t legId = 0;
+        unsigned hazardId = 0;
+        double seenS = 0.0;
+        double replannedS = -1.0;
+        std::string plan;                  // the replanned trajectory (803 text)
+        double replanX = 0.0, replanY = 0.0;  // the estimated position then
+        std::uint32_t failUps = 0;         // fail-ups of the leg since
+    } hidden_;
+    std::string lastPlanSent_;             // last 803 text
+    // Drives (bit per wheel) the drive mode estimator declares degraded / failed.
+    unsigned degraded_ = 0, failed_ = 0;
+    std::string degradedText_, failedText_;
+    double failedS_ = -1.0;
+    std::string gaveUpText_;               // fault protection's 933
+    // Point 6 -> 7: the power fail-up and the relaxation, until driving resumes.
+    double powerBoundBeforeW_ = 0.0;
+    bool powerFailUpSeen_ = false;
+    bool relaxPending_ = false;
+    std::string relaxText_;
+    double relaxedPowerW_ = 0.0;
+    std::string replanText_;               // last 911
+    std::string riskRelaxText_;            // last 904
+    std::string callHomeText_;             // a 912 with the risk reason, until the rover is safed (215)
+};
+
+}  // namespace rse::ground
