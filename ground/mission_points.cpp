@@ -80,6 +80,16 @@ void TenPointTracker::onPose(double timeS, double xM, double yM) {
     poseTimeS_ = timeS;
     poseX_ = xM;
     poseY_ = yM;
+    // A point seen before the estimate was initialised (the GOTO sent while
+    // the rover waits for its first fix) is placed at its first estimate: it
+    // has not moved yet.
+    for (MissionPoint& p : points_) {
+        if (p.seen && !p.hasPlace) {
+            p.hasPlace = true;
+            p.xM = xM;
+            p.yM = yM;
+        }
+    }
 }
 
 void TenPointTracker::onCallHomeReason(std::uint8_t reason) { callHomeReason_ = reason; }

@@ -45,7 +45,8 @@ public:
 
     // Flight events, in the order the flight software reported them.
     void onEvent(const FlightEvent& event);
-    // The estimated position (to place the points).
+    // The estimated position (to place the points; a point seen before the
+    // first one is placed at it).
     void onPose(double timeS, double xM, double yM);
     // PLAN's call-home reason (msg::CallHomeReason; 0 none) as published.
     void onCallHomeReason(std::uint8_t reason);

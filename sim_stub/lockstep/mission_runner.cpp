@@ -557,6 +557,7 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             }
         } else if (a == "--no-report") {
             o->reportDir.clear();
+            o->noReport = true;
         } else if (a == "--any-outcome") {
             o->anyOutcome = true;
         } else if (a == "--help" || a == "-h") {
@@ -814,6 +815,9 @@ int missionMain(int argc, const char* const* argv, std::FILE* out, std::FILE* er
             return 2;
         case ParseOutcome::kRun:
             break;
+    }
+    if (options.reportDir.empty() && !options.noReport) {
+        options.reportDir = kDefaultReportDir;
     }
     const MissionSummary summary = runMission(options, out);
     if (summary.outcome == MissionOutcome::kSetupFailed) {

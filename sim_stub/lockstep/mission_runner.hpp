@@ -43,7 +43,11 @@ struct MissionOptions {
     double risk = 1e-3;
     double durationS = 180.0;  // simulated seconds, boot included
     bool quiet = false;        // no console lines (the summary is still written)
-    std::string reportDir = kDefaultReportDir;  // --report DIR: report.md and map.svg; "" writes none (--no-report)
+    // --report DIR: report.md and map.svg there; "" writes none. rse-demo's
+    // main (missionMain) makes it kDefaultReportDir unless --no-report is given;
+    // runMission itself writes only when told where.
+    std::string reportDir;
+    bool noReport = false;     // --no-report
     bool anyOutcome = false;   // --any-outcome: exit 0 even when the ten points are not all in order
     std::vector<std::uint8_t> gotoArgs;  // the GOTO argument bytes (ground encoder; filled by parseMissionArgs)
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)

@@ -79,6 +79,15 @@ public:
         const double xy[1][2] = {{gx, gy}};
         sendGoals(xy, 1, risk);
     }
+    // The interlock latched (or not), with wheel `failed` failed and the others operational.
+    void sendDriveStatus(bool interlockTripped, std::size_t failed = msg::kWheelCount) {
+        msg::DriveStatusMsg status{};
+        for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+            status.wheels[w].health = w == failed ? msg::DriveHealth::kFailed : msg::DriveHealth::kOperational;
+        }
+        status.interlockTripped = interlockTripped ? 1 : 0;
+        (void)bus.publish(status);
+    }
     void sendDriveModes(msg::DriveMode declared = msg::DriveMode::kNominal, std::size_t wheel = msg::kWheelCount,
                         double factor = 1.0) {
         msg::DriveModesMsg m{};
@@ -128,6 +137,9 @@ public:
         if (violated == msg::LegConstraint::kEnergy) {
             r.predictedEnergyJ = predicted;
             r.allowedEnergyJ = allowed;
+        } else if (violated == msg::LegConstraint::kPower) {
+            r.predictedPowerW = predicted;
+            r.allowedPowerW = allowed;
         } else {
             r.predictedLengthM = predicted;
             r.allowedLengthM = allowed;

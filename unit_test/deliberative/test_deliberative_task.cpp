@@ -319,6 +319,112 @@ TEST(DeliberativeTask, TheInterlockHoldingEveryDriveCallsHomeForLostMobility) {
     CHECK(rig->cancels >= 1);
 }
 
+// The power bound (issue 17, points 6 and 7): every leg carries the drives'
+// power at the cruise speed planned with, plus PLANNER.leg_power_slack_frac,
+// over the habitual layer's margin; a power fail-up relaxes it for the rest of
+// the plan (the drives' power is the same on every leg), within
+// bound_relax_limit; past it, a replan.
+TEST(DeliberativeTask, APowerFailUpRelaxesThePowerBoundForTheRestOfThePlanAndPastTheLimitReplans) {
+    autonomousToFirstLeg();
+    const tables::HabitualTable& hab = rig->tables.habitual();
+    const tables::PlannerTable& planner = rig->tables.planner();
+    const double planned = static_cast<double>(hab.drive_energy_j_per_m) * static_cast<double>(hab.cruise_speed_m_s) *
+                           (1.0 + static_cast<double>(planner.leg_power_slack_frac)) /
+                           (1.0 - static_cast<double>(hab.power_margin_frac));
+    const msg::LegCommandMsg first = rig->lastLeg;
+    DOUBLES_EQUAL(planned, first.maxPowerW, 1e-9);
+    // A worn motor: 10 % over what is allowed.
+    rig->report(HabitualState::kFailedUp, LegConstraint::kPower, 330.0, 300.0);
+    rig->run();
+    const double grown = 1.1 * deliberative::kBoundRelaxHeadroom;
+    LONGS_EQUAL(1, rig->task.counters().powerRelaxations);
+    LONGS_EQUAL(1, rig->task.counters().boundRelaxations);
+    LONGS_EQUAL(0, rig->task.counters().replans);
+    CHECK(rig->lastLeg.legId != first.legId);
+    DOUBLES_EQUAL(first.goalXM, rig->lastLeg.goalXM, 0.0);
+    DOUBLES_EQUAL(planned * grown, rig->lastLeg.maxPowerW, 1e-9);
+    DOUBLES_EQUAL(first.maxEnergyJ, rig->lastLeg.maxEnergyJ, 0.0);  // the other bounds as planned
+    CHECK(std::strstr(rig->seenText(deliberative::events::kBoundRelaxed), "power bound relaxed x1.155") != nullptr);
+    // The next leg keeps the relaxed power bound.
+    rig->achieveLeg();
+    rig->run();
+    DOUBLES_EQUAL(planned * grown, rig->lastLeg.maxPowerW, 1e-9);
+    // A failed drive's draw: past bound_relax_limit in all: a replan, whose legs
+    // are bounded at the power factors of the moment again.
+    rig->report(HabitualState::kFailedUp, LegConstraint::kPower, 480.0, 300.0);
+    rig->run();
+    LONGS_EQUAL(1, rig->task.counters().powerRelaxations);
+    LONGS_EQUAL(1, rig->task.counters().replans);
+    CHECK(std::strstr(rig->seenText(deliberative::events::kReplan), "(power)") != nullptr);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(planned, rig->lastLeg.maxPowerW, 1e-9);
+}
+
+// The motor loss in the state estimate (point 9): plans made while the drive
+// mode estimator declares a drive failed take it at failed_drive_power_factor
+// and a motion noise failed_drive_noise_factor times the table's. To the demo
+// goal, 2.4 m from a grown rock, no plan then fits even the relaxed risk bound
+// (the goal's own end needs it: point 10); with every drive nominal it does.
+TEST(DeliberativeTask, AFailedDriveInTheEstimateCanLeaveNoPlanWithinTheRiskBound) {
+    const tables::PlannerTable& planner = rig->tables.planner();
+    rig->sendDriveModes(msg::DriveMode::kFailed, 1, 4.5);
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, kPlanRuns));
+    DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m) *
+                      static_cast<double>(planner.failed_drive_noise_factor),
+                  rig->task.problem().processSigmaM, 1e-12);
+    CHECK(CallHomeReason::kNoPlanWithinRisk == rig->lastSafe.reason);
+    LONGS_EQUAL(1, rig->task.counters().riskRelaxations);
+    LONGS_EQUAL(0, rig->legs);
+    // Said once, when the set of failed drives changed, not per plan.
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kFailedDriveModel));
+    LONGS_EQUAL(1, rig->task.counters().failedDriveModels);
+    CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "ML failed") != nullptr);
+    CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "noise 0.250 m/step") != nullptr);
+
+    // The drive back to nominal: the same goal plans with the table's noise.
+    rig->sendDriveModes(msg::DriveMode::kNominal);
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m), rig->task.problem().processSigmaM, 1e-12);
+    LONGS_EQUAL(2, rig->seenCount(deliberative::events::kFailedDriveModel));
+    CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "every drive back") != nullptr);
+}
+
+// Fault protection gives a failed drive up and leaves the interlock latched:
+// when the estimator declares that drive failed, the deliberative layer decides
+// by planning with it failed (a fail-up replans as any other) - no plan within
+// the risk bound calls home with that reason; a plan that fits calls home
+// "mobility lost" (no drive is isolated to drive on the others yet).
+TEST(DeliberativeTask, AnInterlockLatchedOnADriveDeclaredFailedIsDecidedByPlanning) {
+    autonomousToFirstLeg();
+    rig->sendDriveModes(msg::DriveMode::kFailed, 1, 4.5);
+    rig->sendDriveStatus(true, 1);
+    for (int i = 0; i < 5; ++i) {
+        rig->run();
+    }
+    CHECK(DeliberativeState::kExecuting == rig->task.state());  // not called home on the interlock alone
+    rig->report(HabitualState::kFailedUp, LegConstraint::kPower, 480.0, 300.0);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, kPlanRuns));
+    CHECK(CallHomeReason::kNoPlanWithinRisk == rig->lastSafe.reason);
+
+    // A goal far from every rock: a plan fits, but the wheels are held.
+    rig->sendGoal(-2.0, -5.0, kRisk);
+    CHECK_TRUE(rig->runUntil([this] { return rig->safeRequests >= 2; }, kPlanRuns));
+    CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
+    CHECK(std::strstr(rig->seenText(deliberative::events::kCallHome), "a plan fits, but the interlock") != nullptr);
+}
+
+TEST(DeliberativeTask, TheInterlockLatchedOnADriveNotDeclaredFailedStillCallsHomeAtOnce) {
+    autonomousToFirstLeg();
+    rig->sendDriveModes(msg::DriveMode::kDegraded, 1, 1.4);
+    rig->sendDriveStatus(true, 1);
+    rig->run();
+    CHECK(DeliberativeState::kCalledHome == rig->task.state());
+    CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
+}
+
 TEST(DeliberativeTask, LeavingAutonomousCancelsTheLegAndReturningReplansFromThePose) {
     autonomousToFirstLeg();
     const unsigned cancels = rig->cancels;

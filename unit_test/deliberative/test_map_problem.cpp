@@ -260,15 +260,23 @@ TEST(MapProblem, SitePlantCovarianceAndAllocationComeFromTablesAndRequest) {
         CHECK_EQUAL(0, report.obstaclesDropped);
         CHECK(rse::deliberative::checkProblem(p) == Status::kOk);
     }
+    // A failed drive's noise factor scales the table's noise per step.
+    r.noiseFactor = 5.0;
+    CcProblem p;
+    MapProblemReport report;
+    CHECK(buildMapProblem(map, plannerTable(1), geometry(), r, &p, &report) == Status::kOk);
+    DOUBLES_EQUAL(0.625, p.processSigmaM, 0.0);
 }
 
 TEST(MapProblem, BadRequestsAreRefused) {
     CoarseMapTable map = emptyMap();
     addPolygon(&map, {{1, 1}, {3, 1}, {3, 3}, {1, 3}});
     const PlanRequest good = request(-5, 0, 5, 0, 1e-2);
-    for (int k = 0; k < 9; ++k) {
+    for (int k = 0; k < 11; ++k) {
         PlanRequest r = good;
         switch (k) {
+            case 9: r.noiseFactor = 0.5; break;   // a failed drive never tracks better
+            case 10: r.noiseFactor = NAN; break;
             case 0: r.startX = NAN; break;
             case 1: r.goalY = INFINITY; break;
             case 2: r.startCov[2] = NAN; break;

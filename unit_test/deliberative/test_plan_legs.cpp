@@ -90,6 +90,17 @@ TEST(PlanLegs, BoundsArePlannedFiguresWithAllowancesAndSlackAfterTheHabitualMarg
     CHECK(core::isOk(splitPlanIntoLegs(planThrough(xy, 3, r), back, &turned)));
     CHECK(turned.legs[0].energyJ > legs.legs[0].energyJ);
     DOUBLES_EQUAL(legs.legs[0].lengthM, turned.legs[0].lengthM, 0.0);
+    // The power bound: the drives' power at the cruise speed with the mean
+    // factor, plus the power slack, over the habitual margin; every leg alike,
+    // and kept when a leg's other bounds are recomputed from a pose.
+    const double power = 1.2 * 940.0 * lp.cruiseSpeedMS * (1.0 + lp.powerSlackFrac) / 0.8;
+    DOUBLES_EQUAL(power, legs.legs[0].powerW, 1e-9);
+    DOUBLES_EQUAL(power, legs.legs[1].powerW, 1e-9);
+    DOUBLES_EQUAL(power, turned.legs[0].powerW, 1e-9);
+    msg::PlanLeg fromPose = legs.legs[1];
+    CHECK(core::isOk(legBoundsFrom(3.0, -1.0, 0.0, lp, &fromPose)));
+    CHECK(fromPose.lengthM != legs.legs[1].lengthM);
+    DOUBLES_EQUAL(power, fromPose.powerW, 0.0);
 }
 
 TEST(PlanLegs, PointsCloserThanTheShortestLegAreMergedIntoTheNext) {
@@ -138,6 +149,15 @@ TEST(PlanLegs, PlansWithoutAPathAndBadParametersAreRefused) {
     CHECK(core::isOk(splitPlanIntoLegs(plan, params(5.0), &legs)));
     LegParams bad = params(0.0);
     CHECK(core::Status::kInvalidArgument == splitPlanIntoLegs(plan, bad, &legs));
+    LegParams stopped = params(5.0);
+    stopped.cruiseSpeedMS = 0.0;
+    LegParams noSpeed = params(5.0);
+    noSpeed.cruiseSpeedMS = NAN;
+    LegParams negativeSlack = params(5.0);
+    negativeSlack.powerSlackFrac = -0.1;
+    for (const LegParams& p : {stopped, noSpeed, negativeSlack}) {
+        CHECK(core::Status::kInvalidArgument == splitPlanIntoLegs(plan, p, &legs));
+    }
     bad = params(5.0);
     bad.meanPowerFactor = 0.5;
     CHECK(core::Status::kInvalidArgument == splitPlanIntoLegs(plan, bad, &legs));

@@ -69,7 +69,8 @@ public:
         h.estop = estop;
         (void)bus.publish(h);
     }
-    void sendLeg(std::uint32_t legId, double gx, double gy, double maxLengthM, double maxEnergyJ) {
+    void sendLeg(std::uint32_t legId, double gx, double gy, double maxLengthM, double maxEnergyJ,
+                 double maxPowerW = 0.0) {
         msg::LegCommandMsg leg{};
         leg.timeNs = clock.now();
         leg.legId = legId;
@@ -77,6 +78,7 @@ public:
         leg.goalYM = gy;
         leg.maxPathLengthM = maxLengthM;
         leg.maxEnergyJ = maxEnergyJ;
+        leg.maxPowerW = maxPowerW;
         (void)bus.publish(leg);
     }
     void sendPowerFactors(const double (&factors)[msg::kWheelCount], msg::DriveMode declared = msg::DriveMode::kNominal,

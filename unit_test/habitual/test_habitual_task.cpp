@@ -235,6 +235,69 @@ TEST(HabitualTask, RaisedPowerFactorsViolateTheEnergyBoundRepairThenFailUpWithTh
     CHECK(rig->lastReport.predictedEnergyJ <= rig->lastReport.allowedEnergyJ);
 }
 
+// The power bound (LegCommandMsg::maxPowerW): the drives' power at the cruise
+// speed, P = fbar e_m v, against the bound less the power margin. It depends on
+// the drives alone, so a violated bound fails up at once: no planning run, no
+// repair (a path cannot lower it).
+TEST(HabitualTask, APowerBoundTheDrivesAlreadyExceedFailsUpAtOnceWithoutPlanning) {
+    const tables::HabitualTable& hab = rig->tables.habitual();
+    const double v = static_cast<double>(hab.cruise_speed_m_s);
+    const double em = static_cast<double>(hab.drive_energy_j_per_m);
+    rig->sendPowerFactors({1.0, 1.6, 1.0, 1.0, 1.0, 1.0}, msg::DriveMode::kDegraded, 1);  // fbar 1.1
+    rig->run();
+    const double bound = 1.04 * em * v / 0.8;  // planned at fbar 1 with 4 % slack: allows 1.04 P(1)
+    rig->sendLeg(1, 20.0, 0.0, 40.0, 5000.0, bound);
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kFailedUp); }, 5));
+    LONGS_EQUAL(0, rig->plans);                                // no trajectory sent
+    LONGS_EQUAL(0, rig->seenCount(ev::kRepairAttempt));        // nothing repaired
+    LONGS_EQUAL(0, rig->task.lastQuery().iterations);          // nothing sampled
+    const msg::LegReportMsg& r = rig->lastReport;
+    CHECK(LegConstraint::kPower == r.violated);
+    DOUBLES_EQUAL(1.1 * em * v, r.predictedPowerW, 1e-5);  // factors travel as floats
+    DOUBLES_EQUAL(1.04 * em * v, r.allowedPowerW, 1e-5);   // the margin is a float
+    DOUBLES_EQUAL(0.06 * em * v, r.excess, 1e-5);
+    char expected[96];
+    std::snprintf(expected, sizeof expected, "fail-up: power %.1f W > allowed %.1f W by %.1f W", 1.1 * em * v,
+                  1.04 * em * v, 0.06 * em * v);
+    CHECK_TRUE(contains(rig->seenText(ev::kFailUp), expected));
+
+    // The same leg with the bound relaxed past the need is planned and driven.
+    rig->sendLeg(2, 20.0, 0.0, 40.0, 5000.0, bound * 1.1);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    CHECK(rig->lastReport.predictedPowerW <= rig->lastReport.allowedPowerW);
+}
+
+TEST(HabitualTask, PowerFactorsRisingWhileDrivingFailUpOnPowerAtOnceAndStop) {
+    const tables::HabitualTable& hab = rig->tables.habitual();
+    const double p1 = static_cast<double>(hab.drive_energy_j_per_m) * static_cast<double>(hab.cruise_speed_m_s);
+    rig->sendLeg(1, 20.0, 0.0, 40.0, 5000.0, 1.05 * p1 / 0.8);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    rig->runFor(30);
+    CHECK(driving());
+    // A worn motor: 1.2x, fbar 1.033, still within 1.05 P(1).
+    rig->sendPowerFactors({1.0, 1.2, 1.0, 1.0, 1.0, 1.0}, msg::DriveMode::kDegraded, 1);
+    rig->runFor(3);
+    CHECK(driving());
+    // Worse: 1.6x, fbar 1.1.
+    rig->sendPowerFactors({1.0, 1.6, 1.0, 1.0, 1.0, 1.0}, msg::DriveMode::kDegraded, 1);
+    rig->run();
+    CHECK(inState(HabitualState::kFailedUp));
+    LONGS_EQUAL(0, rig->trajectory.count);  // stopped at once
+    CHECK(LegConstraint::kPower == rig->lastReport.violated);
+    LONGS_EQUAL(0, rig->seenCount(ev::kRepairAttempt));
+    LONGS_EQUAL(0, rig->seenCount(ev::kEnergyViolated));
+    LONGS_EQUAL(1, rig->lastReport.failUps);
+}
+
+TEST(HabitualTask, ALegWithoutAPowerBoundIsNotCheckedForPower) {
+    rig->sendPowerFactors({2.0, 2.0, 2.0, 2.0, 2.0, 2.0});
+    rig->run();
+    rig->sendLeg(1, 20.0, 0.0, 40.0, 1.0e6);  // maxPowerW 0: energy and length only
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    DOUBLES_EQUAL(0.0, rig->lastReport.allowedPowerW, 0.0);
+    CHECK(LegConstraint::kNone == rig->lastReport.violated);
+}
+
 TEST(HabitualTask, TooShortALengthBoundFailsUpWithPathLength) {
     rig->sendLeg(1, 20.0, 0.0, 20.0, 1.0e6);  // 20 m needed, 18 m allowed after the 10 % margin
     CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kFailedUp); }, 40));
@@ -288,15 +351,16 @@ TEST(HabitualTask, BadLegsAreRefusedAndTheLegInForceGoesOn) {
     const double inf = std::numeric_limits<double>::infinity();
     struct Bad {
         std::uint32_t id;
-        double gx, gy, len, energy;
+        double gx, gy, len, energy, power;
     } const bad[] = {
-        {2, nan, 0.0, 40.0, 5000.0},   {3, 100.0, 0.0, 40.0, 5000.0}, {4, 10.0, -11.0, 40.0, 5000.0},
-        {5, 10.0, 0.0, 0.0, 5000.0},   {6, 10.0, 0.0, 40.0, -1.0},    {7, 10.0, 0.0, 40.0, inf},
-        {8, 10.0, 0.0, nan, 5000.0},   {1, 10.0, 0.0, 40.0, 5000.0},  // 1: not a new id
+        {2, nan, 0.0, 40.0, 5000.0, 0.0},   {3, 100.0, 0.0, 40.0, 5000.0, 0.0}, {4, 10.0, -11.0, 40.0, 5000.0, 0.0},
+        {5, 10.0, 0.0, 0.0, 5000.0, 0.0},   {6, 10.0, 0.0, 40.0, -1.0, 0.0},    {7, 10.0, 0.0, 40.0, inf, 0.0},
+        {8, 10.0, 0.0, nan, 5000.0, 0.0},   {9, 10.0, 0.0, 40.0, 5000.0, -1.0}, {10, 10.0, 0.0, 40.0, 5000.0, nan},
+        {11, 10.0, 0.0, 40.0, 5000.0, inf}, {1, 10.0, 0.0, 40.0, 5000.0, 0.0},  // 1: not a new id
     };
     std::uint32_t refused = 0;
     for (const Bad& b : bad) {
-        rig->sendLeg(b.id, b.gx, b.gy, b.len, b.energy);
+        rig->sendLeg(b.id, b.gx, b.gy, b.len, b.energy, b.power);
         rig->run();
         ++refused;
         LONGS_EQUAL(refused, rig->task.counters().legsRefused);

@@ -156,17 +156,33 @@ TEST(LockstepDeliberative, AGotoIsPlannedCutIntoLegsAndDrivenToTheGoalWithoutCon
     CHECK(DeliberativeState::kComplete == g_watch.plan.state);
 }
 
-// The demo's own faults: the middle-left motor wears at 30 s (1.8x the
-// current for the same torque); on the next turn it passes its over-current
-// limit, the drive faults and the reflexive interlock holds every drive (and
-// latches), before the middle-right motor's failure at 75 s even comes. Fault
-// protection resets the drive and the interlock and resumes, but the worn
-// motor trips on every turn: within FAULT_PROTECTION.attempt_memory_ms its
-// tries run out, it gives the drive up and leaves the interlock latched. No
-// plan can move the rover, so the deliberative layer safes it and calls home:
-// leg cancelled, mode SAFE, CRITICAL event, PLAN showing why. It stays stopped.
+// A badly worn motor (the demo's fault before issue 17: the middle-left motor
+// at 1.8x the current for the same torque from 30 s): its extra draw first
+// breaks the legs' power bound (relaxed, driving goes on); then on a turn it
+// passes its over-current limit, the drive faults and the reflexive interlock
+// holds every drive (and latches). Fault protection resets the drive and the
+// interlock and resumes, but the worn motor trips on every turn: within
+// FAULT_PROTECTION.attempt_memory_ms its tries run out, it gives the drive up
+// and leaves the interlock latched. The drive is faulted, not declared failed
+// by the drive mode estimator, so no plan can move the rover: the deliberative
+// layer safes it and calls home (mobility lost): leg cancelled, mode SAFE,
+// CRITICAL event, PLAN showing why. It stays stopped. (The demo itself now
+// wears the motor less and later, and fails it: the ten points,
+// test_mission_demo.cpp.)
+sim::Scenario wornMotorScenario() {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/demo_mission.toml");
+    s.faults.clear();
+    sim::FaultSpec worn;
+    worn.type = sim::FaultType::kMotorDegradation;
+    worn.at = 30 * kNsPerSec;
+    worn.wheel = 1;  // middle left
+    worn.value = 1.8;
+    s.faults.push_back(worn);
+    return s;
+}
+
 TEST(LockstepDeliberative, ADriveFaultThatHoldsTheWheelsSafesTheRoverAndCallsHome) {
-    start(sim::loadScenarioFile("sim_stub/scenarios/demo_mission.toml"));
+    start(wornMotorScenario());
     const deliberative::DeliberativeTask& delib = rig->fsw().deliberative();
     gotoGoal(kGoalX, kGoalY, 1e-3);
     CHECK_TRUE(rig->runUntil([&] { return delib.state() == DeliberativeState::kCalledHome; }, 150 * kNsPerSec));

@@ -28,7 +28,7 @@ using sim::MissionSummary;
 
 namespace {
 
-constexpr const char* kHiddenRockLine = "vertices = [[12.0, -0.6], [13.0, -0.6], [13.2, 0.5], [12.2, 0.7]]";
+constexpr const char* kHiddenRockLine = "vertices = [[12.5, -0.5], [13.0, -0.5], [13.0, 0.0], [12.5, 0.0]]";
 constexpr const char* kSeedLine = "seed = 20240611";
 
 std::string demoText() {

@@ -1,10 +1,15 @@
 // rse-demo's logic (sim_stub/lockstep/mission_runner.hpp): its command line
 // (the goal checked against the dictionary's GOTO ranges), its exit codes, the
-// summary's wording, and short lockstep missions judged against the truth the
-// summary reports. The full 20 m mission and its call home are in
-// test_lockstep_deliberative.cpp.
+// summary's wording, short lockstep missions judged against the truth the
+// summary reports, and the demo itself: the ten points of the RSE
+// demonstration in order, each with its substance, the report and the map
+// written; the hidden rock whose detour does not fit failing up; a run that
+// cannot show them all saying so and exiting 3.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,6 +30,16 @@ ParseOutcome parse(std::vector<const char*> args, MissionOptions* o, std::string
     args.insert(args.begin(), "rse-demo");
     return sim::parseMissionArgs(static_cast<int>(args.size()), args.data(), o, error);
 }
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// A folder of its own under build/ for a run's report and map.
+std::string reportFolder(const char* name) { return std::string("build/test_mission_demo/") + name; }
 
 // Everything written to a temporary file so far.
 std::string readAll(std::FILE* f) {
@@ -67,6 +82,7 @@ TEST_GROUP(MissionDemoOptions) {
 TEST(MissionDemoOptions, NoArgumentsIsTheDemoMissionToTwentyMetres) {
     CHECK(ParseOutcome::kRun == parse({}, &o, &error));
     STRCMP_EQUAL("sim_stub/scenarios/demo_mission.toml", o.scenarioPath.c_str());
+    CHECK_FALSE(o.anyOutcome);
     CHECK_FALSE(o.clearFaults);
     CHECK_FALSE(o.quiet);
     DOUBLES_EQUAL(180.0, o.durationS, 0.0);
@@ -74,6 +90,22 @@ TEST(MissionDemoOptions, NoArgumentsIsTheDemoMissionToTwentyMetres) {
 }
 
 TEST(MissionDemoOptions, EveryOptionIsTaken) {
+    const char* args[] = {"rse-demo", "--report", "some/where", "--any-outcome"};
+    MissionOptions withReport;
+    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(4, args, &withReport, &error));
+    STRCMP_EQUAL("some/where", withReport.reportDir.c_str());
+    CHECK_TRUE(withReport.anyOutcome);
+    const char* none[] = {"rse-demo", "--no-report"};
+    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(2, none, &withReport, &error));
+    CHECK_TRUE(withReport.reportDir.empty());
+    CHECK_TRUE(withReport.noReport);
+    // Without either, runMission writes nothing; rse-demo's main writes to build/mission.
+    MissionOptions defaults;
+    const char* bare[] = {"rse-demo"};
+    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(1, bare, &defaults, &error));
+    CHECK_TRUE(defaults.reportDir.empty());
+    CHECK_FALSE(defaults.noReport);
+    STRCMP_EQUAL("build/mission", sim::kDefaultReportDir);
     CHECK(ParseOutcome::kRun == parse({"--scenario", "other.toml", "--no-faults", "--goto", "4,-1.5,0.01", "--duration",
                                        "30", "--quiet"},
                                       &o, &error));
@@ -231,4 +263,134 @@ TEST(MissionDemoRun, TheDurationEndsAnUnfinishedMissionAndQuietLeavesTheConsoleO
     LONGS_EQUAL(0, countOf(text, "] HK  #"));
     LONGS_EQUAL(0, countOf(text, " EVT "));
     CHECK_TRUE(contains(text, "outcome:    timed out at 6.0 s"));
+}
+
+// The demonstration (issue 17, must-show 1): the demo scenario shows the ten
+// points of the RSE demonstration, each once, in order, each read from what
+// the flight software published, with its substance; the report and the map
+// are written and carry every point.
+TEST(MissionDemoRun, TheDemoShowsTheTenPointsInOrderAndWritesTheReportAndTheMap) {
+    CHECK(out != nullptr);
+    CHECK(ParseOutcome::kRun == parse({"--quiet"}, &o, &error));
+    o.reportDir = reportFolder("demo");
+    const MissionSummary s = sim::runMission(o, out);
+    const std::string text = readAll(out);
+    const ground::MissionRecord& r = s.record;
+    if (!s.tenPointsInOrder || std::getenv("RSE_PRINT_CONSOLE") != nullptr) {
+        std::printf("%s\n", text.c_str());
+    }
+    CHECK_TRUE(s.tenPointsInOrder);
+    STRCMP_EQUAL("ten points: all in order", r.verdict.c_str());
+    for (int n = 1; n <= ground::kMissionPointCount; ++n) {
+        const ground::MissionPoint& p = r.points[static_cast<std::size_t>(n - 1)];
+        CHECK_TRUE(p.seen);
+        LONGS_EQUAL(n, p.number);
+        if (n > 1) {
+            CHECK(p.timeS >= r.points[static_cast<std::size_t>(n - 2)].timeS);
+        }
+        // Printed once, numbered, as it was seen.
+        const std::string line = "POINT " + std::to_string(n) + " ";
+        LONGS_EQUAL(1, countOf(text, line.c_str()));
+    }
+    const auto fact = [&r](int n, const char* name) {
+        const auto& f = r.points[static_cast<std::size_t>(n - 1)].facts;
+        const auto it = f.find(name);
+        return it == f.end() ? std::nan("") : it->second;
+    };
+    // 1: the operator's bound, as the flight software took it.
+    DOUBLES_EQUAL(1e-3, fact(1, "risk bound"), 1e-15);
+    // 2: legs with an energy and a power bound.
+    CHECK(fact(2, "energy bound J") > 0.0);
+    CHECK(fact(2, "power bound W") > 0.0);
+    // 5: the hidden rock (the scenario's obstacle 3, not on the coarse map),
+    // replanned round within the leg's bounds: no fail-up from its sighting to
+    // the leg achieved, and the deliberative layer not involved.
+    DOUBLES_EQUAL(3.0, fact(5, "hazard"), 0.0);
+    DOUBLES_EQUAL(0.0, fact(5, "fail-ups"), 0.0);
+    CHECK(fact(5, "seen s") < r.points[4].timeS);
+    // 6 and 7: the power bound broken by the worn motor, then relaxed above
+    // what it was, and driving resumed.
+    CHECK(fact(7, "power bound after W") > fact(7, "power bound before W"));
+    DOUBLES_EQUAL(fact(6, "power bound W"), fact(7, "power bound before W"), 0.5);
+    // 8: after the motor failure (94 s in the scenario).
+    CHECK(r.points[7].timeS > 94.0);
+    // 10: the risk-bound call home, the rover safed.
+    DOUBLES_EQUAL(static_cast<double>(msg::CallHomeReason::kNoPlanWithinRisk), fact(10, "call home reason"), 0.0);
+    CHECK(MissionOutcome::kCalledHome == s.outcome);
+    CHECK(msg::CallHomeReason::kNoPlanWithinRisk == s.callHome);
+    LONGS_EQUAL(0, s.finalMode);  // SAFE
+    CHECK(s.riskRelaxations >= 1);
+    LONGS_EQUAL(0, s.collisions);
+
+    // The report and the map, named at the end.
+    CHECK_TRUE(contains(text, "mission report: build/test_mission_demo/demo/report.md"));
+    CHECK_TRUE(contains(text, "mission map:    build/test_mission_demo/demo/map.svg"));
+    CHECK_TRUE(contains(text, "points:     ten points: all in order"));
+    const std::string report = readFile(s.reportPath);
+    const std::string map = readFile(s.mapPath);
+    CHECK_TRUE(contains(report, "**ten points: all in order**"));
+    CHECK_TRUE(contains(report, "## Timing per task"));
+    CHECK_TRUE(contains(report, "| deliberative |"));
+    CHECK_TRUE(contains(map, "<svg"));
+    CHECK_TRUE(contains(map, "</svg>"));
+    for (int n = 1; n <= ground::kMissionPointCount; ++n) {
+        const ground::MissionPoint& p = r.points[static_cast<std::size_t>(n - 1)];
+        CHECK_TRUE(contains(report, ("| " + std::to_string(n) + " | ").c_str()));
+        CHECK_TRUE(p.hasPlace);
+        CHECK_TRUE(contains(map, ("id=\"point-" + std::to_string(n) + "\"").c_str()));
+    }
+    CHECK_TRUE(contains(map, "class=\"hidden-rock\""));
+    CHECK_TRUE(contains(map, "class=\"track-truth\""));
+    CHECK_TRUE(contains(map, "class=\"track-estimate\""));
+    CHECK_TRUE(contains(map, "class=\"mean-path\""));
+    CHECK(countOf(map, "class=\"ellipse\"") >= 21);  // a plan of 20 steps: 21 ellipses
+}
+
+// Point 5's other side (sim_stub/scenarios/hidden_rock_detour_fails.toml): a
+// hidden rock whose detour does not fit the leg's bounds fails up to the
+// deliberative layer; point 5 is then not shown, and rse-demo says so and
+// exits 3 (0 with --any-outcome).
+TEST(MissionDemoRun, AHiddenRockWhoseDetourDoesNotFitFailsUp) {
+    CHECK(out != nullptr);
+    CHECK(ParseOutcome::kRun ==
+          parse({"--quiet", "--scenario", "sim_stub/scenarios/hidden_rock_detour_fails.toml"}, &o, &error));
+    const MissionSummary s = sim::runMission(o, out);
+    const ground::MissionRecord& r = s.record;
+    double hiddenSeen = -1.0;
+    for (const ground::HazardSeen& h : r.hazards) {
+        if (h.hidden && hiddenSeen < 0.0) {
+            hiddenSeen = h.timeS;
+        }
+    }
+    CHECK(hiddenSeen > 0.0);
+    unsigned failUpsAfter = 0;
+    for (const ground::MissionDecision& d : r.decisions) {
+        if (d.kind == "fail-up" && d.timeS > hiddenSeen) {
+            ++failUpsAfter;
+        }
+    }
+    if (failUpsAfter == 0 || r.points[4].seen) {
+        std::printf("%s\n", readAll(out).c_str());
+    }
+    CHECK(failUpsAfter >= 1);
+    CHECK(s.failUps >= 1);
+    CHECK_FALSE(r.points[4].seen);
+    CHECK_FALSE(s.tenPointsInOrder);
+    CHECK_TRUE(contains(r.verdict, "missing 5"));
+    LONGS_EQUAL(0, s.collisions);
+}
+
+// A run that cannot show the ten points (the demo without its faults: no worn
+// or failed motor) is judged so, and rse-demo exits 3 - or 0 with --any-outcome.
+TEST(MissionDemoRun, ARunWithoutTheFaultsMissesPointsAndExitsThree) {
+    std::FILE* err = std::tmpfile();
+    CHECK(out != nullptr && err != nullptr);
+    const char* noFaults[] = {"rse-demo", "--no-faults", "--quiet", "--no-report"};
+    LONGS_EQUAL(3, sim::missionMain(4, noFaults, out, err));
+    const std::string errText = readAll(err);
+    CHECK_TRUE(contains(errText, "ten points: NOT all in order; missing 6, 7, 8, 9, 10"));
+    CHECK_TRUE(contains(readAll(out), "outcome:    goal (20.00, 0.00) reached"));
+    const char* anyOutcome[] = {"rse-demo", "--no-faults", "--quiet", "--no-report", "--any-outcome", "--duration", "20"};
+    LONGS_EQUAL(0, sim::missionMain(7, anyOutcome, out, err));
+    std::fclose(err);
 }

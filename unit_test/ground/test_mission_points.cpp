@@ -1,0 +1,253 @@
+// The ten-point tracker (ground/mission_points.hpp) on hand-made event
+// streams in the flight software's own wording, and the report and map
+// writers (ground/mission_report.hpp) on a hand-made record: each point's
+// evidence, the order judged from the times, a hidden obstacle told from a
+// known rock by the coarse map, a fail-up that spoils point 5, the call-home
+// reason taken from the plan status, and every point in the files.
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "ground/mission_points.hpp"
+#include "ground/mission_report.hpp"
+
+#include "CppUTest/TestHarness.h"
+
+using namespace rse;
+using ground::FlightEvent;
+using ground::TenPointTracker;
+
+namespace {
+
+// One square rock, x 5..6.5, y 1.8..3.2, on a 35 m x 20 m site.
+tables::CoarseMapTable oneRock() {
+    tables::CoarseMapTable m{};
+    m.x_min_m = -5.0F;
+    m.x_max_m = 30.0F;
+    m.y_min_m = -10.0F;
+    m.y_max_m = 10.0F;
+    m.obstacle_count = 1;
+    m.vertex_count[0] = 4;
+    const float xs[4] = {5.0F, 6.5F, 6.5F, 5.0F};
+    const float ys[4] = {1.8F, 1.8F, 3.2F, 3.2F};
+    for (int i = 0; i < 4; ++i) {
+        m.vertex_x_m[i] = xs[i];
+        m.vertex_y_m[i] = ys[i];
+    }
+    return m;
+}
+
+struct Step {
+    double t;
+    std::uint16_t id;
+    const char* text;
+};
+
+// The demo's ten points, in the flight software's words (abridged times).
+const std::vector<Step> kDemo = {
+    {0.39, 208, "app: 1 goal(s), risk bound 0.001"},
+    {1.47, 902, "deliberative: optimal plan, gap 0.2%: 19.96 m, risk 9.17e-06/0.001, 6 legs, 1 nodes"},
+    {1.47, 905, "deliberative: leg 1 (1 of 6) to (3.86, -0.28): <= 6.90 m, <= 8543 J, <= 308 W, risk 7.95e-43"},
+    {1.55, 803, "habitual: leg 1 trajectory 2: 2 pts, 3.8/6.2 m, 3632/6834 J"},
+    {17.25, 808, "habitual: leg 1 achieved at (3.73, -0.28): 3.6 m, 3473 J driven"},
+    {17.27, 906, "deliberative: leg 1 reached (1 of 6)"},
+    {17.27, 905, "deliberative: leg 2 (2 of 6) to (14.33, -0.38): <= 12.83 m, <= 15856 J, <= 308 W, risk 4.59e-06"},
+    {44.35, 816, "habitual: hazard 3 seen at (12.79, -0.08), radius 0.38 m: on the map"},
+    {44.35, 804, "habitual: leg 2: hazard 3 at (12.79, -0.08) r 0.38 m on the path: stop, replan"},
+    {45.75, 803, "habitual: leg 2 trajectory 11: 7 pts, 5.8/9.7 m, 8056/10994 J"},
+    {45.75, 805, "habitual: leg 2 replanned (path blocked, run 0): constraints hold: minor anomaly"},
+    {69.55, 808, "habitual: leg 2 achieved at (14.35, -0.25): 7.9 m, 10781 J driven"},
+    {69.57, 906, "deliberative: leg 2 reached (2 of 6)"},
+    {69.57, 905, "deliberative: leg 3 (3 of 6) to (17.62, -0.47): <= 6.20 m, <= 7670 J, <= 308 W, risk 1.07e-06"},
+    {79.39, 761, "drive_modes: ML nominal -> degraded (p=0.997, power x1.13)"},
+    {80.45, 807, "habitual: leg 3 fail-up: power 247.0 W > allowed 246.8 W by 0.3 W (power factor 1.051)"},
+    {80.47, 909, "deliberative: leg 3 failed up: power (predicted 247.0, allowed 246.8, excess 0.3)"},
+    {80.47, 910, "deliberative: leg 3 power bound relaxed x1.051 to 324 W (x1.051 of planned, limit x1.50): resen"},
+    {80.47, 905, "deliberative: leg 4 (3 of 6) to (17.62, -0.47): <= 6.20 m, <= 7670 J, <= 324 W, risk 1.07e-06"},
+    {81.75, 803, "habitual: leg 4 trajectory 16: 2 pts, 1.6/5.5 m, 1739/6043 J"},
+    {94.29, 762, "drive_modes: ML degraded -> failed (p=0.983, power x1.40)"},
+    {103.31, 933, "fault protection: drive lost (fault 2): 3 tries used: drive failed, deliberative decides"},
+    {103.37, 905, "deliberative: leg 5 (3 of 6) to (20.00, 0.00): <= 3.60 m, <= 7879 J, <= 324 W, risk 3.49e-10"},
+    {103.45, 807, "habitual: leg 5 fail-up: power 372.1 W > allowed 259.4 W by 112.7 W (power factor 1.583)"},
+    {103.47, 911, "deliberative: replan 1/2 (power) t=103.47 s from (18.55, -0.36): goals 0..0 left, 2 hazards"},
+    {103.47, 990, "deliberative: drive estimate: ML failed: plans at power factor 1.58, noise 0.250 m/step"},
+    {103.67, 904, "deliberative: risk bound relaxed to 0.01 (the operator's 0.001 x10, limit x10)"},
+    {104.67, 912, "deliberative: CALL HOME: no plan within the risk limit (no plan at the relaxed risk limit), goa"},
+    {104.68, 215, "app: onboard call home (reason 1): mode AUTONOMOUS -> SAFE"},
+};
+
+void feed(TenPointTracker* t, const std::vector<Step>& steps) {
+    for (const Step& s : steps) {
+        if (s.id == 912) {
+            t->onCallHomeReason(static_cast<std::uint8_t>(msg::CallHomeReason::kNoPlanWithinRisk));
+        }
+        t->onPose(s.t, s.t / 5.0, 0.0);
+        t->onEvent(FlightEvent{s.t, s.id, 1, s.text});
+    }
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_GROUP(TenPointTracker) {
+    TenPointTracker* t = nullptr;
+    void setup() override { t = new TenPointTracker(oneRock()); }
+    void teardown() override { delete t; }
+};
+
+TEST(TenPointTracker, TheDemoStreamShowsEveryPointOnceInOrderWithItsFigures) {
+    feed(t, kDemo);
+    CHECK_TRUE(t->allInOrder());
+    STRCMP_EQUAL("ten points: all in order", t->verdict().c_str());
+    const double expected[10] = {0.39, 1.47, 1.55, 17.27, 69.55, 80.45, 81.75, 103.45, 103.47, 104.68};
+    const std::vector<ground::MissionPoint> fresh = t->takeNew();
+    LONGS_EQUAL(10, fresh.size());
+    for (int n = 1; n <= 10; ++n) {
+        const ground::MissionPoint& p = t->points()[static_cast<std::size_t>(n - 1)];
+        CHECK_TRUE(p.seen);
+        DOUBLES_EQUAL(expected[n - 1], p.timeS, 1e-9);
+        LONGS_EQUAL(n, fresh[static_cast<std::size_t>(n - 1)].number);
+        CHECK_TRUE(p.hasPlace);
+    }
+    LONGS_EQUAL(0, t->takeNew().size());  // each point once
+    DOUBLES_EQUAL(1e-3, t->fact(1, "risk bound"), 0.0);
+    DOUBLES_EQUAL(308.0, t->fact(2, "power bound W"), 0.0);
+    DOUBLES_EQUAL(3.0, t->fact(5, "hazard"), 0.0);
+    DOUBLES_EQUAL(0.0, t->fact(5, "fail-ups"), 0.0);
+    DOUBLES_EQUAL(308.0, t->fact(7, "power bound before W"), 0.0);
+    DOUBLES_EQUAL(324.0, t->fact(7, "power bound after W"), 0.0);
+    DOUBLES_EQUAL(1.0, t->fact(10, "call home reason"), 0.0);
+    // Placed where they happened: 5 where the rover replanned.
+    DOUBLES_EQUAL(45.75 / 5.0, t->points()[4].xM, 1e-9);
+    CHECK_TRUE(contains(t->points()[5].what, "ML nominal -> degraded"));
+    CHECK_TRUE(contains(t->points()[9].what, "no plan within the risk limit"));
+    CHECK_FALSE(contains(t->points()[9].what, "goa"));  // the cut-off goal counts are left out
+    STRCMP_EQUAL("[    17.270] POINT 4 habitual + deliberative: leg 1 reached (1 of 6); next issued: leg 2 to (14.33, -0.38)",
+                 TenPointTracker::formatPoint(t->points()[3]).c_str());
+}
+
+TEST(TenPointTracker, AKnownRockSeenByTheDetectorIsNoHiddenObstacle) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 7);
+    // A disc that reaches rock 0 of the coarse map: the map's rock, seen.
+    steps.push_back({30.0, 804, "habitual: leg 2: hazard 1 at (5.75, 1.20) r 0.80 m on the path: stop, replan"});
+    steps.push_back({31.0, 803, "habitual: leg 2 trajectory 5: 4 pts, 7.0/11.4 m, 7638/12593 J"});
+    steps.push_back({31.0, 805, "habitual: leg 2 replanned (path blocked, run 0): constraints hold: minor anomaly"});
+    steps.push_back({60.0, 808, "habitual: leg 2 achieved at (14.35, -0.25): 7.9 m, 10781 J driven"});
+    feed(t, steps);
+    CHECK_FALSE(t->points()[4].seen);
+}
+
+TEST(TenPointTracker, AFailUpAfterTheHiddenObstacleSpoilsPointFive) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 9);  // up to the hidden rock on the path
+    steps.push_back({46.0, 807, "habitual: leg 2 fail-up: energy 9167 J > allowed 3897 J by 5270 J"});
+    steps.push_back({46.1, 905, "deliberative: leg 3 (2 of 6) to (14.33, -0.38): <= 12.83 m, <= 20000 J, <= 308 W, risk 4.59e-06"});
+    steps.push_back({47.0, 803, "habitual: leg 3 trajectory 12: 7 pts, 5.8/9.7 m, 8056/10994 J"});
+    steps.push_back({70.0, 808, "habitual: leg 3 achieved at (14.35, -0.25): 7.9 m, 10781 J driven"});
+    feed(t, steps);
+    CHECK_FALSE(t->points()[4].seen);
+    CHECK_FALSE(t->allInOrder());
+    CHECK_TRUE(contains(t->verdict(), "missing 5, 6, 7, 8, 9, 10"));
+    ground::MissionRecord r;
+    t->fill(&r);
+    bool told = false;
+    for (const ground::MissionDecision& d : r.decisions) {
+        told = told || (d.kind == "hidden obstacle" && contains(d.text, "failed up"));
+    }
+    CHECK_TRUE(told);
+}
+
+TEST(TenPointTracker, PointsThatComeOutOfOrderAreSaidToBe) {
+    // The call home first (risk), then the rest: 10 comes before 1.
+    std::vector<Step> steps;
+    steps.push_back({0.2, 912, "deliberative: CALL HOME: no plan within the risk limit (no plan at the relaxed risk limit), goa"});
+    steps.push_back({0.21, 215, "app: onboard call home (reason 1): mode AUTONOMOUS -> SAFE"});
+    steps.insert(steps.end(), kDemo.begin(), kDemo.end() - 2);
+    feed(t, steps);
+    CHECK_FALSE(t->allInOrder());
+    const std::string v = t->verdict();
+    CHECK_TRUE(contains(v, "ten points: NOT all in order"));
+    CHECK_TRUE(contains(v, "out of order"));
+    CHECK_FALSE(contains(v, "missing"));
+}
+
+TEST(TenPointTracker, ACallHomeForAnotherReasonIsNotPointTen) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.end() - 2);
+    t->onCallHomeReason(static_cast<std::uint8_t>(msg::CallHomeReason::kMobilityLost));
+    for (const Step& s : steps) {
+        t->onEvent(FlightEvent{s.t, s.id, 1, s.text});
+    }
+    t->onCallHomeReason(static_cast<std::uint8_t>(msg::CallHomeReason::kMobilityLost));
+    t->onEvent(FlightEvent{104.67, 912, 4, "deliberative: CALL HOME: mobility lost (the drive interlock holds every drive), goal 0"});
+    t->onEvent(FlightEvent{104.68, 215, 2, "app: onboard call home (reason 5): mode AUTONOMOUS -> SAFE"});
+    CHECK_FALSE(t->points()[9].seen);
+    DOUBLES_EQUAL(5.0, t->fact(10, "call home reason"), 0.0);
+    CHECK_TRUE(contains(t->verdict(), "missing 10"));
+}
+
+TEST(TenPointTracker, TheCallHomeWordsDropTheGoalCountsWholeOrCut) {
+    STRCMP_EQUAL("mobility lost (x)",
+                 ground::callHomeWords("deliberative: CALL HOME: mobility lost (x), goal 0, risk bound 0.001: rover").c_str());
+    STRCMP_EQUAL("no plan within the risk limit (no plan at the relaxed risk limit)",
+                 ground::callHomeWords("deliberative: CALL HOME: no plan within the risk limit (no plan at the relaxed "
+                                       "risk limit), goa")
+                     .c_str());
+    STRCMP_EQUAL("fault unrecovered", ground::callHomeWords("fault protection: CALL HOME: fault unrecovered").c_str());
+}
+
+TEST_GROUP(MissionReport){};
+
+TEST(MissionReport, TheReportAndTheMapCarryEveryPointTheLegsThePlansAndTheTracks) {
+    TenPointTracker t(oneRock());
+    feed(&t, kDemo);
+    ground::MissionRecord r;
+    t.fill(&r);
+    r.scenario = "demo";
+    r.goalX = 20.0;
+    r.riskBound = 1e-3;
+    r.map = oneRock();
+    r.outcome = "called home at 104.7 s";
+    r.hiddenRocks.push_back({{12.5, -0.5}, {13.0, -0.5}, {13.0, 0.0}, {12.5, 0.0}});
+    r.truthTrack = {{0.0, 0.0, 0.0}, {50.0, 10.0, 0.1}, {100.0, 18.5, -0.3}};
+    r.estimatedTrack = {{1.0, 0.1, 0.0}, {50.0, 10.05, 0.12}};
+    ground::PlanDrawing plan;
+    plan.timeS = 1.47;
+    plan.problem.steps = 2;
+    plan.problem.processSigmaM = 0.05;
+    plan.problem.riskBound = 1e-3;
+    plan.plan.status = deliberative::CcStatus::kOptimal;
+    plan.plan.steps = 2;
+    const double xs[3] = {0.0, 10.0, 20.0};
+    for (int k = 0; k < 3; ++k) {
+        plan.plan.meanX[k] = xs[k];
+        plan.plan.meanY[k] = 0.0;
+    }
+    r.plans.push_back(plan);
+    r.timing.push_back(ground::TaskTimingRow{"deliberative", 1067, 0, 5000.0, 0.0, 0.0, 5.2, 2544.4});
+    const std::string report = ground::renderMissionReport(r, "map.svg");
+    const std::string map = ground::renderMissionMap(r);
+    CHECK_TRUE(contains(report, "**ten points: all in order**"));
+    for (int n = 1; n <= 10; ++n) {
+        CHECK_TRUE(contains(report, "| " + std::to_string(n) + " | "));
+        CHECK_TRUE(contains(map, "id=\"point-" + std::to_string(n) + "\""));
+    }
+    CHECK_TRUE(contains(report, "| 3 | 69.57 | (17.62, -0.47) | 6.20 | 7670 | 308 | failed up: power"));
+    CHECK_TRUE(contains(report, "| deliberative | 1067 | 5000 |"));
+    CHECK_TRUE(contains(report, "power bound relaxed"));
+    CHECK_TRUE(contains(map, "class=\"hidden-rock\""));
+    CHECK_TRUE(contains(map, "class=\"hazard-hidden\""));
+    CHECK_TRUE(contains(map, "class=\"track-truth\""));
+    CHECK_TRUE(contains(map, "class=\"track-estimate\""));
+    CHECK_TRUE(contains(map, "class=\"mean-path\""));
+    CHECK_TRUE(contains(map, "class=\"rock\""));
+    // An ellipse per step of the plan, and no number that is not one.
+    std::size_t ellipses = 0;
+    for (std::size_t at = map.find("class=\"ellipse\""); at != std::string::npos;
+         at = map.find("class=\"ellipse\"", at + 1)) {
+        ++ellipses;
+    }
+    LONGS_EQUAL(3, ellipses);
+    CHECK_FALSE(contains(map, "nan"));
+    CHECK_FALSE(contains(map, "inf"));
+}
