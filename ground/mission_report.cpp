@@ -15,18 +15,9 @@ namespace {
 
 using geometry::Point2;
 
-// v with `decimals` decimals; sci(): three significant digits.
-std::string num(int decimals, double v) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*f", decimals, v);
-    return text;
-}
+std::string num(int decimals, double v) { return svgFixed(v, decimals); }
 
-std::string sci(double v) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.3g", v);
-    return text;
-}
+std::string sci(double v) { return svgScientific(v); }
 
 // A Markdown table cell: no bar, no line break.
 std::string cell(const std::string& text) {

@@ -109,23 +109,9 @@ bool allFinite(std::initializer_list<double> values) {
 
 std::string px(double v) { return svgNumber(v); }
 
-std::string fixed(double v, int decimals) {
-    if (!std::isfinite(v)) {
-        return v > 0.0 ? "inf" : "n/a";
-    }
-    char text[48];
-    std::snprintf(text, sizeof text, "%.*f", decimals, v);
-    return text;
-}
+std::string fixed(double v, int decimals) { return svgFixed(v, decimals); }
 
-std::string scientific(double v) {
-    if (!std::isfinite(v)) {
-        return "n/a";
-    }
-    char text[48];
-    std::snprintf(text, sizeof text, "%.3g", v);
-    return text;
-}
+std::string scientific(double v) { return svgScientific(v); }
 
 std::string escapeXml(const std::string& text) { return svgEscape(text); }
 
@@ -260,6 +246,24 @@ void writePanel(const PlanPicture& picture, std::size_t index, double left, doub
 }
 
 }  // namespace
+
+std::string svgFixed(double v, int decimals) {
+    if (!std::isfinite(v)) {
+        return v > 0.0 ? "inf" : "n/a";
+    }
+    char text[48];
+    std::snprintf(text, sizeof text, "%.*f", decimals, v);
+    return text;
+}
+
+std::string svgScientific(double v) {
+    if (!std::isfinite(v)) {
+        return "n/a";
+    }
+    char text[48];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    return text;
+}
 
 std::string svgNumber(double v) {
     char text[32];

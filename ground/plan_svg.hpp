@@ -76,6 +76,10 @@ struct SvgFrame {
 };
 // A pixel figure with two decimals; text with XML's five specials escaped.
 std::string svgNumber(double v);
+// A figure for people: `decimals` decimals, or three significant digits ("n/a"
+// or "inf" when not finite).
+std::string svgFixed(double v, int decimals);
+std::string svgScientific(double v);
 std::string svgEscape(const std::string& text);
 // "x,y x,y ...": a polygon's or polyline's points attribute.
 std::string svgPoints(const std::vector<geometry::Point2>& points, const SvgFrame& f);

@@ -195,7 +195,7 @@ TEST(SimRover, TwoSimulatorsWithTheSameSeedGiveIdenticalTruthAndFrames) {
     const Scenario s = demo();
     Rig* a = new Rig(s);
     Rig* b = new Rig(s);
-    for (core::TimeNs t = 0; t <= 40 * core::kNsPerSec; t += kTick) {
+    for (core::TimeNs t = 0; t <= 80 * core::kNsPerSec; t += kTick) {
         const bool turning = t > 20 * core::kNsPerSec && t < 22 * core::kNsPerSec;
         for (Rig* r : {a, b}) {
             r->drive(turning ? -3.0 : 4.0, 4.0);
@@ -524,7 +524,7 @@ TEST(SimRover, DemoMissionTheHazardDetectorSeesTheHiddenRockBeforeTheRoverHitsIt
     rig->drive(5.0, 5.0);  // straight down the direct line, blind to the hidden rock
     double xAtFirstSighting = -1.0;
     double firstRange = -1.0;
-    for (core::TimeNs t = 0; t <= 40 * core::kNsPerSec; t += kTick) {
+    for (core::TimeNs t = 0; t <= 80 * core::kNsPerSec; t += kTick) {
         rig->frames.clear();
         rig->drive(5.0, 5.0);
         rig->tick(t);
@@ -542,9 +542,9 @@ TEST(SimRover, DemoMissionTheHazardDetectorSeesTheHiddenRockBeforeTheRoverHitsIt
     LONGS_EQUAL(3, truth.lastCollisionObstacle);
     CHECK_TRUE(truth.inContact);
     CHECK(truth.pose.x > 11.0 && truth.pose.x < 12.0);
-    // The scheduled degradation (30 s, wheel 2) reached the drive owner; the failure is later.
+    // The scheduled degradation (79 s, wheel 2) reached the drive owner; the failure (94 s) is later.
     LONGS_EQUAL(1, rig->drives.record.log.size());
-    STRCMP_EQUAL("0.000 degrade 1 1.80", rig->drives.record.log[0].c_str());
+    STRCMP_EQUAL("0.000 degrade 1 1.40", rig->drives.record.log[0].c_str());
     delete rig;
 }
 
