@@ -289,11 +289,11 @@ double DeliberativeTask::meanFactor() const {
     return rover_model::meanPowerFactor(modes_, static_cast<double>(tables_.habitual().failed_drive_power_factor));
 }
 
-std::uint8_t DeliberativeTask::failedDrives() const {
+std::uint8_t DeliberativeTask::failedDrives(bool withUnknown) const {
     std::uint8_t mask = 0;
     for (std::size_t w = 0; modesSeen_ && w < msg::kWheelCount; ++w) {
         const msg::DriveMode m = modes_.drives[w].declared;
-        if (m == msg::DriveMode::kFailed || m == msg::DriveMode::kUnknown) {
+        if (m == msg::DriveMode::kFailed || (withUnknown && m == msg::DriveMode::kUnknown)) {
             mask = static_cast<std::uint8_t>(mask | (1U << w));
         }
     }
@@ -308,12 +308,14 @@ std::uint8_t DeliberativeTask::failedDrives() const {
 // other. An interlock latched only on drives the estimator declares failed
 // (fault protection gave them up) is the layer's to decide: it goes on with
 // them failed in its model, and calls home with the reason its planning gives
-// (mobility lost when a plan is found: no drive is isolated yet).
+// (mobility lost when a plan is found: no drive is isolated yet). A drive the
+// estimator cannot tell (unknown) is planned as failed but leaves mobility
+// lost: nothing says its wheel has stopped.
 bool DeliberativeTask::mobilityLost() const {
     if (!interlockTripped_) {
         return false;
     }
-    const std::uint8_t failed = failedDrives();
+    const std::uint8_t failed = failedDrives(false);
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         if (unhealthy(driveHealth_[w]) && ((failed >> w) & 1U) == 0U) {
             return true;
@@ -745,7 +747,7 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     // The motor loss in the state estimate: a drive the mode estimator
     // declares failed (or cannot tell) is planned as failed - its power factor
     // in the legs' bounds (legParams) and a rover that tracks its path worse.
-    const std::uint8_t failed = failedDrives();
+    const std::uint8_t failed = failedDrives(true);
     request.noiseFactor = failed != 0U ? static_cast<double>(planner.failed_drive_noise_factor) : 1.0;
     MapProblemReport report;
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,

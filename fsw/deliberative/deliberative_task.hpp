@@ -40,7 +40,7 @@
 //                (not during a hold)         every drive and latches: fault protection leaves
 //                                            it latched once it gives a drive up), unless
 //                                            every drive it trips on is one the drive mode
-//                                            estimator declares failed: then the layer goes
+//                                            estimator declares failed (not unknown): then the layer goes
 //                                            on deciding (re-sent leg, fail-ups, replans) with
 //                                            the failed drives in its model, and calls home
 //                                            kMobilityLost only when a plan is found (no
@@ -251,8 +251,8 @@ private:
     void malformed(const char* what, core::MsgId id);
     bool poseUsable(core::TimeNs now) const;
     double meanFactor() const;
-    // Wheels the drive mode estimator declares failed or unknown (bit per wheel).
-    std::uint8_t failedDrives() const;
+    // Wheels the drive mode estimator declares failed (and unknown, withUnknown) (bit per wheel).
+    std::uint8_t failedDrives(bool withUnknown) const;
     bool mobilityLost() const;
 
     void onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now);

@@ -416,13 +416,20 @@ TEST(DeliberativeTask, AnInterlockLatchedOnADriveDeclaredFailedIsDecidedByPlanni
     CHECK(std::strstr(rig->seenText(deliberative::events::kCallHome), "a plan fits, but the interlock") != nullptr);
 }
 
+// Degraded, or unknown (nothing says its wheel has stopped): mobility lost.
 TEST(DeliberativeTask, TheInterlockLatchedOnADriveNotDeclaredFailedStillCallsHomeAtOnce) {
-    autonomousToFirstLeg();
-    rig->sendDriveModes(msg::DriveMode::kDegraded, 1, 1.4);
-    rig->sendDriveStatus(true, 1);
-    rig->run();
-    CHECK(DeliberativeState::kCalledHome == rig->task.state());
-    CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
+    for (const msg::DriveMode mode : {msg::DriveMode::kDegraded, msg::DriveMode::kUnknown}) {
+        autonomousToFirstLeg();
+        rig->sendDriveModes(mode, 1, 1.4);
+        rig->sendDriveStatus(true, 1);
+        rig->run();
+        CHECK(DeliberativeState::kCalledHome == rig->task.state());
+        CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
+        rig->sendDriveStatus(false);
+        rig->sendDriveModes(msg::DriveMode::kNominal);
+        rig->run();
+    }
+    LONGS_EQUAL(2, rig->safeRequests);
 }
 
 TEST(DeliberativeTask, LeavingAutonomousCancelsTheLegAndReturningReplansFromThePose) {
