@@ -70,7 +70,8 @@ std::string callHomeWords(const std::string& eventText) {
     return t;
 }
 
-TenPointTracker::TenPointTracker(const tables::CoarseMapTable& map) : map_(map) {
+TenPointTracker::TenPointTracker(const tables::CoarseMapTable& map, double footprintRadiusM)
+    : map_(map), footprintRadiusM_(footprintRadiusM) {
     for (int i = 0; i < kMissionPointCount; ++i) {
         points_[static_cast<std::size_t>(i)].number = i + 1;
     }
@@ -243,6 +244,11 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                 hidden_.active = false;
             }
             currentLeg_ = l.legId;
+            currentLegPlanned_ = false;
+            legFromX_ = poseX_;
+            legFromY_ = poseY_;
+            legToX_ = l.xM;
+            legToY_ = l.yM;
             legs_.push_back(l);
             if (planPending_) {
                 planPending_ = false;
@@ -266,6 +272,14 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
         }
         case hev::kPlanSent:
             lastPlanSent_ = body(t);
+            if (hidden_.active && hidden_.whilePlanning && hidden_.legId == currentLeg_ && hidden_.replannedS < 0.0) {
+                // The leg's plan, made with the obstacle on the map: round it.
+                hidden_.replannedS = e.timeS;
+                hidden_.plan = body(t);
+                hidden_.replanX = poseX_;
+                hidden_.replanY = poseY_;
+            }
+            currentLegPlanned_ = true;
             if (!points_[2].seen) {
                 see(3, e.timeS, "habitual", "local plan on the fine map within the leg's bounds, driving: " + body(t));
             }
@@ -313,11 +327,18 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                     setFact(5, "hazard", hidden_.hazardId);
                     setFact(5, "leg", legId);
                     setFact(5, "seen s", hidden_.seenS);
+                    setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
+                    const std::string how =
+                        hidden_.whilePlanning
+                            ? " seen on the leg's way at " + seconds(hidden_.seenS) + " while leg " +
+                                  std::to_string(legId) + " was being planned; planned round it locally within its "
+                                                          "bounds at " +
+                                  seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
+                            : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(legId) +
+                                  " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
+                                  hidden_.plan + "), logged as a minor anomaly";
                     see(5, e.timeS, "habitual",
-                        "hidden obstacle " + std::to_string(hidden_.hazardId) + " seen on the path at " +
-                            seconds(hidden_.seenS) + ", leg " + std::to_string(legId) +
-                            " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
-                            hidden_.plan + "), logged as a minor anomaly; leg achieved, no fail-up");
+                        "hidden obstacle " + std::to_string(hidden_.hazardId) + how + "; leg achieved, no fail-up");
                     // Placed where it happened: where the rover replanned.
                     points_[4].xM = hidden_.replanX;
                     points_[4].yM = hidden_.replanY;
@@ -335,6 +356,20 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                 h.timeS = e.timeS;
                 h.hidden = geometry::distanceToCoarseMap(map_, geometry::Point2{h.xM, h.yM}) > h.radiusM;
                 hazards_.push_back(h);
+                // Seen while the leg in force was being planned, on its way:
+                // its plan must go round it (else it is seen on the path, 804).
+                const double reach = h.radiusM + footprintRadiusM_;
+                const bool onTheWay =
+                    geometry::pointSegmentDistanceSquared(geometry::Point2{h.xM, h.yM}, geometry::Point2{legFromX_, legFromY_},
+                                                          geometry::Point2{legToX_, legToY_}) < reach * reach;
+                if (h.hidden && !hidden_.active && currentLeg_ != 0 && !currentLegPlanned_ && onTheWay) {
+                    hidden_ = HiddenBlock{};
+                    hidden_.active = true;
+                    hidden_.legId = currentLeg_;
+                    hidden_.hazardId = id;
+                    hidden_.seenS = e.timeS;
+                    hidden_.whilePlanning = true;
+                }
             }
             break;
         }

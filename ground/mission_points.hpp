@@ -11,7 +11,10 @@
 //   4 deliberative  a leg reached (906) and the next one issued (905)
 //   5 habitual      a hidden obstacle (a hazard disc that meets no coarse-map polygon) on the
 //                   path (804), the leg replanned within its bounds (805) and then achieved (808)
-//                   with no fail-up and no new leg between
+//                   with no fail-up and no new leg between; or first seen (816) while the leg was
+//                   being planned, on its way (the disc within the footprint of the straight line
+//                   from where the leg was sent to its end), the leg's plan (803) going round it
+//                   and then achieved the same way
 //   6 habitual      a power fail-up (807, "power") while no drive is declared failed: a worn
 //                   motor's extra draw broke the leg's power bound
 //   7 deliberative  that power bound relaxed (910) and the leg re-sent; driving resumed (803)
@@ -41,7 +44,9 @@ std::string callHomeWords(const std::string& eventText);
 
 class TenPointTracker {
 public:
-    explicit TenPointTracker(const tables::CoarseMapTable& map);
+    // footprintRadiusM: the rover's clearance radius (ROVER_GEOMETRY), to
+    // tell a hidden obstacle on a leg's way from one beside it.
+    explicit TenPointTracker(const tables::CoarseMapTable& map, double footprintRadiusM = 0.6);
 
     // Flight events, in the order the flight software reported them.
     void onEvent(const FlightEvent& event);
@@ -74,6 +79,7 @@ private:
     void onHabitualFailUp(const FlightEvent& e);
 
     const tables::CoarseMapTable map_;
+    const double footprintRadiusM_;
     std::array<MissionPoint, kMissionPointCount> points_{};
     std::vector<int> fresh_;
     double poseTimeS_ = -1.0, poseX_ = 0.0, poseY_ = 0.0;
@@ -85,6 +91,8 @@ private:
     bool legReachedPending_ = false;       // 906 seen, the next leg not yet
     std::string legReachedText_;
     std::uint32_t currentLeg_ = 0;
+    bool currentLegPlanned_ = false;       // a plan (803) of the current leg was sent
+    double legFromX_ = 0.0, legFromY_ = 0.0, legToX_ = 0.0, legToY_ = 0.0;  // the current leg's way
     std::vector<LegRecord> legs_;
     std::vector<HazardSeen> hazards_;
     std::vector<MissionDecision> decisions_;
@@ -97,6 +105,7 @@ private:
         double replannedS = -1.0;
         std::string plan;                  // the replanned trajectory (803 text)
         double replanX = 0.0, replanY = 0.0;  // the estimated position then
+        bool whilePlanning = false;        // first seen while the leg was being planned (no 804)
         std::uint32_t failUps = 0;         // fail-ups of the leg since
     } hidden_;
     std::string lastPlanSent_;             // last 803 text

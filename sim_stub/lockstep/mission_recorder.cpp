@@ -14,7 +14,9 @@ double seconds(core::TimeNs t) { return static_cast<double>(t) * 1e-9; }
 }  // namespace
 
 MissionRecorder::MissionRecorder(LockstepRig& rig, std::FILE* out)
-    : rig_(rig), out_(out), tracker_(rig.fsw().tables().coarseMap()) {
+    : rig_(rig),
+      out_(out),
+      tracker_(rig.fsw().tables().coarseMap(), geometry::clearanceRadiusM(rig.fsw().tables().roverGeometry())) {
     truth_.reserve(2048);
     estimate_.reserve(2048);
 }

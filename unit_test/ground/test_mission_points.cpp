@@ -128,6 +128,35 @@ TEST(TenPointTracker, TheDemoStreamShowsEveryPointOnceInOrderWithItsFigures) {
                  TenPointTracker::formatPoint(t->points()[3]).c_str());
 }
 
+// Seen while the leg was being planned (before its first trajectory): no
+// "path blocked", the leg's plan goes round it; on the leg's way it counts,
+// beside it not.
+TEST(TenPointTracker, AHiddenObstacleSeenWhileItsLegIsPlannedOnItsWayCounts) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 5);  // leg 1 achieved
+    steps.push_back({17.27, 906, "deliberative: leg 1 reached (1 of 6)"});
+    steps.push_back({17.27, 905, "deliberative: leg 2 (2 of 6) to (14.33, -0.38): <= 12.83 m, <= 15856 J, <= 308 W, risk 4.59e-06"});
+    steps.push_back({18.0, 816, "habitual: hazard 3 seen at (6.0, -0.10), radius 0.38 m: on the map"});
+    steps.push_back({18.5, 803, "habitual: leg 2 trajectory 4: 7 pts, 5.8/9.2 m, 7781/10739 J"});
+    steps.push_back({40.0, 808, "habitual: leg 2 achieved at (14.2, -0.3): 10.9 m, 10000 J driven"});
+    for (const Step& st : steps) {
+        t->onPose(st.t, st.t < 17.3 ? st.t / 5.0 : 3.73, st.t < 17.3 ? 0.0 : -0.28);
+        t->onEvent(FlightEvent{st.t, st.id, 1, st.text});
+    }
+    CHECK_TRUE(t->points()[4].seen);
+    DOUBLES_EQUAL(40.0, t->points()[4].timeS, 0.0);
+    DOUBLES_EQUAL(1.0, t->fact(5, "while planning"), 0.0);
+    CHECK_TRUE(contains(t->points()[4].what, "while leg 2 was being planned; planned round it"));
+
+    // The same leg with the rock 3 m off its way: not point 5.
+    TenPointTracker beside(oneRock());
+    steps[7] = {18.0, 816, "habitual: hazard 3 seen at (6.0, -3.40), radius 0.38 m: on the map"};
+    for (const Step& st : steps) {
+        beside.onPose(st.t, st.t < 17.3 ? st.t / 5.0 : 3.73, st.t < 17.3 ? 0.0 : -0.28);
+        beside.onEvent(FlightEvent{st.t, st.id, 1, st.text});
+    }
+    CHECK_FALSE(beside.points()[4].seen);
+}
+
 TEST(TenPointTracker, AKnownRockSeenByTheDetectorIsNoHiddenObstacle) {
     std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 7);
     // A disc that reaches rock 0 of the coarse map: the map's rock, seen.

@@ -542,7 +542,7 @@ TEST(SimRover, DemoMissionTheHazardDetectorSeesTheHiddenRockBeforeTheRoverHitsIt
     LONGS_EQUAL(3, truth.lastCollisionObstacle);
     CHECK_TRUE(truth.inContact);
     CHECK(truth.pose.x > 11.0 && truth.pose.x < 12.0);
-    // The scheduled degradation (79 s, wheel 2) reached the drive owner; the failure (94 s) is later.
+    // The scheduled degradation (79 s, wheel 2) reached the drive owner; the failure (87 s) is later.
     LONGS_EQUAL(1, rig->drives.record.log.size());
     STRCMP_EQUAL("0.000 degrade 1 1.40", rig->drives.record.log[0].c_str());
     delete rig;

@@ -74,7 +74,7 @@ TEST(SimScenario, DemoMissionLoadsWithAHiddenRockOnTheDirectLine) {
     CHECK_EQUAL(79 * kSec, s.faults[0].at);
     CHECK(FaultType::kMotorFailure == s.faults[1].type);
     LONGS_EQUAL(1, s.faults[1].wheel);  // the same motor
-    CHECK_EQUAL(94 * kSec, s.faults[1].at);
+    CHECK_EQUAL(87 * kSec, s.faults[1].at);
     DOUBLES_EQUAL(0.0005, s.devices.imu.biasRadS, 0.0);
     DOUBLES_EQUAL(kPi / 3.0, s.devices.hazard.halfFovRad, 1e-12);
 }
