@@ -323,8 +323,8 @@ $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEF
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
 
-# The fault-recovery and lockstep-mission benchmarks run whole missions through the ground link (the ground library).
-$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+# The fault-recovery, lockstep-mission and plan-executive benchmarks run whole missions through the ground link (the ground library).
+$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission $(BUILD)/bin/bench_plan_executive: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 

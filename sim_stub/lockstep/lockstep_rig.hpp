@@ -19,6 +19,7 @@
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/instrument_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/nvm/record_store.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
@@ -93,6 +94,19 @@ public:
         return instruments_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
     }
     std::uint32_t instrumentStatusCount() const { return instrumentCount_; }
+    // What was commanded on the flight bus (by the plan executive, or by
+    // commandInstrument above): the latest InstrumentCommandMsg to each
+    // instrument and how many came, and the latest PlanGoalMsg (the plan
+    // executive's drive goals to the deliberative layer) and how many came.
+    // Taken after every frame, so a count that moved names the frame.
+    const msg::InstrumentCommandMsg& instrumentCommand(msg::Instrument instrument) const {
+        return commands_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
+    }
+    std::uint32_t instrumentCommandCount(msg::Instrument instrument) const {
+        return commandCount_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
+    }
+    const msg::PlanGoalMsg& planGoal() const { return planGoal_; }
+    std::uint32_t planGoalCount() const { return planGoalCount_; }
     void setOnFrame(void (*callback)(LockstepRig&)) { onFrame_ = callback; }
 
 private:
@@ -115,6 +129,10 @@ private:
     std::uint32_t statusCount_ = 0;
     msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
     std::uint32_t instrumentCount_ = 0;
+    msg::InstrumentCommandMsg commands_[msg::kInstrumentCount] = {};
+    std::uint32_t commandCount_[msg::kInstrumentCount] = {};
+    msg::PlanGoalMsg planGoal_{};
+    std::uint32_t planGoalCount_ = 0;
     void (*onFrame_)(LockstepRig&) = nullptr;
     std::FILE* memoryConsole_ = nullptr;  // owned: the fmemopen stream over consoleText_
     char consoleBuffer_[4096] = {};

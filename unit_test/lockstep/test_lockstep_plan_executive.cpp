@@ -11,77 +11,37 @@
 // sampled target 1 and while the rover drives to target 2.
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <iterator>
+#include <memory>
 #include <string>
 
-#include "fsw/core/byte_codec.hpp"
-#include "fsw/core/crc32.hpp"
 #include "fsw/msg/mode_msgs.hpp"
-#include "ground/telemetry_decoder.hpp"
-#include "sim_stub/lockstep/lockstep_rig.hpp"
-#include "sim_stub/lockstep/memory_ground.hpp"
 #include "unit_test/support/alloc_guard.hpp"
+#include "unit_test/support/plan_lockstep.hpp"
 
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
 using core::kNsPerMs;
 using core::kNsPerSec;
-
-namespace {
-
-sim::MemoryGround* g_ground = nullptr;
-void drain(sim::LockstepRig&) { g_ground->drainDownlink(); }
-
-std::string readFile(const char* path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-}  // namespace
+using test::readTextFile;
 
 TEST_GROUP(LockstepPlanExecutive) {
+    std::unique_ptr<test::PlanLockstep> session;
     sim::LockstepRig* rig = nullptr;
     sim::MemoryGround* ground = nullptr;
 
     void start(const sim::Scenario& scenario) {
-        rig = new sim::LockstepRig(scenario);
-        ground = new sim::MemoryGround;
-        g_ground = ground;
-        ground->keepApid(cmdtlm::PLAN_EXEC_Tlm::kApid);
-        CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
-        CHECK(core::Status::kOk == rig->init());
-        rig->setOnFrame(drain);
-        CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 3 * kNsPerSec));
-        CHECK_TRUE(ground->setMode(2));  // AUTONOMOUS
-        rig->runFor(100 * kNsPerMs);
+        session = std::make_unique<test::PlanLockstep>(scenario);
+        rig = &session->rig();
+        ground = &session->ground();
+        const char* failed = session->start();
+        CHECK_TEXT(failed == nullptr, failed);
     }
-    void teardown() override {
-        delete rig;
-        delete ground;
-        g_ground = nullptr;
-    }
+    void teardown() override { session.reset(); }
     // PLAN_LOAD in 200-byte chunks (one every 20 ms), then PLAN_START.
-    void uplink(const std::string& text, std::uint32_t crcXor = 0) {
-        for (std::size_t at = 0; at < text.size(); at += 200) {
-            const std::size_t n = text.size() - at < 200 ? text.size() - at : 200;
-            std::uint8_t args[2 + 200];
-            core::BeWriter w(args, sizeof args);
-            w.u16(static_cast<std::uint16_t>(at));
-            w.bytes(reinterpret_cast<const std::uint8_t*>(text.data() + at), n);
-            CHECK_TRUE(ground->send("PLAN_LOAD", args, 2 + n));
-            rig->runFor(20 * kNsPerMs);
-        }
-        std::uint8_t args[8];
-        core::BeWriter w(args, sizeof args);
-        w.u32(static_cast<std::uint32_t>(text.size()));
-        w.u32(core::crc32(text.data(), text.size()) ^ crcXor);
-        CHECK_TRUE(ground->send("PLAN_START", args, sizeof args));
-    }
-    bool complete() { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kComplete; }
-    ground::DecodedPacket planExec() { return ground::decodeTelemetry(ground->kept(), ground->keptLength()); }
+    void uplink(const std::string& text, std::uint32_t crcXor = 0) { CHECK_TRUE(session->uplink(text, crcXor)); }
+    bool complete() { return session->complete(); }
+    ground::DecodedPacket planExec() { return session->planExec(); }
     double field(const char* name, std::size_t i = 0) {
         const auto v = planExec().value(name, i);
         CHECK_TEXT(v.has_value(), name);
@@ -99,7 +59,7 @@ TEST_GROUP(LockstepPlanExecutive) {
 // imaged; the cost before and after in the events and in PLAN_EXEC.
 TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) {
     start(sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml"));
-    const std::string plan = readFile("unit_test/fuzz/corpus/plan/two_targets.plan");
+    const std::string plan = readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan");
     CHECK(plan.size() > 200);
     bool done = false;
     {
@@ -147,6 +107,83 @@ TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) 
     const sim::Pose2 p = rig->rover().truth().pose;
     std::printf("\n  two targets: complete at %.1f s, rover at (%.2f, %.2f)\n",
                 static_cast<double>(rig->clock().now()) / 1e9, p.x, p.y);
+}
+
+// The failure of a running activity replaced at once: the grinder fails 5 s
+// into sample(target 2), reported by the simulated grinder on CAN (its
+// instrument_failure hook, code 0x42: the command aborted, every later one
+// refused). The sequence: the grinder's failure report on the flight bus;
+// the executive sees the grinder failed (972) and the sample failed (960);
+// regeneration begun (962, activity failed) and done (963, cost 32.50 ->
+// 37.50); then image(target 2), the replacement, started (956) and sent to
+// the camera (InstrumentCommandMsg on the bus, target 2), imaged within its
+// window from the rover's arrival, and the plan complete. No timing is
+// asserted here: bench_plan_executive measures the frames.
+TEST(LockstepPlanExecutive, ARunningSampleWhoseGrinderFailsIsReplacedByTheImage) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.clear();
+    start(s);
+    CHECK_TRUE(session->uplink(readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan")));
+    const msg::Instrument grinder = msg::Instrument::kGrinder;
+    const msg::Instrument camera = msg::Instrument::kCamera;
+    // sample2 on the grinder: the executive's command for target 2.
+    const bool sampling = rig->runUntil(
+        [&] {
+            const msg::InstrumentCommandMsg& c = rig->instrumentCommand(grinder);
+            return c.action == msg::InstrumentAction::kSample && c.targetId == 2;
+        },
+        400 * kNsPerSec);
+    dumpOnFailure(sampling);
+    CHECK_TRUE(sampling);
+    rig->runFor(5 * kNsPerSec);
+    CHECK(rig->instrumentStatus(grinder).state == msg::InstrumentState::kBusy);  // still grinding
+    const std::uint32_t cameraCommands = rig->instrumentCommandCount(camera);
+    LONGS_EQUAL(0, cameraCommands);
+    rig->rover().failInstrument(sim::SimDevice::kGrinder, 0x42, false, true);  // the scenario's fault hook
+    const bool reported = rig->runUntil([&] { return rig->instrumentStatus(grinder).faultCode != 0; }, kNsPerSec);
+    CHECK_TRUE(reported);
+    const bool imaging = rig->runUntil([&] { return rig->instrumentCommandCount(camera) > cameraCommands; },
+                                       5 * kNsPerSec);
+    dumpOnFailure(imaging);
+    CHECK_TRUE(imaging);
+    const msg::InstrumentCommandMsg& image = rig->instrumentCommand(camera);
+    CHECK(image.action == msg::InstrumentAction::kImage);
+    LONGS_EQUAL(2, image.targetId);
+    const bool done = rig->runUntil([&] { return complete(); }, 120 * kNsPerSec);
+    rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked
+    dumpOnFailure(done);
+    CHECK_TRUE(done);
+    // The sequence, in the console's order.
+    const std::string console = rig->consoleText();
+    const char* const sequence[] = {
+        "plan_exec: sample sample2 started",
+        "EVT 972 WARN  plan_exec: grinder now failed (instrument state 4, fault 66)",
+        "EVT 960 WARN  plan_exec: sample sample2 failed",
+        "EVT 962 WARN  plan_exec: two_targets regenerating",
+        "EVT 963 WARN  plan_exec: plan two_targets regenerated (selected): cost 32.50 -> 37.50",
+        "EVT 956 INFO  plan_exec: image image2 started",
+        "plan_exec: image image2 completed",
+        "EVT 964 INFO  plan_exec: plan two_targets complete",
+    };
+    std::size_t at = 0;
+    for (const char* text : sequence) {
+        const std::size_t found = console.find(text, at);
+        CHECK_TEXT(found != std::string::npos, text);
+        at = found == std::string::npos ? at : found;
+    }
+    LONGS_EQUAL(1, rig->consoleCount("EVT 962 "));
+    LONGS_EQUAL(1, rig->consoleCount(": activity failed (sample2), cost before 32.50"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 956 INFO  plan_exec: image "));  // the one image, the replacement
+    LONGS_EQUAL(0, rig->consoleCount("EVT 959 "));                          // in its window, not late
+    LONGS_EQUAL(0, rig->consoleCount("EVT 966"));
+    LONGS_EQUAL(1, rig->instrumentCommandCount(camera));
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(32.5, field("cost_before"), 1e-9);
+    DOUBLES_EQUAL(37.5, field("cost"), 1e-9);
+    DOUBLES_EQUAL(4.0, field("last_regeneration"), 0.0);  // activity failed
+    DOUBLES_EQUAL(1.0, field("options", 1), 0.0);          // science2: image
+    DOUBLES_EQUAL(1.0, field("failed"), 0.0);
+    DOUBLES_EQUAL(1.0, field("regenerations"), 0.0);
 }
 
 namespace {
@@ -232,7 +269,7 @@ TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
     sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
     s.faults.push_back(instrumentFails(sim::SimDevice::kCamera, 245.0));
     start(s);
-    uplink(readFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
+    uplink(readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
     const bool failed = rig->runUntil(
         [&] { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kFailed; }, 470 * kNsPerSec);
     rig->runFor(1100 * kNsPerMs);
