@@ -140,13 +140,13 @@ TEST(LockstepPlanUplink, TheTwoTargetsPlanLoadedByRseGroundIsAcceptedAndDispatch
     dumpOnFailure(r.rc == 0, r);
     LONGS_EQUAL(0, r.rc);
     CHECK_TEXT(has(r.out, "the plan executive accepted the plan: EVT 950 INFO plan_exec: plan two_targets "
-                          "accepted: 805 B, 5 events, 6 activities, 2 choices, cost 32.50"),
+                          "accepted: 801 B, 5 events, 6 activities, 2 choices, cost 32.50"),
                r.out.c_str());
     LONGS_EQUAL(6, link->sent);  // 5 chunks and the start
     rig->runFor(200 * kNsPerMs);  // the console writes at 10 Hz
     LONGS_EQUAL(1, rig->consoleCount("EVT 950 INFO  plan_exec: plan two_targets accepted"));
     LONGS_EQUAL(0, rig->consoleCount("EVT 952"));
-    LONGS_EQUAL(805, rig->fsw().planExecutive().uploadLength());
+    LONGS_EQUAL(801, rig->fsw().planExecutive().uploadLength());
     STRCMP_EQUAL("two_targets", rig->fsw().planExecutive().plan().name);
     DOUBLES_EQUAL(32.5, rig->fsw().planExecutive().status().cost, 1e-9);
     // Dispatching: drive1 goes to the deliberative layer and the rover drives.
