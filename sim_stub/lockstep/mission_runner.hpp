@@ -39,6 +39,10 @@ struct MissionOptions {
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
     // before the rig is built; applied after --no-faults.
     std::function<void(Scenario&)> editScenario;
+    // Changes to what the operator uplinks as COARSE_MAP (by default the
+    // scenario's site and known rocks): an orbital survey that covers less
+    // than the world, a rock the survey placed wrong.
+    std::function<void(Scenario&)> editUplinkedMap;
 };
 
 enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
