@@ -29,6 +29,10 @@ constexpr core::EventId kInitFailed = 969;         // ERROR: pipe creation or su
 constexpr core::EventId kPublishFailed = 970;      // ERROR: a status or safe request the bus refused (throttled)
 constexpr core::EventId kComponentState = 972;     // INFO/WARN: a component's state changed (drive mode declared, instrument usable or not)
 constexpr core::EventId kComponentFailed = 973;    // WARN: activities not done ask what a component no longer is: running ones failed, options deprecated, regenerating
+constexpr core::EventId kExtensionRequested = 974;  // INFO: PLAN_EXTEND passed the checks: follow-on sent to the instrument (expected end, ub end, latest)
+constexpr core::EventId kExtensionAccepted = 975;   // INFO: the instrument took the follow-on: extension committed, the end no earlier than the floor
+constexpr core::EventId kExtensionRefused = 976;    // WARN: PLAN_EXTEND refused (reason: unknown, not running, not science, beyond ub, inconsistent, busy, invalid, instrument): plan untouched
+constexpr core::EventId kExtendedCompleted = 977;   // INFO: an extended activity completed: duration, extra time, expected without it
 constexpr core::EventId kNetworkRefused = 971;     // ERROR: the dispatcher found the selected network inconsistent (or refused it): plan stopped
 
 }  // namespace rse::plan_executive::events
