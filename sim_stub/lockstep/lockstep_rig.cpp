@@ -101,7 +101,7 @@ void LockstepRig::commandBody(double speedMS, double yawRateRadS) {
 }
 
 void LockstepRig::commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
-                                    std::uint16_t commandId, double maxDurationS) {
+                                    std::uint16_t commandId, double maxDurationS, std::uint16_t extendsCommandId) {
     msg::InstrumentCommandMsg cmd{};
     cmd.timeNs = clock_.now();
     cmd.instrument = instrument;
@@ -109,6 +109,7 @@ void LockstepRig::commandInstrument(msg::Instrument instrument, msg::InstrumentA
     cmd.targetId = targetId;
     cmd.commandId = commandId;
     cmd.maxDurationS = maxDurationS;
+    cmd.extendsCommandId = extendsCommandId;
     (void)fsw_.bus().publish(cmd);
 }
 

@@ -71,9 +71,10 @@ public:
     void commandBody(double speedMS, double yawRateRadS);
     bool allDrivesOperational() const;
     // What the plan executive would publish: one command to a science instrument
-    // (cancel: commandId names the command to stop).
+    // (cancel: commandId names the command to stop; extend: commandId is the
+    // follow-on's id, extendsCommandId the command it continues, maxDurationS the extra work).
     void commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
-                           std::uint16_t commandId, double maxDurationS = 0.0);
+                           std::uint16_t commandId, double maxDurationS = 0.0, std::uint16_t extendsCommandId = 0);
 
     // Occurrences of text in what the memory console has written so far (e.g. "EVT 434 ").
     unsigned consoleCount(const char* text);
