@@ -24,6 +24,8 @@
 
 namespace rse::sim {
 
+class LockstepRig;
+
 constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
 constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
 
@@ -39,6 +41,10 @@ struct MissionOptions {
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
     // before the rig is built; applied after --no-faults.
     std::function<void(Scenario&)> editScenario;
+    // Tools (rse-montecarlo): called once the rig is up and then after every
+    // frame, to read what they measure of the flight software and the
+    // simulator; it must change neither.
+    std::function<void(LockstepRig&)> onFrame;
 };
 
 enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
