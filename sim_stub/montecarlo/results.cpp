@@ -580,7 +580,7 @@ std::string formatTable(const ResultSet& set) {
     }
 
     // To the goal, and clearance over all runs.
-    std::vector<double> time, energy, dist, clearance;
+    std::vector<double> time, energy, dist, clearance, allTime, allEnergy, allDist;
     for (const auto& [seed, r] : set.rows) {
         if (r.outcome == "goal_reached") {
             time.push_back(r.outcomeS);
@@ -589,12 +589,19 @@ std::string formatTable(const ResultSet& set) {
         }
         if (r.outcome != "crashed" && r.outcome != "setup_failed") {
             clearance.push_back(r.clearanceM);
+            allTime.push_back(r.outcomeS);
+            allEnergy.push_back(r.energyWh);
+            allDist.push_back(r.distanceM);
         }
     }
     t << "\n" << heading("to the goal (" + std::to_string(time.size()) + " runs)", {"mean", "p50", "p90", "p99", "max"});
     t << "  " << padded("time (s)", 30) << cells(time, 2, false) << "\n";
     t << "  " << padded("energy (Wh)", 30) << cells(energy, 3, false) << "\n";
     t << "  " << padded("distance driven (m)", 30) << cells(dist, 2, false) << "\n";
+    t << heading("every run (" + std::to_string(allTime.size()) + ")", {"mean", "p50", "p90", "p99", "max"});
+    t << "  " << padded("time of the outcome (s)", 30) << cells(allTime, 2, false) << "\n";
+    t << "  " << padded("energy (Wh)", 30) << cells(allEnergy, 3, false) << "\n";
+    t << "  " << padded("distance driven (m)", 30) << cells(allDist, 2, false) << "\n";
     const std::vector<double> cl = sorted(clearance);
     t << heading("least clearance to a rock (m)", {"min", "p1", "p10", "p50"});
     if (cl.empty()) {
