@@ -247,6 +247,8 @@ SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp uni
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal_nvm/test_threaded_record_writer.cpp
+# fork() under qemu-user is not what the worker-pool tests are about: host only.
+SUITE_HOST_ONLY_montecarlo := unit_test/montecarlo/test_worker_pool.cpp
 SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
 SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
