@@ -17,16 +17,24 @@ namespace rse::sim::mc {
 namespace {
 
 // The R line's fields after seed, outcome and reason, in the order written.
+// The counts, with their label in the table's "per run" section (none:
+// shown in a section of its own).
 struct CountField {
     const char* key;
     std::uint32_t Row::*member;
+    const char* label;
 };
 constexpr CountField kCountFields[] = {
-    {"collisions", &Row::collisions},     {"plans", &Row::plans},
-    {"legs_sent", &Row::legsSent},        {"legs_achieved", &Row::legsAchieved},
-    {"fail_ups", &Row::failUps},          {"replans", &Row::replans},
-    {"bound_relax", &Row::boundRelaxations}, {"risk_relax", &Row::riskRelaxations},
-    {"call_homes", &Row::callHomes},      {"hab_replans", &Row::habitualReplans},
+    {"collisions", &Row::collisions, nullptr},
+    {"plans", &Row::plans, "plans made"},
+    {"legs_sent", &Row::legsSent, "legs sent"},
+    {"legs_achieved", &Row::legsAchieved, "legs achieved"},
+    {"fail_ups", &Row::failUps, "fail-ups"},
+    {"replans", &Row::replans, "replans"},
+    {"bound_relax", &Row::boundRelaxations, "bound relaxations"},
+    {"risk_relax", &Row::riskRelaxations, "risk relaxations"},
+    {"call_homes", &Row::callHomes, "call homes"},
+    {"hab_replans", &Row::habitualReplans, "habitual replans"},
 };
 struct RealField {
     const char* key;
@@ -559,19 +567,11 @@ std::string formatTable(const ResultSet& set) {
     }
 
     // Per-run counters.
-    struct Column {
-        const char* label;
-        std::uint32_t Row::*member;
-    };
-    const Column counters[] = {
-        {"plans made", &Row::plans},           {"legs sent", &Row::legsSent},
-        {"legs achieved", &Row::legsAchieved}, {"fail-ups", &Row::failUps},
-        {"replans", &Row::replans},            {"bound relaxations", &Row::boundRelaxations},
-        {"risk relaxations", &Row::riskRelaxations}, {"call homes", &Row::callHomes},
-        {"habitual replans", &Row::habitualReplans},
-    };
     t << "\n" << heading("per run", {"mean", "p50", "p90", "p99", "max", "total"});
-    for (const Column& c : counters) {
+    for (const CountField& c : kCountFields) {
+        if (c.label == nullptr) {
+            continue;
+        }
         std::vector<double> v;
         for (const auto& [seed, r] : set.rows) {
             v.push_back(r.*c.member);
