@@ -402,6 +402,11 @@ int main(int argc, char** argv) {
         usage(stdout);
         return kExitOk;
     }
+    if ((a.command == "run" || a.command == "block") && !a.inputs.empty()) {
+        std::fprintf(stderr, "rse-montecarlo %s: unexpected '%s'\n", a.command.c_str(), a.inputs[0].c_str());
+        usage(stderr);
+        return kExitUsage;
+    }
     if (a.command == "run") {
         return commandRun(a);
     }
