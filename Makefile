@@ -1,7 +1,8 @@
 # RSE build. Targets (README.md has the story):
 #   make deps        install the Debian packages the project needs (idempotent; root or sudo)
 #   make / all       build rse-fsw for this machine, or for CROSS_COMPILE=aarch64-linux-gnu-
-#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user;
+#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user,
+#                    then the Slurm campaign test (make test-slurm);
 #                    ends with one line "N passed, N failed" (total over all suites)
 #   make host-test   host suites only (quick edit-test loop)
 #   make cross-test  aarch64 suites only, under qemu-aarch64
@@ -313,7 +314,7 @@ SLURM_RESULTS ?=
 test-slurm: deps
 	@mkdir -p build
 	@$(if $(SLURM_RESULTS),,rm -f $(RESULTS))
-	@$(MAKE) --no-print-directory CROSS_COMPILE= build/$(HOST_ARCH)/bin/rse-montecarlo \
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_MC_BIN) \
 	  || echo "$(HOST_ARCH)/slurm-build 0 1" >> $(or $(SLURM_RESULTS),$(RESULTS))
 	@RSE_BIN_DIR=build/$(HOST_ARCH)/bin unit_test/run_suites.sh $(or $(SLURM_RESULTS),$(RESULTS)) "$(HOST_ARCH)" "" \
 	  $(SLURM_TEST)
