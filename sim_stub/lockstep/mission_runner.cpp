@@ -600,6 +600,9 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     const auto service = [&] {
         ground.drainDownlink();
         watch.drain();
+        if (o.onFrame) {
+            o.onFrame(*rig);
+        }
     };
 
     if (!rig->runUntil([&] { service(); return rig->allDrivesOperational(); }, kDrivesUpLimitNs)) {

@@ -24,6 +24,8 @@
 
 namespace rse::sim {
 
+class LockstepRig;
+
 constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
 constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
 
@@ -43,6 +45,10 @@ struct MissionOptions {
     // scenario's site and known rocks): an orbital survey that covers less
     // than the world, a rock the survey placed wrong.
     std::function<void(Scenario&)> editUplinkedMap;
+    // Tools (rse-montecarlo): called once the rig is up and then after every
+    // frame, to read what they measure of the flight software and the
+    // simulator; it must change neither.
+    std::function<void(LockstepRig&)> onFrame;
 };
 
 enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
