@@ -1,13 +1,17 @@
 # RSE build. Targets (README.md has the story):
 #   make deps        install the Debian packages the project needs (idempotent; root or sudo)
 #   make / all       build rse-fsw for this machine, or for CROSS_COMPILE=aarch64-linux-gnu-
-#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user;
+#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user,
+#                    then the Slurm campaign test (make test-slurm);
 #                    ends with one line "N passed, N failed" (total over all suites)
 #   make host-test   host suites only (quick edit-test loop)
 #   make cross-test  aarch64 suites only, under qemu-aarch64
 #   make demo        the autonomous mission demo (rse-demo: rse-fsw and rse-sim in lockstep, GOTO
 #                    from the ground, console streamed, mission summary);
 #                    make demo DEMO_SECONDS=300 DEMO_ARGS="--no-faults"
+#   make montecarlo  the demo mission over MC_SEEDS seeds (default 200) on every core: the campaign
+#                    table (rse-montecarlo, docs/montecarlo.md); make montecarlo MC_SEEDS=1000 MC_FIRST=1
+#   make test-slurm  only the Slurm campaign test (a one-node cluster on localhost; make test runs it too)
 #   make plan-picture  the demo map planned at Delta = 1e-2 and 1e-6, drawn to build/plan_picture.svg
 #   make bench       benchmarks; they print their figures (see docs/performance.md)
 #   make bench-check the same, but a missed target (MISSED / NOT MET / FAIL) fails it
@@ -36,6 +40,11 @@ RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COM
 # cc_reference suite and into bench_cc_reference only; never into flight code,
 # rse-fsw or any aarch64 binary (the suite's CBC tests are host only).
 CBC_PACKAGES := coinor-libcbc-dev
+# Slurm (and munge, its authentication) for the Monte Carlo campaign test: a
+# one-node cluster on localhost that the test starts and stops itself
+# (unit_test/integration/slurm/; docs/montecarlo.md). Installing them starts no
+# daemon. Installed by test-slurm (make test), not by make demo.
+SLURM_PACKAGES := slurm-wlm munge
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
                 g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64 \
                 qemu-system-x86 busybox-static can-utils \
@@ -126,7 +135,7 @@ $(FLIGHT_LIB): $(FLIGHT_OBJS)
 # scenarios and the lockstep rig (sim_stub/lockstep/: FswApp + RoverSim on one
 # virtual clock, the in-memory ground, the mission runner). The rig needs the
 # flight and ground libraries: link them after it. rse-fsw never links it.
-SIM_MAINS := sim_stub/main.cpp sim_stub/mission_demo.cpp
+SIM_MAINS := sim_stub/main.cpp sim_stub/mission_demo.cpp sim_stub/montecarlo_main.cpp
 SIM_SRCS := $(filter-out $(SIM_MAINS),$(sort $(wildcard sim_stub/*.cpp sim_stub/*/*.cpp)))
 SIM_OBJS := $(SIM_SRCS:%.cpp=$(BUILD)/obj/%.o)
 SIM_LIB := $(BUILD)/lib/librse_sim.a
@@ -180,6 +189,13 @@ $(DEMO_BIN): $(BUILD)/obj/sim_stub/mission_demo.o $(DEFAULT_TABLES_OBJ) $(SIM_LI
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 
+# rse-montecarlo: the mission over many seeds (sim_stub/montecarlo/, host only
+# like rse-demo): local worker processes, Slurm array blocks, merged tables.
+MC_BIN := $(BUILD)/bin/rse-montecarlo
+$(MC_BIN): $(BUILD)/obj/sim_stub/montecarlo_main.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+
 # The default table images (DEFAULT_TABLES_SRC above). A cross build first
 # makes the host rse-ground in a make run of its own.
 ifeq ($(CROSS_COMPILE),)
@@ -198,7 +214,7 @@ $(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
 
 # A cross build makes what runs on the rover; a host build adds the simulator
 # and the ground tools.
-HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN)
+HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN) $(MC_BIN)
 .PHONY: all
 all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
@@ -232,6 +248,8 @@ SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp uni
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal_nvm/test_threaded_record_writer.cpp
+# fork() under qemu-user is not what the worker-pool tests are about: host only.
+SUITE_HOST_ONLY_montecarlo := unit_test/montecarlo/test_worker_pool.cpp
 SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
 SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
@@ -279,7 +297,30 @@ test: deps
 	@mkdir -p build && rm -f $(RESULTS)
 	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=
 	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=$(CROSS_AARCH64)
+	@$(MAKE) --no-print-directory test-slurm SLURM_RESULTS=$(RESULTS)
 	@unit_test/summarize.sh $(RESULTS)
+
+# The Monte Carlo campaign on Slurm (docs/montecarlo.md): a one-node cluster on
+# localhost (munged, slurmctld, slurmd with a config written into
+# build/slurm_test/), a 20-seed campaign in 4 array tasks, merged and checked
+# against the local run of the same seeds; every daemon stopped. Its counts go
+# to SLURM_RESULTS: alone, its own results file and summary line; from make
+# test, the one results file of every suite (make test's summary counts it).
+# Where Slurm cannot run, it fails: nothing is skipped.
+SLURM_TEST := unit_test/integration/slurm/slurm_campaign_test.sh
+HOST_ARCH := $(shell uname -m)
+SLURM_RESULTS ?=
+.PHONY: test-slurm slurm-deps
+slurm-deps: deps
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(SLURM_PACKAGES)"
+test-slurm: slurm-deps
+	@mkdir -p build
+	@$(if $(SLURM_RESULTS),,rm -f $(RESULTS))
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_MC_BIN) \
+	  || echo "$(HOST_ARCH)/slurm-build 0 1" >> $(or $(SLURM_RESULTS),$(RESULTS))
+	@RSE_BIN_DIR=build/$(HOST_ARCH)/bin unit_test/run_suites.sh $(or $(SLURM_RESULTS),$(RESULTS)) "$(HOST_ARCH)" "" \
+	  $(SLURM_TEST)
+	@$(if $(SLURM_RESULTS),,unit_test/summarize.sh $(RESULTS))
 
 # ---------------------------------------------------------------------------
 # Demo, plan picture and benchmarks (host).
@@ -289,10 +330,25 @@ test: deps
 DEMO_SECONDS ?= 180
 DEMO_ARGS ?=
 HOST_DEMO_BIN := build/$(shell uname -m)/bin/rse-demo
-.PHONY: demo bench bench-check plan-picture
+.PHONY: demo bench bench-check plan-picture montecarlo
 demo: deps
 	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_DEMO_BIN)
 	$(HOST_DEMO_BIN) --duration $(DEMO_SECONDS) $(DEMO_ARGS)
+
+# make montecarlo: the demo mission over MC_SEEDS seeds from MC_FIRST on MC_JOBS
+# worker processes (default: every core), its table and the wall time
+# (docs/montecarlo.md); the result file is build/montecarlo/results.txt.
+# MC_ARGS: more options (rse-montecarlo run's MISSION options, e.g. --no-faults).
+# Exits 3 when a check of the table failed (a collision within the risk bound).
+MC_SEEDS ?= 200
+MC_FIRST ?= 1
+MC_JOBS ?= $(shell nproc)
+MC_ARGS ?=
+HOST_MC_BIN := build/$(shell uname -m)/bin/rse-montecarlo
+montecarlo: deps
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_MC_BIN)
+	$(HOST_MC_BIN) run --seeds $(MC_FIRST):$(MC_SEEDS) --jobs $(MC_JOBS) --out build/montecarlo/results.txt \
+	  --table build/montecarlo/table.txt $(MC_ARGS)
 
 # The demo map planned at Delta = 1e-2 and 1e-6 (docs/deliberative.md, "Picture").
 HOST_PLAN_PICTURE_BIN := build/$(shell uname -m)/bin/rse-plan-picture
@@ -323,8 +379,8 @@ $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEF
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
 
-# The fault-recovery and lockstep-mission benchmarks run whole missions through the ground link (the ground library).
-$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+# The fault-recovery, lockstep-mission and plan-executive benchmarks run whole missions through the ground link (the ground library).
+$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission $(BUILD)/bin/bench_plan_executive: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -18,6 +19,7 @@
 #include "ground/ground_session.hpp"
 #include "ground/key_file.hpp"
 #include "ground/plan_tool.hpp"
+#include "ground/plan_transfer.hpp"
 #include "ground/script_runner.hpp"
 #include "ground/sequence_store.hpp"
 #include "ground/table_compiler.hpp"
@@ -52,6 +54,11 @@ constexpr const char* kUsage =
     "  table build|show|check|list ...                       table images on this machine\n"
     "  dict --markdown|--json [-o FILE]                      export the command/telemetry dictionary\n"
     "  plan check FILE [--failed C,...] [--degraded C,...]   check a mission plan with the flight code\n"
+    "  plan load FILE [--failed C,...] [--degraded C,...] [--force]\n"
+    "                                                        check, upload (PLAN_LOAD chunks, PLAN_START), verdict\n"
+    "  plan short TEXT [--failed C,...] [--degraded C,...] [--force]\n"
+    "                                                        the same for a plan in one PLAN_SHORT (';' lines)\n"
+    "  plan abort                                            stop the plan running (PLAN_ABORT)\n"
     "  encode NAME [arg=value ...] [--auth-seq N] [-o FILE]  write a command packet (hex without -o)\n"
     "global options:\n"
     "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
@@ -168,6 +175,7 @@ public:
     int watch(const std::vector<std::string>& args);
     int run(const std::vector<std::string>& args);
     int table(const std::vector<std::string>& args);
+    int plan(const std::vector<std::string>& args);
     int encode(const std::vector<std::string>& args);
     int dict(const std::vector<std::string>& args);
 
@@ -558,6 +566,56 @@ int Cli::table(const std::vector<std::string>& args) {
     return runTableCommand(static_cast<int>(storage.size()), argv.data(), out_, err_);
 }
 
+// plan load / short / abort over the link; plan check (and usage) is the plan
+// tool's. The plan is checked as `plan check` does before the link is opened.
+int Cli::plan(const std::vector<std::string>& args) {
+    const std::string sub = args.empty() ? std::string() : args[0];
+    if (sub != "load" && sub != "short" && sub != "abort") {
+        return runPlanCommand(args, out_, err_);
+    }
+    std::vector<std::string> words(args.begin() + 1, args.end());
+    if (sub == "abort") {
+        rejectOptions(words, "plan abort");
+        if (!words.empty()) {
+            throw UsageError("usage: rse-ground plan abort");
+        }
+        const PacketAuth packetAuth = auth();
+        std::unique_ptr<GroundLink> link = openLink(true);
+        GroundSession session(*link, store(), packetAuth, g_.timeout);
+        return report(session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::PLAN_ABORT), {}));
+    }
+    const bool force = takeFlag(&words, "--force");
+    plan_executive::SelectionInput components;
+    if (const std::optional<std::string> why = takeComponentStates(&words, &components)) {
+        throw UsageError("plan " + sub + ": " + *why);
+    }
+    rejectOptions(words, "plan " + sub);
+    if (words.size() != 1) {
+        throw UsageError("usage: rse-ground plan " + sub + (sub == "load" ? " FILE" : " TEXT") +
+                         " [--failed C,...] [--degraded C,...] [--force]");
+    }
+    std::string text = words[0];
+    if (sub == "load") {
+        std::ifstream file(words[0], std::ios::binary);
+        if (!file) {
+            err_ << "plan load: cannot read '" << words[0] << "'\n";
+            return kExitLink;
+        }
+        text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+    }
+    const std::string where = sub == "load" ? words[0] : "plan short";
+    if (const int rc = checkPlanForUplink(text, where, sub == "load" ? kPlanUploadBytes : kPlanShortBytes,
+                                          components, force, out_, err_)) {
+        return rc;
+    }
+    const PacketAuth packetAuth = auth();
+    std::unique_ptr<GroundLink> link = openLink(true);
+    GroundSession session(*link, store(), packetAuth, g_.timeout);
+    const double verdictSeconds = std::max(g_.timeout, kPlanVerdictSeconds);
+    return sub == "load" ? loadPlanText(session, text, verdictSeconds, out_, err_)
+                         : sendShortPlan(session, text, verdictSeconds, out_, err_);
+}
+
 int Cli::encode(const std::vector<std::string>& args) {
     std::vector<std::string> words = args;
     const std::optional<std::uint32_t> forced = takeAuthSeq(&words);
@@ -660,7 +718,7 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
             return cli.dict(commandArgs);
         }
         if (command == "plan") {
-            return runPlanCommand(commandArgs, out, err);
+            return cli.plan(commandArgs);
         }
         err << "rse-ground: unknown command '" << command << "'\n" << kUsage;
         return kExitUsage;

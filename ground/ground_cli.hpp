@@ -6,10 +6,14 @@
 //   rse-ground [global options] table load IMAGE.tbl [--activate] [--force]
 //   rse-ground [global options] table dump ID|NAME [--inactive] [-o FILE]
 //   rse-ground table build|show|check|list ...        (ground/table_tool.hpp)
+//   rse-ground plan check FILE [--failed C,...] [--degraded C,...]   (ground/plan_tool.hpp)
+//   rse-ground [global options] plan load FILE [--failed C,...] [--degraded C,...] [--force]
+//   rse-ground [global options] plan short TEXT [--failed C,...] [--degraded C,...] [--force]
+//   rse-ground [global options] plan abort                            (ground/plan_transfer.hpp)
 //   rse-ground dict --markdown|--json [-o FILE]
 //   rse-ground [global options] encode NAME [arg=value ...] [--auth-seq N] [-o FILE]
 //
-// Global options (anywhere before a table build|show|check|list):
+// Global options (anywhere before a table build|show|check|list or plan check):
 //   --udp HOST[:PORT]     commands to HOST:PORT (default 127.0.0.1:1234)
 //   --tlm-port [ADDR:]PORT  telemetry received on ADDR:PORT (default 0.0.0.0:1235)
 //   --can IFACE           ISO-TP on SocketCAN instead of UDP (tx 0x6C0, rx 0x6C1)

@@ -1,6 +1,7 @@
 #include "ground/ground_session.hpp"
 
 #include <chrono>
+#include <ostream>
 
 #include "ground/text_format.hpp"
 
@@ -83,6 +84,21 @@ AckResult GroundSession::sendCommand(const cmdtlm::CommandDesc& command, const s
     result.outcome = AckOutcome::kNoAck;
     result.summary = std::string(command.name) + ": " + noAckText();
     return result;
+}
+
+int sendReported(GroundSession& session, cmdtlm::CommandCode code, const std::vector<std::uint8_t>& args,
+                 const std::string& what, std::ostream& out, std::ostream& err) {
+    const AckResult result = session.sendCommand(cmdtlm::describe(code), args);
+    if (result.outcome == AckOutcome::kNoAck) {
+        err << what << ": " << session.noAckText() << "\n";
+        return 1;
+    }
+    if (result.outcome == AckOutcome::kRejected) {
+        err << what << ": " << result.summary << "\n";
+        return 3;
+    }
+    out << what << ": " << result.summary << "\n";
+    return 0;
 }
 
 }  // namespace rse::ground

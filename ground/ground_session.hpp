@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -74,6 +75,13 @@ private:
     std::uint64_t received_ = 0;
     std::uint64_t receivedAtLastSend_ = 0;
 };
+
+// One step of a transfer (table load, plan load): sends the command, waits
+// for its acknowledgement and reports "WHAT: <ack summary>" (on out when
+// accepted, on err otherwise). Returns 0 accepted, 1 no acknowledgement, 3
+// rejected (the CLI's exit codes).
+int sendReported(GroundSession& session, cmdtlm::CommandCode code, const std::vector<std::uint8_t>& args,
+                 const std::string& what, std::ostream& out, std::ostream& err);
 
 // True when `packet` is the CMD_ACK of that command and sequence.
 bool isAckFor(const DecodedPacket& packet, const cmdtlm::CommandDesc& command, std::uint32_t authSequence);

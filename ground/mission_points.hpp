@@ -48,6 +48,9 @@ public:
     // tell a hidden obstacle on a leg's way from one beside it.
     explicit TenPointTracker(const tables::CoarseMapTable& map, double footprintRadiusM = 0.6);
 
+    // The coarse map in force (an operator may upload another): what tells a
+    // hidden obstacle from a known rock.
+    void setMap(const tables::CoarseMapTable& map) { map_ = map; }
     // Flight events, in the order the flight software reported them.
     void onEvent(const FlightEvent& event);
     // The estimated position (to place the points; a point seen before the
@@ -78,7 +81,7 @@ private:
     void onHazardBlocked(const FlightEvent& e);
     void onHabitualFailUp(const FlightEvent& e);
 
-    const tables::CoarseMapTable map_;
+    tables::CoarseMapTable map_;
     const double footprintRadiusM_;
     std::array<MissionPoint, kMissionPointCount> points_{};
     std::vector<int> fresh_;

@@ -23,27 +23,10 @@ constexpr int kExitBad = 2;
 
 constexpr const char* kPlanUsage =
     "usage: rse-ground plan check FILE [--failed COMPONENT,...] [--degraded COMPONENT,...]\n"
+    "       rse-ground [global options] plan load FILE [--failed C,...] [--degraded C,...] [--force]\n"
+    "       rse-ground [global options] plan short TEXT [--failed C,...] [--degraded C,...] [--force]\n"
+    "       rse-ground [global options] plan abort\n"
     "  components: drive_FL drive_ML drive_RL drive_FR drive_MR drive_RR grinder camera\n";
-
-// "a,b,c" -> components set to state; false (and a message) on an unknown name.
-bool setComponents(const std::string& list, ComponentState state, SelectionInput* input, std::ostream& err) {
-    std::stringstream names(list);
-    std::string name;
-    while (std::getline(names, name, ',')) {
-        bool found = false;
-        for (std::size_t c = 0; c < kComponentCount; ++c) {
-            if (name == toString(static_cast<Component>(c))) {
-                input->components[c] = state;
-                found = true;
-            }
-        }
-        if (!found) {
-            err << "rse-ground: plan check: unknown component '" << name << "'\n" << kPlanUsage;
-            return false;
-        }
-    }
-    return true;
-}
 
 std::string seconds(std::int32_t ms) {
     if (ms >= kInfiniteMs) {
@@ -56,39 +39,49 @@ std::string seconds(std::int32_t ms) {
 
 }  // namespace
 
-int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-    if (args.size() < 2 || args[0] != "check") {
-        err << kPlanUsage;
-        return kExitBad;
-    }
-    const std::string path = args[1];
-    SelectionInput input;
-    for (std::size_t i = 2; i < args.size(); i += 2) {
-        if (i + 1 >= args.size() || (args[i] != "--failed" && args[i] != "--degraded")) {
-            err << "rse-ground: plan check: unexpected '" << args[i] << "'\n" << kPlanUsage;
-            return kExitBad;
+std::optional<std::string> takeComponentStates(std::vector<std::string>* words, SelectionInput* input) {
+    for (std::size_t i = 0; i < words->size();) {
+        const std::string& option = (*words)[i];
+        if (option != "--failed" && option != "--degraded") {
+            ++i;
+            continue;
         }
-        const ComponentState state = args[i] == "--failed" ? ComponentState::kFailed : ComponentState::kDegraded;
-        if (!setComponents(args[i + 1], state, &input, err)) {
-            return kExitBad;
+        if (i + 1 >= words->size()) {
+            return option + " needs a list of components";
         }
+        const ComponentState state = option == "--failed" ? ComponentState::kFailed : ComponentState::kDegraded;
+        std::stringstream names((*words)[i + 1]);
+        std::string name;
+        while (std::getline(names, name, ',')) {
+            bool found = false;
+            for (std::size_t c = 0; c < kComponentCount; ++c) {
+                if (name == toString(static_cast<Component>(c))) {
+                    input->components[c] = state;
+                    found = true;
+                }
+            }
+            if (!found) {
+                return "unknown component '" + name + "'";
+            }
+        }
+        words->erase(words->begin() + static_cast<std::ptrdiff_t>(i),
+                     words->begin() + static_cast<std::ptrdiff_t>(i + 2));
     }
-    std::ifstream file(path, std::ios::binary);
-    if (!file) {
-        err << "rse-ground: plan check: cannot read '" << path << "'\n";
-        return kExitRead;
-    }
-    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    return std::nullopt;
+}
+
+bool checkPlanText(const std::string& text, const std::string& where, const SelectionInput& input, bool windows,
+                   std::ostream& out, std::ostream& err) {
     // The flight objects are large (the STN holds a 256 KiB matrix): heap here, on the ground.
     const auto plan = std::make_unique<Tpn>();
     const ParseResult parsed = parsePlan(text.data(), text.size(), plan.get());
     if (parsed.error != PlanError::kOk) {
-        err << path << ":" << parsed.line << ": " << toString(parsed.error);
+        err << where << ":" << parsed.line << ": " << toString(parsed.error);
         if (parsed.token[0] != '\0') {
             err << " at '" << parsed.token << "'";
         }
         err << " (the rover would refuse this plan)\n";
-        return kExitBad;
+        return false;
     }
     out << "plan '" << plan->name << "': " << plan->eventCount << " events, " << plan->activityCount
         << " activities, " << plan->constraintCount << " constraints, " << static_cast<unsigned>(plan->choiceCount)
@@ -100,10 +93,10 @@ int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std:
     out << "selection: " << toString(status) << " (" << selector->work() << " work units)\n";
     if (!result.hasSelection) {
         const SelectionStats& st = selector->stats();
-        err << path << ": no valid selection of methods: " << toString(status) << " (rejected: ask failed "
+        err << where << ": no valid selection of methods: " << toString(status) << " (rejected: ask failed "
             << st.rejected[0] << ", deprecated " << st.rejected[1] << ", causal link missing " << st.rejected[2]
             << ", inconsistent " << st.rejected[3] << ")\n";
-        return kExitBad;
+        return false;
     }
     for (std::size_t c = 0; c < plan->choiceCount; ++c) {
         const std::uint8_t o = result.selection.option[c];
@@ -111,11 +104,16 @@ int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std:
             << (o == kNoOption ? std::string("(does not exist)") : std::string(plan->choices[c].options[o].name))
             << "\n";
     }
-    out << "expected cost: " << std::fixed << std::setprecision(3) << result.cost << "\n";
+    std::ostringstream cost;
+    cost << std::fixed << std::setprecision(3) << result.cost;
+    out << "expected cost: " << cost.str() << "\n";
     const auto stn = std::make_unique<Stn>();
     if (loadStn(*plan, result.selection, stn.get()) != core::Status::kOk || stn->check() != StnState::kConsistent) {
-        err << path << ": the selected plan's temporal network is not consistent\n";
-        return kExitBad;
+        err << where << ": the selected plan's temporal network is not consistent\n";
+        return false;
+    }
+    if (!windows) {
+        return true;
     }
     out << "event windows (s from the plan's start):\n";
     for (std::size_t e = 0; e < plan->eventCount; ++e) {
@@ -125,7 +123,32 @@ int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std:
         const Window w = stn->window(e);
         out << "  " << plan->events[e].name << ": [" << seconds(w.earliestMs) << ", " << seconds(w.latestMs) << "]\n";
     }
-    return kExitOk;
+    return true;
+}
+
+int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    if (args.size() < 2 || args[0] != "check") {
+        err << kPlanUsage;
+        return kExitBad;
+    }
+    const std::string path = args[1];
+    SelectionInput input;
+    std::vector<std::string> options(args.begin() + 2, args.end());
+    if (const std::optional<std::string> why = takeComponentStates(&options, &input)) {
+        err << "rse-ground: plan check: " << *why << "\n" << kPlanUsage;
+        return kExitBad;
+    }
+    if (!options.empty()) {
+        err << "rse-ground: plan check: unexpected '" << options[0] << "'\n" << kPlanUsage;
+        return kExitBad;
+    }
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+        err << "rse-ground: plan check: cannot read '" << path << "'\n";
+        return kExitRead;
+    }
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    return checkPlanText(text, path, input, true, out, err) ? kExitOk : kExitBad;
 }
 
 }  // namespace rse::ground

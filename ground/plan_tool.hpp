@@ -9,17 +9,38 @@
 // expected cost, and every event's window [earliest, latest] in seconds from
 // the plan's start. docs/plan_executive.md "Checking a plan on the ground".
 //
+// The same check guards `rse-ground plan load` and `plan short`
+// (ground/plan_transfer.hpp): checkPlanText() and takeComponentStates().
+//
 // Exit status: 0 the plan parses and has a valid selection; 1 the file cannot
 // be read; 2 bad usage, a plan the parser refuses, or no valid selection.
 #pragma once
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "fsw/plan_executive/method_selector.hpp"
 
 namespace rse::ground {
 
 // args: what follows "plan" ("check", FILE and options).
 int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+// Takes every "--failed C,..." and "--degraded C,..." (components drive_FL ..
+// drive_RR, grinder, camera) out of words into input. Returns why it could
+// not (an unknown component, a missing list), nullopt when all was well.
+std::optional<std::string> takeComponentStates(std::vector<std::string>* words,
+                                               plan_executive::SelectionInput* input);
+
+// The check `plan check` makes, on plan text: the flight parser, then method
+// selection under input, then the selection's temporal network. Prints the
+// plan's size, the selection, each choice's option and the expected cost on
+// out (and every event's window when windows); a refusal goes to err as
+// "WHERE:LINE: reason at 'token'" or "WHERE: no valid selection ...".
+// True when the rover would accept the plan under those component states.
+bool checkPlanText(const std::string& text, const std::string& where, const plan_executive::SelectionInput& input,
+                   bool windows, std::ostream& out, std::ostream& err);
 
 }  // namespace rse::ground

@@ -18,23 +18,6 @@ std::vector<std::uint8_t> idArgs(std::uint16_t tableId) {
     return bytes;
 }
 
-// Sends one table command and reports; returns 0, 1 (no ack) or 3 (rejected).
-int sendTableCommand(GroundSession& session, cmdtlm::CommandCode code, const std::vector<std::uint8_t>& args,
-                     const std::string& what, std::ostream& out, std::ostream& err) {
-    const cmdtlm::CommandDesc& command = cmdtlm::describe(code);
-    const AckResult result = session.sendCommand(command, args);
-    if (result.outcome == AckOutcome::kNoAck) {
-        err << what << ": " << session.noAckText() << "\n";
-        return 1;
-    }
-    if (result.outcome == AckOutcome::kRejected) {
-        err << what << ": " << result.summary << "\n";
-        return 3;
-    }
-    out << what << ": " << result.summary << "\n";
-    return 0;
-}
-
 }  // namespace
 
 std::optional<std::uint16_t> imageTableId(const std::vector<std::uint8_t>& image) {
@@ -139,16 +122,16 @@ int loadTableImage(GroundSession& session, const std::vector<std::uint8_t>& imag
     for (std::size_t i = 0; i < chunks.size(); ++i) {
         const std::string what = "TABLE_LOAD " + std::to_string(i + 1) + "/" + std::to_string(chunks.size()) +
                                  " (offset " + std::to_string(i * kTableChunkBytes) + ")";
-        if (const int rc = sendTableCommand(session, cmdtlm::CommandCode::TABLE_LOAD, chunks[i], what, out, err)) {
+        if (const int rc = sendReported(session, cmdtlm::CommandCode::TABLE_LOAD, chunks[i], what, out, err)) {
             return rc;
         }
     }
-    if (const int rc = sendTableCommand(session, cmdtlm::CommandCode::TABLE_VALIDATE, idArgs(*id), "TABLE_VALIDATE",
+    if (const int rc = sendReported(session, cmdtlm::CommandCode::TABLE_VALIDATE, idArgs(*id), "TABLE_VALIDATE",
                                         out, err)) {
         return rc;
     }
     if (activate) {
-        if (const int rc = sendTableCommand(session, cmdtlm::CommandCode::TABLE_ACTIVATE, idArgs(*id),
+        if (const int rc = sendReported(session, cmdtlm::CommandCode::TABLE_ACTIVATE, idArgs(*id),
                                             "TABLE_ACTIVATE", out, err)) {
             return rc;
         }

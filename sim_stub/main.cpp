@@ -1,6 +1,12 @@
 // rse-sim: the rover and its world as a separate process on a SocketCAN bus.
 //
 //   rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet]
+//   rse-sim --coarse-map-source FILE
+//
+// The second form prints the COARSE_MAP table source of the scenario's site
+// and known rocks (sim_stub/scenario/coarse_map_source.hpp) for the operator
+// to compile and load (`rse-ground table build`, `table load`), so that
+// the rover plans on the map the simulator drives it through.
 //
 // Each of the six drive emulators gets its own socket (as six controllers would
 // have), the other devices share one. The world steps at 1 kHz on
@@ -20,6 +26,7 @@
 #include "hal/can/socketcan_bus.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
 #include "sim_stub/rover_sim.hpp"
+#include "sim_stub/scenario/coarse_map_source.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 
 namespace {
@@ -30,15 +37,18 @@ void onStop(int) { g_stop = 1; }
 void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet]\n"
+                 "       rse-sim --coarse-map-source FILE\n"
                  "  --can IFACE        SocketCAN interface shared with rse-fsw (e.g. vcan0)\n"
                  "  --scenario FILE    TOML scenario (sim_stub/scenarios/README.md)\n"
                  "  --duration SECONDS stop after this long (default: the scenario's duration_s)\n"
-                 "  --quiet            no once-a-second truth lines\n");
+                 "  --quiet            no once-a-second truth lines\n"
+                 "  --coarse-map-source FILE  print the scenario's COARSE_MAP table source and exit\n");
 }
 
 struct Options {
     const char* can = nullptr;
     const char* scenario = nullptr;
+    const char* mapSource = nullptr;
     double duration = 0.0;
     bool quiet = false;
 };
@@ -58,6 +68,8 @@ bool parse(int argc, char** argv, Options* o) {
                 std::fprintf(stderr, "rse-sim: --duration '%s' is not a positive number of seconds\n", argv[i]);
                 return false;
             }
+        } else if (a == "--coarse-map-source" && hasValue) {
+            o->mapSource = argv[++i];
         } else if (a == "--quiet") {
             o->quiet = true;
         } else if (a == "--help" || a == "-h") {
@@ -67,6 +79,9 @@ bool parse(int argc, char** argv, Options* o) {
             std::fprintf(stderr, "rse-sim: unknown or incomplete option '%s'\n", a.c_str());
             return false;
         }
+    }
+    if (o->mapSource != nullptr) {
+        return true;
     }
     if (o->can == nullptr || o->scenario == nullptr) {
         std::fprintf(stderr, "rse-sim: --can and --scenario are required\n");
@@ -93,6 +108,19 @@ int main(int argc, char** argv) {
     }
     rse::sim::Scenario scenario;
     std::string error;
+    if (o.mapSource != nullptr) {
+        if (!rse::sim::tryLoadScenarioFile(o.mapSource, &scenario, &error)) {
+            std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+            return 1;
+        }
+        try {
+            std::fputs(rse::sim::coarseMapSource(scenario).c_str(), stdout);
+        } catch (const rse::sim::CoarseMapError& e) {
+            std::fprintf(stderr, "rse-sim: %s\n", e.what());
+            return 1;
+        }
+        return 0;
+    }
     if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {
         std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
         return 1;

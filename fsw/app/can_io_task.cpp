@@ -26,7 +26,8 @@ static_assert(static_cast<int>(msg::Instrument::kGrinder) == static_cast<int>(in
 static_assert(static_cast<int>(msg::InstrumentAction::kSample) == static_cast<int>(inst::Action::kSample) &&
                   static_cast<int>(msg::InstrumentAction::kDig) == static_cast<int>(inst::Action::kDig) &&
                   static_cast<int>(msg::InstrumentAction::kImage) == static_cast<int>(inst::Action::kImage) &&
-                  static_cast<int>(msg::InstrumentAction::kCancel) == static_cast<int>(inst::Action::kCancel),
+                  static_cast<int>(msg::InstrumentAction::kCancel) == static_cast<int>(inst::Action::kCancel) &&
+                  static_cast<int>(msg::InstrumentAction::kExtend) == static_cast<int>(inst::Action::kExtend),
               "msg::InstrumentAction must mirror hal::instrument::Action");
 static_assert(static_cast<int>(msg::InstrumentResult::kAborted) == static_cast<int>(inst::Result::kAborted) &&
                   static_cast<int>(msg::InstrumentResult::kCancelled) == static_cast<int>(inst::Result::kCancelled) &&
@@ -251,7 +252,8 @@ void CanIoTask::takeInstrumentCommand() {
         return;
     }
     // Checked and counted by the instrument client (refusals are in its status).
-    (void)instruments_[which].command(static_cast<inst::Action>(c.action), c.targetId, c.commandId, c.maxDurationS);
+    (void)instruments_[which].command(static_cast<inst::Action>(c.action), c.targetId, c.commandId, c.maxDurationS,
+                                      c.extendsCommandId);
 }
 
 void CanIoTask::refuse(const char* why) {

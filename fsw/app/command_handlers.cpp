@@ -1,6 +1,7 @@
 #include "fsw/app/command_handlers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "fsw/app/app_events.hpp"
@@ -203,6 +204,7 @@ CommandOutcome AppCommandHandler::execute(const cmdtlm::CommandVerdict& verdict)
         case CommandCode::PLAN_START:
         case CommandCode::PLAN_SHORT:
         case CommandCode::PLAN_ABORT:
+        case CommandCode::PLAN_EXTEND:
             return executePlan(verdict);
         case CommandCode::kCount:
             break;
@@ -311,6 +313,15 @@ CommandOutcome AppCommandHandler::executePlan(const cmdtlm::CommandVerdict& verd
         case CommandCode::PLAN_ABORT:
             m.kind = msg::PlanCommandKind::kAbort;
             break;
+        case CommandCode::PLAN_EXTEND: {
+            const auto a = decoded<cmdtlm::PLAN_EXTEND_Args>(verdict);
+            m.kind = msg::PlanCommandKind::kExtend;
+            // extra is checked finite and within [0.1, 6553.5] s by the validator.
+            m.extendMs = static_cast<std::uint32_t>(std::lround(static_cast<double>(a.extra) * 1000.0));
+            m.length = static_cast<std::uint16_t>(std::min<std::size_t>(a.activity_length, msg::kPlanChunkBytes));
+            std::memcpy(m.data, a.activity, m.length);
+            break;
+        }
         default:
             return failed(-1);
     }

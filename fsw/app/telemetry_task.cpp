@@ -432,6 +432,9 @@ void TelemetryTask::sendPlanExec() {
     std::memcpy(tlm.refusal_token, m.refusalToken, std::min(sizeof tlm.refusal_token, sizeof m.refusalToken));
     tlm.last_regeneration = static_cast<std::uint8_t>(m.lastRegeneration);
     tlm.call_home = m.callHomeReason;
+    tlm.extensions = m.extensionsAccepted;
+    tlm.extensions_refused = m.extensionsRefused;
+    tlm.last_extension_refusal = static_cast<std::uint8_t>(m.lastExtensionRefusal);
     output_.send(tlm);
 }
 

@@ -19,13 +19,15 @@ enum class Instrument : std::uint8_t { kGrinder = 0, kCamera = 1 };
 constexpr std::size_t kInstrumentCount = 2;
 inline const char* instrumentName(std::size_t i) { return i == 0 ? "grinder" : (i == 1 ? "camera" : "?"); }
 
-// What to do. The grinder takes sample and dig, the camera image; both take cancel.
+// What to do. The grinder takes sample and dig, the camera image; both take cancel and extend.
 enum class InstrumentAction : std::uint8_t {
     kNone = 0,    // never valid in a command
     kSample = 1,  // grinder: grind and collect a sample of the target
     kDig = 2,     // grinder: dig a trench at the target
     kImage = 3,   // camera: image the target
     kCancel = 4,  // stop the command commandId (it must be the one running); the instrument goes idle
+    kExtend = 5,  // a follow-on: the command extendsCommandId (running, on targetId) goes on for
+                  // maxDurationS more work and is known by commandId from then on (docs/icd.md §1.7)
 };
 
 // Published by the plan executive (or a test); taken by the CAN I/O task in the
@@ -42,10 +44,12 @@ struct InstrumentCommandMsg {
     std::uint8_t targetId;         // science target 1..255 (the scenario's / the site's target ids); cancel: ignored
     std::uint8_t pad;
     std::uint16_t commandId;       // 1..65535, the sender's; a new id for every command (the instrument counts
-                                   // a command as new by its id); cancel: the id of the command to stop
-    std::uint8_t pad2[2];
+                                   // a command as new by its id); cancel: the id of the command to stop;
+                                   // extend: the follow-on's new id
+    std::uint16_t extendsCommandId;  // extend: the id of the command running that it continues; else 0
     double maxDurationS;           // the instrument gives up (failed, timed out) if not done by then;
-                                   // [0, 6553.5] s, rounded up to 0.1 s; 0: no limit. Cancel: ignored
+                                   // [0, 6553.5] s, rounded up to 0.1 s; 0: no limit. Cancel: ignored.
+                                   // Extend: the extra work, (0, 6553.5] s (the limit stays the command's)
 };
 
 // Where an instrument stands. kOffline is the flight side's: no report from it
@@ -79,7 +83,7 @@ enum class InstrumentRefusal : std::uint8_t {
     kFaulted = 5,            // the instrument is faulted
     kMalformed = 6,          // command id 0 or max duration out of range (not sent), or the instrument found
                              // the frame malformed
-    kNoSuchCommand = 7,      // the instrument: a cancel naming a command that is not running
+    kNoSuchCommand = 7,      // the instrument: a cancel or extend naming a command that is not running
     kOffline = 8,            // not sent: the instrument is offline
     kNotSent = 9,            // not sent: the CAN controller refused the frame
 };

@@ -1,6 +1,6 @@
 // The plan executive across the bus (docs/plan_executive.md "The task"): what
 // the command handlers send it from the ground (PLAN_LOAD chunks, PLAN_START,
-// PLAN_SHORT, PLAN_ABORT, one message kind each) and what it says it is doing
+// PLAN_SHORT, PLAN_ABORT, PLAN_EXTEND, one message kind each) and what it says it is doing
 // (PlanExecutiveStatusMsg, the PLAN_EXEC packet).
 #pragma once
 
@@ -22,6 +22,7 @@ enum class PlanCommandKind : std::uint8_t {
     kStart = 1,  // PLAN_START: the assembled text must be `length` bytes with CRC-32 `crc32`
     kShort = 2,  // PLAN_SHORT: data[0 .. length) is a whole plan (';' separates lines)
     kAbort = 3,  // PLAN_ABORT
+    kExtend = 4, // PLAN_EXTEND: the running science activity named data[0 .. length) for extendMs more
 };
 
 // Published by the command handlers (one per command), taken by the plan
@@ -36,6 +37,7 @@ struct PlanCommandMsg {
     std::uint32_t offset;  // kChunk: byte offset in the plan text
     std::uint32_t textLength;  // kStart: length of the assembled text
     std::uint32_t crc32;       // kStart: its CRC-32 (fsw/core/crc32.hpp)
+    std::uint32_t extendMs;    // kExtend: the extra time asked, ms
     char data[kPlanChunkBytes];
 };
 
@@ -60,6 +62,20 @@ enum class PlanRefusal : std::uint8_t {
     kNoSelection = 7,  // no valid selection of methods: inconsistent, unschedulable, or every option unusable
     kBadPlan = 8,      // method selection refused the plan (outside its checks)
     kBusy = 9,         // a new plan's selection is under way: wait for it
+};
+
+// Why the last PLAN_EXTEND (a follow-on request for a running science
+// activity) was refused (docs/plan_executive.md "Opportunistic science").
+enum class PlanExtensionRefusal : std::uint8_t {
+    kNone = 0,
+    kUnknownActivity = 1,  // no activity of that name in the plan running (or no plan)
+    kNotRunning = 2,       // the activity is not running (or ended before the instrument answered)
+    kNotScience = 3,       // not a sample, image or dig
+    kBeyondUb = 4,         // its expected duration with the extra time passes its ub
+    kInconsistent = 5,     // its expected end passes its end event's latest: a later bound of the plan would break
+    kBusy = 6,             // a selection, regeneration or network check under way, or another extension pending
+    kInvalid = 7,          // the extra time out of range
+    kInstrument = 8,       // the instrument refused the follow-on (or it could not be sent)
 };
 
 // Why the running plan was last regenerated (plan_executive::RegenerationReason, and a component).
@@ -121,6 +137,10 @@ struct PlanExecutiveStatusMsg {
     // plan_executive::ActivityState of activity i in the low nibble of byte
     // i / 2 for even i, the high nibble for odd i.
     std::uint8_t activityStates[kPlanStatusActivities / 2];
+    std::uint32_t extensionsAccepted;  // PLAN_EXTEND follow-ons taken by the instrument and committed
+    std::uint32_t extensionsRefused;   // PLAN_EXTEND refused (each with an event 976)
+    PlanExtensionRefusal lastExtensionRefusal;
+    std::uint8_t pad[3];
 };
 
 }  // namespace rse::msg

@@ -117,7 +117,8 @@ bool timeOk(std::int32_t t) { return t >= 0 && t <= kMaxBoundMs; }
 bool executionOk(const SelectionInput& input, std::size_t events) {
     bool ok = timeOk(input.notBeforeMs);
     for (std::size_t e = 1; e < events && e < kMaxEvents; ++e) {
-        ok = ok && (input.executedAtMs[e] == kInfiniteMs || timeOk(input.executedAtMs[e]));
+        ok = ok && (input.executedAtMs[e] == kInfiniteMs || timeOk(input.executedAtMs[e])) &&
+             timeOk(input.notBeforeEventMs[e]);
     }
     return ok;
 }
@@ -128,7 +129,9 @@ Bounds fromStart(const SelectionInput* input, std::size_t e) {
         return Bounds{0, kInfiniteMs};
     }
     const std::int32_t at = input->executedAtMs[e];
-    return at == kInfiniteMs ? Bounds{input->notBeforeMs, kInfiniteMs} : Bounds{at, at};
+    const std::int32_t floor =
+        input->notBeforeEventMs[e] > input->notBeforeMs ? input->notBeforeEventMs[e] : input->notBeforeMs;
+    return at == kInfiniteMs ? Bounds{floor, kInfiniteMs} : Bounds{at, at};
 }
 
 core::Status loadStnFrom(const Tpn& plan, const Selection& s, const SelectionInput* input, Stn* stn) {
@@ -351,7 +354,7 @@ void MethodSelector::buildNetwork(const SelectionInput& input) {
         addBounds(tc.from, tc.to, tc.bounds, tc.guard);
     }
     // The start precedes every event; where execution stands, an executed
-    // event is fixed and the others are no earlier than notBeforeMs.
+    // event is fixed and the others are no earlier than notBeforeMs (or their own floor).
     for (std::size_t e = 1; e < n_; ++e) {
         const Bounds b = fromStart(&input, e);
         addBounds(0, e, b, Guard{});

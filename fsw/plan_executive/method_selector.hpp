@@ -131,15 +131,19 @@ inline bool exists(const Guard& guard, const Selection& s) {
 // and not failed) is marked in started[]: its component Asks held when it
 // started and are not judged again (a grinder failing after sample 1 leaves
 // that sample's option usable; a running activity whose component failed is
-// to be reported failed, and not marked, first). Defaults (0, nothing
-// executed or started) change nothing.
-// start() refuses (kInvalidArgument) notBeforeMs outside [0, kMaxBoundMs] and
-// an executed time outside [0, kMaxBoundMs].
+// to be reported failed, and not marked, first). An event not executed may
+// have a later floor of its own, notBeforeEventMs[e] (the end of a running
+// science activity extended by a follow-on cannot come before the extra work
+// is done): it happens at or after max(notBeforeMs, notBeforeEventMs[e]).
+// Defaults (0, nothing executed or started) change nothing.
+// start() refuses (kInvalidArgument) notBeforeMs, an executed time or an
+// event's floor outside [0, kMaxBoundMs].
 struct SelectionInput {
     ComponentState components[kComponentCount] = {};  // all kOk
     bool deprecated[kMaxChoices][kMaxOptions] = {};
     std::int32_t notBeforeMs = 0;
-    std::int32_t executedAtMs[kMaxEvents];  // kInfiniteMs: not executed
+    std::int32_t executedAtMs[kMaxEvents];         // kInfiniteMs: not executed
+    std::int32_t notBeforeEventMs[kMaxEvents] = {};  // an event's own floor when not executed (0: none)
     bool started[kMaxActivities] = {};
     SelectionInput() {
         for (std::int32_t& t : executedAtMs) {
@@ -207,7 +211,7 @@ double selectionCost(const Tpn& plan, const Selection& s, const SelectionInput& 
 core::Status loadStn(const Tpn& plan, const Selection& s, Stn* stn);
 // The same with where execution stands (SelectionInput "Regeneration"): the
 // start's bounds to an event are [executedAtMs, executedAtMs] when executed,
-// else [notBeforeMs, inf): the network the selector judged, which the
+// else [max(notBeforeMs, notBeforeEventMs), inf): the network the selector judged, which the
 // dispatcher executes. kInvalidArgument as start() refuses the times.
 core::Status loadStn(const Tpn& plan, const Selection& s, const SelectionInput& input, Stn* stn);
 

@@ -32,6 +32,19 @@ const char* toString(RegenerationReason r) {
     return "?";
 }
 
+const char* toString(ExtensionRefusal r) {
+    switch (r) {
+        case ExtensionRefusal::kNone: return "accepted";
+        case ExtensionRefusal::kNotRunning: return "not running";
+        case ExtensionRefusal::kNotScience: return "not a science activity";
+        case ExtensionRefusal::kBeyondUb: return "beyond its ub";
+        case ExtensionRefusal::kInconsistent: return "would make the plan inconsistent";
+        case ExtensionRefusal::kBusy: return "busy";
+        case ExtensionRefusal::kInvalid: return "invalid request";
+    }
+    return "?";
+}
+
 const char* toString(DispatchPhase p) {
     switch (p) {
         case DispatchPhase::kIdle: return "idle";
@@ -102,8 +115,11 @@ core::Status PlanDispatcher::begin(const Tpn& plan, const Selection& selection, 
         const ActivityState was = carried != nullptr ? carried->state[a] : ActivityState::kInactive;
         const std::int32_t wasStart = carried != nullptr ? carried->startMs[a] : kInfiniteMs;
         const std::int32_t wasEnd = carried != nullptr ? carried->endMs[a] : kInfiniteMs;
+        const std::int32_t wasExtended = carried != nullptr ? carried->extendedMs[a] : 0;
+        const std::int32_t wasFloor = carried != nullptr ? carried->floorMs[a] : 0;
         record_.state[a] = ActivityState::kInactive;
         record_.startMs[a] = record_.endMs[a] = kInfiniteMs;
+        record_.extendedMs[a] = record_.floorMs[a] = 0;
         cancelPending_[a] = false;
         if (a >= plan.activityCount) {
             continue;
@@ -121,6 +137,13 @@ core::Status PlanDispatcher::begin(const Tpn& plan, const Selection& selection, 
         record_.state[a] = keep ? was : ActivityState::kWaiting;
         record_.startMs[a] = keep ? wasStart : kInfiniteMs;
         record_.endMs[a] = was == ActivityState::kDone ? wasEnd : kInfiniteMs;
+        record_.extendedMs[a] = keep ? wasExtended : 0;
+        record_.floorMs[a] = keep ? wasFloor : 0;
+        // A running extended activity's end stays no earlier than its floor
+        // (whether or not the input says so: its intersection with it).
+        if (was == ActivityState::kRunning && wasFloor > 0 && !executed(eventTimeMs_[act.to])) {
+            ok = ok && core::isOk(stn_.addBounds(0, act.to, Bounds{wasFloor, kInfiniteMs}));
+        }
         ++incoming_[act.to];
         pendingIncoming_[act.to] =
             static_cast<std::uint16_t>(pendingIncoming_[act.to] + (was == ActivityState::kDone ? 0U : 1U));
@@ -384,6 +407,90 @@ core::Status PlanDispatcher::failed(std::uint16_t activity, std::int32_t nowMs, 
     return core::Status::kOk;
 }
 
+ExtensionCheck PlanDispatcher::checkExtension(std::uint16_t activity, std::int32_t nowMs, std::int32_t ownEndMs,
+                                              std::int32_t extraMs) const {
+    ExtensionCheck c;
+    const bool timesOk = nowMs >= 0 && nowMs <= kMaxBoundMs && ownEndMs >= 0 && ownEndMs <= kMaxBoundMs &&
+                         extraMs > 0 && extraMs <= kMaxBoundMs;
+    if (!timesOk) {
+        c.refusal = ExtensionRefusal::kInvalid;
+        return c;
+    }
+    if (phase_ == DispatchPhase::kChecking || phase_ == DispatchPhase::kHolding) {
+        c.refusal = ExtensionRefusal::kBusy;
+        return c;
+    }
+    if (phase_ != DispatchPhase::kDispatching || plan_ == nullptr || activity >= plan_->activityCount ||
+        record_.state[activity] != ActivityState::kRunning) {
+        c.refusal = ExtensionRefusal::kNotRunning;
+        return c;
+    }
+    const Activity& act = plan_->activities[activity];
+    if (act.kind != ActivityKind::kSample && act.kind != ActivityKind::kImage && act.kind != ActivityKind::kDig) {
+        c.refusal = ExtensionRefusal::kNotScience;
+        return c;
+    }
+    const std::int32_t start = record_.startMs[activity];
+    if (nowMs < start) {
+        c.refusal = ExtensionRefusal::kInvalid;
+        return c;
+    }
+    // Sums in 64 bits: each term is within [0, kMaxBoundMs].
+    const std::int64_t expected = static_cast<std::int64_t>(ownEndMs > nowMs ? ownEndMs : nowMs) + extraMs;
+    const std::int64_t floor = static_cast<std::int64_t>(nowMs) + extraMs;
+    const auto clamp = [](std::int64_t v) {
+        return static_cast<std::int32_t>(v >= kInfiniteMs ? kInfiniteMs - 1 : v);
+    };
+    c.expectedEndMs = clamp(expected);
+    c.floorMs = clamp(floor);
+    if (floor > kMaxBoundMs) {
+        c.refusal = ExtensionRefusal::kInvalid;  // a floor no plan bound could hold
+        return c;
+    }
+    c.latestMs = stn_.window(act.to).latestMs;
+    if (act.duration.ubMs != kInfiniteMs) {
+        const std::int64_t ubEnd = static_cast<std::int64_t>(start) + act.duration.ubMs;
+        c.ubEndMs = clamp(ubEnd);
+        if (expected > ubEnd) {
+            c.refusal = ExtensionRefusal::kBeyondUb;
+            return c;
+        }
+    }
+    if (c.latestMs != kInfiniteMs && expected > c.latestMs) {
+        c.refusal = ExtensionRefusal::kInconsistent;
+    }
+    return c;
+}
+
+ExtensionCheck PlanDispatcher::extend(std::uint16_t activity, std::int32_t nowMs, std::int32_t ownEndMs,
+                                      std::int32_t extraMs) {
+    ExtensionCheck c = checkExtension(activity, nowMs, ownEndMs, extraMs);
+    if (c.refusal != ExtensionRefusal::kNone) {
+        return c;
+    }
+    const std::uint16_t to = plan_->activities[activity].to;
+    // t_to >= floor: the edge to -> start of weight -floor. floor <=
+    // expected end <= latest, so this is consistent (the O(1) test in
+    // tighten() is kept as the guard).
+    const StnUpdate u = stn_.tighten(to, 0, -c.floorMs);
+    if (u == StnUpdate::kInconsistent || u == StnUpdate::kRejected) {
+        c.refusal = ExtensionRefusal::kInconsistent;
+        return c;
+    }
+    record_.extendedMs[activity] = static_cast<std::int32_t>(
+        static_cast<std::int64_t>(record_.extendedMs[activity]) + extraMs > kMaxBoundMs
+            ? kMaxBoundMs
+            : record_.extendedMs[activity] + extraMs);
+    record_.floorMs[activity] = c.floorMs > record_.floorMs[activity] ? c.floorMs : record_.floorMs[activity];
+    ++counts_.extended;
+    if (u == StnUpdate::kOutOfRange) {
+        // Applied, but a distance left the range (a network beyond the
+        // documented range only): regenerated, as a refused execution is.
+        needRegeneration(RegenerationReason::kLate, activity, to);
+    }
+    return c;
+}
+
 void PlanDispatcher::abort(DispatchOutput* out) {
     if (out != nullptr) {
         out->clear();
@@ -423,6 +530,7 @@ void PlanDispatcher::regenerationInput(std::int32_t nowMs, SelectionInput* input
     for (std::size_t e = 0; e < kMaxEvents; ++e) {
         const bool done = e < n_ && eventExists_[e] && executed(eventTimeMs_[e]);
         input->executedAtMs[e] = done ? eventTimeMs_[e] : kInfiniteMs;
+        input->notBeforeEventMs[e] = 0;
         if (done) {
             force(plan.events[e].guard);
         }
@@ -433,6 +541,12 @@ void PlanDispatcher::regenerationInput(std::int32_t nowMs, SelectionInput* input
         input->started[a] = started;
         if (started) {
             force(plan.activities[a].guard);
+        }
+        // An extended activity still running: its end no earlier than its floor.
+        const std::uint16_t to = a < plan.activityCount ? plan.activities[a].to : 0;
+        if (started && record_.state[a] == ActivityState::kRunning && record_.floorMs[a] > 0 &&
+            !executed(eventTimeMs_[to]) && record_.floorMs[a] > input->notBeforeEventMs[to]) {
+            input->notBeforeEventMs[to] = record_.floorMs[a];
         }
     }
 }

@@ -48,6 +48,24 @@
 // other activity starts afresh (a failed or timed-out activity the new
 // selection keeps is run again). The plan must be the same plan.
 //
+// Extension (opportunistic science). checkExtension() judges a follow-on
+// request for a running science activity (sample, image, dig): nowMs the
+// request's time, ownEndMs when the executive expects the activity to end
+// without it (the instrument's progress), extraMs the extra time asked. The
+// expected end is max(ownEndMs, nowMs) + extraMs; refused (nothing changed)
+// when the activity is not running (kNotRunning), not science (kNotScience),
+// the expected end passes start + ub (kBeyondUb) or passes its end event's
+// latest time in the network as it stands (kInconsistent: a later bound of
+// the plan, a deadline or the activities after it, would break), or the
+// dispatcher is checking or holding (kBusy). The closed network is
+// dispatchable, so an end anywhere in its window keeps the rest of the plan
+// consistent: the check is O(1), no recomputation. extend() checks again and
+// commits: the end event no earlier than nowMs + extraMs (the extra work
+// cannot be done sooner; Stn::tighten, O(n^2)), recorded with the activity
+// (carried over, and passed to a regeneration as the event's floor). The late
+// checks are unchanged (ub and the end's latest, which the extension lies
+// within: never beyond ub); a completion before the floor is early (held).
+//
 // Work. tick() is O(n^2) for its checks plus O(n^2) per event executed (at
 // most kMaxExecutionsPerTick); completed() and failed() one O(n^2) update at
 // most. start() runs the full check (n^2 units of Stn::step(), n^3 min-adds:
@@ -57,7 +75,7 @@
 // Time. nowMs is ms since the plan's start, >= 0 and never decreasing from
 // call to call (an earlier time is refused, kInvalidArgument).
 //
-// Memory: sizeof(PlanDispatcher) = 267 304 B on x86-64, the Stn's matrix
+// Memory: sizeof(PlanDispatcher) = 269 360 B on x86-64, the Stn's matrix
 // (262 192 B) nearly all of it. Static storage (a member), never a stack. The plan
 // is read, not copied: it must stay unchanged while dispatched.
 #pragma once
@@ -95,6 +113,27 @@ enum class RegenerationReason : std::uint8_t {
 };
 const char* toString(RegenerationReason r);
 
+// Why an extension of a running science activity is refused (kNone: accepted).
+enum class ExtensionRefusal : std::uint8_t {
+    kNone = 0,
+    kNotRunning,    // the activity is not running (or no plan is dispatched)
+    kNotScience,    // not a sample, image or dig
+    kBeyondUb,      // its expected end with the extra time passes start + ub
+    kInconsistent,  // its expected end passes its end event's latest: a later bound would break
+    kBusy,          // the dispatcher is checking a network or holding for a regeneration
+    kInvalid,       // extra time not in (0, kMaxBoundMs], or a time out of range
+};
+const char* toString(ExtensionRefusal r);
+
+// What checkExtension() / extend() found (times in ms since the plan's start).
+struct ExtensionCheck {
+    ExtensionRefusal refusal = ExtensionRefusal::kNone;
+    std::int32_t expectedEndMs = kInfiniteMs;  // max(ownEnd, now) + extra
+    std::int32_t ubEndMs = kInfiniteMs;        // start + ub (kInfiniteMs: no ub)
+    std::int32_t latestMs = kInfiniteMs;       // the end event's latest in the network
+    std::int32_t floorMs = kInfiniteMs;        // now + extra: the end no earlier than this
+};
+
 enum class DispatchCommandKind : std::uint8_t { kStart = 0, kCancel };
 
 struct DispatchCommand {
@@ -123,11 +162,14 @@ struct DispatchOutput {
 };
 
 // The activities' states and times (ms since the plan's start; kInfiniteMs
-// until known), as carried over to a regenerated dispatch.
+// until known), as carried over to a regenerated dispatch; the extensions
+// accepted (their total, and the floor of the activity's end: 0 none).
 struct ActivityRecord {
     ActivityState state[kMaxActivities] = {};
     std::int32_t startMs[kMaxActivities];
     std::int32_t endMs[kMaxActivities];
+    std::int32_t extendedMs[kMaxActivities] = {};
+    std::int32_t floorMs[kMaxActivities] = {};
     ActivityRecord();
 };
 
@@ -139,6 +181,7 @@ struct DispatchCounts {
     std::uint32_t failed = 0;
     std::uint32_t cancelled = 0;  // dropped by a new selection, or abort()
     std::uint32_t eventsExecuted = 0;
+    std::uint32_t extended = 0;   // extensions committed (extend())
 };
 
 enum class DispatchPhase : std::uint8_t {
@@ -197,6 +240,16 @@ public:
     core::Status completed(std::uint16_t activity, std::int32_t nowMs, DispatchOutput* out);
     // The activity failed at nowMs: kFailed, regeneration. Refused as completed().
     core::Status failed(std::uint16_t activity, std::int32_t nowMs, DispatchOutput* out);
+    // Opportunistic science (see "Extension" above): judges a follow-on
+    // request, changing nothing.
+    ExtensionCheck checkExtension(std::uint16_t activity, std::int32_t nowMs, std::int32_t ownEndMs,
+                                  std::int32_t extraMs) const;
+    // Judges it again against the network as it stands and, passed, commits
+    // it (the end event's floor nowMs + extraMs, O(n^2)). nowMs is the
+    // request's time: it may be before the last call's (the device answered
+    // later), not before the activity's start.
+    ExtensionCheck extend(std::uint16_t activity, std::int32_t nowMs, std::int32_t ownEndMs, std::int32_t extraMs);
+
     // Stops the plan (no alternative remains): every running activity
     // cancelled (Cancel in *out; with out null nothing is cancelled, the
     // dispatcher only stops), the dispatcher idle.
@@ -204,7 +257,8 @@ public:
 
     // Where execution stands, for a re-selection at nowMs: not before nowMs,
     // every executed event's time, the activities done or running marked
-    // started, and for each of them (and every executed event) under an
+    // started, the floor of a running extended activity's end event
+    // (notBeforeEventMs; 0 for every other), and for each of them (and every executed event) under an
     // option, that option forced: its choice's other options deprecated, up
     // its nesting. Components and other deprecations are left as they are.
     // A running activity whose component has failed is to be reported

@@ -32,6 +32,10 @@ constexpr core::EventId kComponentFailed = 973;    // WARN: activities not done 
 constexpr core::EventId kGoalPlan = 978;          // INFO: a goal list revision (GOTO, ADD_TARGET, SET_RISK_BOUND) became plan goal_list of its drives
 constexpr core::EventId kGoalPlanStopped = 979;   // WARN: a goal plan's drive failed (the deliberative layer called home): plan stopped, no second call
 constexpr core::EventId kGoalListEmpty = 980;     // INFO: an empty goal list (CLEAR_GOALS): a goal plan running stopped; a mission plan runs on
+constexpr core::EventId kExtensionRequested = 974;  // INFO: PLAN_EXTEND passed the checks: follow-on sent to the instrument (expected end, ub end, latest)
+constexpr core::EventId kExtensionAccepted = 975;   // INFO: the instrument took the follow-on: extension committed, the end no earlier than the floor
+constexpr core::EventId kExtensionRefused = 976;    // WARN: PLAN_EXTEND refused (reason: unknown, not running, not science, beyond ub, inconsistent, busy, invalid, instrument): plan untouched
+constexpr core::EventId kExtendedCompleted = 977;   // INFO: an extended activity completed: duration, extra time, expected without it
 constexpr core::EventId kNetworkRefused = 971;     // ERROR: the dispatcher found the selected network inconsistent (or refused it): plan stopped
 
 }  // namespace rse::plan_executive::events

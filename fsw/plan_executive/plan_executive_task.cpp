@@ -40,6 +40,38 @@ msg::PlanRegeneration regenerationOf(RegenerationReason r) {
 
 bool completesAtLb(ActivityKind k) { return k == ActivityKind::kWait || k == ActivityKind::kCommunicate; }
 
+bool science(ActivityKind k) { return k == ActivityKind::kSample || k == ActivityKind::kImage || k == ActivityKind::kDig; }
+
+const char* extensionRefusalName(msg::PlanExtensionRefusal r) {
+    switch (r) {
+        case msg::PlanExtensionRefusal::kNone: return "none";
+        case msg::PlanExtensionRefusal::kUnknownActivity: return "unknown activity";
+        case msg::PlanExtensionRefusal::kNotRunning: return "not running";
+        case msg::PlanExtensionRefusal::kNotScience: return "not a science activity";
+        case msg::PlanExtensionRefusal::kBeyondUb: return "beyond its ub";
+        case msg::PlanExtensionRefusal::kInconsistent: return "plan inconsistent";
+        case msg::PlanExtensionRefusal::kBusy: return "busy";
+        case msg::PlanExtensionRefusal::kInvalid: return "invalid extra time";
+        case msg::PlanExtensionRefusal::kInstrument: return "instrument refused";
+    }
+    return "?";
+}
+
+msg::PlanExtensionRefusal extensionRefusalOf(ExtensionRefusal r) {
+    switch (r) {
+        case ExtensionRefusal::kNone: return msg::PlanExtensionRefusal::kNone;
+        case ExtensionRefusal::kNotRunning: return msg::PlanExtensionRefusal::kNotRunning;
+        case ExtensionRefusal::kNotScience: return msg::PlanExtensionRefusal::kNotScience;
+        case ExtensionRefusal::kBeyondUb: return msg::PlanExtensionRefusal::kBeyondUb;
+        case ExtensionRefusal::kInconsistent: return msg::PlanExtensionRefusal::kInconsistent;
+        case ExtensionRefusal::kBusy: return msg::PlanExtensionRefusal::kBusy;
+        case ExtensionRefusal::kInvalid: return msg::PlanExtensionRefusal::kInvalid;
+    }
+    return msg::PlanExtensionRefusal::kInvalid;
+}
+
+double seconds(std::int32_t ms) { return static_cast<double>(ms) / 1000.0; }
+
 }  // namespace
 
 PlanExecutiveTask::PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events) : bus_(bus), events_(events) {}
@@ -113,7 +145,7 @@ void PlanExecutiveTask::takeMessages() {
             malformedInput("does not decode");
             continue;
         }
-        if (static_cast<std::uint8_t>(command_.kind) > static_cast<std::uint8_t>(msg::PlanCommandKind::kAbort) ||
+        if (static_cast<std::uint8_t>(command_.kind) > static_cast<std::uint8_t>(msg::PlanCommandKind::kExtend) ||
             command_.length > msg::kPlanChunkBytes) {
             malformedInput("kind or length out of range");
             continue;
@@ -202,10 +234,13 @@ void PlanExecutiveTask::onInstrument(const msg::InstrumentStatusMsg& m) {
         const ActivityKind k = p.activities[a].kind;
         const bool onThis = (k == ActivityKind::kImage) == (i == 1) &&
                             (k == ActivityKind::kSample || k == ActivityKind::kDig || k == ActivityKind::kImage);
-        const std::uint16_t id = commandId_[a];
-        if (!onThis || id == 0 || dispatcher_.state(a) != ActivityState::kRunning) {
+        if (!onThis || commandId_[a] == 0 || dispatcher_.state(a) != ActivityState::kRunning) {
             continue;
         }
+        if (pending_.activity == a) {
+            answerExtension(a, m);  // may move the activity's command to the follow-on's id
+        }
+        const std::uint16_t id = commandId_[a];
         if (m.commandId == id && m.state == msg::InstrumentState::kDone) {
             deviceCompleted(a);
         } else if (m.commandId == id && m.state == msg::InstrumentState::kFailed &&
@@ -270,11 +305,18 @@ void PlanExecutiveTask::deviceCompleted(std::uint16_t a) {
         return;
     }
     commandId_[a] = 0;
+    dropExtension(a);
     ++completed_;
     changed_ = true;
     const Activity& act = tpn_[active_].activities[a];
     events_.report(events::kActivityCompleted, core::Severity::kInfo, "plan_exec: %s %s completed after %.1f s",
                    toString(act.kind), act.name, static_cast<double>(nowMs - start) / 1000.0);
+    const std::int32_t extended = dispatcher_.activities().extendedMs[a];
+    if (extended > 0) {
+        events_.report(events::kExtendedCompleted, core::Severity::kInfo,
+                       "plan_exec: %s extended %.1f s: done after %.1f s (expected %.1f s without)", act.name,
+                       seconds(extended), seconds(nowMs - start), seconds(endBeforeExtensionMs_[a] - start));
+    }
     if (out_.early) {
         ++early_;
         events_.report(events::kActivityEarly, core::Severity::kWarning,
@@ -291,6 +333,7 @@ void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why, bool late
         return;
     }
     commandId_[a] = 0;
+    dropExtension(a);
     if (driveActivity_ == a) {
         driveActivity_ = kNoIndex;
     }
@@ -306,6 +349,7 @@ void PlanExecutiveTask::deviceFailed(std::uint16_t a, const char* why, bool late
 
 void PlanExecutiveTask::startActivity(std::uint16_t a) {
     const Activity& act = tpn_[active_].activities[a];
+    endBeforeExtensionMs_[a] = 0;
     switch (act.kind) {
         case ActivityKind::kDrive:
             driveActivity_ = a;
@@ -327,6 +371,12 @@ void PlanExecutiveTask::cancelActivity(std::uint16_t a) {
         publishGoal(kNoIndex);
     } else if (commandId_[a] != 0) {
         commandInstrument(a, msg::InstrumentAction::kCancel);
+        if (pending_.activity == a) {
+            // The instrument may have taken the follow-on already: it runs under its id then.
+            commandId_[a] = pending_.commandId;
+            commandInstrument(a, msg::InstrumentAction::kCancel);
+            dropExtension(a);
+        }
         commandId_[a] = 0;
     }
 }
@@ -366,6 +416,13 @@ void PlanExecutiveTask::commandInstrument(std::uint16_t a, msg::InstrumentAction
     c.targetId = act.target;
     if (action == msg::InstrumentAction::kCancel) {
         c.commandId = commandId_[a];
+    } else if (action == msg::InstrumentAction::kExtend) {
+        // A follow-on: a fresh id continuing the activity's command, the extra work (whole 0.1 s).
+        nextCommandId_ = static_cast<std::uint16_t>(nextCommandId_ == 0xFFFF ? 1 : nextCommandId_ + 1);
+        c.commandId = nextCommandId_;
+        c.extendsCommandId = commandId_[a];
+        c.maxDurationS = seconds(pending_.extraMs);
+        pending_.commandId = nextCommandId_;
     } else {
         nextCommandId_ = static_cast<std::uint16_t>(nextCommandId_ == 0xFFFF ? 1 : nextCommandId_ + 1);
         commandId_[a] = nextCommandId_;
@@ -440,7 +497,174 @@ void PlanExecutiveTask::handle(const msg::PlanCommandMsg& m) {
             beginNewPlan(shortText_, m.length, false);
             break;
         case msg::PlanCommandKind::kAbort: abortPlan(false); break;
+        case msg::PlanCommandKind::kExtend: extendActivity(m); break;
     }
+}
+
+// ---------------------------------------------------------------------------
+// Opportunistic science: PLAN_EXTEND.
+
+void PlanExecutiveTask::refuseExtension(msg::PlanExtensionRefusal why, const char* name, std::int32_t extraMs,
+                                        const char* detail) {
+    ++extensionsRefused_;
+    lastExtensionRefusal_ = why;
+    changed_ = true;
+    events_.report(events::kExtensionRefused, core::Severity::kWarning, "plan_exec: extend %s +%.1f s refused: %s (%s)",
+                   name, seconds(extraMs), extensionRefusalName(why), detail);
+}
+
+std::int32_t PlanExecutiveTask::expectedOwnEndMs(std::uint16_t a, std::int32_t nowMs) const {
+    const Activity& act = tpn_[active_].activities[a];
+    const std::int64_t start = dispatcher_.startMs(a);
+    const msg::InstrumentStatusMsg& m =
+        instruments_[act.kind == ActivityKind::kImage ? static_cast<std::size_t>(msg::Instrument::kCamera)
+                                                      : static_cast<std::size_t>(msg::Instrument::kGrinder)];
+    // Nothing better known: the plan's least duration.
+    std::int64_t total = act.duration.lbMs;
+    if (m.commandId == commandId_[a] && m.state == msg::InstrumentState::kBusy && m.progressPct > 0 &&
+        m.progressPct < 100 && m.lastReportNs > planStartNs_) {
+        // Its progress at its last report: the work is elapsed / progress long.
+        const std::int64_t elapsed = (m.lastReportNs - planStartNs_) / core::kNsPerMs - start;
+        if (elapsed > 0) {
+            total = (elapsed * 100 + m.progressPct - 1) / m.progressPct;
+        }
+    }
+    std::int64_t end = start + total;
+    end = end < nowMs ? nowMs : end;
+    return static_cast<std::int32_t>(end > kMaxBoundMs ? kMaxBoundMs : end);
+}
+
+void PlanExecutiveTask::extendActivity(const msg::PlanCommandMsg& m) {
+    // The name as sent: any bytes (shown printable in the events).
+    char name[kNameSize] = {};
+    const std::size_t shown = m.length < kNameSize ? m.length : kNameSize - 1;
+    for (std::size_t i = 0; i < shown; ++i) {
+        const char c = m.data[i];
+        name[i] = c >= 0x20 && c < 0x7F ? c : '?';
+    }
+    if (m.extendMs == 0 || m.extendMs > kMaxExtendMs) {
+        char detail[64];
+        std::snprintf(detail, sizeof detail, "%u ms", static_cast<unsigned>(m.extendMs));
+        refuseExtension(msg::PlanExtensionRefusal::kInvalid, name,
+                        static_cast<std::int32_t>(m.extendMs > kMaxExtendMs ? kMaxExtendMs : m.extendMs), detail);
+        return;
+    }
+    // Whole 0.1 s, as the instruments take it.
+    const auto extraMs = static_cast<std::int32_t>((m.extendMs + 99U) / 100U * 100U);
+    std::uint16_t a = kNoIndex;
+    const Tpn& p = tpn_[active_];
+    for (std::uint16_t i = 0; planLoaded_ && a == kNoIndex && i < p.activityCount; ++i) {
+        std::size_t n = 0;
+        while (n < kNameSize && p.activities[i].name[n] != '\0') {
+            ++n;
+        }
+        if (m.length == n && n > 0 && std::memcmp(p.activities[i].name, m.data, n) == 0) {
+            a = i;
+        }
+    }
+    if (a == kNoIndex) {
+        refuseExtension(msg::PlanExtensionRefusal::kUnknownActivity, name, extraMs,
+                        planLoaded_ ? "not in the plan" : "no plan");
+        return;
+    }
+    if (job_ != Job::kNone || checking_ || pending_.activity != kNoIndex) {
+        refuseExtension(msg::PlanExtensionRefusal::kBusy, name, extraMs,
+                        pending_.activity != kNoIndex ? "an extension pending" : "selecting or checking");
+        return;
+    }
+    const Activity& act = p.activities[a];
+    const std::int32_t nowMs = planMs();
+    const bool commanded = science(act.kind) && commandId_[a] != 0;
+    const std::int32_t ownEndMs = commanded ? expectedOwnEndMs(a, nowMs) : nowMs;
+    const ExtensionCheck c = dispatcher_.checkExtension(a, nowMs, ownEndMs, extraMs);
+    char detail[120];
+    switch (c.refusal) {
+        case ExtensionRefusal::kNone: break;
+        case ExtensionRefusal::kNotRunning:
+            std::snprintf(detail, sizeof detail, "%s", toString(dispatcher_.state(a)));
+            break;
+        case ExtensionRefusal::kNotScience:
+            std::snprintf(detail, sizeof detail, "%s", toString(act.kind));
+            break;
+        case ExtensionRefusal::kBeyondUb:
+            std::snprintf(detail, sizeof detail, "end %.1f > start+ub %.1f s", seconds(c.expectedEndMs),
+                          seconds(c.ubEndMs));
+            break;
+        case ExtensionRefusal::kInconsistent:
+            std::snprintf(detail, sizeof detail, "end %.1f > latest %.1f s", seconds(c.expectedEndMs),
+                          seconds(c.latestMs));
+            break;
+        case ExtensionRefusal::kBusy:
+            std::snprintf(detail, sizeof detail, "holding");
+            break;
+        case ExtensionRefusal::kInvalid:
+            std::snprintf(detail, sizeof detail, "times out of range");
+            break;
+    }
+    if (c.refusal != ExtensionRefusal::kNone) {
+        refuseExtension(extensionRefusalOf(c.refusal), name, extraMs, detail);
+        return;
+    }
+    if (!commanded) {
+        refuseExtension(msg::PlanExtensionRefusal::kNotRunning, name, extraMs, "no command in hand");
+        return;
+    }
+    pending_ = PendingExtension{};
+    pending_.activity = a;
+    pending_.extraMs = extraMs;
+    pending_.ownEndMs = ownEndMs;
+    pending_.requestMs = nowMs;
+    commandInstrument(a, msg::InstrumentAction::kExtend);  // sets pending_.commandId
+    changed_ = true;
+    events_.report(events::kExtensionRequested, core::Severity::kInfo,
+                   "plan_exec: extend %s +%.1f s sent: end %.1f->%.1f s (start+ub %.1f, latest %.1f s)", act.name,
+                   seconds(extraMs), seconds(ownEndMs), seconds(c.expectedEndMs),
+                   c.ubEndMs == kInfiniteMs ? -1.0 : seconds(c.ubEndMs),
+                   c.latestMs == kInfiniteMs ? -1.0 : seconds(c.latestMs));
+}
+
+void PlanExecutiveTask::answerExtension(std::uint16_t a, const msg::InstrumentStatusMsg& m) {
+    const PendingExtension p = pending_;
+    const Activity& act = tpn_[active_].activities[a];
+    if (m.commandId == p.commandId) {
+        // Taken: the instrument's command is the follow-on from now on.
+        pending_ = PendingExtension{};
+        commandId_[a] = p.commandId;
+        const ExtensionCheck c = dispatcher_.extend(a, p.requestMs, p.ownEndMs, p.extraMs);
+        if (c.refusal != ExtensionRefusal::kNone) {
+            refuseExtension(extensionRefusalOf(c.refusal), act.name, p.extraMs, "taken too late: runs on");
+            return;
+        }
+        if (endBeforeExtensionMs_[a] == 0) {
+            endBeforeExtensionMs_[a] = p.ownEndMs;
+        }
+        ++extensionsAccepted_;
+        changed_ = true;
+        events_.report(events::kExtensionAccepted, core::Severity::kInfo,
+                       "plan_exec: %s extended by %.1f s: the %s took it; end no earlier than %.1f s", act.name,
+                       seconds(p.extraMs), act.kind == ActivityKind::kImage ? "camera" : "grinder",
+                       seconds(c.floorMs));
+        if (dispatcher_.regenerationNeeded() && job_ == Job::kNone) {
+            startRegeneration(planMs());  // the network left its range (see PlanDispatcher::extend)
+        }
+        return;
+    }
+    if (m.lastRefusedCommandId == p.commandId && m.lastRefusal != msg::InstrumentRefusal::kNone) {
+        pending_ = PendingExtension{};
+        char detail[32];
+        std::snprintf(detail, sizeof detail, "refusal %u", static_cast<unsigned>(m.lastRefusal));
+        refuseExtension(msg::PlanExtensionRefusal::kInstrument, act.name, p.extraMs, detail);
+    }
+}
+
+void PlanExecutiveTask::dropExtension(std::uint16_t a) {
+    if (pending_.activity != a) {
+        return;
+    }
+    const std::int32_t extraMs = pending_.extraMs;
+    pending_ = PendingExtension{};
+    refuseExtension(msg::PlanExtensionRefusal::kNotRunning, tpn_[active_].activities[a].name, extraMs,
+                    "ended first");
 }
 
 void PlanExecutiveTask::refuse(msg::PlanRefusal why, core::EventId id, const char* detail) {
@@ -614,6 +838,7 @@ void PlanExecutiveTask::adoptNewPlan(const SelectionResult& r) {
     for (std::uint16_t& id : commandId_) {
         id = 0;
     }
+    pending_ = PendingExtension{};
     driveActivity_ = kNoIndex;
     selection_ = r.selection;
     selectionStatus_ = r.status;
@@ -935,6 +1160,9 @@ void PlanExecutiveTask::fillStatus() {
     s.activitiesLate = late_;
     s.activitiesFailed = failed_;
     s.operatorCalls = operatorCalls_;
+    s.extensionsAccepted = extensionsAccepted_;
+    s.extensionsRefused = extensionsRefused_;
+    s.lastExtensionRefusal = lastExtensionRefusal_;
     s.slackMs = kInfiniteMs;
     for (std::uint8_t& o : s.options) {
         o = kNoOption;

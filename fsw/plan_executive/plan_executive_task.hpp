@@ -1,7 +1,8 @@
 // The plan executive task (docs/plan_executive.md "The task"): mission plans
 // from the ground to a running plan. It takes the command handlers'
 // PlanCommandMsg (PLAN_LOAD chunks into a static 16 KiB text buffer,
-// PLAN_START with the assembled text's length and CRC-32, PLAN_SHORT, PLAN_ABORT),
+// PLAN_START with the assembled text's length and CRC-32, PLAN_SHORT, PLAN_ABORT,
+// PLAN_EXTEND),
 // parses the plan into a Tpn, selects its methods (MethodSelector, sliced),
 // checks and dispatches it (PlanDispatcher, sliced check then one tick a
 // run), regenerates it when the dispatcher asks (late, missed window,
@@ -29,6 +30,20 @@
 // offline. Wait and communicate complete at their lb. Cancel: an empty goal
 // list, or the instrument's cancel.
 //
+// Opportunistic science (PLAN_EXTEND, docs/plan_executive.md). A follow-on
+// request names a running science activity and asks for extra time. It is
+// refused (event 976, counted, the plan untouched) when no activity has that
+// name, a selection, regeneration or check is under way or another extension
+// awaits its instrument (busy), or the dispatcher's check refuses it (not
+// running, not science, beyond its ub, a later bound of the plan would break:
+// PlanDispatcher::checkExtension, with the end expected from the instrument's
+// progress). Else the instrument is sent an extend (a new command id
+// continuing the running one, the extra work; event 974) and, when its status
+// names the new id, the extension is committed in the network (event 975):
+// the activity completes when the extended work is done (event 977 says how
+// much later). The instrument refusing it is a refusal too (the activity goes
+// on as it was).
+//
 // Components. Drive modes (DriveModesMsg: nominal ok, degraded degraded,
 // failed failed, unknown degraded) and the instruments (offline, or failed
 // with a fault code: failed; else ok) are the SelectionInput's components.
@@ -47,7 +62,7 @@
 // events); one dispatcher tick (O(n^2) plus at most 8 event executions) and
 // at most one completion per running wait/communicate activity.
 //
-// Memory: sizeof 441 776 B on x86-64: two Tpns (49 072 B each), the
+// Memory: sizeof 448 320 B on x86-64: two Tpns (47 024 B each), the
 // selector, the dispatcher (its STN nearly all of it)
 // and the text buffer: static storage in FswApp, never a stack; no heap.
 #pragma once
@@ -86,6 +101,8 @@ public:
     // A goal plan's text: a header and "end", an event and a drive line a goal
     // (at most 64 B each with coordinates up to 100 km to the mm).
     static constexpr std::size_t kGoalPlanTextBytes = 32 + msg::kMaxGoals * (24 + 72);
+    // The most extra time one PLAN_EXTEND may ask: the instrument's field (6553.5 s).
+    static constexpr std::uint32_t kMaxExtendMs = 6553500;
 
     PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events);
 
@@ -124,6 +141,17 @@ private:
     bool askHolds(const Condition& c) const;
     bool checkComponents(std::int32_t nowMs);
     void handle(const msg::PlanCommandMsg& m);
+    // PLAN_EXTEND: judged, then the follow-on sent to the instrument.
+    void extendActivity(const msg::PlanCommandMsg& m);
+    // When the running science activity a would end without an extension:
+    // start + the instrument's elapsed / progress for its command, else its
+    // lb; at least nowMs.
+    std::int32_t expectedOwnEndMs(std::uint16_t a, std::int32_t nowMs) const;
+    // The pending follow-on's answer in the instrument's status (taken, or refused).
+    void answerExtension(std::uint16_t a, const msg::InstrumentStatusMsg& m);
+    // Activity a stopped running while its follow-on awaited an answer.
+    void dropExtension(std::uint16_t a);
+    void refuseExtension(msg::PlanExtensionRefusal why, const char* name, std::int32_t extraMs, const char* detail);
     void loadChunk(const msg::PlanCommandMsg& m);
     void startUpload(const msg::PlanCommandMsg& m);
     void beginNewPlan(const char* text, std::size_t length, bool fromGoals);
@@ -212,6 +240,20 @@ private:
     bool regenerateForComponent_ = false;
     bool lateByDevice_ = false;  // an instrument gave up at an activity's ub: the regeneration is for lateness
     std::uint16_t componentActivity_ = kNoIndex;  // the first activity a component failure hit
+
+    // The follow-on sent and not yet answered (activity kNoIndex: none).
+    struct PendingExtension {
+        std::uint16_t activity = kNoIndex;
+        std::uint16_t commandId = 0;  // the follow-on's id
+        std::int32_t extraMs = 0;
+        std::int32_t ownEndMs = 0;    // as expected at the request
+        std::int32_t requestMs = 0;   // plan time of the request
+    };
+    PendingExtension pending_{};
+    std::int32_t endBeforeExtensionMs_[kMaxActivities] = {};  // expected end at the first extension (event 977)
+    std::uint32_t extensionsAccepted_ = 0;
+    std::uint32_t extensionsRefused_ = 0;
+    msg::PlanExtensionRefusal lastExtensionRefusal_ = msg::PlanExtensionRefusal::kNone;
 
     PlanDispatcher dispatcher_;
     ActivityRecord carried_{};

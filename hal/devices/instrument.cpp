@@ -39,14 +39,26 @@ Refusal Instrument::notSent(Refusal why, Action action, std::uint16_t commandId)
     return why;
 }
 
-Refusal Instrument::command(Action action, std::uint8_t target, std::uint16_t commandId, double maxDurationS) {
+Refusal Instrument::command(Action action, std::uint8_t target, std::uint16_t commandId, double maxDurationS,
+                            std::uint16_t extendsCommandId) {
     instrument::Command c;
     c.action = action;
     c.commandId = commandId;
     if (commandId == 0) {
         return notSent(Refusal::kMalformed, action, commandId);
     }
-    if (action != Action::kCancel) {
+    if (action == Action::kExtend) {
+        // A follow-on: a new id continuing another, with some extra work.
+        if (extendsCommandId == 0 || extendsCommandId == commandId ||
+            !instrument::durationField(maxDurationS, &c.maxDurationDs) || c.maxDurationDs == 0) {
+            return notSent(Refusal::kMalformed, action, commandId);
+        }
+        if (target == 0) {
+            return notSent(Refusal::kUnknownTarget, action, commandId);
+        }
+        c.target = target;
+        c.extendsCommandId = extendsCommandId;
+    } else if (action != Action::kCancel) {
         if (!instrument::doesWork(kind_, action)) {
             return notSent(Refusal::kUnsupportedAction, action, commandId);
         }

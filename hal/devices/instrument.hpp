@@ -66,9 +66,12 @@ public:
     Instrument(CanBus& can, core::EventLog& events, instrument::Kind kind);
 
     // Checks and sends one command (cancel: commandId names the command to
-    // cancel; target and maxDurationS are not sent). Refusal::kNone when sent.
+    // cancel; target and maxDurationS are not sent. extend: commandId is the
+    // follow-on's new id, extendsCommandId the command it continues (not 0,
+    // not commandId), target that command's, maxDurationS the extra work, in
+    // (0, 6553.5] s). Refusal::kNone when sent.
     instrument::Refusal command(instrument::Action action, std::uint8_t target, std::uint16_t commandId,
-                                double maxDurationS);
+                                double maxDurationS, std::uint16_t extendsCommandId = 0);
     // Once per cycle, after the frames of the cycle: liveness.
     void step(core::TimeNs now);
 

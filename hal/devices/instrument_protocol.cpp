@@ -28,6 +28,8 @@ const char* toString(Action action) {
             return "image";
         case Action::kCancel:
             return "cancel";
+        case Action::kExtend:
+            return "extend";
     }
     return "?";
 }
@@ -79,7 +81,7 @@ const char* toString(Refusal refusal) {
         case Refusal::kMalformed:
             return "malformed command";
         case Refusal::kNoSuchCommand:
-            return "cancel: no such command running";
+            return "cancel or extend: no such command running";
         case Refusal::kOffline:
             return "instrument offline";
         case Refusal::kNotSent:
@@ -105,6 +107,9 @@ void encodeCommand(Kind kind, const Command& command, CanFrame* frame) {
     frame->data[1] = command.target;
     le::putU16(&frame->data[2], command.commandId);
     le::putU16(&frame->data[4], command.maxDurationDs);
+    if (command.action == Action::kExtend) {
+        le::putU16(&frame->data[6], command.extendsCommandId);
+    }
 }
 
 bool decodeCommand(const CanFrame& frame, Command* command, Refusal* why) {
@@ -112,8 +117,12 @@ bool decodeCommand(const CanFrame& frame, Command* command, Refusal* why) {
     command->target = frame.data[1];
     command->commandId = le::getU16(&frame.data[2]);
     command->maxDurationDs = le::getU16(&frame.data[4]);
-    if (frame.dlc != kFrameDlc || frame.remote() || command->commandId == 0 || frame.data[6] != 0 ||
-        frame.data[7] != 0) {
+    const bool extend = command->action == Action::kExtend;
+    command->extendsCommandId = extend ? le::getU16(&frame.data[6]) : 0;
+    const bool reservedOk = extend ? command->extendsCommandId != 0 && command->extendsCommandId != command->commandId &&
+                                         command->maxDurationDs != 0
+                                   : frame.data[6] == 0 && frame.data[7] == 0;
+    if (frame.dlc != kFrameDlc || frame.remote() || command->commandId == 0 || !reservedOk) {
         *why = Refusal::kMalformed;
         return false;
     }

@@ -6,16 +6,26 @@
 // Two instruments, each an RSE device node with a CANopen-style heartbeat:
 //   grinder/sampler  node 0x24, status 0x6A5, command 0x6B5: sample, dig
 //   camera           node 0x25, status 0x6A6, command 0x6B6: image
-// Both take cancel. Every frame is 8 bytes, little-endian.
+// Both take cancel and extend. Every frame is 8 bytes, little-endian.
 //
 // Command (master -> instrument):
-//   0    action: 1 sample, 2 dig, 3 image, 4 cancel
-//   1    science target id 1..255 (cancel: 0, or the target of the command)
+//   0    action: 1 sample, 2 dig, 3 image, 4 cancel, 5 extend
+//   1    science target id 1..255 (cancel: 0, or the target of the command;
+//        extend: the target of the command it continues)
 //   2-3  command id u16, 1..65535, chosen by the master; cancel: the id of the
-//        command to cancel (it must be the one running)
+//        command to cancel (it must be the one running); extend: a new id, the
+//        follow-on's, other than the one it continues
 //   4-5  max duration u16 [0.1 s]: the instrument gives up (failed, timed out)
-//        when the work is not done by then; 0: no limit (cancel: 0)
-//   6-7  reserved, 0
+//        when the work is not done by then; 0: no limit (cancel: 0).
+//        extend: the extra work, 1..65535 [0.1 s]
+//   6-7  reserved, 0; extend: the id of the command it continues (it must be
+//        the one running, on that target)
+// Extend (a follow-on request): the command running goes on for the extra
+// work on the same target, and is from then on known by the follow-on's id
+// (its status reports name it, with the action of the command continued);
+// its max duration, counted from the original command's start, is unchanged.
+// Taken: the status names the new id at once; not: a refusal naming it (7
+// when the command named is not the one running, or not on that target).
 // Report (instrument -> master): byte 0 = kind << 4 | state, then
 //   1    action of the command in bytes 3-4 (0 none; never cancel)
 //   2    its target id (0 none)
@@ -53,8 +63,8 @@ enum class Kind : std::uint8_t { kGrinder = 0, kCamera = 1 };
 constexpr std::size_t kCount = 2;
 const char* toString(Kind kind);  // "grinder", "camera"
 
-enum class Action : std::uint8_t { kNone = 0, kSample = 1, kDig = 2, kImage = 3, kCancel = 4 };
-constexpr std::uint8_t kLastAction = 4;
+enum class Action : std::uint8_t { kNone = 0, kSample = 1, kDig = 2, kImage = 3, kCancel = 4, kExtend = 5 };
+constexpr std::uint8_t kLastAction = 5;
 const char* toString(Action action);
 
 enum class State : std::uint8_t { kIdle = 0, kBusy = 1, kDone = 2, kFailed = 3 };
@@ -82,7 +92,7 @@ enum class Refusal : std::uint8_t {
     kFaulted = 5,            // the instrument is faulted
     kMalformed = 6,          // command id 0, reserved bytes not 0, a length other than 8, max duration
                              // out of range (flight side)
-    kNoSuchCommand = 7,      // cancel naming a command that is not running
+    kNoSuchCommand = 7,      // cancel or extend naming a command that is not running (extend: or not on its target)
     kOffline = 8,            // flight side: no status from the instrument, not sent
     kNotSent = 9,            // flight side: the CAN controller refused the frame
 };
@@ -110,7 +120,8 @@ constexpr Ids idsOf(Kind kind) {
                : Ids{kCameraNodeId, device_ids::kCameraStatus, device_ids::kCameraCommand};
 }
 
-// The actions an instrument works on (cancel is taken by both, but is no work).
+// The actions an instrument works on (cancel and extend are taken by both, but
+// are no work of their own: extend continues the command running).
 constexpr bool doesWork(Kind kind, Action action) {
     return kind == Kind::kGrinder ? (action == Action::kSample || action == Action::kDig)
                                   : action == Action::kImage;
@@ -120,7 +131,8 @@ struct Command {
     Action action = Action::kNone;
     std::uint8_t target = 0;
     std::uint16_t commandId = 0;
-    std::uint16_t maxDurationDs = 0;  // [0.1 s], 0: no limit
+    std::uint16_t maxDurationDs = 0;     // [0.1 s], 0: no limit; extend: the extra work, >= 1
+    std::uint16_t extendsCommandId = 0;  // extend: the command it continues (bytes 6-7); else 0
 };
 
 struct Report {
@@ -141,8 +153,9 @@ bool durationField(double seconds, std::uint16_t* field);
 
 void encodeCommand(Kind kind, const Command& command, CanFrame* frame);
 // A command frame as the instrument reads it: false (*why: kMalformed) for a
-// length other than 8, RTR, command id 0, reserved bytes not 0; an action
-// outside 1..4 decodes (the instrument refuses it as unsupported).
+// length other than 8, RTR, command id 0, reserved bytes not 0 (extend: the
+// command it continues 0 or its own id, extra work 0); an action outside 1..5
+// decodes (the instrument refuses it as unsupported).
 bool decodeCommand(const CanFrame& frame, Command* command, Refusal* why);
 
 void encodeReport(Kind kind, const Report& report, CanFrame* frame);

@@ -109,6 +109,12 @@ void InstrumentEmulator::take(const hal::CanFrame& frame, core::TimeNs now) {
             ++stats_.cancelled;
             finish(State::kIdle, Result::kCancelled);
         }
+    } else if (c.action == Action::kExtend) {
+        if (state_ != State::kBusy || c.extendsCommandId != commandId_ || c.target != target_) {
+            refuse(c, Refusal::kNoSuchCommand);
+        } else {
+            extend(c, now);
+        }
     } else if (!inst::doesWork(kind_, c.action)) {
         refuse(c, Refusal::kUnsupportedAction);
     } else if (state_ == State::kBusy) {
@@ -136,6 +142,16 @@ void InstrumentEmulator::accept(const inst::Command& c, core::TimeNs now) {
     durationNs_ = static_cast<core::TimeNs>(std::llround(nominal * factor * 1e9));
     durationNs_ = durationNs_ > 0 ? durationNs_ : 1;
     maxDurationNs_ = static_cast<core::TimeNs>(c.maxDurationDs) * (core::kNsPerSec / 10);
+    report();
+}
+
+void InstrumentEmulator::extend(const inst::Command& c, core::TimeNs now) {
+    ++stats_.extended;
+    commandId_ = c.commandId;
+    durationNs_ += static_cast<core::TimeNs>(c.maxDurationDs) * (core::kNsPerSec / 10);
+    const auto pct = static_cast<std::int64_t>(100.0 * static_cast<double>(now - started_) /
+                                               static_cast<double>(durationNs_));
+    progress_ = static_cast<std::uint8_t>(pct < 0 ? 0 : (pct > 99 ? 99 : pct));
     report();
 }
 

@@ -1,7 +1,7 @@
 // Science instruments (docs/icd.md §1.7; the protocol and its codec:
 // hal/devices/instrument_protocol.hpp):
-//   grinder/sampler  node 0x24, reports 0x6A5, commands 0x6B5: sample, dig, cancel
-//   camera           node 0x25, reports 0x6A6, commands 0x6B6: image, cancel
+//   grinder/sampler  node 0x24, reports 0x6A5, commands 0x6B5: sample, dig, cancel, extend
+//   camera           node 0x25, reports 0x6A6, commands 0x6B6: image, cancel, extend
 // One class, parameterised by the instrument. Like the other RSE devices it
 // boots, heartbeats every 100 ms and answers NMT (DeviceEmulator).
 //
@@ -21,6 +21,11 @@
 //            out of reach: the rover moved the target beyond reachM meanwhile;
 //   idle     cancelled: a cancel naming it (a cancel naming anything else is
 //            refused, no such command).
+// Extend (a follow-on request) naming the command running, on its target: the
+// work goes on for the extra time asked (added to its duration, no new draw),
+// under the follow-on's id from then on (the status names it at once); its max
+// duration, from the original start, is unchanged, so a follow-on past it times
+// out there. An extend naming anything else is refused (no such command).
 // Between commands it reports its state every 100 ms: idle, or done / failed
 // with the last command.
 //
@@ -68,6 +73,7 @@ struct InstrumentStats {
     std::uint32_t completed = 0;   // done
     std::uint32_t failed = 0;      // timed out, out of reach, aborted
     std::uint32_t cancelled = 0;
+    std::uint32_t extended = 0;    // follow-ons taken (extend)
     std::uint32_t ignored = 0;     // command frames ignored: silent fault, NMT stopped
     std::uint32_t rxOverflow = 0;  // command frames beyond kInstrumentRxQueue in one step
 };
@@ -102,6 +108,7 @@ private:
 
     void take(const hal::CanFrame& frame, core::TimeNs now);
     void accept(const hal::instrument::Command& command, core::TimeNs now);
+    void extend(const hal::instrument::Command& command, core::TimeNs now);
     void work(core::TimeNs now);
     void finish(hal::instrument::State state, hal::instrument::Result result);
     void refuse(const hal::instrument::Command& command, hal::instrument::Refusal why);

@@ -45,10 +45,13 @@ core::Status LockstepRig::initWith(std::FILE* console) {
     const core::Status s = fsw_.init(console);
     if (core::isOk(s)) {
         drives_.powerOn();
-        // A frame brings one drive status and at most one status per instrument.
+        // A frame brings one drive status, at most one status per instrument
+        // and a few commands (the plan executive's, at 10 Hz).
         (void)fsw_.bus().createPipe("test-probe", 16, &probe_);
         (void)fsw_.bus().subscribe(probe_, msg::ids::kDriveStatus);
         (void)fsw_.bus().subscribe(probe_, msg::ids::kInstrumentStatus);
+        (void)fsw_.bus().subscribe(probe_, msg::ids::kInstrumentCommand);
+        (void)fsw_.bus().subscribe(probe_, msg::ids::kPlanGoal);
     }
     return s;
 }
@@ -98,7 +101,7 @@ void LockstepRig::commandBody(double speedMS, double yawRateRadS) {
 }
 
 void LockstepRig::commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
-                                    std::uint16_t commandId, double maxDurationS) {
+                                    std::uint16_t commandId, double maxDurationS, std::uint16_t extendsCommandId) {
     msg::InstrumentCommandMsg cmd{};
     cmd.timeNs = clock_.now();
     cmd.instrument = instrument;
@@ -106,6 +109,7 @@ void LockstepRig::commandInstrument(msg::Instrument instrument, msg::InstrumentA
     cmd.targetId = targetId;
     cmd.commandId = commandId;
     cmd.maxDurationS = maxDurationS;
+    cmd.extendsCommandId = extendsCommandId;
     (void)fsw_.bus().publish(cmd);
 }
 
@@ -147,6 +151,7 @@ std::array<hal::CanBus*, kWheelCount> LockstepRig::attachDrives() {
 
 void LockstepRig::drainProbe() {
     msg::InstrumentStatusMsg instrument{};
+    msg::InstrumentCommandMsg command{};
     while (core::isOk(fsw_.bus().receive(probe_, &inbox_))) {
         if (core::isOk(inbox_.decode(&status_))) {
             ++statusCount_;
@@ -154,6 +159,12 @@ void LockstepRig::drainProbe() {
                    static_cast<std::size_t>(instrument.instrument) < msg::kInstrumentCount) {
             instruments_[static_cast<std::size_t>(instrument.instrument)] = instrument;
             ++instrumentCount_;
+        } else if (core::isOk(inbox_.decode(&command)) &&
+                   static_cast<std::size_t>(command.instrument) < msg::kInstrumentCount) {
+            commands_[static_cast<std::size_t>(command.instrument)] = command;
+            ++commandCount_[static_cast<std::size_t>(command.instrument)];
+        } else if (core::isOk(inbox_.decode(&planGoal_))) {
+            ++planGoalCount_;
         }
     }
 }

@@ -19,6 +19,7 @@
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/instrument_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/nvm/record_store.hpp"
 #include "sim_stub/drives/drive_bank.hpp"
@@ -70,9 +71,10 @@ public:
     void commandBody(double speedMS, double yawRateRadS);
     bool allDrivesOperational() const;
     // What the plan executive would publish: one command to a science instrument
-    // (cancel: commandId names the command to stop).
+    // (cancel: commandId names the command to stop; extend: commandId is the
+    // follow-on's id, extendsCommandId the command it continues, maxDurationS the extra work).
     void commandInstrument(msg::Instrument instrument, msg::InstrumentAction action, std::uint8_t targetId,
-                           std::uint16_t commandId, double maxDurationS = 0.0);
+                           std::uint16_t commandId, double maxDurationS = 0.0, std::uint16_t extendsCommandId = 0);
 
     // Occurrences of text in what the memory console has written so far (e.g. "EVT 434 ").
     unsigned consoleCount(const char* text);
@@ -93,6 +95,19 @@ public:
         return instruments_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
     }
     std::uint32_t instrumentStatusCount() const { return instrumentCount_; }
+    // What was commanded on the flight bus (by the plan executive, or by
+    // commandInstrument above): the latest InstrumentCommandMsg to each
+    // instrument and how many came, and the latest PlanGoalMsg (the plan
+    // executive's drive goals to the deliberative layer) and how many came.
+    // Taken after every frame, so a count that moved names the frame.
+    const msg::InstrumentCommandMsg& instrumentCommand(msg::Instrument instrument) const {
+        return commands_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
+    }
+    std::uint32_t instrumentCommandCount(msg::Instrument instrument) const {
+        return commandCount_[static_cast<std::size_t>(instrument) % msg::kInstrumentCount];
+    }
+    const msg::PlanGoalMsg& planGoal() const { return planGoal_; }
+    std::uint32_t planGoalCount() const { return planGoalCount_; }
     void setOnFrame(void (*callback)(LockstepRig&)) { onFrame_ = callback; }
 
 private:
@@ -115,6 +130,10 @@ private:
     std::uint32_t statusCount_ = 0;
     msg::InstrumentStatusMsg instruments_[msg::kInstrumentCount] = {};
     std::uint32_t instrumentCount_ = 0;
+    msg::InstrumentCommandMsg commands_[msg::kInstrumentCount] = {};
+    std::uint32_t commandCount_[msg::kInstrumentCount] = {};
+    msg::PlanGoalMsg planGoal_{};
+    std::uint32_t planGoalCount_ = 0;
     void (*onFrame_)(LockstepRig&) = nullptr;
     std::FILE* memoryConsole_ = nullptr;  // owned: the fmemopen stream over consoleText_
     char consoleBuffer_[4096] = {};

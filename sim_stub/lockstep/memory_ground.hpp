@@ -64,9 +64,21 @@ public:
         while (core::isOk(link_.groundReceive(buffer_, sizeof buffer_, &length))) {
             ++downlinked_;
             noteTaskTiming(length);
+            noteTableStatus(length);
             keepPacket(length);
         }
     }
+    // The latest TABLE_STATUS (sent after every table command), as an operator
+    // reads it: which table, its active image's CRC, the command's reject code.
+    struct TableStatusSeen {
+        std::uint32_t packets = 0;  // TABLE_STATUS packets seen so far
+        std::uint16_t tableId = 0;
+        std::uint32_t activeCrc = 0;
+        std::uint8_t lastReject = 0;
+        std::uint32_t activations = 0;
+    };
+    const TableStatusSeen& tableStatus() const { return tableStatus_; }
+
     // Keeps the latest packet of one APID (0: none) for a test to decode.
     void keepApid(std::uint16_t apid) { keptApid_ = apid; }
     const std::uint8_t* kept() const { return kept_; }
@@ -121,6 +133,28 @@ private:
         t.known = r.ok();
     }
 
+    // A TABLE_STATUS packet in buffer_ (fields in the dictionary's order).
+    void noteTableStatus(std::size_t length) {
+        if (length != cmdtlm::kTelemetryHeaderSize + cmdtlm::kTABLE_STATUS_TlmSize ||
+            cmdtlm::decodePrimaryHeader(buffer_).apid != cmdtlm::TABLE_STATUS_Tlm::kApid) {
+            return;
+        }
+        core::BeReader r(buffer_ + cmdtlm::kTelemetryHeaderSize, cmdtlm::kTABLE_STATUS_TlmSize);
+        TableStatusSeen s = tableStatus_;
+        s.tableId = r.u16();
+        (void)r.u8();   // inactive_state
+        (void)r.u16();  // inactive_length
+        (void)r.u32();  // active_version
+        s.activeCrc = r.u32();
+        s.lastReject = r.u8();
+        (void)r.u16();  // last_reject_field
+        s.activations = r.u32();
+        if (r.ok()) {
+            ++s.packets;
+            tableStatus_ = s;
+        }
+    }
+
     hal::MemoryPacketLink link_;
     cmdtlm::HmacSha256 hmac_;
     bool hmacReady_ = false;
@@ -130,6 +164,7 @@ private:
     std::size_t lastTaskRow_ = kRows;
     TaskSeen tasks_[kRows] = {};
     std::uint8_t buffer_[hal::kMemoryLinkMaxPacket] = {};
+    TableStatusSeen tableStatus_{};
     std::uint16_t keptApid_ = 0;
     std::uint8_t kept_[hal::kMemoryLinkMaxPacket] = {};
     std::size_t keptLength_ = 0;

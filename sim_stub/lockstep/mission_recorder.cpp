@@ -50,6 +50,7 @@ void MissionRecorder::onMessage(const core::Message& message) {
 
 void MissionRecorder::frame() {
     app::FswApp& fsw = rig_.fsw();
+    tracker_.setMap(fsw.tables().coarseMap());  // the one in force (the runner uplinks the scenario's)
     core::Event e;
     while (core::isOk(fsw.events().read(&cursor_, &e))) {
         tracker_.onEvent(ground::FlightEvent{seconds(e.time), e.id, static_cast<std::uint8_t>(e.severity), e.text});

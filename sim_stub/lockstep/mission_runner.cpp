@@ -19,6 +19,7 @@
 #include "ground/mission_points.hpp"
 #include "ground/mission_report.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
+#include "sim_stub/lockstep/map_upload.hpp"
 #include "sim_stub/lockstep/mission_recorder.hpp"
 #include "sim_stub/lockstep/memory_ground.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
@@ -621,11 +622,29 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
         ground.drainDownlink();
         watch.drain();
         recorder.frame();
+        if (o.onFrame) {
+            o.onFrame(*rig);
+        }
     };
 
     if (!rig->runUntil([&] { service(); return rig->allDrivesOperational(); }, kDrivesUpLimitNs)) {
         return setupFailed(summary, "the drives did not become operational");
     }
+    // The scenario's site and known rocks, as the operator uplinks them.
+    Scenario uplinked = rig->scenario();
+    if (o.editUplinkedMap) {
+        o.editUplinkedMap(uplinked);
+    }
+    const MapUploadResult map = uploadCoarseMap(uplinked, ground, *rig, service);
+    if (!map.ok) {
+        return setupFailed(summary, "the scenario's coarse map was not uploaded: " + map.error);
+    }
+    char mapLine[200];
+    std::snprintf(mapLine, sizeof mapLine,
+                  "ground: COARSE_MAP of the scenario (%zu known obstacles, %zu B, CRC-32 0x%08x) loaded in %zu "
+                  "TABLE_LOAD chunks, validated, activated",
+                  map.obstacles, map.bytes, static_cast<unsigned>(map.crc), map.chunks);
+    say(out, *rig, mapLine);
     say(out, *rig, "all six drives operational; ground: SET_MODE AUTONOMOUS");
     if (!ground.setMode(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)) ||
         !rig->runUntil([&] { service(); return watch.modeIs(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)); },

@@ -31,6 +31,8 @@
 
 namespace rse::sim {
 
+class LockstepRig;
+
 constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
 constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
 constexpr const char* kDefaultReportDir = "build/mission";
@@ -53,6 +55,14 @@ struct MissionOptions {
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
     // before the rig is built; applied after --no-faults.
     std::function<void(Scenario&)> editScenario;
+    // Changes to what the operator uplinks as COARSE_MAP (by default the
+    // scenario's site and known rocks): an orbital survey that covers less
+    // than the world, a rock the survey placed wrong.
+    std::function<void(Scenario&)> editUplinkedMap;
+    // Tools (rse-montecarlo): called once the rig is up and then after every
+    // frame, to read what they measure of the flight software and the
+    // simulator; it must change neither.
+    std::function<void(LockstepRig&)> onFrame;
 };
 
 enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };

@@ -67,7 +67,10 @@ bool World::checkContacts(Vec2 centre) {
     truth_.inContact = anyContact;
     const bool edge = !terrain_.bounds().containsDisc(centre, rover_.radiusM);
     if (edge && !edgeContact_) {
+        // The map's edge is where the site's knowledge ends (a cliff, a crater
+        // rim, the edge of the orbital survey): touching it is a collision.
         ++truth_.mapEdgeHits;
+        ++truth_.collisions;
     }
     edgeContact_ = edge;
     truth_.atMapEdge = edge;

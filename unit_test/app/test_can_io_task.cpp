@@ -384,13 +384,18 @@ TEST(CanIoInstruments, CommandsGoOutStatusIsPublishedOnChangeAndAt1HzAndBadMessa
     CHECK(core::Status::kOk == rig.bus.publish(cmd));
     s.run(kFrame);
     collect();
-    hal::CanFrame f;
-    std::vector<hal::CanFrame> commands;
-    while (core::isOk(instrumentEnd->receive(&f))) {
-        if (f.id == hal::device_ids::kGrinderCommand) {
-            commands.push_back(f);
+    // The grinder's command frames sent since the last call.
+    const auto grinderCommands = [&] {
+        hal::CanFrame f;
+        std::vector<hal::CanFrame> out;
+        while (core::isOk(instrumentEnd->receive(&f))) {
+            if (f.id == hal::device_ids::kGrinderCommand) {
+                out.push_back(f);
+            }
         }
-    }
+        return out;
+    };
+    std::vector<hal::CanFrame> commands = grinderCommands();
     LONGS_EQUAL(1, commands.size());
     hal::instrument::Command c;
     hal::instrument::Refusal why = hal::instrument::Refusal::kNone;
@@ -412,6 +417,28 @@ TEST(CanIoInstruments, CommandsGoOutStatusIsPublishedOnChangeAndAt1HzAndBadMessa
     LONGS_EQUAL(1, latest[0].commandsAccepted);
     CHECK(latest[1].lastRefusal == msg::InstrumentRefusal::kOffline);
     LONGS_EQUAL(1, latest[1].commandsNotSent);
+    // A follow-on (extend) of the dig goes out with the id it continues and its extra work.
+    cmd = msg::InstrumentCommandMsg{};
+    cmd.instrument = msg::Instrument::kGrinder;
+    cmd.action = msg::InstrumentAction::kExtend;
+    cmd.targetId = 12;
+    cmd.commandId = 601;
+    cmd.extendsCommandId = 600;
+    cmd.maxDurationS = 30.0;
+    CHECK(core::Status::kOk == rig.bus.publish(cmd));
+    s.run(kFrame);
+    collect();
+    commands = grinderCommands();
+    LONGS_EQUAL(1, commands.size());
+    CHECK_TRUE(hal::instrument::decodeCommand(commands[0], &c, &why));
+    CHECK(c.action == hal::instrument::Action::kExtend);
+    LONGS_EQUAL(601, c.commandId);
+    LONGS_EQUAL(600, c.extendsCommandId);
+    LONGS_EQUAL(300, c.maxDurationDs);
+    LONGS_EQUAL(2, latest[0].commandsSent);
+    cmd.instrument = msg::Instrument::kCamera;
+    cmd.action = msg::InstrumentAction::kImage;
+    cmd.extendsCommandId = 0;
     // Malformed or naming no instrument: dropped, counted, event 211.
     cmd.instrument = static_cast<msg::Instrument>(2);
     CHECK(core::Status::kOk == rig.bus.publish(cmd));

@@ -11,6 +11,7 @@
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
 #include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "hal/can/memory_can_bus.hpp"
 #include "hal/link/memory_packet_link.hpp"
@@ -218,6 +219,43 @@ TEST(GroundCommands, GoalsAndRiskBoundShowInThePlanPacket) {
     LONGS_EQUAL(1, static_cast<long>(field(waiting, "status")));
     LONGS_EQUAL(1, static_cast<long>(field(waiting, "goal_count")));
     LONGS_EQUAL(0, static_cast<long>(field(waiting, "waypoint_count")));
+}
+
+// PLAN_EXTEND: refused by mode in SAFE; in STANDBY passed to the plan
+// executive as a PlanCommandMsg (the extra time in ms, the name's bytes),
+// which refuses it with no plan running: event 976, PLAN_EXEC's counters.
+TEST(GroundCommands, PlanExtendReachesThePlanExecutiveWhichSaysWhyItRefusesIt) {
+    CHECK(core::isOk(fsw.bus().subscribe(probe, msg::ids::kPlanCommand)));
+    std::vector<std::uint8_t> args = f32s({12.34F});
+    const char* name = "sample1";
+    args.insert(args.end(), name, name + std::strlen(name));
+    send("PLAN_EXTEND", args);  // SAFE at start
+    runFrames(3);
+    CHECK(static_cast<long>(field(last("CMD_ACK"), "reason")) != 0);
+    send("SET_MODE", {1});
+    send("PLAN_EXTEND", args);
+    runFrames(2);
+    expectAccepted("PLAN_EXTEND");
+    core::Message m;
+    msg::PlanCommandMsg plan{};
+    bool seen = false;
+    while (core::isOk(fsw.bus().receive(probe, &m))) {
+        if (m.header.id == msg::ids::kPlanCommand) {
+            CHECK(core::isOk(m.decode(&plan)));
+            seen = true;
+        }
+    }
+    CHECK_TRUE(seen);
+    CHECK(plan.kind == msg::PlanCommandKind::kExtend);
+    LONGS_EQUAL(12340, plan.extendMs);
+    LONGS_EQUAL(7, plan.length);
+    MEMCMP_EQUAL(name, plan.data, 7);
+    runFrames(150);
+    LONGS_EQUAL(1, eventCount(976));
+    const Packet& exec = last("PLAN_EXEC");
+    LONGS_EQUAL(1, static_cast<long>(field(exec, "extensions_refused")));
+    LONGS_EQUAL(1, static_cast<long>(field(exec, "last_extension_refusal")));  // unknown activity: no plan
+    LONGS_EQUAL(0, static_cast<long>(field(exec, "extensions")));
 }
 
 TEST(GroundCommands, ManualDriveTurnsIntoSkidSteerWheelSpeedsAndStops) {

@@ -1,7 +1,8 @@
 // Test support for the ground tool: a fake rover that checks command packets
 // with the flight's own CommandValidator (lab key, anti-replay window, modes) and
 // answers as the flight does (one CMD_ACK per command, then an HK), reachable
-// in memory (FakeRoverLink) or over UDP; and a temporary directory.
+// in memory (FakeRoverLink) or over UDP; a temporary directory; and the CLI run
+// in memory (cli(), CliRig).
 #pragma once
 
 #include <algorithm>
@@ -10,6 +11,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <deque>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <memory>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -23,8 +29,13 @@
 #include "hal/nvm/record_store.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/core/byte_codec.hpp"
+#include "fsw/core/crc32.hpp"
 #include "fsw/tables/table_image.hpp"
+#include "ground/command_encoder.hpp"
+#include "ground/ground_cli.hpp"
 #include "ground/ground_link.hpp"
+#include "ground/ground_session.hpp"
+#include "ground/sequence_store.hpp"
 
 namespace rse::test {
 
@@ -56,6 +67,15 @@ public:
     std::uint32_t accepted = 0;
     std::uint32_t rejected = 0;
     bool answer = true;                       // false: silent (no link)
+    // The plan executive, as far as the ground sees it: PLAN_LOAD chunks
+    // assembled (a gap spoils the upload, event 952, as the flight's), and
+    // PLAN_START checked for length and CRC-32 then answered with planVerdict.
+    std::string planText;                     // what PLAN_LOAD chunks built
+    std::string planTaken;                    // the text of the last good PLAN_START or PLAN_SHORT
+    std::size_t planChunks = 0;               // PLAN_LOAD commands accepted
+    std::size_t planLoseChunk = SIZE_MAX;     // this chunk (0 first) acknowledged but lost (a full pipe)
+    std::uint16_t planVerdict = 950;          // the event a good plan gets (953: parse refusal)
+    bool planEvents = true;                   // false: the executive says nothing
 
     void setAuthRequired(bool required) { validator_.setAuthRequired(required); }
     // The flight's persisted anti-replay state over `store` (read now, as at start-up).
@@ -154,9 +174,57 @@ private:
                 }
                 break;
             }
+            case cmdtlm::CommandCode::PLAN_LOAD: {
+                cmdtlm::PLAN_LOAD_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                if (planChunks++ == planLoseChunk) {
+                    return;
+                }
+                planSpoiled_ = a.offset == 0 ? false : planSpoiled_;
+                planText.resize(a.offset == 0 ? 0 : planText.size());
+                if (planSpoiled_ || a.offset > planText.size()) {
+                    planSpoiled_ = true;
+                    planEvent(952, 3, "plan_exec: refused (gap): chunk beyond the text assembled so far", after);
+                    return;
+                }
+                planText.resize(std::max<std::size_t>(planText.size(), a.offset + a.data_length));
+                std::memcpy(&planText[a.offset], a.data, a.data_length);
+                break;
+            }
+            case cmdtlm::CommandCode::PLAN_START: {
+                cmdtlm::PLAN_START_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                if (planSpoiled_ || a.length != planText.size()) {
+                    planEvent(952, 3, "plan_exec: refused (gap or bad length)", after);
+                } else if (a.crc32 != core::crc32(planText.data(), planText.size())) {
+                    planEvent(952, 3, "plan_exec: refused (bad CRC-32)", after);
+                } else {
+                    planTaken = planText;
+                    planEvent(planVerdict, planVerdict == 950 ? 1 : 3, "plan_exec: verdict", after);
+                }
+                break;
+            }
+            case cmdtlm::CommandCode::PLAN_SHORT: {
+                cmdtlm::PLAN_SHORT_Args a{};
+                cmdtlm::decodeArgs(r, &a);
+                planTaken.assign(reinterpret_cast<const char*>(a.text), a.text_length);
+                planEvent(planVerdict, planVerdict == 950 ? 1 : 3, "plan_exec: verdict", after);
+                break;
+            }
             default:
                 break;
         }
+    }
+    void planEvent(std::uint16_t id, std::uint8_t severity, const char* text,
+                   std::vector<std::vector<std::uint8_t>>* after) const {
+        if (!planEvents) {
+            return;
+        }
+        cmdtlm::EVENT_Tlm e{};
+        e.event_id = id;
+        e.severity = severity;
+        std::strncpy(e.text, text, sizeof e.text - 1);
+        after->push_back(telemetryPacket(e));
     }
     static void fail(cmdtlm::CommandVerdict& v, tables::TableReject reason) {
         v.reason = cmdtlm::CommandReject::kExecutionFailed;
@@ -166,6 +234,7 @@ private:
     cmdtlm::KeyStore keys_;
     cmdtlm::HmacSha256 hmac_;
     cmdtlm::CommandValidator validator_;
+    bool planSpoiled_ = false;
 };
 
 // The fake rover behind an in-memory GroundLink.
@@ -231,6 +300,97 @@ public:
 
 private:
     std::string path_;
+};
+
+// A ground session (lab key, acknowledgements waited for 0.3 s) on the fake
+// rover, with its own state directory; what it prints captured.
+struct SessionRig {
+    FakeRover rover;
+    FakeRoverLink link{rover};
+    TempDir dir;
+    ground::SequenceStore store{dir.path()};
+    ground::GroundSession session{link, store, ground::labKeyAuth(), 0.3};
+    std::ostringstream out;
+    std::ostringstream err;
+};
+
+// A file's bytes ("" when it cannot be read).
+inline std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// A plan padded with comment lines before its last line ("end") to exactly
+// `size` bytes: the same plan to the parser, as long as asked.
+inline std::string paddedPlan(const std::string& plan, std::size_t size) {
+    const std::size_t end = plan.rfind("end");
+    std::string head = plan.substr(0, end);
+    const std::string tail = plan.substr(end);
+    while (head.size() + tail.size() < size) {
+        const std::size_t room = size - head.size() - tail.size();
+        const std::size_t line = room < 80 ? room : 80;
+        head += line == 1 ? std::string("\n") : "#" + std::string(line - 2, 'x') + "\n";
+    }
+    return head + tail;
+}
+
+// rse-ground's command line in memory: argv from args, out and err captured;
+// with a factory, the links the CLI opens are the factory's.
+struct CliResult {
+    int rc = -1;
+    std::string out;
+    std::string err;
+};
+
+inline CliResult cli(std::vector<std::string> args, const ground::LinkFactory& factory = ground::LinkFactory()) {
+    args.insert(args.begin(), "rse-ground");
+    std::vector<char*> argv;
+    for (std::string& a : args) {
+        argv.push_back(a.data());
+    }
+    argv.push_back(nullptr);
+    std::ostringstream out;
+    std::ostringstream err;
+    CliResult r;
+    r.rc = factory ? ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err, factory)
+                   : ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err);
+    r.out = out.str();
+    r.err = err.str();
+    return r;
+}
+
+// Hands the CLI a link the test keeps (the CLI owns what it gets).
+class BorrowedLink final : public ground::GroundLink {
+public:
+    explicit BorrowedLink(ground::GroundLink& inner) : inner_(inner) {}
+    void send(const std::vector<std::uint8_t>& packet) override { inner_.send(packet); }
+    std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) override {
+        return inner_.receive(timeoutSeconds);
+    }
+    std::string describe() const override { return inner_.describe(); }
+
+private:
+    ground::GroundLink& inner_;
+};
+
+// The CLI against the fake rover (no sockets, no threads: the aarch64 suite runs
+// under qemu-user), with its own state directory.
+struct CliRig {
+    test::FakeRover rover;
+    test::FakeRoverLink link{rover};
+    test::TempDir dir;
+    int linksOpened = 0;
+    bool lastListen = false;
+
+    CliResult run(std::vector<std::string> args) {
+        args.insert(args.begin(), {"--state-dir", dir.path()});
+        const ground::LinkFactory factory = [this](bool listen) -> std::unique_ptr<ground::GroundLink> {
+            ++linksOpened;
+            lastListen = listen;
+            return std::make_unique<BorrowedLink>(link);
+        };
+        return cli(args, factory);
+    }
 };
 
 }  // namespace rse::test

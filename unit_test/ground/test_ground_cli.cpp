@@ -25,31 +25,11 @@
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
+using test::CliResult;
+using test::CliRig;
+using test::cli;
 
 namespace {
-
-struct CliResult {
-    int rc = -1;
-    std::string out;
-    std::string err;
-};
-
-CliResult cli(std::vector<std::string> args, const ground::LinkFactory& factory = ground::LinkFactory()) {
-    args.insert(args.begin(), "rse-ground");
-    std::vector<char*> argv;
-    for (std::string& a : args) {
-        argv.push_back(a.data());
-    }
-    argv.push_back(nullptr);
-    std::ostringstream out;
-    std::ostringstream err;
-    CliResult r;
-    r.rc = factory ? ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err, factory)
-                   : ground::runGroundCli(static_cast<int>(args.size()), argv.data(), out, err);
-    r.out = out.str();
-    r.err = err.str();
-    return r;
-}
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -77,40 +57,6 @@ public:
 private:
     int fd_ = -1;
     std::uint16_t port_ = 0;
-};
-
-// Hands the CLI a link to the rig's fake rover (the CLI owns what it gets).
-class BorrowedLink final : public ground::GroundLink {
-public:
-    explicit BorrowedLink(ground::GroundLink& inner) : inner_(inner) {}
-    void send(const std::vector<std::uint8_t>& packet) override { inner_.send(packet); }
-    std::optional<std::vector<std::uint8_t>> receive(double timeoutSeconds) override {
-        return inner_.receive(timeoutSeconds);
-    }
-    std::string describe() const override { return inner_.describe(); }
-
-private:
-    ground::GroundLink& inner_;
-};
-
-// The CLI against the fake rover (no sockets, no threads: the aarch64 suite runs
-// under qemu-user), with its own state directory.
-struct CliRig {
-    test::FakeRover rover;
-    test::FakeRoverLink link{rover};
-    test::TempDir dir;
-    int linksOpened = 0;
-    bool lastListen = false;
-
-    CliResult run(std::vector<std::string> args) {
-        args.insert(args.begin(), {"--state-dir", dir.path()});
-        const ground::LinkFactory factory = [this](bool listen) -> std::unique_ptr<ground::GroundLink> {
-            ++linksOpened;
-            lastListen = listen;
-            return std::make_unique<BorrowedLink>(link);
-        };
-        return cli(args, factory);
-    }
 };
 
 }  // namespace

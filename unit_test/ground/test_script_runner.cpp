@@ -44,15 +44,7 @@ ground::DecodedPacket hkWithMode(std::uint8_t mode) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-struct Rig {
-    test::FakeRover rover;
-    test::FakeRoverLink link{rover};
-    test::TempDir dir;
-    ground::SequenceStore store{dir.path()};
-    ground::GroundSession session{link, store, ground::labKeyAuth(), 0.3};
-    std::ostringstream out;
-    std::ostringstream err;
-
+struct Rig : test::SessionRig {
     int run(const std::string& text) {
         ground::ScriptRunner runner(session, out, err);
         return runner.run(parse(text), "test.rsc");

@@ -21,15 +21,7 @@ using namespace rse;
 
 namespace {
 
-struct Rig {
-    test::FakeRover rover;
-    test::FakeRoverLink link{rover};
-    test::TempDir dir;
-    ground::SequenceStore store{dir.path()};
-    ground::GroundSession session{link, store, ground::labKeyAuth(), 0.3};
-    std::ostringstream out;
-    std::ostringstream err;
-};
+using Rig = test::SessionRig;
 
 std::vector<std::uint8_t> geometryImage() { return ground::compileTableSource("tables/rover_geometry.toml"); }
 

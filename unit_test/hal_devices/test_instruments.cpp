@@ -134,6 +134,53 @@ TEST(InstrumentProtocol, CommandsRoundTripAndTheMaxDurationRoundsUpToATenth) {
     CHECK_FALSE(inst::decodeCommand(bad, &back, &why));
 }
 
+TEST(InstrumentProtocol, AnExtendCarriesTheCommandItContinuesAndItsExtraWork) {
+    inst::Command c;
+    c.action = Action::kExtend;
+    c.target = 3;
+    c.commandId = 0x0102;
+    c.maxDurationDs = 600;
+    c.extendsCommandId = 0x0A0B;
+    CanFrame f;
+    inst::encodeCommand(Kind::kCamera, c, &f);
+    LONGS_EQUAL(0x6B6, f.id);
+    const std::uint8_t expected[8] = {5, 3, 0x02, 0x01, 0x58, 0x02, 0x0B, 0x0A};
+    MEMCMP_EQUAL(expected, f.data, 8);
+    inst::Command back;
+    Refusal why = Refusal::kNone;
+    CHECK_TRUE(inst::decodeCommand(f, &back, &why));
+    CHECK(back.action == Action::kExtend);
+    LONGS_EQUAL(0x0A0B, back.extendsCommandId);
+    LONGS_EQUAL(600, back.maxDurationDs);
+    STRCMP_EQUAL("extend", inst::toString(Action::kExtend));
+    // Malformed: continuing nothing, itself, or with no extra work.
+    for (const int bad : {0, 1, 2}) {
+        CanFrame g = f;
+        if (bad == 0) {
+            g.data[6] = g.data[7] = 0;
+        } else if (bad == 1) {
+            g.data[6] = 0x02;
+            g.data[7] = 0x01;
+        } else {
+            g.data[4] = g.data[5] = 0;
+        }
+        why = Refusal::kNone;
+        CHECK_FALSE(inst::decodeCommand(g, &back, &why));
+        CHECK(why == Refusal::kMalformed);
+    }
+    // Bytes 6-7 stay reserved for every other action.
+    inst::Command s;
+    s.action = Action::kSample;
+    s.target = 1;
+    s.commandId = 9;
+    s.extendsCommandId = 0x0A0B;  // not sent
+    inst::encodeCommand(Kind::kGrinder, s, &f);
+    LONGS_EQUAL(0, f.data[6]);
+    LONGS_EQUAL(0, f.data[7]);
+    CHECK_TRUE(inst::decodeCommand(f, &back, &why));
+    LONGS_EQUAL(0, back.extendsCommandId);
+}
+
 TEST(InstrumentProtocol, ReportsRoundTripByteForByte) {
     const CanFrame s = statusFrame(Kind::kCamera, State::kBusy, Action::kImage, 9, 0x1234, 42);
     LONGS_EQUAL(0x6A6, s.id);
@@ -176,6 +223,7 @@ TEST(InstrumentProtocol, ReportsBreakingTheProtocolsInvariantsAreOutOfRange) {
         {raw({0x11, 3, 1, 1, 0, 10, 0, 0}), Kind::kGrinder},   // the grinder does not image
         {raw({0x11, 1, 1, 1, 0, 10, 0, 0}), Kind::kCamera},    // the camera does not sample
         {raw({0x11, 4, 1, 1, 0, 10, 0, 0}), Kind::kGrinder},   // cancel is no work
+        {raw({0x11, 5, 1, 1, 0, 10, 0, 0}), Kind::kGrinder},   // nor is extend (the work is the command's)
         {raw({0x11, 1, 1, 0, 0, 10, 0, 0}), Kind::kGrinder},   // busy without a command id
         {raw({0x10, 1, 0, 5, 0, 0, 0, 0}), Kind::kGrinder},    // a command without a target
         {raw({0x10, 0, 0, 0, 0, 0, 1, 0}), Kind::kGrinder},    // idle, no command, with a result
@@ -316,6 +364,40 @@ TEST(InstrumentClient, ACommandTheInstrumentCouldNotTakeIsNotSentAndSaysWhy) {
     CHECK(Refusal::kNotSent == grinder.command(Action::kSample, 3, 1, 0.0));
     LONGS_EQUAL(0, grinder.status().commandsSent);
     LONGS_EQUAL(1, grinder.status().commandsNotSent);
+}
+
+TEST(InstrumentClient, AnExtendIsCheckedSentAndItsFollowOnFollowed) {
+    Instrument grinder(*fsw, events, Kind::kGrinder);
+    grinder.onFrame(statusFrame(Kind::kGrinder, State::kBusy, Action::kSample, 4, 21, 30), 0);
+    const struct {
+        std::uint8_t target;
+        std::uint16_t id;
+        std::uint16_t extendsId;
+        double extraS;
+        Refusal why;
+    } bad[] = {
+        {4, 22, 0, 10.0, Refusal::kMalformed},   // continuing nothing
+        {4, 22, 22, 10.0, Refusal::kMalformed},  // itself
+        {4, 22, 21, 0.0, Refusal::kMalformed},   // no extra work
+        {4, 22, 21, 6553.6, Refusal::kMalformed},
+        {4, 22, 21, std::nan(""), Refusal::kMalformed},
+        {0, 22, 21, 10.0, Refusal::kUnknownTarget},
+        {4, 0, 21, 10.0, Refusal::kMalformed},
+    };
+    for (const auto& c : bad) {
+        CHECK(c.why == grinder.command(Action::kExtend, c.target, c.id, c.extraS, c.extendsId));
+    }
+    LONGS_EQUAL(7, grinder.status().commandsNotSent);
+    CHECK(sent().empty());
+    CHECK(Refusal::kNone == grinder.command(Action::kExtend, 4, 22, 12.34, 21));
+    const std::vector<CanFrame> out = sent();
+    LONGS_EQUAL(1, out.size());
+    const std::uint8_t expected[8] = {5, 4, 22, 0, 124, 0, 21, 0};  // 12.4 s: rounded up to 0.1 s
+    MEMCMP_EQUAL(expected, out[0].data, 8);
+    // Taken: the status names the follow-on, a new command id.
+    grinder.onFrame(statusFrame(Kind::kGrinder, State::kBusy, Action::kSample, 4, 22, 25), 100 * kMs);
+    LONGS_EQUAL(22, grinder.status().commandId);
+    LONGS_EQUAL(2, grinder.status().commandsAccepted);
 }
 
 TEST(InstrumentClient, ACommandsLifeIsFollowedAndEvented) {

@@ -261,6 +261,7 @@ TEST(LockstepFaultProtection, ARoverCarriedOffTheMapIsReplannedFromWhereItStands
         f.bearingRad = -0.5 * 3.141592653589793;
         sc.faults.push_back(f);
     };
+    o.editUplinkedMap = [](Scenario& sc) { sc.map.yMin = -10.0; };  // the orbital survey ends at -10 m
     const MissionSummary s = sim::runMission(o, printConsole() ? stdout : nullptr);
     report("slid 2.5 m south off the map at 25-27 s", s);
     const sim::MissionMark* offMap = firstFor(s, sim::MarkKind::kFaultRaised, 0.0, msg::fault::kOffMap);

@@ -9,79 +9,45 @@
 // Scenario: sim_stub/scenarios/two_targets.toml: the demo site, targets 1 at
 // (10, 0) and 2 at (20, 5), the grinder failing for good at 240 s, after it
 // sampled target 1 and while the rover drives to target 2.
+//
+// Opportunistic science (group LockstepExtension, the grinder healthy):
+// PLAN_EXTEND sent while a sample runs, taken (a follow-on to the simulated
+// grinder over CAN, the sample completing 60 s later than in the same run
+// without it, within its ub) or refused (beyond its ub; past a later
+// deadline, the plan then running as if nothing was asked).
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <iterator>
+#include <memory>
 #include <string>
 
-#include "fsw/core/byte_codec.hpp"
-#include "fsw/core/crc32.hpp"
 #include "fsw/msg/mode_msgs.hpp"
-#include "ground/telemetry_decoder.hpp"
-#include "sim_stub/lockstep/lockstep_rig.hpp"
-#include "sim_stub/lockstep/memory_ground.hpp"
 #include "unit_test/support/alloc_guard.hpp"
+#include "unit_test/support/plan_lockstep.hpp"
 
 #include "CppUTest/TestHarness.h"
 
 using namespace rse;
 using core::kNsPerMs;
 using core::kNsPerSec;
-
-namespace {
-
-sim::MemoryGround* g_ground = nullptr;
-void drain(sim::LockstepRig&) { g_ground->drainDownlink(); }
-
-std::string readFile(const char* path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-}  // namespace
+using test::readTextFile;
 
 TEST_GROUP(LockstepPlanExecutive) {
+    std::unique_ptr<test::PlanLockstep> session;
     sim::LockstepRig* rig = nullptr;
     sim::MemoryGround* ground = nullptr;
 
     void start(const sim::Scenario& scenario) {
-        rig = new sim::LockstepRig(scenario);
-        ground = new sim::MemoryGround;
-        g_ground = ground;
-        ground->keepApid(cmdtlm::PLAN_EXEC_Tlm::kApid);
-        CHECK(core::isOk(rig->fsw().addGroundLink(&ground->link())));
-        CHECK(core::Status::kOk == rig->init());
-        rig->setOnFrame(drain);
-        CHECK_TRUE(rig->runUntil([&] { return rig->allDrivesOperational(); }, 3 * kNsPerSec));
-        CHECK_TRUE(ground->setMode(2));  // AUTONOMOUS
-        rig->runFor(100 * kNsPerMs);
+        session = std::make_unique<test::PlanLockstep>(scenario);
+        rig = &session->rig();
+        ground = &session->ground();
+        const char* failed = session->start();
+        CHECK_TEXT(failed == nullptr, failed);
     }
-    void teardown() override {
-        delete rig;
-        delete ground;
-        g_ground = nullptr;
-    }
+    void teardown() override { session.reset(); }
     // PLAN_LOAD in 200-byte chunks (one every 20 ms), then PLAN_START.
-    void uplink(const std::string& text, std::uint32_t crcXor = 0) {
-        for (std::size_t at = 0; at < text.size(); at += 200) {
-            const std::size_t n = text.size() - at < 200 ? text.size() - at : 200;
-            std::uint8_t args[2 + 200];
-            core::BeWriter w(args, sizeof args);
-            w.u16(static_cast<std::uint16_t>(at));
-            w.bytes(reinterpret_cast<const std::uint8_t*>(text.data() + at), n);
-            CHECK_TRUE(ground->send("PLAN_LOAD", args, 2 + n));
-            rig->runFor(20 * kNsPerMs);
-        }
-        std::uint8_t args[8];
-        core::BeWriter w(args, sizeof args);
-        w.u32(static_cast<std::uint32_t>(text.size()));
-        w.u32(core::crc32(text.data(), text.size()) ^ crcXor);
-        CHECK_TRUE(ground->send("PLAN_START", args, sizeof args));
-    }
-    bool complete() { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kComplete; }
-    ground::DecodedPacket planExec() { return ground::decodeTelemetry(ground->kept(), ground->keptLength()); }
+    void uplink(const std::string& text, std::uint32_t crcXor = 0) { CHECK_TRUE(session->uplink(text, crcXor)); }
+    bool complete() { return session->complete(); }
+    ground::DecodedPacket planExec() { return session->planExec(); }
     double field(const char* name, std::size_t i = 0) {
         const auto v = planExec().value(name, i);
         CHECK_TEXT(v.has_value(), name);
@@ -99,7 +65,7 @@ TEST_GROUP(LockstepPlanExecutive) {
 // imaged; the cost before and after in the events and in PLAN_EXEC.
 TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) {
     start(sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml"));
-    const std::string plan = readFile("unit_test/fuzz/corpus/plan/two_targets.plan");
+    const std::string plan = readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan");
     CHECK(plan.size() > 200);
     bool done = false;
     {
@@ -147,6 +113,83 @@ TEST(LockstepPlanExecutive, TwoTargetsTheGrinderFailsAndTarget2IsImagedInstead) 
     const sim::Pose2 p = rig->rover().truth().pose;
     std::printf("\n  two targets: complete at %.1f s, rover at (%.2f, %.2f)\n",
                 static_cast<double>(rig->clock().now()) / 1e9, p.x, p.y);
+}
+
+// The failure of a running activity replaced at once: the grinder fails 5 s
+// into sample(target 2), reported by the simulated grinder on CAN (its
+// instrument_failure hook, code 0x42: the command aborted, every later one
+// refused). The sequence: the grinder's failure report on the flight bus;
+// the executive sees the grinder failed (972) and the sample failed (960);
+// regeneration begun (962, activity failed) and done (963, cost 32.50 ->
+// 37.50); then image(target 2), the replacement, started (956) and sent to
+// the camera (InstrumentCommandMsg on the bus, target 2), imaged within its
+// window from the rover's arrival, and the plan complete. No timing is
+// asserted here: bench_plan_executive measures the frames.
+TEST(LockstepPlanExecutive, ARunningSampleWhoseGrinderFailsIsReplacedByTheImage) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.clear();
+    start(s);
+    CHECK_TRUE(session->uplink(readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan")));
+    const msg::Instrument grinder = msg::Instrument::kGrinder;
+    const msg::Instrument camera = msg::Instrument::kCamera;
+    // sample2 on the grinder: the executive's command for target 2.
+    const bool sampling = rig->runUntil(
+        [&] {
+            const msg::InstrumentCommandMsg& c = rig->instrumentCommand(grinder);
+            return c.action == msg::InstrumentAction::kSample && c.targetId == 2;
+        },
+        400 * kNsPerSec);
+    dumpOnFailure(sampling);
+    CHECK_TRUE(sampling);
+    rig->runFor(5 * kNsPerSec);
+    CHECK(rig->instrumentStatus(grinder).state == msg::InstrumentState::kBusy);  // still grinding
+    const std::uint32_t cameraCommands = rig->instrumentCommandCount(camera);
+    LONGS_EQUAL(0, cameraCommands);
+    rig->rover().failInstrument(sim::SimDevice::kGrinder, 0x42, false, true);  // the scenario's fault hook
+    const bool reported = rig->runUntil([&] { return rig->instrumentStatus(grinder).faultCode != 0; }, kNsPerSec);
+    CHECK_TRUE(reported);
+    const bool imaging = rig->runUntil([&] { return rig->instrumentCommandCount(camera) > cameraCommands; },
+                                       5 * kNsPerSec);
+    dumpOnFailure(imaging);
+    CHECK_TRUE(imaging);
+    const msg::InstrumentCommandMsg& image = rig->instrumentCommand(camera);
+    CHECK(image.action == msg::InstrumentAction::kImage);
+    LONGS_EQUAL(2, image.targetId);
+    const bool done = rig->runUntil([&] { return complete(); }, 120 * kNsPerSec);
+    rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked
+    dumpOnFailure(done);
+    CHECK_TRUE(done);
+    // The sequence, in the console's order.
+    const std::string console = rig->consoleText();
+    const char* const sequence[] = {
+        "plan_exec: sample sample2 started",
+        "EVT 972 WARN  plan_exec: grinder now failed (instrument state 4, fault 66)",
+        "EVT 960 WARN  plan_exec: sample sample2 failed",
+        "EVT 962 WARN  plan_exec: two_targets regenerating",
+        "EVT 963 WARN  plan_exec: plan two_targets regenerated (selected): cost 32.50 -> 37.50",
+        "EVT 956 INFO  plan_exec: image image2 started",
+        "plan_exec: image image2 completed",
+        "EVT 964 INFO  plan_exec: plan two_targets complete",
+    };
+    std::size_t at = 0;
+    for (const char* text : sequence) {
+        const std::size_t found = console.find(text, at);
+        CHECK_TEXT(found != std::string::npos, text);
+        at = found == std::string::npos ? at : found;
+    }
+    LONGS_EQUAL(1, rig->consoleCount("EVT 962 "));
+    LONGS_EQUAL(1, rig->consoleCount(": activity failed (sample2), cost before 32.50"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 956 INFO  plan_exec: image "));  // the one image, the replacement
+    LONGS_EQUAL(0, rig->consoleCount("EVT 959 "));                          // in its window, not late
+    LONGS_EQUAL(0, rig->consoleCount("EVT 966"));
+    LONGS_EQUAL(1, rig->instrumentCommandCount(camera));
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(32.5, field("cost_before"), 1e-9);
+    DOUBLES_EQUAL(37.5, field("cost"), 1e-9);
+    DOUBLES_EQUAL(4.0, field("last_regeneration"), 0.0);  // activity failed
+    DOUBLES_EQUAL(1.0, field("options", 1), 0.0);          // science2: image
+    DOUBLES_EQUAL(1.0, field("failed"), 0.0);
+    DOUBLES_EQUAL(1.0, field("regenerations"), 0.0);
 }
 
 namespace {
@@ -232,7 +275,7 @@ TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
     sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
     s.faults.push_back(instrumentFails(sim::SimDevice::kCamera, 245.0));
     start(s);
-    uplink(readFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
+    uplink(readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
     const bool failed = rig->runUntil(
         [&] { return rig->fsw().planExecutive().state() == msg::PlanExecutiveState::kFailed; }, 470 * kNsPerSec);
     rig->runFor(1100 * kNsPerMs);
@@ -246,4 +289,146 @@ TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
     DOUBLES_EQUAL(5.0, field("state"), 0.0);
     DOUBLES_EQUAL(1.0, field("operator_calls"), 0.0);
     DOUBLES_EQUAL(7.0, field("call_home"), 0.0);
+}
+
+// ---- Opportunistic science (PLAN_EXTEND) -----------------------------------
+
+namespace {
+constexpr std::uint16_t kSample1 = 1;  // the two-targets plan's sample(target 1); also the deadline plan's
+
+struct ScienceRun {
+    bool complete = false;
+    double sample1S = 0.0;   // sample1's duration, start to completion
+    double completeS = 0.0;  // plan time at completion
+};
+}  // namespace
+
+TEST_GROUP_BASE(LockstepExtension, TEST_GROUP_CppUTestGroupLockstepPlanExecutive) {
+    // PLAN_EXTEND as the ground sends it: extra seconds (f32), the activity's name.
+    void extend(const char* activity, float extraS) {
+        std::uint8_t args[4 + 23];
+        core::BeWriter w(args, sizeof args);
+        w.f32(extraS);
+        const std::size_t n = std::strlen(activity);
+        w.bytes(activity, n);
+        CHECK_TRUE(ground->send("PLAN_EXTEND", args, 4 + n));
+    }
+    const plan_executive::PlanDispatcher& dispatcher() { return rig->fsw().planExecutive().dispatcher(); }
+    bool sampleRunning() { return dispatcher().state(kSample1) == plan_executive::ActivityState::kRunning; }
+    ScienceRun finish() {
+        ScienceRun r;
+        r.complete = rig->runUntil([&] { return complete(); }, 700 * kNsPerSec);
+        rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked
+        dumpOnFailure(r.complete);
+        r.sample1S = (dispatcher().endMs(kSample1) - dispatcher().startMs(kSample1)) / 1000.0;
+        std::int32_t last = 0;
+        for (std::uint16_t e = 0; e < rig->fsw().planExecutive().plan().eventCount; ++e) {
+            const std::int32_t t = dispatcher().eventTimeMs(e);
+            last = t != plan_executive::kInfiniteMs && t > last ? t : last;
+        }
+        r.completeS = last / 1000.0;
+        return r;
+    }
+    // The two-targets plan with the grinder healthy: both targets sampled.
+    void startTwoTargets() {
+        sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+        s.faults.clear();
+        start(s);
+        uplink(test::readTextFile("unit_test/fuzz/corpus/plan/two_targets.plan"));
+    }
+};
+
+// A running sample extended by a follow-on request: sample1 is asked for 60 s
+// more a minute into its work (expected about 147 s, its ub 300 s); the
+// grinder takes the follow-on, the sample completes 60 s later than in the
+// same run without the request, within its ub, and the plan still completes.
+// A first request for 500 s is refused (beyond its ub). No heap from the
+// uplink to the plan's end.
+TEST(LockstepExtension, AFollowOnExtendsARunningSampleWhichCompletesLaterWithinItsUb) {
+    startTwoTargets();
+    const ScienceRun plain = finish();
+    CHECK_TRUE(plain.complete);
+    session.reset();  // a second run, from the start
+    rig = nullptr;
+    ground = nullptr;
+
+    startTwoTargets();
+    ScienceRun extended;
+    {
+        test::AllocationWatch watch;
+        CHECK_TRUE(rig->runUntil([&] { return sampleRunning(); }, 200 * kNsPerSec));
+        rig->runFor(60 * kNsPerSec);
+        extend("sample1", 500.0F);
+        rig->runFor(500 * kNsPerMs);
+        extend("sample1", 60.0F);
+        extended = finish();
+        LONGS_EQUAL(0, watch.count());
+    }
+    CHECK_TRUE(extended.complete);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 976 WARN  plan_exec: extend sample1 +500.0 s refused: beyond its ub"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 974 INFO  plan_exec: extend sample1 +60.0 s sent: end "));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 975 INFO  plan_exec: sample1 extended by 60.0 s: the grinder took it"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 977 INFO  plan_exec: sample1 extended 60.0 s: done after "));
+    LONGS_EQUAL(1, rig->consoleCount("plan_exec: sample sample2 completed"));
+    LONGS_EQUAL(1, rig->consoleCount("EVT 964 INFO  plan_exec: plan two_targets complete"));
+    LONGS_EQUAL(0, rig->consoleCount("EVT 959 "));  // nothing late
+    LONGS_EQUAL(0, rig->consoleCount("EVT 962 "));  // nothing regenerated
+    // Later than it would have been by the 60 s asked (the grinder works in
+    // 0.1 s, the executive sees it at 10 Hz), and within its ub.
+    DOUBLES_EQUAL(plain.sample1S + 60.0, extended.sample1S, 0.3);
+    CHECK(extended.sample1S <= 300.0);
+    CHECK(extended.completeS > plain.completeS + 55.0);
+    LONGS_EQUAL(1, rig->rover().grinder().instrumentStats().extended);
+    // The ground's view.
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(1.0, field("extensions"), 0.0);
+    DOUBLES_EQUAL(1.0, field("extensions_refused"), 0.0);
+    DOUBLES_EQUAL(4.0, field("last_extension_refusal"), 0.0);  // beyond its ub
+    DOUBLES_EQUAL(0.0, field("late"), 0.0);
+    DOUBLES_EQUAL(0.0, field("regenerations"), 0.0);
+    std::printf("\n  extension: sample1 %.1f s plain, %.1f s extended by 60 s (ub 300 s); plan complete at %.1f s, "
+                "%.1f s plain\n",
+                plain.sample1S, extended.sample1S, extended.completeS, plain.completeS);
+}
+
+// An extension refused because it would break a later deadline: after the
+// sample a 20 s report must end by 270 s, so the sample must end by 250 s.
+// Asked for 90 s more a minute in (expected end about 190 s), within its own
+// ub (start + 300 s) but past 250 s: refused, the grinder never told; the
+// sample completes in its own time and the plan completes as planned.
+TEST(LockstepExtension, AnExtensionThatWouldBreakALaterDeadlineIsRefusedAndThePlanUnaffected) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.clear();
+    start(s);
+    uplink("plan deadline\n"
+           "event at1\n"
+           "event done1\n"
+           "event back\n"
+           "activity drive1 drive start at1 [30, 900] cost 10 at 10 0\n"
+           "activity sample1 sample at1 done1 [120, 300] cost 5 target 1 ask grinder=ok\n"
+           "activity report communicate done1 back [20, 20] cost 1\n"
+           "constraint start back [0, 270]\n"
+           "end\n");
+    CHECK_TRUE(rig->runUntil([&] { return sampleRunning(); }, 200 * kNsPerSec));
+    LONGS_EQUAL(250000, dispatcher().network().window(2).latestMs);
+    rig->runFor(60 * kNsPerSec);
+    extend("sample1", 90.0F);
+    const ScienceRun r = finish();
+    CHECK_TRUE(r.complete);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 976 WARN  plan_exec: extend sample1 +90.0 s refused: plan inconsistent"));
+    LONGS_EQUAL(1, rig->consoleCount(" > latest 250.0 s)"));
+    LONGS_EQUAL(0, rig->consoleCount("EVT 974 "));
+    LONGS_EQUAL(0, rig->consoleCount("EVT 975 "));
+    LONGS_EQUAL(0, rig->rover().grinder().instrumentStats().extended);
+    // The sample took its own time, the grinder's drawn work; the plan completed, nothing late.
+    DOUBLES_EQUAL(rig->rover().grinder().workDurationS(), r.sample1S, 0.3);
+    LONGS_EQUAL(1, rig->consoleCount("EVT 964 INFO  plan_exec: plan deadline complete"));
+    DOUBLES_EQUAL(4.0, field("state"), 0.0);
+    DOUBLES_EQUAL(0.0, field("extensions"), 0.0);
+    DOUBLES_EQUAL(1.0, field("extensions_refused"), 0.0);
+    DOUBLES_EQUAL(5.0, field("last_extension_refusal"), 0.0);  // would make the plan inconsistent
+    DOUBLES_EQUAL(0.0, field("late"), 0.0);
+    DOUBLES_EQUAL(0.0, field("regenerations"), 0.0);
+    std::printf("\n  extension refused: sample1 %.1f s (drawn %.1f s), plan complete at %.1f s\n", r.sample1S,
+                rig->rover().grinder().workDurationS(), r.completeS);
 }

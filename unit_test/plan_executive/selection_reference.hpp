@@ -9,6 +9,7 @@
 // Exponential: for plans of a few choices.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -83,10 +84,12 @@ inline bool referenceValid(const Tpn& t, const std::uint8_t* pick, const Selecti
         return false;
     }
     bool ok = true;
-    // Where execution stands: an executed event at its time, the others from notBeforeMs on.
+    // Where execution stands: an executed event at its time, the others from
+    // notBeforeMs (or their own later floor) on.
     for (std::size_t e = 1; e < t.eventCount; ++e) {
         const std::int32_t at = in.executedAtMs[e];
-        const Bounds fromStart = at == kInfiniteMs ? Bounds{in.notBeforeMs, kInfiniteMs} : Bounds{at, at};
+        const std::int32_t floor = std::max(in.notBeforeMs, in.notBeforeEventMs[e]);
+        const Bounds fromStart = at == kInfiniteMs ? Bounds{floor, kInfiniteMs} : Bounds{at, at};
         ok = ok && stn->addBounds(0, e, fromStart) == rse::core::Status::kOk;
     }
     for (std::size_t i = 0; i < t.activityCount && ok; ++i) {

@@ -442,3 +442,179 @@ TEST(PlanDispatcher, NoHeapUseAcrossManyTicksAndARegeneration) {
     std::printf("\n  dispatch: %zu ticks, no heap; sizeof(PlanDispatcher) %zu B\n", ticks, sizeof(PlanDispatcher));
     CHECK(ticks > 20000);  // about 4 800 a run
 }
+
+// ---- Opportunistic science: extension of a running science activity --------
+
+namespace {
+
+// The two-targets plan dispatched up to sample(target 1) started at 100 s:
+// done1 in [220, 400] s (sample [120, 300] s from at1; the deadline leaves
+// done1 up to 3420 s, the ub binds first).
+void runToFirstSample() {
+    parsed(kTwoTargetsText);
+    selectAndStart(SelectionInput{});
+    tickStarts(0, kDrive1);
+    completes(kDrive1, 100 * kS);
+    tickStarts(100 * kS, kSample1);
+    CHECK_EQUAL(220 * kS, dispatcher.network().window(kDone1).earliestMs);
+    CHECK_EQUAL(400 * kS, dispatcher.network().window(kDone1).latestMs);
+}
+
+// The network as it stands, to show a refusal changed nothing.
+Stn before;
+
+void networkUnchanged() {
+    const Stn& now = dispatcher.network();
+    CHECK_EQUAL(before.size(), now.size());
+    for (std::size_t i = 0; i < now.size(); ++i) {
+        for (std::size_t j = 0; j < now.size(); ++j) {
+            CHECK_EQUAL(before.distance(i, j), now.distance(i, j));
+        }
+    }
+}
+
+void refused(ExtensionRefusal why, std::uint16_t activity, std::int32_t nowMs, std::int32_t ownEndMs,
+             std::int32_t extraMs) {
+    before = dispatcher.network();
+    CHECK_EQUAL(static_cast<int>(why),
+                static_cast<int>(dispatcher.checkExtension(activity, nowMs, ownEndMs, extraMs).refusal));
+    CHECK_EQUAL(static_cast<int>(why), static_cast<int>(dispatcher.extend(activity, nowMs, ownEndMs, extraMs).refusal));
+    networkUnchanged();
+    CHECK_EQUAL(0U, dispatcher.counts().extended);
+}
+
+}  // namespace
+
+TEST(PlanDispatcher, AnExtensionWithinItsUbAndThePlanRaisesItsEndsFloor) {
+    runToFirstSample();
+    // At 250 s the sample is expected to end at 260 s; 100 s more: 360 s, within
+    // start + ub (400 s) and its end's latest (400 s).
+    before = dispatcher.network();
+    const ExtensionCheck c = dispatcher.checkExtension(kSample1, 250 * kS, 260 * kS, 100 * kS);
+    CHECK(c.refusal == ExtensionRefusal::kNone);
+    CHECK_EQUAL(360 * kS, c.expectedEndMs);
+    CHECK_EQUAL(400 * kS, c.ubEndMs);
+    CHECK_EQUAL(400 * kS, c.latestMs);
+    CHECK_EQUAL(350 * kS, c.floorMs);
+    networkUnchanged();  // the check changes nothing
+    const ExtensionCheck e = dispatcher.extend(kSample1, 250 * kS, 260 * kS, 100 * kS);
+    CHECK(e.refusal == ExtensionRefusal::kNone);
+    // The extra work cannot be done before 350 s: done1 no earlier, and
+    // drive2 (lb 60 s) cannot reach at2 before 410 s; the latest unchanged.
+    CHECK_EQUAL(350 * kS, dispatcher.network().window(kDone1).earliestMs);
+    CHECK_EQUAL(400 * kS, dispatcher.network().window(kDone1).latestMs);
+    CHECK_EQUAL(410 * kS, dispatcher.network().window(kAt2).earliestMs);
+    CHECK_EQUAL(1U, dispatcher.counts().extended);
+    CHECK_EQUAL(100 * kS, dispatcher.activities().extendedMs[kSample1]);
+    CHECK_EQUAL(350 * kS, dispatcher.activities().floorMs[kSample1]);
+    // A second extension is judged likewise: at 300 s, the end expected at
+    // 360 s, 40 s more fits (400 s), 40.001 s does not.
+    CHECK(dispatcher.checkExtension(kSample1, 300 * kS, 360 * kS, 40 * kS).refusal == ExtensionRefusal::kNone);
+    CHECK(dispatcher.checkExtension(kSample1, 300 * kS, 360 * kS, 40 * kS + 1).refusal ==
+          ExtensionRefusal::kBeyondUb);  // start + ub and the latest are both 400 s: the ub is checked first
+    // Completion of the extended work at 340 s is before the floor: early, held to it.
+    tickNothing(340 * kS);
+    CHECK(dispatcher.completed(kSample1, 340 * kS, &out) == Status::kOk);
+    CHECK(out.early);
+    CHECK_EQUAL(350 * kS, out.heldToMs);
+    CHECK_EQUAL(350 * kS, dispatcher.eventTimeMs(kDone1));
+    tickNothing(349 * kS);  // drive2 waits for its start event's time
+    tickStarts(350 * kS, kDrive2);
+}
+
+TEST(PlanDispatcher, AnExtendedActivityIsStillLateAfterItsUb) {
+    runToFirstSample();
+    CHECK(dispatcher.extend(kSample1, 250 * kS, 260 * kS, 100 * kS).refusal == ExtensionRefusal::kNone);
+    // Never beyond ub: the extended sample is cancelled 1 ms past 400 s.
+    tickNothing(400 * kS);
+    CHECK(dispatcher.tick(400 * kS + 1, &out) == Status::kOk);
+    onlyCommand(DispatchCommandKind::kCancel, kSample1);
+    CHECK(out.reason == RegenerationReason::kLate);
+    CHECK(dispatcher.state(kSample1) == ActivityState::kTimedOut);
+}
+
+TEST(PlanDispatcher, ExtensionsRefusedWithTheirReasonLeaveTheNetworkAsItWas) {
+    runToFirstSample();
+    refused(ExtensionRefusal::kNotRunning, kDrive1, 150 * kS, 150 * kS, 10 * kS);   // done (and a drive)
+    refused(ExtensionRefusal::kNotRunning, kSample2, 150 * kS, 150 * kS, 10 * kS);  // waiting
+    refused(ExtensionRefusal::kNotRunning, kImage1, 150 * kS, 150 * kS, 10 * kS);   // not in the selection
+    refused(ExtensionRefusal::kNotRunning, 999, 150 * kS, 150 * kS, 10 * kS);
+    // 150 s expected, 200 s more: 450 s, past start + ub.
+    refused(ExtensionRefusal::kBeyondUb, kSample1, 150 * kS, 250 * kS, 200 * kS);
+    refused(ExtensionRefusal::kInvalid, kSample1, 150 * kS, 250 * kS, 0);
+    refused(ExtensionRefusal::kInvalid, kSample1, -1, 250 * kS, 10 * kS);
+    refused(ExtensionRefusal::kInvalid, kSample1, 50 * kS, 250 * kS, 10 * kS);  // before its start
+    refused(ExtensionRefusal::kInvalid, kSample1, 150 * kS, 250 * kS, kMaxBoundMs + 1);
+    // A drive running is not science either.
+    tickNothing(150 * kS);
+    completes(kSample1, 250 * kS);
+    tickStarts(250 * kS, kDrive2);
+    refused(ExtensionRefusal::kNotScience, kDrive2, 260 * kS, 260 * kS, 10 * kS);
+    refused(ExtensionRefusal::kNotRunning, kSample1, 260 * kS, 260 * kS, 10 * kS);  // done
+}
+
+TEST(PlanDispatcher, AnExtensionPastALaterDeadlineIsInconsistent) {
+    // Sample then a 20 s report, all within 260 s: done1 by 240 s, whatever
+    // the sample's own ub (start + 300 s).
+    parsed("plan deadline\n"
+           "event at1\n"
+           "event done1\n"
+           "event back\n"
+           "activity drive1 drive start at1 [10, 100] cost 1 at 10 0\n"
+           "activity sample1 sample at1 done1 [120, 300] cost 1 target 1\n"
+           "activity report communicate done1 back [20, 20] cost 1\n"
+           "constraint start back [0, 260]\n"
+           "end\n");
+    selectAndStart(SelectionInput{});
+    tickStarts(0, 0);
+    completes(0, 20 * kS);
+    tickStarts(20 * kS, 1);
+    CHECK_EQUAL(240 * kS, dispatcher.network().window(2).latestMs);
+    // Expected at 170 s; 80 s more ends at 250 s: within start + ub (320 s),
+    // past done1's latest.
+    refused(ExtensionRefusal::kInconsistent, 1, 50 * kS, 170 * kS, 80 * kS);
+    const ExtensionCheck c = dispatcher.checkExtension(1, 50 * kS, 170 * kS, 80 * kS);
+    CHECK_EQUAL(250 * kS, c.expectedEndMs);
+    CHECK_EQUAL(320 * kS, c.ubEndMs);
+    CHECK_EQUAL(240 * kS, c.latestMs);
+    // 70 s fits exactly.
+    CHECK(dispatcher.extend(1, 50 * kS, 170 * kS, 70 * kS).refusal == ExtensionRefusal::kNone);
+    CHECK_EQUAL(140 * kS, dispatcher.network().window(2).earliestMs);  // 50 + 70 s < 20 + 120 s: no tighter
+}
+
+TEST(PlanDispatcher, ExtensionsAreRefusedAsBusyWhileCheckingOrHolding) {
+    parsed(kTwoTargetsText);
+    CHECK(selector.solve(plan, SelectionInput{}, SelectionParams{}, &selected) == SelectionStatus::kSelected);
+    CHECK(dispatcher.begin(plan, selected.selection, SelectionInput{}, nullptr) == Status::kOk);
+    CHECK(dispatcher.checkExtension(kSample1, 0, 0, kS).refusal == ExtensionRefusal::kBusy);
+    CHECK_TRUE(dispatcher.stepCheck(kMaxEvents * kMaxEvents));
+    tickStarts(0, kDrive1);
+    CHECK(dispatcher.failed(kDrive1, 10 * kS, &out) == Status::kOk);
+    CHECK(dispatcher.checkExtension(kDrive1, 20 * kS, 20 * kS, kS).refusal == ExtensionRefusal::kBusy);
+    CHECK(dispatcher.extend(kSample1, 20 * kS, 20 * kS, kS).refusal == ExtensionRefusal::kBusy);
+}
+
+TEST(PlanDispatcher, ARegenerationKeepsARunningActivitysExtension) {
+    runToFirstSample();
+    CHECK(dispatcher.extend(kSample1, 250 * kS, 260 * kS, 100 * kS).refusal == ExtensionRefusal::kNone);
+    // The re-selection is told the end's floor ...
+    SelectionInput input;
+    input.notBeforeEventMs[kDone2] = 7;  // stale: overwritten
+    dispatcher.regenerationInput(260 * kS, &input);
+    CHECK_EQUAL(350 * kS, input.notBeforeEventMs[kDone1]);
+    CHECK_EQUAL(0, input.notBeforeEventMs[kDone2]);
+    CHECK(input.started[kSample1]);
+    carried = dispatcher.activities();
+    selectAndStart(input, &carried);
+    CHECK(dispatcher.state(kSample1) == ActivityState::kRunning);
+    CHECK_EQUAL(100 * kS, dispatcher.activities().extendedMs[kSample1]);
+    CHECK_EQUAL(350 * kS, dispatcher.network().window(kDone1).earliestMs);
+    // ... and the restarted dispatcher keeps it from its record even when the input does not.
+    input.notBeforeEventMs[kDone1] = 0;
+    carried = dispatcher.activities();
+    selectAndStart(input, &carried);
+    CHECK_EQUAL(350 * kS, dispatcher.network().window(kDone1).earliestMs);
+    // A floor past the range is refused with the other times.
+    input.notBeforeEventMs[kDone1] = kMaxBoundMs + 1;
+    CHECK(selector.start(plan, input, SelectionParams{}) == Status::kInvalidArgument);
+}

@@ -5,7 +5,9 @@
 // plan running kept; a parse error refused with its reason, line and token; a
 // plan with no valid selection refused; the short form; abort; wait
 // activities completed at their lb to the plan's end; a science activity
-// timed out and the plan regenerated; no heap across many runs.
+// timed out and the plan regenerated; no heap across many runs; with the
+// devices; PLAN_EXTEND taken (a follow-on, committed when the instrument names
+// it) and refused for each reason; GOTO and goal lists as plans of drives.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -97,6 +99,31 @@ struct Rig {
         m.lastRefusal = refusal;
         m.lastRefusedCommandId = refusal == msg::InstrumentRefusal::kNone ? 0 : commandId;
         CHECK_TRUE(core::isOk(bus.publish(m)));
+    }
+    // A status with the command's progress, reported now; a refusal of another id if given.
+    void instrumentProgress(msg::Instrument which, msg::InstrumentState state, std::uint16_t commandId,
+                            std::uint8_t progress, std::uint16_t refusedId = 0,
+                            msg::InstrumentRefusal refusal = msg::InstrumentRefusal::kNone) {
+        msg::InstrumentStatusMsg m{};
+        m.timeNs = clock.now();
+        m.lastReportNs = clock.now();
+        m.instrument = which;
+        m.state = state;
+        m.commandId = commandId;
+        m.progressPct = progress;
+        m.lastRefusal = refusal;
+        m.lastRefusedCommandId = refusedId;
+        CHECK_TRUE(core::isOk(bus.publish(m)));
+    }
+    // PLAN_EXTEND as the command handlers pass it.
+    void extend(const char* activity, std::uint32_t extraMs) {
+        command = msg::PlanCommandMsg{};
+        command.timeNs = clock.now();
+        command.kind = msg::PlanCommandKind::kExtend;
+        command.extendMs = extraMs;
+        command.length = static_cast<std::uint16_t>(std::strlen(activity));
+        std::memcpy(command.data, activity, command.length);
+        CHECK_TRUE(core::isOk(bus.publish(command)));
     }
     void deliberative(msg::DeliberativeState state, std::uint32_t revision) {
         msg::PlanStatusMsg m{};
@@ -448,6 +475,7 @@ TEST(PlanExecutiveTask, NoHeapAcrossManyRuns) {
         rig->uploadAndStart(kWaitsText, 30);
         rig->runFor(120);
         rig->send(msg::PlanCommandKind::kShort, kShortText, std::strlen(kShortText));
+        rig->extend("w", 1000);  // refused: a wait
         rig->runFor(60);
         rig->uploadAndStart(kInconsistentText);
         rig->runFor(10);
@@ -796,4 +824,207 @@ TEST(PlanExecutiveGoalLists, AMalformedGoalListIsDroppedAndCounted) {
     LONGS_EQUAL(2, rig->task.malformed());
     LONGS_EQUAL(0, rig->count(ev::kGoalPlan));
     LONGS_EQUAL(0, rig->count(ev::kGoalListEmpty));
+}
+
+// ---- Opportunistic science: PLAN_EXTEND -------------------------------------
+
+namespace {
+using msg::PlanExtensionRefusal;
+constexpr std::uint16_t kImage1 = 2;
+constexpr std::uint16_t kDone1 = 2;  // event
+}  // namespace
+
+// The devices' group: the two-targets plan running, drive1 under way.
+TEST_GROUP_BASE(PlanExecutiveExtension, TEST_GROUP_CppUTestGroupPlanExecutiveDevices) {
+    std::uint16_t sampleId = 0;
+    std::int32_t t0 = 0;  // plan time sample1 started, ms
+
+    // drive1 reached: sample1 starts on the grinder.
+    void startSample1() {
+        reachTarget1();
+        CHECK(state(kSample1) == plan_executive::ActivityState::kRunning);
+        sampleId = rig->lastInstrument.commandId;
+        t0 = rig->task.dispatcher().startMs(kSample1);
+    }
+    // The grinder says it is `progress` % through sample1 after `elapsedS` (taken by the next run).
+    void grinderAt(int elapsedS, std::uint8_t progress) {
+        rig->runFor(elapsedS * 10 - static_cast<int>((rig->clock.now() / core::kNsPerMs - t0) / 100));
+        rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kBusy, sampleId, progress);
+        rig->run();
+    }
+    // A PLAN_EXTEND refused with `why`: evented, counted, nothing sent, the network as it was.
+    void refused(const char* name, std::uint32_t extraMs, PlanExtensionRefusal why) {
+        const std::uint32_t events = rig->count(ev::kExtensionRefused);
+        const std::uint32_t commands = rig->instrumentCommands;
+        const std::uint32_t refusedBefore = rig->status.extensionsRefused;
+        const plan_executive::Window w = rig->task.dispatcher().network().window(kDone1);
+        rig->extend(name, extraMs);
+        rig->run();
+        LONGS_EQUAL(events + 1, rig->count(ev::kExtensionRefused));
+        LONGS_EQUAL(refusedBefore + 1, rig->status.extensionsRefused);
+        LONGS_EQUAL(static_cast<long>(why), static_cast<long>(rig->status.lastExtensionRefusal));
+        LONGS_EQUAL(commands, rig->instrumentCommands);
+        LONGS_EQUAL(w.earliestMs, rig->task.dispatcher().network().window(kDone1).earliestMs);
+        LONGS_EQUAL(w.latestMs, rig->task.dispatcher().network().window(kDone1).latestMs);
+        LONGS_EQUAL(0, rig->count(ev::kExtensionAccepted));
+    }
+};
+
+// Expected from the grinder's progress (80 % after 120 s: 150 s in all), 60 s
+// more ends at 210 s, within the ub (300 s) and done1's latest: a follow-on
+// goes to the grinder; once it reports working on it the extension is
+// committed (done1 no earlier than the request + 60 s) and the sample
+// completes when the grinder says the follow-on is done.
+TEST(PlanExecutiveExtension, AFollowOnWithinTheBoundsIsSentCommittedWhenTakenAndCompletesTheActivity) {
+    startSample1();
+    grinderAt(120, 80);
+    const std::uint32_t commands = rig->instrumentCommands;
+    rig->extend("sample1", 60000);
+    rig->run();
+    const std::int32_t requestMs = rig->status.planTimeMs;
+    LONGS_EQUAL(1, rig->count(ev::kExtensionRequested));
+    LONGS_EQUAL(commands + 1, rig->instrumentCommands);
+    CHECK(rig->lastInstrument.instrument == msg::Instrument::kGrinder);
+    CHECK(rig->lastInstrument.action == msg::InstrumentAction::kExtend);
+    LONGS_EQUAL(sampleId, rig->lastInstrument.extendsCommandId);
+    CHECK(rig->lastInstrument.commandId != sampleId && rig->lastInstrument.commandId != 0);
+    LONGS_EQUAL(1, rig->lastInstrument.targetId);
+    DOUBLES_EQUAL(60.0, rig->lastInstrument.maxDurationS, 1e-9);
+    const std::uint16_t followOn = rig->lastInstrument.commandId;
+    // Not committed until the grinder takes it; meanwhile another is busy.
+    LONGS_EQUAL(t0 + 120 * 1000, rig->task.dispatcher().network().window(kDone1).earliestMs);
+    LONGS_EQUAL(0, rig->status.extensionsAccepted);
+    rig->extend("sample1", 10000);
+    rig->run();
+    LONGS_EQUAL(static_cast<long>(PlanExtensionRefusal::kBusy), static_cast<long>(rig->status.lastExtensionRefusal));
+    // Taken: the grinder works on the follow-on.
+    rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kBusy, followOn, 57);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kExtensionAccepted));
+    LONGS_EQUAL(1, rig->status.extensionsAccepted);
+    LONGS_EQUAL(1, rig->status.extensionsRefused);  // the busy one
+    LONGS_EQUAL(requestMs + 60000, rig->task.dispatcher().network().window(kDone1).earliestMs);
+    LONGS_EQUAL(t0 + 300 * 1000, rig->task.dispatcher().network().window(kDone1).latestMs);  // never beyond ub
+    LONGS_EQUAL(60000, rig->task.dispatcher().activities().extendedMs[kSample1]);
+    CHECK(state(kSample1) == plan_executive::ActivityState::kRunning);
+    // The original command's done is not news any more; the follow-on's is.
+    rig->runFor(880);
+    rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kDone, followOn, 100);
+    rig->run();
+    CHECK(state(kSample1) == plan_executive::ActivityState::kDone);
+    LONGS_EQUAL(1, rig->count(ev::kExtendedCompleted));
+    LONGS_EQUAL(0, rig->count(ev::kActivityEarly));
+    LONGS_EQUAL(0, rig->count(ev::kActivityLate));
+    CHECK(state(kDrive2) == plan_executive::ActivityState::kRunning);
+}
+
+TEST(PlanExecutiveExtension, RequestsAreRefusedWithTheirReasonAndThePlanUntouched) {
+    refused("drive1", 10000, PlanExtensionRefusal::kNotScience);  // running, a drive
+    startSample1();
+    refused("nope", 10000, PlanExtensionRefusal::kUnknownActivity);
+    refused("sample", 10000, PlanExtensionRefusal::kUnknownActivity);      // a prefix is not the name
+    refused("sample1 ", 10000, PlanExtensionRefusal::kUnknownActivity);    // nor a longer text
+    refused("drive1", 10000, PlanExtensionRefusal::kNotRunning);     // done
+    refused("sample2", 10000, PlanExtensionRefusal::kNotRunning);    // waiting
+    rig->extend("image1", 10000);  // not in the selection
+    rig->run();
+    LONGS_EQUAL(static_cast<long>(PlanExtensionRefusal::kNotRunning),
+                static_cast<long>(rig->status.lastExtensionRefusal));
+    CHECK(state(kImage1) == plan_executive::ActivityState::kInactive);
+    refused("sample1", 0, PlanExtensionRefusal::kInvalid);
+    refused("sample1", PlanExecutiveTask::kMaxExtendMs + 1, PlanExtensionRefusal::kInvalid);
+    // 20 % after 30 s: 150 s in all; 200 s more passes the ub (300 s).
+    grinderAt(30, 20);
+    refused("sample1", 200000, PlanExtensionRefusal::kBeyondUb);
+    CHECK(state(kSample1) == plan_executive::ActivityState::kRunning);
+    LONGS_EQUAL(0, rig->status.activitiesFailed);
+}
+
+TEST(PlanExecutiveExtension, TheInstrumentRefusingTheFollowOnLeavesTheActivityAsItWas) {
+    startSample1();
+    grinderAt(60, 40);
+    rig->extend("sample1", 30000);
+    rig->run();
+    const std::uint16_t followOn = rig->lastInstrument.commandId;
+    const plan_executive::Window w = rig->task.dispatcher().network().window(kDone1);
+    rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kBusy, sampleId, 41, followOn,
+                            msg::InstrumentRefusal::kNoSuchCommand);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kExtensionRefused));
+    LONGS_EQUAL(static_cast<long>(PlanExtensionRefusal::kInstrument),
+                static_cast<long>(rig->status.lastExtensionRefusal));
+    LONGS_EQUAL(0, rig->status.extensionsAccepted);
+    LONGS_EQUAL(w.earliestMs, rig->task.dispatcher().network().window(kDone1).earliestMs);
+    CHECK(state(kSample1) == plan_executive::ActivityState::kRunning);
+    LONGS_EQUAL(0, rig->count(ev::kActivityFailed));
+    // The original command's done completes it, as if nothing was asked.
+    rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kDone, sampleId, 100, followOn,
+                            msg::InstrumentRefusal::kNoSuchCommand);
+    rig->run();
+    CHECK(state(kSample1) == plan_executive::ActivityState::kDone);
+    LONGS_EQUAL(0, rig->count(ev::kExtendedCompleted));
+}
+
+TEST(PlanExecutiveExtension, AnActivityEndingBeforeTheAnswerOrCancelledDropsTheFollowOn) {
+    startSample1();
+    grinderAt(140, 93);
+    rig->extend("sample1", 30000);
+    rig->run();
+    // The grinder finished before it read the follow-on.
+    rig->instrumentProgress(msg::Instrument::kGrinder, msg::InstrumentState::kDone, sampleId, 100);
+    rig->run();
+    CHECK(state(kSample1) == plan_executive::ActivityState::kDone);
+    LONGS_EQUAL(1, rig->count(ev::kExtensionRefused));
+    LONGS_EQUAL(static_cast<long>(PlanExtensionRefusal::kNotRunning),
+                static_cast<long>(rig->status.lastExtensionRefusal));
+    // drive2 runs; sample2 later: a follow-on pending when the plan is aborted
+    // is cancelled with the command it continues (whichever the grinder runs).
+    const std::uint32_t drive2 = rig->lastGoal.goals.revision;
+    rig->deliberative(msg::DeliberativeState::kExecuting, drive2);
+    rig->runFor(600);
+    rig->deliberative(msg::DeliberativeState::kComplete, drive2);
+    rig->run();
+    CHECK(state(kSample2) == plan_executive::ActivityState::kRunning);
+    const std::uint16_t sample2Id = rig->lastInstrument.commandId;
+    rig->extend("sample2", 30000);
+    rig->run();
+    const std::uint16_t followOn = rig->lastInstrument.commandId;
+    const std::uint32_t commands = rig->instrumentCommands;
+    rig->send(msg::PlanCommandKind::kAbort);
+    rig->run();
+    LONGS_EQUAL(commands + 2, rig->instrumentCommands);
+    CHECK(rig->lastInstrument.action == msg::InstrumentAction::kCancel);
+    LONGS_EQUAL(followOn, rig->lastInstrument.commandId);
+    CHECK(sample2Id != followOn);
+    LONGS_EQUAL(2, rig->count(ev::kExtensionRefused));
+}
+
+// A report window after the sample: 20 s that must end by 260 s. The sample,
+// started at 1 s and expected to end at 151 s, could take 100 s more within
+// its own ub (301 s), but its end would pass its latest, 240 s (the deadline
+// less the report): refused, the plan untouched; 30 s more fits.
+TEST(PlanExecutiveExtension, AnExtensionThatWouldBreakALaterDeadlineIsRefused) {
+    rig->uploadAndStart("plan deadline\n"
+                        "event at1\n"
+                        "event done1\n"
+                        "event back\n"
+                        "activity go drive start at1 [1, 100] cost 1 at 10 0\n"
+                        "activity s sample at1 done1 [120, 300] cost 1 target 1\n"
+                        "activity r communicate done1 back [20, 20] cost 1\n"
+                        "constraint start back [0, 260]\n"
+                        "end\n");
+    rig->runFor(5);
+    STRCMP_EQUAL("deadline", rig->status.planName);
+    rig->deliberative(msg::DeliberativeState::kComplete, rig->lastGoal.goals.revision);
+    rig->runFor(10);  // the drive's lb is 1 s
+    CHECK(state(1) == plan_executive::ActivityState::kRunning);
+    sampleId = rig->lastInstrument.commandId;
+    t0 = rig->task.dispatcher().startMs(1);
+    LONGS_EQUAL(240 * 1000, rig->task.dispatcher().network().window(kDone1).latestMs);
+    grinderAt(30, 20);  // 150 s in all: expected at t0 + 150 s
+    LONGS_EQUAL(1000, t0);
+    refused("s", 100000, PlanExtensionRefusal::kInconsistent);
+    rig->extend("s", 30000);
+    rig->run();
+    LONGS_EQUAL(1, rig->count(ev::kExtensionRequested));
 }

@@ -1,5 +1,5 @@
 // The simulated science instruments (grinder/sampler, camera) on an in-memory
-// bus: what they answer to command frames, how long their work takes, refusals,
+// bus: what they answer to command frames, how long their work takes, refusals, follow-ons (extend),
 // cancel, max duration, reach, the fault hooks, NMT, dropout and crash. The
 // frames are read with the protocol's own codec (hal/devices/instrument_protocol).
 #include <cmath>
@@ -28,13 +28,15 @@ namespace {
 constexpr core::TimeNs kMs = core::kNsPerMs;
 constexpr core::TimeNs kSec = core::kNsPerSec;
 
+// extendsId: an extend's command continued (maxDurationDs then its extra work).
 CanFrame commandFrame(inst::Kind kind, Action action, std::uint8_t target, std::uint16_t id,
-                      std::uint16_t maxDurationDs = 0) {
+                      std::uint16_t maxDurationDs = 0, std::uint16_t extendsId = 0) {
     inst::Command c;
     c.action = action;
     c.target = target;
     c.commandId = id;
     c.maxDurationDs = maxDurationDs;
+    c.extendsCommandId = extendsId;
     CanFrame f;
     inst::encodeCommand(kind, c, &f);
     return f;
@@ -471,4 +473,72 @@ silent = true
     rover.failInstrument(SimDevice::kImu, 1, false, true);
     rover.failInstrument(SimDevice::kGrinder, 0, false, true);
     LONGS_EQUAL(2, rover.stats().faultsUnhandled);
+}
+
+namespace {
+CanFrame extendFrame(inst::Kind kind, std::uint8_t target, std::uint16_t id, std::uint16_t extendsId,
+                     std::uint16_t extraDs) {
+    return commandFrame(kind, Action::kExtend, target, id, extraDs, extendsId);
+}
+}  // namespace
+
+// A follow-on (extend) naming the sample running: the work goes on 5 s more,
+// under the follow-on's id from the report at once; done at 15 s, not 10.
+TEST(SimInstruments, AFollowOnExtendsTheWorkRunningUnderItsNewId) {
+    run(*grinder, 100 * kMs);
+    send(commandFrame(inst::Kind::kGrinder, Action::kSample, 1, 41));
+    run(*grinder, 4100 * kMs);
+    CHECK(last().progressPct >= 39 && last().progressPct <= 40);  // 4 s of 10 s
+    send(extendFrame(inst::Kind::kGrinder, 1, 42, 41, 50));
+    run(*grinder, 4101 * kMs);
+    CHECK(last().kind == inst::ReportKind::kStatus);
+    CHECK(last().state == State::kBusy);
+    CHECK(last().action == Action::kSample);  // the work continued
+    LONGS_EQUAL(42, last().commandId);
+    CHECK(last().progressPct >= 26 && last().progressPct <= 27);  // 4 s of 15 s
+    DOUBLES_EQUAL(15.0, grinder->workDurationS(), 1e-9);
+    LONGS_EQUAL(1, grinder->instrumentStats().extended);
+    LONGS_EQUAL(1, grinder->instrumentStats().accepted);  // one command's work
+    run(*grinder, 14900 * kMs);
+    CHECK(grinder->state() == State::kBusy);
+    run(*grinder, 15200 * kMs);
+    CHECK(grinder->state() == State::kDone);
+    LONGS_EQUAL(42, last().commandId);
+    LONGS_EQUAL(1, grinder->instrumentStats().completed);
+    CHECK(refusals().empty());
+}
+
+// A follow-on naming no running command (another id, a finished one, another
+// target), or malformed, is refused; the work goes on as it was.
+TEST(SimInstruments, AFollowOnNamingNoRunningCommandIsRefused) {
+    run(*grinder, 100 * kMs);
+    send(extendFrame(inst::Kind::kGrinder, 1, 42, 41, 50));  // idle
+    run(*grinder, 200 * kMs);
+    send(commandFrame(inst::Kind::kGrinder, Action::kSample, 1, 41, 120));  // max 12 s
+    run(*grinder, 300 * kMs);
+    send(extendFrame(inst::Kind::kGrinder, 1, 43, 40, 50));  // another id
+    send(extendFrame(inst::Kind::kGrinder, 2, 44, 41, 50));  // another target
+    CanFrame bad = extendFrame(inst::Kind::kGrinder, 1, 45, 41, 0);  // no extra work
+    send(bad);
+    bad = extendFrame(inst::Kind::kGrinder, 1, 41, 41, 50);  // its own id
+    send(bad);
+    run(*grinder, 400 * kMs);
+    const std::vector<inst::Report> r = refusals();
+    LONGS_EQUAL(5, r.size());
+    CHECK(r[0].refusal == Refusal::kNoSuchCommand);
+    CHECK(r[0].action == Action::kExtend);
+    LONGS_EQUAL(42, r[0].commandId);
+    CHECK(r[1].refusal == Refusal::kNoSuchCommand);
+    CHECK(r[2].refusal == Refusal::kNoSuchCommand);
+    CHECK(r[3].refusal == Refusal::kMalformed);
+    CHECK(r[4].refusal == Refusal::kMalformed);
+    LONGS_EQUAL(41, grinder->commandId());
+    DOUBLES_EQUAL(10.0, grinder->workDurationS(), 1e-9);
+    // A follow-on past the command's max duration times out there (the limit
+    // runs from the original start).
+    send(extendFrame(inst::Kind::kGrinder, 1, 46, 41, 50));
+    run(*grinder, 12500 * kMs);
+    CHECK(grinder->state() == State::kFailed);
+    CHECK(grinder->result() == Result::kTimedOut);
+    LONGS_EQUAL(46, grinder->commandId());
 }

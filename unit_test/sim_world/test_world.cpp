@@ -236,7 +236,11 @@ TEST(SimWorld, TheMapEdgeIsAWall) {
     DOUBLES_EQUAL(5.0 - w.rover().radiusM, w.truth().pose.x, 1e-3);
     LONGS_EQUAL(1, w.truth().mapEdgeHits);
     CHECK_TRUE(w.truth().atMapEdge);
-    LONGS_EQUAL(0, w.truth().collisions);
+    LONGS_EQUAL(1, w.truth().collisions);  // the edge is a collision, as a rock is
+    LONGS_EQUAL(0, w.truth().lastCollisionObstacle);  // no rock
+    // Staying against it is the same contact, not a new one.
+    advanceWorld(w, 5 * core::kNsPerSec, sides(5.0, 5.0));
+    LONGS_EQUAL(1, w.truth().collisions);
 }
 
 TEST(SimWorld, SlipNoiseIsDeterministicForASeedAndDiffersAcrossSeeds) {

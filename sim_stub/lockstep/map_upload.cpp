@@ -1,0 +1,77 @@
+#include "sim_stub/lockstep/map_upload.hpp"
+
+#include "fsw/tables/table_image.hpp"
+#include "ground/table_compiler.hpp"
+#include "ground/table_transfer.hpp"
+#include "sim_stub/scenario/coarse_map_source.hpp"
+
+namespace rse::sim {
+
+namespace {
+
+MapUploadResult failed(MapUploadResult r, const std::string& why) {
+    r.ok = false;
+    r.error = why;
+    return r;
+}
+
+}  // namespace
+
+MapUploadResult uploadCoarseMap(const Scenario& scenario, MemoryGround& ground, LockstepRig& rig,
+                                const std::function<void()>& service) {
+    MapUploadResult r;
+    ground::CompiledTable table;
+    try {
+        table = ground::compileTableText(coarseMapSource(scenario), scenario.name + " COARSE_MAP");
+    } catch (const std::exception& e) {
+        return failed(r, e.what());
+    }
+    tables::TableHeader header;
+    if (!tables::readTableHeader(table.image.data(), table.image.size(), &header)) {
+        return failed(r, "the compiled COARSE_MAP image has no header");
+    }
+    for (const Obstacle& o : scenario.obstacles) {
+        r.obstacles += o.known ? 1U : 0U;
+    }
+    r.bytes = table.image.size();
+    r.crc = header.crc;
+    // One command a frame at most: each is executed and acknowledged in the
+    // frame it arrives, as rse-ground's table load waits for each.
+    const auto sendAndStep = [&](const char* name, const std::uint8_t* args, std::size_t n) {
+        const std::uint32_t before = ground.tableStatus().packets;
+        if (!ground.send(name, args, n)) {
+            return false;
+        }
+        return rig.runUntil([&] { service(); return ground.tableStatus().packets > before; }, kMapUploadLimitNs);
+    };
+    const std::uint16_t id = header.tableId;
+    for (const auto& chunk : ground::tableLoadChunks(id, table.image)) {
+        if (!sendAndStep("TABLE_LOAD", chunk.data(), chunk.size()) || ground.tableStatus().lastReject != 0) {
+            return failed(r, "TABLE_LOAD chunk " + std::to_string(r.chunks) + " not taken (reject " +
+                                 std::to_string(ground.tableStatus().lastReject) + ")");
+        }
+        ++r.chunks;
+    }
+    const std::uint8_t idArgs[2] = {static_cast<std::uint8_t>(id >> 8), static_cast<std::uint8_t>(id & 0xFF)};
+    if (!sendAndStep("TABLE_VALIDATE", idArgs, sizeof idArgs) || ground.tableStatus().lastReject != 0) {
+        return failed(r, "TABLE_VALIDATE refused the scenario's COARSE_MAP (reject " +
+                             std::to_string(ground.tableStatus().lastReject) + ")");
+    }
+    if (!sendAndStep("TABLE_ACTIVATE", idArgs, sizeof idArgs) || ground.tableStatus().lastReject != 0) {
+        return failed(r, "TABLE_ACTIVATE refused (reject " + std::to_string(ground.tableStatus().lastReject) + ")");
+    }
+    // Active at the next frame boundary; TABLE_STATUS comes after a table
+    // command, so a TABLE_DUMP of the active buffer a frame later shows it,
+    // with the image's CRC, as an operator would check.
+    (void)rig.runUntil([&] { service(); return false; }, 20 * core::kNsPerMs);
+    const std::uint8_t dumpArgs[3] = {idArgs[0], idArgs[1], 0};
+    const bool answered = sendAndStep("TABLE_DUMP", dumpArgs, sizeof dumpArgs);
+    const MemoryGround::TableStatusSeen& s = ground.tableStatus();
+    if (!answered || s.tableId != id || s.activeCrc != r.crc) {
+        return failed(r, "TABLE_STATUS does not show the scenario's COARSE_MAP active");
+    }
+    r.ok = true;
+    return r;
+}
+
+}  // namespace rse::sim
