@@ -229,6 +229,7 @@ void DeliberativeTask::drainInputs(core::TimeNs now) {
                 if (core::isOk(inbox_.decode(&modes))) {
                     modes_ = modes;
                     modesSeen_ = true;
+                    noteFailedSince(now);
                 } else {
                     malformed("drive modes", inbox_.header.id);
                 }
@@ -311,6 +312,33 @@ std::uint8_t DeliberativeTask::failedDrives(bool withUnknown) const {
 // (mobility lost when a plan is found: no drive is isolated yet). A drive the
 // estimator cannot tell (unknown) is planned as failed but leaves mobility
 // lost: nothing says its wheel has stopped.
+// Since when each drive has been declared failed or unknown without a break
+// (0: it is not). A resettable drive fault reads as failed for an update or
+// two after its reset (the window held the fault report); the plans' failed
+// drive model waits PLANNER.failed_drive_confirm_s for a declaration to last.
+void DeliberativeTask::noteFailedSince(core::TimeNs now) {
+    const std::uint8_t failed = failedDrives(true);
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (((failed >> w) & 1U) == 0U) {
+            failedSinceNs_[w] = 0;
+        } else if (failedSinceNs_[w] == 0) {
+            failedSinceNs_[w] = now > 0 ? now : 1;
+        }
+    }
+}
+
+std::uint8_t DeliberativeTask::confirmedFailedDrives(core::TimeNs now) const {
+    const auto confirm =
+        static_cast<core::TimeNs>(static_cast<double>(tables_.planner().failed_drive_confirm_s) * 1e9);
+    std::uint8_t mask = 0;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (failedSinceNs_[w] != 0 && now - failedSinceNs_[w] >= confirm) {
+            mask = static_cast<std::uint8_t>(mask | (1U << w));
+        }
+    }
+    return mask;
+}
+
 bool DeliberativeTask::mobilityLost() const {
     if (!interlockTripped_) {
         return false;
@@ -746,8 +774,9 @@ void DeliberativeTask::startPlan(core::TimeNs now) {
     request.riskBound = riskInForce();
     // The motor loss in the state estimate: a drive the mode estimator
     // declares failed (or cannot tell) is planned as failed - its power factor
-    // in the legs' bounds (legParams) and a rover that tracks its path worse.
-    const std::uint8_t failed = failedDrives(true);
+    // in the legs' bounds (legParams) and, once the declaration has lasted
+    // PLANNER.failed_drive_confirm_s, a rover that tracks its path worse.
+    const std::uint8_t failed = confirmedFailedDrives(now);
     request.noiseFactor = failed != 0U ? static_cast<double>(planner.failed_drive_noise_factor) : 1.0;
     MapProblemReport report;
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,

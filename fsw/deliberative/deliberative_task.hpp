@@ -253,6 +253,9 @@ private:
     double meanFactor() const;
     // Wheels the drive mode estimator declares failed (and unknown, withUnknown) (bit per wheel).
     std::uint8_t failedDrives(bool withUnknown) const;
+    void noteFailedSince(core::TimeNs now);
+    // Drives declared failed or unknown for PLANNER.failed_drive_confirm_s or more.
+    std::uint8_t confirmedFailedDrives(core::TimeNs now) const;
     bool mobilityLost() const;
 
     void onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now);
@@ -372,6 +375,7 @@ private:
     // Drives the last plan started with took as failed (bit per wheel:
     // declared failed or unknown by the drive mode estimator): event 990 when it changes.
     std::uint8_t plannedFailedMask_ = 0;
+    core::TimeNs failedSinceNs_[msg::kWheelCount] = {};  // declared failed or unknown since (0: not)
     msg::LegCommandMsg leg_{};       // the leg in force (legId 0: none)
     std::uint32_t nextLegId_ = 1;
     std::uint32_t slices_ = 0;       // runs the current plan has taken

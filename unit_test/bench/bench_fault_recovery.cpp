@@ -76,6 +76,8 @@ struct FaultCase {
     std::function<std::vector<FaultSpec>(double at, std::mt19937_64& rng)> make;
     const char* gotoXY = "20,0";                           // the mission's GOTO
     std::function<void(rse::sim::Scenario&)> site = nullptr;  // changes to the site and start
+    // Changes to the COARSE_MAP the operator uplinks (by default the scenario's site and known rocks).
+    std::function<void(rse::sim::Scenario&)> uplinked = nullptr;
     // The fault ids (msg::fault) that are this run's fault: its raises,
     // responses and recovery actions carry them (MissionMark::faultId). None:
     // no fault injected.
@@ -291,7 +293,8 @@ int main(int argc, char** argv) {
              s.start.x = 0.0;
              s.start.y = -8.6;
              s.map.yMin = -20.0;
-         }},
+         },
+         [](rse::sim::Scenario& s) { s.map.yMin = -10.0; }},  // the orbital survey ends at -10 m
     };
     auto named = [&cases](const char* name) -> FaultCase& {
         for (FaultCase& c : cases) {
@@ -359,6 +362,7 @@ int main(int argc, char** argv) {
                     c.site(s);
                 }
             };
+            o.editUplinkedMap = c.uplinked;
             const MissionSummary summary = rse::sim::runMission(o, nullptr);
             const unsigned unanswered = t.noResponse;
             measure(summary, at, c.own(faults, summary), &t);

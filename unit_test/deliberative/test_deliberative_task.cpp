@@ -47,6 +47,14 @@ TEST_GROUP(DeliberativeTask) {
     }
     void teardown() override { delete rig; }
 
+    // Runs until a drive declared failed now has been so for PLANNER.failed_drive_confirm_s.
+    void runPastFailedDriveConfirm() {
+        const double confirmS = static_cast<double>(rig->tables.planner().failed_drive_confirm_s);
+        const auto runs = static_cast<int>(std::ceil(confirmS * 1e9 / static_cast<double>(DeliberativeRig::kRun)));
+        for (int i = 0; i <= runs; ++i) {
+            rig->run();
+        }
+    }
     void autonomousToFirstLeg(double gx = kGoalX, double gy = kGoalY, double risk = kRisk) {
         rig->setMode(DeliberativeRig::kAutonomous);
         rig->sendGoal(gx, gy, risk);
@@ -369,6 +377,7 @@ TEST(DeliberativeTask, AFailedDriveInTheEstimateCanLeaveNoPlanWithinTheRiskBound
     const tables::PlannerTable& planner = rig->tables.planner();
     rig->sendDriveModes(msg::DriveMode::kFailed, 1, 4.5);
     rig->setMode(DeliberativeRig::kAutonomous);
+    runPastFailedDriveConfirm();
     rig->sendGoal(kGoalX, kGoalY, kRisk);
     CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, kPlanRuns));
     DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m) *
@@ -392,6 +401,30 @@ TEST(DeliberativeTask, AFailedDriveInTheEstimateCanLeaveNoPlanWithinTheRiskBound
     CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "every drive back") != nullptr);
 }
 
+// A drive declared failed for less than PLANNER.failed_drive_confirm_s (a
+// resettable fault reads so for an update or two after its reset): planned at
+// its failed power factor but with the table's motion noise; once the
+// declaration has lasted, with the failed drive's noise.
+TEST(DeliberativeTask, AFailedDriveDeclarationMustLastBeforeItsNoiseIsPlannedWith) {
+    const tables::PlannerTable& planner = rig->tables.planner();
+    CHECK(planner.failed_drive_confirm_s > 0.5F);
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendDriveModes(msg::DriveMode::kFailed, 1, 4.5);
+    rig->run();
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m), rig->task.problem().processSigmaM, 1e-12);
+    LONGS_EQUAL(0, rig->seenCount(deliberative::events::kFailedDriveModel));
+    // Still declared failed past the confirmation time: the next plan takes its noise.
+    runPastFailedDriveConfirm();
+    rig->sendGoal(kGoalX, kGoalY, kRisk);
+    CHECK_TRUE(rig->runUntil([this] { return rig->task.counters().plansStarted >= 2; }, kPlanRuns));
+    DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m) *
+                      static_cast<double>(planner.failed_drive_noise_factor),
+                  rig->task.problem().processSigmaM, 1e-12);
+    LONGS_EQUAL(1, rig->seenCount(deliberative::events::kFailedDriveModel));
+}
+
 // Fault protection gives a failed drive up and leaves the interlock latched:
 // when the estimator declares that drive failed, the deliberative layer decides
 // by planning with it failed (a fail-up replans as any other) - no plan within
@@ -401,9 +434,7 @@ TEST(DeliberativeTask, AnInterlockLatchedOnADriveDeclaredFailedIsDecidedByPlanni
     autonomousToFirstLeg();
     rig->sendDriveModes(msg::DriveMode::kFailed, 1, 4.5);
     rig->sendDriveStatus(true, 1);
-    for (int i = 0; i < 5; ++i) {
-        rig->run();
-    }
+    runPastFailedDriveConfirm();
     CHECK(DeliberativeState::kExecuting == rig->task.state());  // not called home on the interlock alone
     rig->report(HabitualState::kFailedUp, LegConstraint::kPower, 480.0, 300.0);
     CHECK_TRUE(rig->runUntilState(DeliberativeState::kCalledHome, kPlanRuns));
