@@ -31,6 +31,12 @@ std::string fixed(double value, int decimals) {
     return text;
 }
 
+std::string shortNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", value);
+    return text;
+}
+
 std::string eventLine(const TelemetryEvent& e) {
     return "EVT " + std::to_string(e.id) + " " + severityName(e.severity) + " " + e.text;
 }
@@ -134,6 +140,11 @@ void MissionTelemetryReader::onEvent(double receivedS, const DecodedPacket& p) {
         lastPlanExecEvent_ = eventLine(e);
     }
     m.events.push_back(e);
+    // The status that decided the outcome can come down before the event that
+    // says why (both from one frame): the event completes it when it comes.
+    if (m.outcome == TelemetryOutcome::kCalledHome && m.callHomeEvent.empty()) {
+        m.callHomeEvent = callHomeWords(m.callHomeBy);
+    }
     if (e.id == fpev::kCallHome && sawGoal_) {
         // Fault protection's call home: the give-up before it says why.
         decide(TelemetryOutcome::kCalledHome, e.metS, static_cast<std::uint8_t>(msg::CallHomeReason::kFaultUnrecovered),
@@ -182,6 +193,7 @@ void MissionTelemetryReader::onHousekeeping(const DecodedPacket& p) {
     m.framesSkipped = static_cast<std::uint32_t>(number(p, "frames_skipped"));
     m.frameLatenessMaxUs = static_cast<std::uint32_t>(number(p, "frame_lateness_max_us"));
     m.frameBusyMaxUs = static_cast<std::uint32_t>(number(p, "frame_busy_max_us"));
+    m.telemetryDropped = static_cast<std::uint32_t>(number(p, "tlm_dropped"));
     if (!m.flightStartKnown) {
         // HK goes out at the start of a frame: the frames counted so far (run
         // and skipped) are the time since the executive started.
@@ -200,11 +212,13 @@ void MissionTelemetryReader::decide(TelemetryOutcome outcome, double metS, std::
     m.callHomeReason = reason;
     m.callHomeBy = by;
     if (outcome == TelemetryOutcome::kCalledHome) {
-        const std::string who = by;
-        m.callHomeEvent = who == "fault protection" ? lastGaveUpEvent_
-                          : who == "plan executive" ? lastPlanExecEvent_
-                                                    : lastCallHomeEvent_;
+        m.callHomeEvent = callHomeWords(m.callHomeBy);
     }
+}
+
+// The CRIT event of whoever called home, the last one received (empty: none yet).
+const std::string& MissionTelemetryReader::callHomeWords(const std::string& by) const {
+    return by == "fault protection" ? lastGaveUpEvent_ : by == "plan executive" ? lastPlanExecEvent_ : lastCallHomeEvent_;
 }
 
 MissionTelemetry readMissionTelemetry(const SessionRecording& recording) {
@@ -248,8 +262,8 @@ void printMissionTelemetry(const MissionTelemetry& m, std::ostream& out, bool ev
             break;
     }
     out << "goal:       " << unsigned{m.goalCount} << " goal(s), the first (" << fixed(m.goalX, 2) << ", "
-        << fixed(m.goalY, 2) << "), risk bound " << formatNumber(m.riskBound) << " (in force "
-        << formatNumber(m.riskInForce) << ", used " << formatNumber(m.riskUsed) << "), plan "
+        << fixed(m.goalY, 2) << "), risk bound " << shortNumber(m.riskBound) << " (in force "
+        << shortNumber(m.riskInForce) << ", used " << shortNumber(m.riskUsed) << "), plan "
         << fixed(m.planLengthM, 2) << " m\n";
     if (m.poseKnown) {
         out << "final pose: (" << fixed(m.finalPose.xM, 2) << ", " << fixed(m.finalPose.yM, 2) << ") heading "
@@ -275,8 +289,10 @@ void printMissionTelemetry(const MissionTelemetry& m, std::ostream& out, bool ev
             << " skipped; worst start lateness " << fixed(m.frameLatenessMaxUs / 1000.0, 3) << " ms, busiest frame "
             << fixed(m.frameBusyMaxUs / 1000.0, 3) << " ms (last HK, mission time)\n";
     }
-    out << "link:       " << m.eventsReceived << " events received, " << m.eventsLost << " lost (event_sequence gaps); "
-        << m.commandsAccepted << " commands acknowledged accepted, " << m.commandsRejected << " rejected\n";
+    out << "link:       " << m.eventsReceived << " events received, " << m.eventsLost
+        << " lost (event_sequence gaps); the rover dropped " << m.telemetryDropped
+        << " packets (HK.tlm_dropped, since its start); " << m.commandsAccepted << " commands acknowledged accepted, "
+        << m.commandsRejected << " rejected\n";
     if (eventsToo) {
         out << "events:\n";
         for (const TelemetryEvent& e : m.events) {
@@ -330,6 +346,7 @@ void printMissionFacts(const MissionTelemetry& m, std::ostream& out) {
     num("undecoded", static_cast<double>(m.undecoded));
     num("events", m.eventsReceived);
     num("events_lost", m.eventsLost);
+    num("tlm_dropped", m.telemetryDropped);
     num("commands_accepted", m.commandsAccepted);
     num("commands_rejected", m.commandsRejected);
     num("track_points", static_cast<double>(m.track.size()));

@@ -22,7 +22,9 @@
 //                counters (the rover's own totals since it started).
 //   faults       every fault id HEALTH.active_faults showed set.
 //   timing       the last HK: frames run, overruns, frames skipped, worst frame
-//                start lateness and busy time; time_scale (rse-fsw --time-scale).
+//                start lateness and busy time; time_scale (rse-fsw --time-scale);
+//                tlm_dropped (what the rover could not send: events lost in a burst
+//                on the CAN link are counted there).
 //   flight start the MET at which the rover's executive started: an HK's MET less
 //                (frames_run + frames_skipped) minor frames; mission times are also
 //                given from there ("flight time"), the timeline rse-demo prints.
@@ -123,6 +125,7 @@ struct MissionTelemetry {
     std::uint32_t framesSkipped = 0;
     std::uint32_t frameLatenessMaxUs = 0;
     std::uint32_t frameBusyMaxUs = 0;
+    std::uint32_t telemetryDropped = 0;  // HK.tlm_dropped: packets the rover's links could not take, since its start
 
     // The link.
     std::uint32_t eventsReceived = 0;
@@ -153,6 +156,7 @@ private:
     void onPlan(const DecodedPacket& p);
     void onHousekeeping(const DecodedPacket& p);
     void decide(TelemetryOutcome outcome, double metS, std::uint8_t reason, const char* by);
+    const std::string& callHomeWords(const std::string& by) const;
 
     MissionTelemetry mission_;
     double firstReceivedS_ = 0.0;

@@ -64,6 +64,7 @@ std::vector<std::uint8_t> housekeeping(double metS, std::uint64_t framesRun, std
     hk.frame_lateness_max_us = 8680;
     hk.frame_busy_max_us = 28061;
     hk.time_scale = timeScale;
+    hk.tlm_dropped = 62;
     return test::telemetryPacket(hk, 0, at(metS));
 }
 
@@ -110,10 +111,11 @@ std::vector<std::vector<std::uint8_t>> calledHomeMission() {
         event(13, 18.0, dev::kLegSent, 1, "deliberative: leg 2 (2 of 6)"),
         // 14 lost
         event(15, 47.2, dev::kFailUpReceived, 2, "deliberative: leg 2 failed up: cannot follow"),
-        event(16, 47.2, dev::kCallHome, 4, "deliberative: CALL HOME: mobility lost (the drive interlock holds every drive)"),
-        pose(47.5, 9.34, -0.11),
+        // The status of the call home's frame comes down before its event (as over CAN).
         plan(47.2, msg::DeliberativeState::kCalledHome, static_cast<std::uint8_t>(msg::CallHomeReason::kMobilityLost),
              1, 1),
+        event(16, 47.2, dev::kCallHome, 4, "deliberative: CALL HOME: mobility lost (the drive interlock holds every drive)"),
+        pose(47.5, 9.34, -0.11),
         health(48.0, 0),
         housekeeping(49.0, 4798, 0, 4),
     };
@@ -217,6 +219,7 @@ TEST(MissionTelemetry, CalledHomeWithTheReasonTheCountsAndTheFinalPose) {
     LONGS_EQUAL(4798, m.framesRun);
     LONGS_EQUAL(2, m.framesSkipped);
     LONGS_EQUAL(8680, m.frameLatenessMaxUs);
+    LONGS_EQUAL(62, m.telemetryDropped);
     LONGS_EQUAL(6, m.eventsReceived);
     LONGS_EQUAL(1, m.eventsLost);
     LONGS_EQUAL(6, m.events.size());
@@ -280,6 +283,7 @@ TEST(MissionTelemetry, PrintedForPeopleAndAsFacts) {
     CHECK_TRUE(contains(f, "faults=12\n"));
     CHECK_TRUE(contains(f, "frames_skipped=2\n"));
     CHECK_TRUE(contains(f, "events_lost=1\n"));
+    CHECK_TRUE(contains(f, "tlm_dropped=62\n"));
 }
 
 TEST_GROUP(GroundCliRecord){};
