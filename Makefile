@@ -274,16 +274,17 @@ RESULTS := build/test-results.txt
 # Debian's kernel where this kernel has no CAN), checked with can-utils; then
 # the mission over vcan commanded only from the ground (test-vcan-mission alone).
 # Both suites' counts go to one results file and one summary line.
+VCAN_BINS := $(FSW_BIN) $(SIM_BIN) $(GROUND_BIN) $(ISOTP_BIN) $(DEMO_BIN)
 .PHONY: test-vcan test-vcan-mission
 test-vcan: deps
 	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(FSW_BIN) $(HOST_TOOLS)
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
 	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
 	  $(VCAN_TEST) $(VCAN_MISSION_TEST)
 	@unit_test/summarize.sh $(RESULTS)
 test-vcan-mission: deps
 	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(FSW_BIN) $(HOST_TOOLS)
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
 	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
 	  $(VCAN_MISSION_TEST)
 	@unit_test/summarize.sh $(RESULTS)

@@ -18,12 +18,7 @@ B=${RSE_GUEST_BIN:-/opt/rse/bin}
 D=${RSE_GUEST_DATA:-/opt/rse/data}
 W=${RSE_GUEST_WORK:-/tmp/vcan_mission}
 SCENARIO=$1 MAP=$2 X=$3 Y=$4 RISK=$5 N=$6 MISSION_S=$7
-pass=0
-fail=0
-check() {
-  name=$1; shift
-  if "$@"; then echo "pass: $name"; pass=$((pass + 1)); else echo "FAIL: $name"; fail=$((fail + 1)); fi
-}
+. "$D/vcan_guest_lib.sh"  # check, stop
 uptime_s() { cut -d' ' -f1 /proc/uptime; }
 rm -rf "$W" && mkdir -p "$W" && cd "$W" || exit 1
 t_start=$(uptime_s)
@@ -44,10 +39,17 @@ i=0
 while [ $i -lt 100 ] && ! grep -q '^recording ' record.out 2>/dev/null; do sleep 0.1; i=$((i + 1)); done
 
 # The operator: contact (the rover sends telemetry over CAN once it has heard
-# the ground), the drives up, the map, the mode, the goal. Waits are wall time:
+# the ground; a NOOP again until one is acknowledged, as rse-fsw may still be
+# starting), the drives up, the map, the mode, the goal. Waits are wall time:
 # telemetry comes N times less often.
+tries=1
+until $B/rse-ground --can vcan0 --state-dir $W/ground-state --timeout 2 send NOOP > contact.out 2>&1; do
+  [ $tries -lt 30 ] || break
+  tries=$((tries + 1))
+  sleep 1
+done
+check "ground: contact, a NOOP acknowledged (try $tries)" grep -q 'NOOP .* accepted' contact.out
 cat > prepare.rsc <<EOF
-send NOOP
 wait DRIVES.state[0] == 4 within $((30 * N))
 wait DRIVES.state[1] == 4 within $((2 * N))
 wait DRIVES.state[2] == 4 within $((2 * N))
@@ -61,7 +63,7 @@ send SET_MODE mode=AUTONOMOUS
 send GOTO x=$X y=$Y risk=$RISK
 EOF
 $G run prepare.rsc > prepare.out 2>&1; prepare_rc=$?
-check "ground: contact, six drives operational (DRIVES), a pose estimate (ROVER_STATE)" [ $prepare_rc -eq 0 ]
+check "ground: six drives operational (DRIVES), a pose estimate (ROVER_STATE)" [ $prepare_rc -eq 0 ]
 $G table load "$D/$MAP" --activate > map.out 2>&1; map_rc=$?
 check "ground: the scenario's COARSE_MAP uploaded (TABLE_LOAD chunks), validated, activated" \
   sh -c "[ $map_rc -eq 0 ] && grep -q 'COARSE_MAP loaded, validated and activated' map.out"
@@ -72,13 +74,6 @@ t_goto=$(uptime_s)
 wait $REC; rec_rc=$?
 t_end=$(uptime_s)
 check "ground: the recording reached the mission's outcome (record --until-outcome exit 0)" [ $rec_rc -eq 0 ]
-stop() {
-  kill -TERM $1 2>/dev/null
-  k=0
-  while [ $k -lt 100 ] && kill -0 $1 2>/dev/null; do sleep 0.1; k=$((k + 1)); done
-  kill -KILL $1 2>/dev/null
-  wait $1
-}
 stop $FSW; fsw_rc=$?
 stop $SIM; sim_rc=$?
 check "rse-fsw stopped cleanly (exit 0)" [ $fsw_rc -eq 0 ]
@@ -87,7 +82,7 @@ check "rse-fsw and rse-sim ran with time scale $N" \
   sh -c "grep -q 'time scale $N: 1 s of mission time every $N s' fsw.log && grep -q 'time scale $N: 1 simulated second' sim.log"
 
 if [ $fail -gt 0 ]; then
-  for f in record.out prepare.out map.out go.out; do echo "--- $f"; cat $f; done
+  for f in record.out contact.out prepare.out map.out go.out; do echo "--- $f"; cat $f; done
   echo "--- rse-fsw log (tail)"; tail -n 60 fsw.log
   echo "--- rse-sim log (tail)"; tail -n 10 sim.log
 fi

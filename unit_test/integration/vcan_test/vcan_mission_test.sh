@@ -8,12 +8,16 @@
 # reaches. Both vcan processes run --time-scale N (default 5): the emulated CPU
 # gets N times the wall time per frame, the mission is the same in mission time
 # (docs/operations.md §3.2). Wall time: about N x the mission's seconds + 40 s.
+# The run is not lockstep: the rover starts, hears its first position fix and
+# gets its goal at other moments of the scenario, so its first estimate, its
+# plan (there are near-equal ones either side of a rock) and where the worn
+# motor trips differ from run to run. The outcome is compared; the time and
+# place of it are printed beside the lockstep run's.
 #
 # Checked: the guest's steps (ground commands accepted, the recording reached
 # the outcome, clean stops); from the recording alone (rse-ground summary):
-# the outcome and the call-home reason and words equal the lockstep run's, its
-# time within 10 s of the lockstep run's, the goal and risk bound the rover
-# took, the final estimated position near the lockstep truth's and near this
+# the outcome and the call-home reason and words equal the lockstep run's, the
+# goal and risk bound the rover took, the final estimated position near this
 # run's own simulator truth, plans and legs made, the call homes; that the
 # slowness raised no fault (the faults raised exactly the lockstep run's) and
 # the rover ran at the time scale asked; that every event missing from the
@@ -84,14 +88,14 @@ check "the scenario's COARSE_MAP compiled for upload (rse-sim --coarse-map-sourc
 guest_args=("$(basename "$scenario")" coarse_map.tbl "$gx" "$gy" "$grisk" "$scale" "$mission_s")
 if [ -e /sys/class/net/vcan0 ] && grep -q '^can_isotp' /proc/modules 2>/dev/null && [ -z "${RSE_FORCE_VM:-}" ]; then
   echo "vcan0 present: running natively (time scale $scale)"
-  mkdir -p "$out/data" && cp "$scenario" "$out/coarse_map.tbl" "$out/data/"
+  mkdir -p "$out/data" && cp "$scenario" "$out/coarse_map.tbl" "$here/vcan_guest_lib.sh" "$out/data/"
   RSE_GUEST_BIN="$root/$bin" RSE_GUEST_DATA="$out/data" RSE_GUEST_WORK="$out/work" \
     sh "$here/vcan_mission_guest.sh" "${guest_args[@]}" > "$out/vm.log" 2>&1
 else
   echo "running in the VM (time scale $scale, up to $mission_s s of mission time)"
   VM_TIMEOUT=$((scale * mission_s + 240)) "$root/unit_test/integration/vcan_vm/run_in_vm.sh" \
     --bin "$bin/rse-fsw" --bin "$bin/rse-sim" --bin "$bin/rse-ground" \
-    --file "$scenario" --file "$out/coarse_map.tbl" \
+    --file "$scenario" --file "$out/coarse_map.tbl" --file "$here/vcan_guest_lib.sh" \
     "$here/vcan_mission_guest.sh" "${guest_args[@]}" > "$out/vm.log" 2>&1
 fi
 vm_rc=$?
@@ -119,15 +123,11 @@ if [ "$ref_kind" = called_home ]; then
   check "the flight's words for it are the lockstep run's: '$ref_words'" \
     grep -qF -- "$ref_words" <<< "$(fact call_home_event)"
 fi
-check "outcome at $(fact outcome_time) s of flight time, within 10 s of the lockstep run's $ref_time s" \
-  awk -v a="$(fact outcome_time)" -v b="$ref_time" 'BEGIN { exit !(a >= 0 && (a - b) <= 10 && (b - a) <= 10) }'
 check "the rover took the goal (PLAN): ($(fact goal_x), $(fact goal_y)) at risk bound $(fact risk_bound)" \
   awk -v x="$(fact goal_x)" -v y="$(fact goal_y)" -v r="$(fact risk_bound)" -v gx="$gx" -v gy="$gy" -v gr="$grisk" \
     'BEGIN { exit !((x - gx)^2 + (y - gy)^2 < 1e-6 && r == gr + 0) }'
 # The final estimate from ROVER_STATE, within tol metres of (x, y).
 final_near() { [ "$(fact final_pose_known)" = 1 ] && near "$(fact final_x)" "$(fact final_y)" "$1" "$2" "$3"; }
-check "final position from telemetry ($(fact final_x), $(fact final_y)) within 2 m of the lockstep truth ($ref_x, $ref_y)" \
-  final_near "$ref_x" "$ref_y" 2.0
 read -r sim_x sim_y < <(sed -n 's/.* TRUTH x=\([-0-9.]*\) y=\([-0-9.]*\) .*/\1 \2/p' "$out/vm.log" | tail -n 1)
 check "final position from telemetry within 0.5 m of this run's simulator truth ($sim_x, $sim_y)" \
   final_near "${sim_x:-1e9}" "${sim_y:-1e9}" 0.5
@@ -155,6 +155,8 @@ check "events missing from the recording ($(fact events_lost) of $(( $(fact even
   [ "$(fact events_lost)" -le "$(fact tlm_dropped)" ]
 ref_line() { sed -n "s/^$1: *//p" "$out/lockstep.log"; }
 echo "--- lockstep (rse-demo, simulator truth) beside vcan (telemetry):"
+echo "  lockstep outcome: $ref_kind at $ref_time s, final position ($ref_x, $ref_y)"
+echo "  vcan     outcome: $kind at $(fact outcome_time) s of flight time, final position ($(fact final_x), $(fact final_y)), $(awk -v a="$(fact final_x)" -v b="$(fact final_y)" -v c="$ref_x" -v d="$ref_y" 'BEGIN { printf "%.2f", sqrt((a - c)^2 + (b - d)^2) }') m from the lockstep's"
 echo "  lockstep legs: $(ref_line legs)"
 echo "  vcan     legs: $(fact legs_sent) sent, $(fact legs_achieved) achieved, $(fact fail_ups) fail-ups; $(fact replans) replans, $(fact bound_relaxations) bound relaxations, $(fact risk_relaxations) risk relaxations, $(fact call_homes) call homes"
 echo "  lockstep plan: $(ref_line plan)"
