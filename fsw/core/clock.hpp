@@ -70,6 +70,9 @@ public:
 //   mission(t) = t0 + (t - t0) / N,  sleepUntil(d) waits for t = t0 + (d - t0) * N.
 // Task times and budgets are judged on this clock: a run that took N ms of
 // wall time counts as 1 ms, as on a computer N times faster than this one.
+// Not scaled: the receive stamps hal::SocketCanBus puts on CAN frames (on
+// CLOCK_MONOTONIC; no flight code reads them) and the executive's host-time
+// statistics (TaskStats::host*, wall time whatever the clock).
 class ScaledMonotonicClock final : public Clock {
 public:
     static constexpr std::uint32_t kMaxFactor = 100;
