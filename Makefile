@@ -258,21 +258,36 @@ TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # The vcan test boots an x86_64 VM with real SocketCAN: host build only.
 # The tshark check captures the UDP ground link on lo: host build only too.
 VCAN_TEST := unit_test/integration/vcan_test/vcan_integration_test.sh
+# The mission over vcan commanded only from the ground (three processes, time
+# scale 5 in the VM), compared with the lockstep run: about 5 minutes.
+VCAN_MISSION_TEST := unit_test/integration/vcan_test/vcan_mission_test.sh
 TSHARK_TEST := unit_test/integration/tshark/tshark_ccsds_test.sh
 WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(VCAN_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 
 # rse-fsw and rse-sim as separate processes on a real vcan0 (in a qemu VM with
-# Debian's kernel where this kernel has no CAN), checked with can-utils.
-.PHONY: test-vcan
+# Debian's kernel where this kernel has no CAN), checked with can-utils; then
+# the mission over vcan commanded only from the ground (test-vcan-mission alone).
+# Both suites' counts go to one results file and one summary line.
+VCAN_BINS := $(FSW_BIN) $(SIM_BIN) $(GROUND_BIN) $(ISOTP_BIN) $(DEMO_BIN)
+.PHONY: test-vcan test-vcan-mission
 test-vcan: deps
-	@$(MAKE) --no-print-directory CROSS_COMPILE= test-binaries
-	@RSE_BIN_DIR=build/$(shell uname -m)/bin $(VCAN_TEST)
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
+	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
+	  $(VCAN_TEST) $(VCAN_MISSION_TEST)
+	@unit_test/summarize.sh $(RESULTS)
+test-vcan-mission: deps
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
+	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
+	  $(VCAN_MISSION_TEST)
+	@unit_test/summarize.sh $(RESULTS)
 
 .PHONY: test-binaries run-suites host-test cross-test test
 test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))

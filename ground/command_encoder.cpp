@@ -103,17 +103,6 @@ void writeScalar(core::BeWriter& w, FieldType type, double value) {
     }
 }
 
-int hexDigit(char c) {
-    const int l = std::tolower(static_cast<unsigned char>(c));
-    if (l >= '0' && l <= '9') {
-        return l - '0';
-    }
-    if (l >= 'a' && l <= 'f') {
-        return l - 'a' + 10;
-    }
-    return -1;
-}
-
 std::vector<std::uint8_t> parseBlob(const CommandDesc& command, const ArgDesc& arg, const std::string& text) {
     const std::string shown = std::string(arg.name) + "=";
     std::vector<std::uint8_t> bytes;

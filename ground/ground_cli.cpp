@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -18,9 +19,11 @@
 #include "ground/ground_link.hpp"
 #include "ground/ground_session.hpp"
 #include "ground/key_file.hpp"
+#include "ground/mission_telemetry.hpp"
 #include "ground/plan_tool.hpp"
 #include "ground/plan_transfer.hpp"
 #include "ground/script_runner.hpp"
+#include "ground/session_recording.hpp"
 #include "ground/sequence_store.hpp"
 #include "ground/table_compiler.hpp"
 #include "ground/table_tool.hpp"
@@ -47,6 +50,9 @@ constexpr const char* kUsage =
     "commands:\n"
     "  send NAME [arg=value ...] [--auth-seq N] [--no-wait]   send a command, print its CMD_ACK\n"
     "  watch [--count N] [--seconds S] [--only NAME,...]     print telemetry and events as they come\n"
+    "  record FILE [--seconds S] [--until-outcome] [--tail S] [--quiet]\n"
+    "                                                        record every packet received, with its time\n"
+    "  summary FILE [--facts] [--no-events]                  the mission a recording's telemetry shows\n"
     "  resync [--auth-seq N]                                 AUTH_RESYNC with the nonce of the rover's next HK\n"
     "  run SCRIPT [--verbose]                                run a command script (docs/ground.md)\n"
     "  table load IMAGE.tbl [--activate] [--force]           upload, validate (and activate) a table\n"
@@ -72,6 +78,8 @@ constexpr const char* kUsage =
     "  --timeout S              how long to wait for an acknowledgement (default 2)\n"
     "exit: 0 ok/accepted, 1 link error/no acknowledgement/script failed, 2 usage or bad argument,\n"
     "      3 rejected by the rover\n";
+
+constexpr double kDefaultRecordTailS = 5.0;  // record --until-outcome: seconds recorded after the outcome
 
 class UsageError : public std::runtime_error {
 public:
@@ -173,6 +181,8 @@ public:
     int send(const std::vector<std::string>& args);
     int resync(const std::vector<std::string>& args);
     int watch(const std::vector<std::string>& args);
+    int record(const std::vector<std::string>& args);
+    int summary(const std::vector<std::string>& args);
     int run(const std::vector<std::string>& args);
     int table(const std::vector<std::string>& args);
     int plan(const std::vector<std::string>& args);
@@ -484,6 +494,120 @@ int Cli::watch(const std::vector<std::string>& args) {
     return kExitOk;
 }
 
+// A session recorder: every packet received goes to the file as it comes
+// (ground/session_recording.hpp). --until-outcome stops once the telemetry
+// shows the mission's outcome (ground/mission_telemetry.hpp), --tail seconds
+// later so the events that follow it arrive; --seconds bounds the whole
+// recording.
+int Cli::record(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const bool untilOutcome = takeFlag(&words, "--until-outcome");
+    const bool quiet = takeFlag(&words, "--quiet");
+    double seconds = 0.0;
+    double tail = kDefaultRecordTailS;
+    if (auto v = takeValue(&words, "--seconds")) {
+        seconds = parsePositiveSeconds("--seconds", *v);
+    }
+    if (auto v = takeValue(&words, "--tail")) {
+        tail = parsePositiveSeconds("--tail", *v);
+    }
+    rejectOptions(words, "record");
+    if (words.size() != 1) {
+        throw UsageError("usage: rse-ground record FILE [--seconds S] [--until-outcome] [--tail S] [--quiet]");
+    }
+    if (!untilOutcome && seconds <= 0.0) {
+        throw UsageError("record: give --seconds S, --until-outcome or both (it would never stop)");
+    }
+    std::ofstream file(words[0], std::ios::trunc);
+    if (!file) {
+        err_ << "record: cannot write '" << words[0] << "'\n";
+        return kExitLink;
+    }
+    std::unique_ptr<GroundLink> link = openLink(true);
+    timespec utc{};
+    clock_gettime(CLOCK_REALTIME, &utc);
+    SessionRecorder recorder(file, link->describe(), static_cast<double>(utc.tv_sec) + 1e-9 * static_cast<double>(utc.tv_nsec));
+    out_ << "recording " << link->describe() << " to " << words[0]
+         << (seconds > 0 ? " for at most " + formatNumber(seconds) + " s" : "")
+         << (untilOutcome ? " until the mission's outcome" : "") << "\n"
+         << std::flush;
+    MissionTelemetryReader reader;
+    const double start = monotonicSeconds();
+    double stopAt = seconds > 0 ? start + seconds : 0.0;
+    bool outcomeSeen = false;
+    for (;;) {
+        const double now = monotonicSeconds();
+        if (stopAt > 0 && now >= stopAt) {
+            break;
+        }
+        const double left = stopAt > 0 ? stopAt - now : 1.0;
+        std::optional<std::vector<std::uint8_t>> bytes = link->receive(std::min(left, 1.0));
+        if (!bytes) {
+            continue;
+        }
+        const double at = monotonicSeconds() - start;
+        recorder.record(at, *bytes);
+        if (!recorder.ok()) {
+            err_ << "record: writing '" << words[0] << "' failed after " << recorder.packets() << " packets\n";
+            return kExitLink;
+        }
+        const DecodedPacket packet = decodeTelemetry(*bytes);
+        if (!quiet) {
+            out_ << renderPacket(packet) << std::endl;
+        }
+        reader.add(at, packet);
+        if (untilOutcome && !outcomeSeen && reader.ended()) {
+            outcomeSeen = true;
+            const double tailEnd = monotonicSeconds() + tail;
+            stopAt = stopAt > 0 ? std::min(stopAt, tailEnd) : tailEnd;
+            out_ << "outcome: " << toString(reader.mission().outcome) << ": recording " << formatNumber(tail)
+                 << " s more\n"
+                 << std::flush;
+        }
+    }
+    out_ << "recorded " << recorder.packets() << " packets in " << formatNumber(monotonicSeconds() - start)
+         << " s to " << words[0] << "\n";
+    if (recorder.packets() == 0) {
+        err_ << "record: no telemetry on " << link->describe()
+             << ": is rse-fsw running, and has it heard this ground (over CAN it sends only after a command)?\n";
+        return kExitLink;
+    }
+    if (untilOutcome && !outcomeSeen) {
+        err_ << "record: no outcome within " << formatNumber(seconds) << " s\n";
+        return kExitLink;
+    }
+    return kExitOk;
+}
+
+int Cli::summary(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const bool facts = takeFlag(&words, "--facts");
+    const bool noEvents = takeFlag(&words, "--no-events");
+    rejectOptions(words, "summary");
+    if (words.size() != 1) {
+        throw UsageError("usage: rse-ground summary FILE [--facts] [--no-events]");
+    }
+    std::ifstream in(words[0]);
+    if (!in) {
+        err_ << "summary: cannot read '" << words[0] << "'\n";
+        return kExitLink;
+    }
+    const SessionRecording recording = readSessionRecording(in);
+    for (const std::string& e : recording.errors) {
+        err_ << words[0] << ": " << e << "\n";
+    }
+    if (recording.packets.empty() && !recording.errors.empty()) {
+        return kExitLink;
+    }
+    const MissionTelemetry mission = readMissionTelemetry(recording);
+    if (facts) {
+        printMissionFacts(mission, out_);
+    } else {
+        printMissionTelemetry(mission, out_, !noEvents);
+    }
+    return kExitOk;
+}
+
 int Cli::run(const std::vector<std::string>& args) {
     std::vector<std::string> words = args;
     const bool verbose = takeFlag(&words, "--verbose");
@@ -707,6 +831,12 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
         }
         if (command == "run") {
             return cli.run(commandArgs);
+        }
+        if (command == "record") {
+            return cli.record(commandArgs);
+        }
+        if (command == "summary") {
+            return cli.summary(commandArgs);
         }
         if (command == "table") {
             return cli.table(commandArgs);

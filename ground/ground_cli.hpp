@@ -3,6 +3,8 @@
 //   rse-ground [global options] send NAME [arg=value ...] [--auth-seq N] [--no-wait]
 //   rse-ground [global options] watch [--count N] [--seconds S] [--only NAME,...]
 //   rse-ground [global options] run SCRIPT [--verbose]
+//   rse-ground [global options] record FILE [--seconds S] [--until-outcome] [--tail S] [--quiet]
+//   rse-ground summary FILE [--facts] [--no-events]     (ground/mission_telemetry.hpp)
 //   rse-ground [global options] table load IMAGE.tbl [--activate] [--force]
 //   rse-ground [global options] table dump ID|NAME [--inactive] [-o FILE]
 //   rse-ground table build|show|check|list ...        (ground/table_tool.hpp)

@@ -62,18 +62,46 @@ std::string toLower(std::string text) {
     return text;
 }
 
-std::string hexBytes(const std::uint8_t* data, std::size_t length) {
+std::string hexBytes(const std::uint8_t* data, std::size_t length, bool spaced) {
     static const char kDigits[] = "0123456789ABCDEF";
     std::string text;
     text.reserve(length * 3);
     for (std::size_t i = 0; i < length; ++i) {
-        if (i > 0) {
+        if (i > 0 && spaced) {
             text += ' ';
         }
         text += kDigits[data[i] >> 4];
         text += kDigits[data[i] & 0xF];
     }
     return text;
+}
+
+int hexDigit(char c) {
+    const int l = std::tolower(static_cast<unsigned char>(c));
+    if (l >= '0' && l <= '9') {
+        return l - '0';
+    }
+    if (l >= 'a' && l <= 'f') {
+        return l - 'a' + 10;
+    }
+    return -1;
+}
+
+bool parseHexBytes(const std::string& text, std::vector<std::uint8_t>* out) {
+    if (text.size() % 2 != 0) {
+        return false;
+    }
+    std::vector<std::uint8_t> bytes(text.size() / 2);
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        const int high = hexDigit(text[2 * i]);
+        const int low = hexDigit(text[2 * i + 1]);
+        if (high < 0 || low < 0) {
+            return false;
+        }
+        bytes[i] = static_cast<std::uint8_t>((high << 4) | low);
+    }
+    *out = std::move(bytes);
+    return true;
 }
 
 bool parseDouble(const std::string& text, double* out) {

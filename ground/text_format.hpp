@@ -18,8 +18,13 @@ std::string formatFloat(float value);
 std::string toUpper(std::string text);
 std::string toLower(std::string text);
 
-// "0A 1B ..." (upper case, space separated).
-std::string hexBytes(const std::uint8_t* data, std::size_t length);
+// "0A 1B ..." (upper case, space separated; "0A1B..." when not spaced).
+std::string hexBytes(const std::uint8_t* data, std::size_t length, bool spaced = true);
+// 0..15 for a hex digit (either case), -1 for anything else.
+int hexDigit(char c);
+// "0A1b..." (an even number of hex digits, nothing else) -> bytes; false
+// (out untouched) otherwise.
+bool parseHexBytes(const std::string& text, std::vector<std::uint8_t>* out);
 
 // Whole-string number parsing: false unless the entire text is the number.
 // parseDouble refuses nothing finite-or-not itself; callers check finiteness.

@@ -1,6 +1,6 @@
 // rse-sim: the rover and its world as a separate process on a SocketCAN bus.
 //
-//   rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet]
+//   rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet] [--time-scale N]
 //   rse-sim --coarse-map-source FILE
 //
 // The second form prints the COARSE_MAP table source of the scenario's site
@@ -10,7 +10,9 @@
 //
 // Each of the six drive emulators gets its own socket (as six controllers would
 // have), the other devices share one. The world steps at 1 kHz on
-// CLOCK_MONOTONIC with absolute deadlines. Prints the truth once a second (for
+// CLOCK_MONOTONIC with absolute deadlines; --time-scale N slows that clock N
+// times (core::ScaledMonotonicClock), as rse-fsw --time-scale N does its own,
+// so both keep one mission timeline on a machine too slow for real time. Prints the truth once a second (for
 // the operator and integration tests; the flight software never sees it).
 // Exit status: 0 after a clean stop, 1 if the bus or scenario cannot be used
 // (a task_stall fault included: it needs a ground link, which rse-sim has
@@ -36,12 +38,15 @@ void onStop(int) { g_stop = 1; }
 
 void usage(std::FILE* out) {
     std::fprintf(out,
-                 "usage: rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet]\n"
+                 "usage: rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet] [--time-scale N]\n"
                  "       rse-sim --coarse-map-source FILE\n"
                  "  --can IFACE        SocketCAN interface shared with rse-fsw (e.g. vcan0)\n"
                  "  --scenario FILE    TOML scenario (sim_stub/scenarios/README.md)\n"
                  "  --duration SECONDS stop after this long (default: the scenario's duration_s)\n"
                  "  --quiet            no once-a-second truth lines\n"
+                 "  --time-scale N     simulated time runs N times slower than CLOCK_MONOTONIC (1..100; the\n"
+                 "                     same N as rse-fsw --time-scale); --duration and the scenario are in\n"
+                 "                     simulated seconds\n"
                  "  --coarse-map-source FILE  print the scenario's COARSE_MAP table source and exit\n");
 }
 
@@ -51,6 +56,7 @@ struct Options {
     const char* mapSource = nullptr;
     double duration = 0.0;
     bool quiet = false;
+    std::uint32_t timeScale = 1;
 };
 
 bool parse(int argc, char** argv, Options* o) {
@@ -68,6 +74,16 @@ bool parse(int argc, char** argv, Options* o) {
                 std::fprintf(stderr, "rse-sim: --duration '%s' is not a positive number of seconds\n", argv[i]);
                 return false;
             }
+        } else if (a == "--time-scale" && hasValue) {
+            char* end = nullptr;
+            const char* v = argv[++i];
+            const unsigned long n = std::strtoul(v, &end, 10);
+            if (*end != '\0' || v[0] < '0' || v[0] > '9' || n < 1 || n > rse::core::ScaledMonotonicClock::kMaxFactor) {
+                std::fprintf(stderr, "rse-sim: --time-scale '%s' is not a whole factor 1..%u\n", v,
+                             static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
+                return false;
+            }
+            o->timeScale = static_cast<std::uint32_t>(n);
         } else if (a == "--coarse-map-source" && hasValue) {
             o->mapSource = argv[++i];
         } else if (a == "--quiet") {
@@ -166,16 +182,31 @@ int main(int argc, char** argv) {
     sigaction(SIGTERM, &action, nullptr);
 
     const double duration = o.duration > 0.0 ? o.duration : scenario.durationS;
-    std::printf("rse-sim: scenario '%s' on %s for %.1f s\n", scenario.name.c_str(), o.can, duration);
+    std::printf("rse-sim: scenario '%s' on %s for %.1f s", scenario.name.c_str(), o.can, duration);
+    if (o.timeScale > 1) {
+        std::printf(" (time scale %u: 1 simulated second every %u s)", static_cast<unsigned>(o.timeScale),
+                    static_cast<unsigned>(o.timeScale));
+    }
+    std::printf("\n");
     std::fflush(stdout);
+    rse::core::ScaledMonotonicClock clock;
+    (void)clock.start(o.timeScale);  // 1..kMaxFactor, checked above
     drives->powerOn();
-    rse::core::MonotonicClock clock;
     const rse::core::TimeNs origin = clock.now();
     const rse::core::TimeNs step = rse::core::kNsPerMs;
     const auto steps = static_cast<std::int64_t>(duration * 1000.0);
+    // How far behind its timeline the world ran (simulated time): a step that
+    // starts more than a step late delays what the devices put on the bus.
+    rse::core::TimeNs maxLateness = 0;
+    std::int64_t lateSteps = 0;
+    std::int64_t stepsRun = 0;
     for (std::int64_t k = 0; k <= steps && g_stop == 0; ++k) {
         const rse::core::TimeNs t = k * step;
         clock.sleepUntil(origin + t);
+        const rse::core::TimeNs lateness = clock.now() - (origin + t);
+        maxLateness = lateness > maxLateness ? lateness : maxLateness;
+        lateSteps += lateness > step ? 1 : 0;
+        ++stepsRun;
         rover->step(t);
         if (!o.quiet && k % 1000 == 0) {
             const auto& truth = rover->truth();
@@ -185,6 +216,10 @@ int main(int argc, char** argv) {
             std::fflush(stdout);
         }
     }
+    std::printf("rse-sim: timing: %lld of %lld steps started more than 1 ms late, the latest %.1f ms "
+                "(simulated time)\n",
+                static_cast<long long>(lateSteps), static_cast<long long>(stepsRun),
+                static_cast<double>(maxLateness) * 1e-6);
     std::printf("rse-sim: stopped (%s)\n", g_stop != 0 ? "signal" : "duration reached");
     return 0;
 }

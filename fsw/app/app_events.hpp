@@ -31,5 +31,6 @@ constexpr core::EventId kWatchdogWithheld = 222;   // the watchdog is no longer 
 constexpr core::EventId kWatchdogFeeding = 223;    // the watchdog is fed again
 constexpr core::EventId kTaskSetByGround = 224;    // EXEC_SET_TASK: a rate-group row disabled (WARN) or enabled (INFO) by ground
 constexpr core::EventId kTaskSetRefused = 225;     // EXEC_SET_TASK refused: no such row, or a row whose loss could not be undone (why)
+constexpr core::EventId kTimeScaled = 226;         // start-up (rse-fsw --time-scale N > 1, lab only): the timeline runs N times slower than real time
 
 }  // namespace rse::app::events

@@ -42,7 +42,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       watchdog_(bus_, events_),
       housekeeping_(executive_, bus_, events_),
       telemetry_(bus_, events_, telemetryOutput_,
-                 TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0}),
+                 TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0, 1}),
       manualDrive_(clock, bus_, events_, tables_),
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
@@ -122,6 +122,12 @@ core::Status FswApp::init(std::FILE* console) {
         return status;
     }
     telemetry_.setUtcAtMetZero(utcAtMetZero(clock_));
+    telemetry_.setTimeScale(timeScale_);
+    if (timeScale_ > 1) {
+        events_.report(events::kTimeScaled, core::Severity::kWarning,
+                       "app: time scale %u: mission time runs %u times slower than real time (lab only, never flight)",
+                       static_cast<unsigned>(timeScale_), static_cast<unsigned>(timeScale_));
+    }
     for (std::size_t i = 0; i < groundLinks_.size(); ++i) {
         events_.report(events::kGroundLinkOpened, core::Severity::kInfo,
                        "app: ground link %s: commands in, telemetry out", groundLinks_.at(i)->name());

@@ -62,6 +62,10 @@ public:
         commands_.attachAuthStore(store, provision, writer);
     }
     void setAuthChallengeSeed(std::uint64_t seed) { commands_.setAuthChallengeSeed(seed); }
+    // Before init: the clock runs `factor` times slower than real time
+    // (rse-fsw --time-scale, core::ScaledMonotonicClock; lab only): init events
+    // it (226) and HK.time_scale reports it. 1 (the default): real time.
+    void setTimeScale(std::uint8_t factor) { timeScale_ = factor < 1 ? 1 : factor; }
 
     // console: where the console task writes (nullptr: quiet).
     core::Status init(std::FILE* console);
@@ -101,6 +105,7 @@ private:
     core::Status protectEssentialRows();  // the rows ground may not disable (EXEC_SET_TASK)
 
     core::Clock& clock_;
+    std::uint8_t timeScale_ = 1;
     core::EventLog events_;
     core::SoftwareBus bus_;
     core::Executive executive_;

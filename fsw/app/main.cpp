@@ -5,6 +5,7 @@
 //           (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)
 //           [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
 //           [--auth-store PATH] [--auth-store-create] [--auth-store-sync]
+//           [--time-scale N]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
@@ -22,7 +23,10 @@
 // creates a missing one at floor 0 (first boot).
 // Real-time mode (default) runs on CLOCK_MONOTONIC until SIGINT/SIGTERM or the
 // duration; lockstep mode runs the same tasks on a virtual clock as fast as the
-// CPU allows (a duration is then required). Exit status: 0 after a clean stop,
+// CPU allows (a duration is then required). --time-scale N (lab only) slows
+// the real-time timeline N times (core::ScaledMonotonicClock): for a machine
+// too slow for the rover's 100 Hz, with rse-sim --time-scale N on the same bus.
+// Exit status: 0 after a clean stop,
 // 1 if initialisation failed, 2 for a bad command line.
 #include <cerrno>
 #include <csignal>
@@ -67,6 +71,7 @@ struct Options {
     bool authStoreSync = false;
     const char* watchdogDevice = nullptr;
     int watchdogTimeoutS = 30;
+    std::uint32_t timeScale = 0;  // 0: not given (CLOCK_MONOTONIC as it is)
 };
 
 void usage(std::FILE* out) {
@@ -76,6 +81,7 @@ void usage(std::FILE* out) {
                  "               (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)\n"
                  "               [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
                  "               [--auth-store PATH] [--auth-store-create] [--auth-store-sync]\n"
+                 "               [--time-scale N]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
                  "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
@@ -103,7 +109,12 @@ void usage(std::FILE* out) {
                  "                      then takes 0.7-5 ms of that task's 2 ms budget\n"
                  "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
                  "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
-                 "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n");
+                 "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n"
+                 "  --time-scale N      lab only: mission time runs N times slower than CLOCK_MONOTONIC (1..%u;\n"
+                 "                      1 = real time), for a machine too slow for 100 Hz (the qemu VM); give\n"
+                 "                      rse-sim the same N. Frame periods, timeouts, budgets and --duration are\n"
+                 "                      in mission time; HK.time_scale says N\n",
+                 static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
 }
 
 // Returns false (after printing why) on a bad command line.
@@ -182,6 +193,17 @@ bool parseOptions(int argc, char** argv, Options* options) {
             }
             ++i;
             options->watchdogTimeoutS = static_cast<int>(seconds);
+        } else if (std::strcmp(arg, "--time-scale") == 0) {
+            char* end = nullptr;
+            const unsigned long factor = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
+            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || argv[i + 1][0] == '-' || factor < 1 ||
+                factor > rse::core::ScaledMonotonicClock::kMaxFactor) {
+                std::fprintf(stderr, "rse-fsw: --time-scale needs a whole factor 1..%u\n",
+                             static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
+                return false;
+            }
+            ++i;
+            options->timeScale = static_cast<std::uint32_t>(factor);
         } else if (std::strcmp(arg, "--cmd-port") == 0 || std::strcmp(arg, "--tlm-port") == 0) {
             char* end = nullptr;
             const unsigned long port = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
@@ -206,6 +228,15 @@ bool parseOptions(int argc, char** argv, Options* options) {
     }
     if (options->lockstep && options->watchdogDevice != nullptr) {
         std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock: a watchdog would time out on real time\n");
+        return false;
+    }
+    if (options->lockstep && options->timeScale != 0) {
+        std::fprintf(stderr, "rse-fsw: --time-scale slows the real-time clock: --lockstep has none\n");
+        return false;
+    }
+    if (options->timeScale > 1 && options->watchdogDevice != nullptr) {
+        std::fprintf(stderr, "rse-fsw: --time-scale is for the lab: a watchdog counts real seconds and would "
+                             "time out on a slowed timeline\n");
         return false;
     }
     if (options->lockstep && options->durationSec <= 0.0) {
@@ -295,6 +326,7 @@ void installStopHandlers() {
 
 // Everything the flight software uses is reserved here, before the first frame.
 rse::core::MonotonicClock g_monotonicClock;
+rse::core::ScaledMonotonicClock g_scaledClock;  // --time-scale only
 rse::core::VirtualClock g_virtualClock;
 rse::hal::SocketCanBus g_socketCan;
 rse::hal::MemoryCanBus g_detachedBus(g_virtualClock);  // nothing else attached
@@ -314,8 +346,15 @@ int main(int argc, char** argv) {
         usage(stderr);
         return 2;
     }
-    rse::core::Clock& clock = options.lockstep ? static_cast<rse::core::Clock&>(g_virtualClock)
-                                               : static_cast<rse::core::Clock&>(g_monotonicClock);
+    // Anchored before anything reads it: mission time is continuous with
+    // CLOCK_MONOTONIC at this point and runs N times slower from here.
+    if (options.timeScale != 0 && !g_scaledClock.start(options.timeScale)) {
+        std::fprintf(stderr, "rse-fsw: --time-scale %u refused\n", static_cast<unsigned>(options.timeScale));
+        return 2;
+    }
+    rse::core::Clock& clock = options.lockstep         ? static_cast<rse::core::Clock&>(g_virtualClock)
+                               : options.timeScale != 0 ? static_cast<rse::core::Clock&>(g_scaledClock)
+                                                        : static_cast<rse::core::Clock&>(g_monotonicClock);
     rse::hal::CanBus* can = g_detachedBus.attach("rse-fsw");
     if (options.canInterface != nullptr) {
         if (!rse::core::isOk(g_socketCan.open(options.canInterface))) {
@@ -330,6 +369,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     app.setAuthRequired(options.authRequired);
+    app.setTimeScale(static_cast<std::uint8_t>(options.timeScale != 0 ? options.timeScale : 1));
     // The anti-replay store: always a file (a restart must not reopen numbers).
     if (!rse::core::isOk(g_authStore.open(options.authStore))) {
         std::fprintf(stderr, "rse-fsw: cannot use '%s' as the anti-replay store\n", options.authStore);
@@ -387,7 +427,12 @@ int main(int argc, char** argv) {
             ? static_cast<std::uint64_t>(options.durationSec * static_cast<double>(rse::core::kNsPerSec) /
                                          static_cast<double>(rse::app::kMinorFramePeriod) + 0.5)
             : 0;
-    std::printf("rse-fsw: %s mode, %s, CAN %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time",
+    char timeline[96] = "";
+    if (options.timeScale != 0) {
+        std::snprintf(timeline, sizeof timeline, " (time scale %u: 1 s of mission time every %u s, lab only)",
+                      static_cast<unsigned>(options.timeScale), static_cast<unsigned>(options.timeScale));
+    }
+    std::printf("rse-fsw: %s%s mode, %s, CAN %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time", timeline,
                 maxFrames > 0 ? "fixed duration" : "until SIGINT/SIGTERM",
                 options.canInterface != nullptr ? options.canInterface : "none attached");
     app.run(&g_stopRequested, maxFrames);

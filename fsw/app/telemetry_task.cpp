@@ -181,6 +181,7 @@ void TelemetryTask::sendHousekeeping(core::TimeNs now) {
     hk_.estop = mode_.estop;
     hk_.auth_required = sources_.commands.authRequired() ? 1 : 0;
     hk_.lab_key_in_use = sources_.commands.labKeyInUse() ? 1 : 0;
+    hk_.time_scale = sources_.timeScale;
     hk_.cmd_queue_depth = c.queueDepth;
     hk_.cmd_accepted = c.accepted;
     hk_.cmd_rejected = c.rejected;

@@ -54,6 +54,7 @@ struct TelemetrySources {
     const tables::TableService& tables;
     const hal::CanBus& can;
     double utcAtMetZero;  // time correlation, fixed at start-up
+    std::uint8_t timeScale = 1;  // HK.time_scale: 1 real time, N the timeline slowed N times (lab)
 };
 
 class TelemetryTask final : public core::Task {
@@ -66,6 +67,7 @@ public:
     void run(const core::FrameContext& frame) override;
 
     void setUtcAtMetZero(double utc) { sources_.utcAtMetZero = utc; }
+    void setTimeScale(std::uint8_t factor) { sources_.timeScale = factor; }
     // REQUEST_HK: HK and TASK_TIMING on the next run.
     void requestHousekeeping() { hkRequested_ = true; }
     void sendHousekeeping(core::TimeNs now);

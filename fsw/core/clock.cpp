@@ -2,6 +2,7 @@
 #include "fsw/core/clock.hpp"
 
 #include <cerrno>
+#include <cstdint>
 #include <ctime>
 
 namespace rse::core {
@@ -32,6 +33,34 @@ void MonotonicClock::sleepUntil(TimeNs deadline) {
     // frame late and frames never start early.
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &target, nullptr) == EINTR) {
     }
+}
+
+bool ScaledMonotonicClock::start(std::uint32_t factor) {
+    if (started_ || factor < 1 || factor > kMaxFactor) {
+        return false;
+    }
+    anchor_ = wall_.now();
+    factor_ = factor;
+    started_ = true;
+    return true;
+}
+
+TimeNs ScaledMonotonicClock::now() const {
+    const TimeNs wall = wall_.now();
+    return anchor_ + (wall - anchor_) / static_cast<TimeNs>(factor_);
+}
+
+void ScaledMonotonicClock::sleepUntil(TimeNs deadline) {
+    // deadline - anchor_ is mission time since the start: at most a few 1e16 ns
+    // for any run (rse-fsw --duration is capped at 1e7 s), times kMaxFactor
+    // stays far below the range of TimeNs. A deadline before the anchor has
+    // passed already.
+    const TimeNs since = deadline - anchor_;
+    if (since <= 0) {
+        return;
+    }
+    const TimeNs limit = (INT64_MAX - anchor_) / static_cast<TimeNs>(factor_);
+    wall_.sleepUntil(since >= limit ? INT64_MAX : anchor_ + since * static_cast<TimeNs>(factor_));
 }
 
 TimeNs ThreadCpuClock::now() const { return read(CLOCK_THREAD_CPUTIME_ID); }

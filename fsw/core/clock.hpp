@@ -58,6 +58,38 @@ public:
     void sleepUntil(TimeNs deadline) override;
 };
 
+// CLOCK_MONOTONIC slowed down by a whole factor, for the lab only: a machine
+// too slow to keep the rover's timeline (the qemu VM, which emulates its CPU)
+// runs rse-fsw and rse-sim both with the same factor (their --time-scale N), so
+// that every second of mission time takes N seconds of wall time. Each process
+// then sees the same mission as in real time (frame periods, timeouts, the
+// simulator's physics and fault times are all in mission time), with N times the
+// CPU time per frame. Until start() it reads and sleeps exactly as
+// MonotonicClock (factor 1). start(N) anchors the scaling at the current
+// CLOCK_MONOTONIC reading t0, with mission time continuous there:
+//   mission(t) = t0 + (t - t0) / N,  sleepUntil(d) waits for t = t0 + (d - t0) * N.
+// Task times and budgets are judged on this clock: a run that took N ms of
+// wall time counts as 1 ms, as on a computer N times faster than this one.
+// Not scaled: the receive stamps hal::SocketCanBus puts on CAN frames (on
+// CLOCK_MONOTONIC; no flight code reads them) and the executive's host-time
+// statistics (TaskStats::host*, wall time whatever the clock).
+class ScaledMonotonicClock final : public Clock {
+public:
+    static constexpr std::uint32_t kMaxFactor = 100;
+    // Returns false (and changes nothing) for a factor outside 1..kMaxFactor or
+    // when already started. Called once, before the first frame.
+    bool start(std::uint32_t factor);
+    std::uint32_t factor() const { return factor_; }
+    TimeNs now() const override;
+    void sleepUntil(TimeNs deadline) override;
+
+private:
+    MonotonicClock wall_;
+    TimeNs anchor_ = 0;
+    std::uint32_t factor_ = 1;
+    bool started_ = false;
+};
+
 // The calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID, user and system): what
 // a task's own work cost, without the time the scheduler gave to other threads
 // meanwhile, which wall-clock timing cannot tell apart. A kernel without IRQ time

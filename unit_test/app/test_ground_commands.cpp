@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "fsw/app/app_events.hpp"
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
 #include "fsw/msg/health_msgs.hpp"
@@ -792,4 +793,36 @@ TEST(GroundCommands, AGarbageFloodIsCountedInHousekeepingAndItsAcknowledgementsR
     // 20 at once, then 20 a second: 0.2 s of flood adds about 4.
     CHECK(rejectionAcks >= static_cast<long>(cmdtlm::kRejectAckBurst));
     CHECK(rejectionAcks <= static_cast<long>(cmdtlm::kRejectAckBurst) + 4);
+}
+
+// rse-fsw --time-scale N (lab only): the start-up event says so and every HK
+// carries N; without it HK.time_scale is 1 and nothing is evented.
+TEST_GROUP(GroundCommandsTimeScale){};
+
+TEST(GroundCommandsTimeScale, HousekeepingAndAnEventSayTheTimelineIsSlowed) {
+    for (const std::uint8_t factor : {std::uint8_t{1}, std::uint8_t{5}}) {
+        core::VirtualClock clock;
+        hal::MemoryCanBus can{clock};
+        hal::MemoryPacketLink link;
+        auto fsw = std::make_unique<app::FswApp>(clock, *can.attach("fsw"));
+        CHECK(core::isOk(fsw->addGroundLink(&link)));
+        CHECK(core::isOk(fsw->useLabKey()));
+        fsw->setTimeScale(factor);
+        CHECK(core::isOk(fsw->init(nullptr)));
+        bool evented = false;
+        core::Event e;
+        core::EventLog::Cursor cursor{};
+        while (core::isOk(fsw->events().read(&cursor, &e))) {
+            if (e.id == app::events::kTimeScaled) {
+                evented = true;
+                STRCMP_EQUAL("app: time scale 5: mission time runs 5 times slower than real time (lab only, never flight)",
+                             e.text);
+                LONGS_EQUAL(static_cast<long>(core::Severity::kWarning), static_cast<long>(e.severity));
+            }
+        }
+        CHECK_EQUAL(factor > 1, evented);
+        std::vector<Packet> received;
+        runAndCollect(*fsw, link, 1, &received);
+        LONGS_EQUAL(factor, static_cast<long>(field(lastOf(received, "HK"), "time_scale")));
+    }
 }

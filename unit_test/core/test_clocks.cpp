@@ -33,3 +33,56 @@ TEST(MonotonicClock, SleepUntilReturnsNoEarlierThanTheDeadline) {
     clock.sleepUntil(before - kNsPerSec);  // a past deadline returns at once
     CHECK(clock.now() >= before);
 }
+
+TEST_GROUP(ScaledMonotonicClock){};
+
+TEST(ScaledMonotonicClock, BeforeStartItIsTheMonotonicClock) {
+    ScaledMonotonicClock scaled;
+    MonotonicClock wall;
+    CHECK_EQUAL(1U, scaled.factor());
+    const TimeNs before = wall.now();
+    const TimeNs reading = scaled.now();
+    const TimeNs after = wall.now();
+    CHECK(reading >= before && reading <= after);
+    const TimeNs deadline = scaled.now() + 2 * kNsPerMs;
+    scaled.sleepUntil(deadline);
+    CHECK(wall.now() >= deadline);
+}
+
+TEST(ScaledMonotonicClock, StartTakesOneFactorInRangeOnce) {
+    ScaledMonotonicClock clock;
+    CHECK_FALSE(clock.start(0));
+    CHECK_FALSE(clock.start(ScaledMonotonicClock::kMaxFactor + 1));
+    CHECK_EQUAL(1U, clock.factor());
+    CHECK_TRUE(clock.start(4));
+    CHECK_EQUAL(4U, clock.factor());
+    CHECK_FALSE(clock.start(2));  // the timeline cannot change under the executive
+    CHECK_EQUAL(4U, clock.factor());
+}
+
+// Lower bounds on wall time only (a loaded machine may always take longer),
+// and the exact relation between the two readings.
+TEST(ScaledMonotonicClock, MissionTimeRunsFactorTimesSlower) {
+    MonotonicClock wall;
+    ScaledMonotonicClock clock;
+    const TimeNs wallAtStart = wall.now();
+    CHECK_TRUE(clock.start(4));
+    const TimeNs missionAtStart = clock.now();
+    // Continuous at the start: mission time begins at the wall reading.
+    CHECK(missionAtStart >= wallAtStart && missionAtStart <= wall.now());
+    for (int i = 1; i <= 3; ++i) {
+        const TimeNs deadline = missionAtStart + i * 2 * kNsPerMs;
+        clock.sleepUntil(deadline);
+        CHECK(clock.now() >= deadline);                                    // never early on its own timeline
+        CHECK(wall.now() - wallAtStart >= 4 * (deadline - missionAtStart));  // 2 ms of mission time: 8 ms of wall time
+    }
+    const TimeNs wallBefore = wall.now();
+    const TimeNs mission = clock.now();
+    const TimeNs wallAfter = wall.now();
+    // mission = anchor + (wall - anchor) / 4, with the anchor between wallAtStart and missionAtStart.
+    CHECK(mission - missionAtStart <= (wallAfter - wallAtStart) / 4 + 1);
+    CHECK(mission - wallAtStart >= (wallBefore - missionAtStart) / 4 - 1);
+    const TimeNs now = clock.now();
+    clock.sleepUntil(now - kNsPerSec);  // a past deadline returns at once
+    CHECK(clock.now() >= now);
+}

@@ -94,6 +94,29 @@ fsw --lockstep --lab-key --duration 1 --auth-store "$work/auth.dat" --auth-store
 check "a corrupt store is reported (EVT 541 ... corrupt)" grep -q 'EVT 541.*corrupt' "$work/corrupt"
 check "a corrupt store is left as it is, even with --auth-store-create" grep -qx 'garbage' "$work/auth.dat"
 
+echo "--time-scale N: the real-time timeline slowed N times (lab only)"
+for bad in 0 101 x -2 1.5 ""; do
+  fsw --time-scale "$bad" --duration 1 --lab-key >"$work/out" 2>"$work/err"; rc=$?
+  check "--time-scale '$bad': bad command line (exit 2), says the range" sh -c "[ $rc -eq 2 ] && grep -q -- '--time-scale needs a whole factor 1..100' '$work/err'"
+done
+fsw --lab-key --duration 1 --time-scale >"$work/out" 2>"$work/err"; rc=$?
+check "--time-scale without a value: exit 2" test "$rc" -eq 2
+fsw --lockstep --duration 1 --time-scale 2 --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "--time-scale with --lockstep: exit 2, says why" sh -c "[ $rc -eq 2 ] && grep -q -- '--lockstep has none' '$work/err'"
+fsw --duration 1 --time-scale 2 --watchdog /dev/null --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "--time-scale 2 with --watchdog: exit 2, says why" sh -c "[ $rc -eq 2 ] && grep -q 'a watchdog counts real seconds' '$work/err'"
+t0=$(date +%s.%N)
+fsw --no-rt --lab-key --duration 0.5 --time-scale 4 --auth-store "$work/scaled-auth.dat" --auth-store-create >"$work/scaled" 2>&1; rc=$?
+t1=$(date +%s.%N)
+check "--time-scale 4 --duration 0.5: exits 0" test "$rc" -eq 0
+check "--time-scale 4 --duration 0.5: 50 frames of mission time" grep -q "rse-fsw summary: 50 frames run" "$work/scaled"
+# frame 49, the last, starts 0.49 s of mission time after the start: 1.96 s of wall time
+check "--time-scale 4 --duration 0.5: at least 1.96 s of wall time" awk -v a="$t0" -v b="$t1" 'BEGIN { exit !(b - a >= 1.96) }'
+check "--time-scale 4: the start line says so" grep -q "real-time (time scale 4: 1 s of mission time every 4 s, lab only) mode" "$work/scaled"
+check "--time-scale 4: event 226 at start-up" grep -q "EVT 226 WARN  app: time scale 4: mission time runs 4 times slower than real time" "$work/scaled"
+fsw --no-rt --lab-key --duration 0.2 --auth-store "$work/scaled-auth.dat" >"$work/unscaled" 2>&1; rc=$?
+check "without --time-scale: no event 226, no time scale in the start line" sh -c "[ $rc -eq 0 ] && ! grep -q 'EVT 226\|time scale' '$work/unscaled'"
+
 for sig in INT TERM; do
   echo "real time: SIG$sig stops it cleanly"
   # Started directly (not through the fsw function) so $! is rse-fsw itself.

@@ -6,12 +6,7 @@
 # Paths inside the VM; a native run (host with vcan0) passes its own.
 B=${RSE_GUEST_BIN:-/opt/rse/bin}
 D=${RSE_GUEST_DATA:-/opt/rse/data}
-pass=0
-fail=0
-check() {
-  name=$1; shift
-  if "$@"; then echo "pass: $name"; pass=$((pass + 1)); else echo "FAIL: $name"; fail=$((fail + 1)); fi
-}
+. "$D/vcan_guest_lib.sh"  # check, stop
 count() { grep -c "$1" "$2" 2>/dev/null || true; }
 # The console prints events at 10 Hz, after the acknowledgement may already have
 # reached the ground tool, so a log line is waited for (up to 3 s), not assumed.
@@ -37,14 +32,6 @@ sleep 0.3
 # First boot of this rover: --auth-store-create provisions the anti-replay store.
 $B/rse-fsw --can vcan0 --no-rt --lab-key --duration 120 --auth-store /tmp/auth.dat --auth-store-create > /tmp/fsw.log 2>&1 &
 FSW=$!
-# SIGTERM, up to 10 s to stop, then SIGKILL; its exit status.
-stop() {
-  kill -TERM $1 2>/dev/null
-  k=0
-  while [ $k -lt 100 ] && kill -0 $1 2>/dev/null; do sleep 0.1; k=$((k + 1)); done
-  kill -KILL $1 2>/dev/null
-  wait $1
-}
 
 i=0
 while [ $i -lt 100 ] && [ "$(count 'EVT 432 ' /tmp/fsw.log)" -lt 6 ]; do sleep 0.1; i=$((i + 1)); done

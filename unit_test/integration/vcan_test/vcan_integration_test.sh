@@ -23,7 +23,7 @@ if [ -e /sys/class/net/vcan0 ] && grep -q '^can_isotp' /proc/modules 2>/dev/null
 else
   "$root/unit_test/integration/vcan_vm/run_in_vm.sh" \
     --bin "$bin/rse-fsw" --bin "$bin/rse-sim" --bin "$bin/rse-isotp" --bin "$bin/rse-ground" \
-    --file "$here/vcan_session.toml" "$here/vcan_guest_test.sh" > "$out/vm.log" 2>&1
+    --file "$here/vcan_session.toml" --file "$here/vcan_guest_lib.sh" "$here/vcan_guest_test.sh" > "$out/vm.log" 2>&1
 fi
 vm_rc=$?
 
