@@ -56,7 +56,7 @@ fact() { sed -n "s/^$1=//p" "$out/facts.txt" | head -n 1; }
 near() { awk -v a="$1" -v b="$2" -v c="$3" -v d="$4" -v tol="$5" 'BEGIN { exit !(sqrt((a - c)^2 + (b - d)^2) <= tol) }'; }
 
 # --- The reference: the same scenario and goal in lockstep (rse-demo).
-"$bin/rse-demo" --scenario "$scenario" --goto "$goto" > "$out/lockstep.log" 2>&1; rc=$?
+"$bin/rse-demo" --scenario "$scenario" --goto "$goto" --report "$out/lockstep_report" > "$out/lockstep.log" 2>&1; rc=$?
 ref_outcome=$(sed -n 's/^outcome: *//p' "$out/lockstep.log")
 check "lockstep reference (rse-demo) ran: $ref_outcome" sh -c "[ $rc -eq 0 ] && [ -n '$ref_outcome' ]"
 case "$ref_outcome" in
@@ -140,8 +140,13 @@ check "call homes $(fact call_homes) (lockstep: $ref_calls)" [ "$(fact call_home
 # event received ("health: fault N: ..."), as the lockstep run's console shows them.
 vm_faults=$( { tr ',' '\n' <<< "$(fact faults)"; grep -o 'EVT 7[0-9][0-9] [A-Z]* health: fault [0-9]*:' "$out/summary.txt" \
   | sed 's/.*fault \([0-9]*\):/\1/'; } | grep . | sort -n -u | paste -sd, -)
-check "the slowness raised nothing: faults raised [$vm_faults] are the lockstep run's [$ref_faults]" \
-  [ "$vm_faults" = "$ref_faults" ]
+# A subset, not equal: a run on a bus may end before a fault the lockstep run
+# raised (its route and timing differ, e.g. the worn motor never tripping its
+# drive before the call home); what the slowness would add is a fault lockstep
+# never raised.
+subset_of() { [ -z "$(comm -23 <(tr ',' '\n' <<< "$1" | grep . | sort -u) <(tr ',' '\n' <<< "$2" | grep . | sort -u))" ]; }
+check "the slowness raised nothing: faults raised [$vm_faults] are among the lockstep run's [$ref_faults]" \
+  subset_of "$vm_faults" "$ref_faults"
 check "the rover ran at time scale $(fact time_scale) (HK.time_scale; asked $scale)" [ "$(fact time_scale)" = "$scale" ]
 # Measured, not asserted: a frame may still overrun, or one be skipped, while
 # the emulator first translates the planner's code (docs/operations.md §3.2);
