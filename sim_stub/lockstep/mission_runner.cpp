@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <sstream>
 
@@ -601,7 +602,9 @@ bool uplinkPlan(const MissionOptions& o, MemoryGround& ground, LockstepRig& rig,
         return false;
     }
     if (watch.planExec().plansAccepted == accepted) {
-        *error = "no verdict from the plan executive within " + std::to_string(ground::kPlanVerdictSeconds) + " s";
+        char why[80];
+        std::snprintf(why, sizeof why, "no verdict from the plan executive within %.0f s", ground::kPlanVerdictSeconds);
+        *error = why;
         return false;
     }
     return true;
@@ -666,8 +669,9 @@ void printMissionUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
                  "                [--report DIR | --no-report] [--any-outcome]\n"
-                 "  --scenario FILE     TOML scenario (default %s); its [mission] (a goal and risk\n"
-                 "                      bound, or a plan) is flown unless --goto is given\n"
+                 "  --scenario FILE     TOML scenario (default %s);\n"
+                 "                      its [mission] (a goal and risk bound, or a plan) is flown\n"
+                 "                      unless --goto is given\n"
                  "  --no-faults         leave the scenario's faults out\n"
                  "  --goto X,Y[,RISK]   the goal in metres and the risk bound (RISK default 1e-3; without\n"
                  "                      --goto: the scenario's [mission], else 20,0,1e-3)\n"
