@@ -1,13 +1,17 @@
 // rse-demo: the autonomous mission demo (`make demo`). The flight software and
-// the simulator in one process in lockstep; the operator's SET_MODE AUTONOMOUS
-// and GOTO go through the authenticated in-memory ground link; the console
-// streams to stdout and a mission summary ends the run.
+// the simulator in one process in lockstep; the scenario's COARSE_MAP, the
+// operator's SET_MODE AUTONOMOUS and the mission (the scenario's [mission]: a
+// GOTO or a plan; or --goto's) go through the authenticated in-memory ground
+// link; the console streams to stdout and a mission summary ends the run.
 //
 //   rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]
+//            [--report DIR | --no-report] [--any-outcome]
 //
-// Exit status: 0 when the mission ran (whatever its outcome), 1 when the setup
-// failed (scenario, flight software, drives, ground link), 2 for a bad command
-// line. sim_stub/lockstep/mission_runner.hpp has the logic.
+// Exit status: 0 when the mission showed the ten points in order (or ran at
+// all, with --any-outcome), 3 when it ran but did not, 1 when the setup failed
+// (scenario, flight software, drives, ground link, the plan's ground check)
+// or the report was not written, 2 for a bad command line.
+// sim_stub/lockstep/mission_runner.hpp has the logic.
 #include <cstdio>
 
 #include "sim_stub/lockstep/mission_runner.hpp"

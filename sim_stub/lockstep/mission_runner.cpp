@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
+#include <sstream>
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
@@ -15,9 +17,12 @@
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/node_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
 #include "ground/command_encoder.hpp"
 #include "ground/mission_points.hpp"
 #include "ground/mission_report.hpp"
+#include "ground/plan_transfer.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/map_upload.hpp"
 #include "sim_stub/lockstep/mission_recorder.hpp"
@@ -43,6 +48,34 @@ bool parseNumber(const std::string& text, double* value) {
     return *end == '\0' && std::isfinite(*value);
 }
 
+// name=value for the ground's encoder: the shortest text that reads back as v.
+std::string argument(const char* name, double v) {
+    char text[40];
+    for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(text, sizeof text, "%.*g", digits, v);
+        if (std::strtod(text, nullptr) == v) {
+            break;
+        }
+    }
+    return std::string(name) + "=" + text;
+}
+
+// GOTO x, y, risk into the options, checked against the dictionary's ranges
+// by the ground's encoder (*error: its reason).
+bool encodeGoto(double x, double y, double risk, MissionOptions* o, std::string* error) {
+    try {
+        o->gotoArgs = ground::encodeArguments(*ground::lookupCommand("GOTO"),
+                                              {argument("x", x), argument("y", y), argument("risk", risk)});
+    } catch (const ground::CommandError& e) {
+        *error = e.what();
+        return false;
+    }
+    o->goalX = x;
+    o->goalY = y;
+    o->risk = risk;
+    return true;
+}
+
 // "X,Y[,RISK]" into the options, checked against the dictionary's GOTO ranges.
 bool parseGoto(const std::string& text, MissionOptions* o, std::string* error) {
     std::vector<std::string> fields;
@@ -66,16 +99,10 @@ bool parseGoto(const std::string& text, MissionOptions* o, std::string* error) {
             return false;
         }
     }
-    try {
-        o->gotoArgs = ground::encodeArguments(*ground::lookupCommand("GOTO"),
-                                              {"x=" + fields[0], "y=" + fields[1], "risk=" + fields[2]});
-    } catch (const ground::CommandError& e) {
-        *error = std::string("--goto '") + text + "': " + e.what();
+    if (!encodeGoto(v[0], v[1], v[2], o, error)) {
+        *error = "--goto '" + text + "': " + *error;
         return false;
     }
-    o->goalX = v[0];
-    o->goalY = v[1];
-    o->risk = v[2];
     return true;
 }
 
@@ -158,7 +185,7 @@ public:
         const core::MsgId ids[] = {msg::ids::kPlanStatus,    msg::ids::kMode,        msg::ids::kMissionHold,
                                    msg::ids::kFaultStatus,   msg::ids::kFaultProtectionStatus,
                                    msg::ids::kDriveRecovery, msg::ids::kTaskRestart, msg::ids::kReplanRequest,
-                                   msg::ids::kPoseEstimate};
+                                   msg::ids::kPoseEstimate, msg::ids::kPlanExecutiveStatus};
         for (core::MsgId id : ids) {
             ok = ok && core::isOk(bus_.subscribe(pipe_, id));
         }
@@ -181,6 +208,7 @@ public:
             msg::DriveRecoveryMsg d{};
             msg::TaskRestartMsg tr{};
             msg::ReplanRequestMsg rr{};
+            msg::PlanExecutiveStatusMsg pe{};
             namespace fp = fault_protection::events;
             if (inbox_.header.id == msg::ids::kFaultStatus && core::isOk(inbox_.decode(&f))) {
                 noteRaises(f);
@@ -198,6 +226,8 @@ public:
                 pending_.push_back(Attribution{fp::kReplanRequested, rr.timeNs, rr.faultId, wheelOf(rr.faultId)});
             } else if (inbox_.header.id == msg::ids::kPlanStatus && core::isOk(inbox_.decode(&p))) {
                 plan_ = p;
+            } else if (inbox_.header.id == msg::ids::kPlanExecutiveStatus && core::isOk(inbox_.decode(&pe))) {
+                planExec_ = pe;
             } else if (inbox_.header.id == msg::ids::kMode && core::isOk(inbox_.decode(&m))) {
                 mode_ = m;
                 modeSeen_ = true;
@@ -216,8 +246,13 @@ public:
         }
         core::Event e;
         namespace fp = fault_protection::events;
+        namespace pe = plan_executive::events;
         while (core::isOk(events_.read(&cursor_, &e))) {
-            if (e.id == deliberative::events::kCallHome || e.id == fp::kCallHome || e.id == fp::kGaveUp) {
+            if (e.id == pe::kUploadRefused || e.id == pe::kParseRefused || e.id == pe::kSelectionRefused) {
+                planRefusal_ = e.text;
+            }
+            if (e.id == deliberative::events::kCallHome || e.id == fp::kCallHome || e.id == fp::kGaveUp ||
+                e.id == pe::kOperatorCalled) {
                 // A give-up says why; fault protection's call home (941) follows it.
                 if (e.id != fp::kCallHome || callHomeText_.empty()) {
                     callHomeText_ = e.text;
@@ -268,9 +303,20 @@ public:
     // The call home in the flight software's words (its CRITICAL event).
     std::string callHomeText() const { return ground::callHomeWords(callHomeText_); }
     const msg::PlanStatusMsg& plan() const { return plan_; }
+    // The plan executive's latest status, and the text of its latest refusal (event 952, 953 or 954).
+    const msg::PlanExecutiveStatusMsg& planExec() const { return planExec_; }
+    const std::string& planRefusal() const { return planRefusal_; }
     bool modeIs(std::uint8_t mode) const { return modeSeen_ && mode_.mode == mode; }
     std::uint8_t mode() const { return mode_.mode; }
-    bool ended() const {
+    // A goal mission ends with the deliberative layer's goal reached or its
+    // call home; a plan mission with the plan complete or no method left
+    // (the deliberative layer's call home fails a drive, which the plan may
+    // redo); either with fault protection's call home.
+    bool ended(bool planMission) const {
+        if (planMission) {
+            return planExec_.state == msg::PlanExecutiveState::kComplete ||
+                   planExec_.state == msg::PlanExecutiveState::kFailed || fpCalledHome_;
+        }
         return plan_.state == msg::DeliberativeState::kComplete || plan_.state == msg::DeliberativeState::kCalledHome ||
                fpCalledHome_;
     }
@@ -284,6 +330,8 @@ private:
     core::PipeId pipe_ = 0;
     core::Message inbox_{};
     msg::PlanStatusMsg plan_{};
+    msg::PlanExecutiveStatusMsg planExec_{};
+    std::string planRefusal_;
     msg::ModeMsg mode_{};
     bool modeSeen_ = false;
     msg::MissionHoldMsg hold_{};
@@ -399,10 +447,16 @@ std::string describeScenario(const Scenario& s, const MissionOptions& o) {
         hidden += ob.known ? 0 : 1;
     }
     char line[512];
-    std::snprintf(line, sizeof line, "scenario %s (%s): start (%.2f, %.2f), %zu rocks (%zu hidden), goal (%.2f, %.2f) "
-                  "risk bound %.3g, up to %.0f s",
-                  s.name.c_str(), o.scenarioPath.c_str(), s.start.x, s.start.y, s.obstacles.size(), hidden, o.goalX,
-                  o.goalY, o.risk, o.durationS);
+    char mission[160];
+    if (o.planText.empty()) {
+        std::snprintf(mission, sizeof mission, "goal (%.2f, %.2f)", o.goalX, o.goalY);
+    } else {
+        std::snprintf(mission, sizeof mission, "plan %s (%zu B)", o.planFile.c_str(), o.planText.size());
+    }
+    std::snprintf(line, sizeof line, "scenario %s (%s): start (%.2f, %.2f), %zu rocks (%zu hidden), %s risk bound "
+                  "%.3g, up to %.0f s",
+                  s.name.c_str(), o.scenarioPath.c_str(), s.start.x, s.start.y, s.obstacles.size(), hidden, mission,
+                  o.risk, o.durationS);
     std::string text = line;
     if (o.clearFaults) {
         text += "; faults cleared (--no-faults)";
@@ -470,6 +524,92 @@ private:
     std::uint32_t runsAtDisable_ = 0;
 };
 
+const char* planStateName(msg::PlanExecutiveState s) {
+    switch (s) {
+        case msg::PlanExecutiveState::kIdle: return "idle";
+        case msg::PlanExecutiveState::kSelecting: return "selecting";
+        case msg::PlanExecutiveState::kDispatching: return "dispatching";
+        case msg::PlanExecutiveState::kRegenerating: return "regenerating";
+        case msg::PlanExecutiveState::kComplete: return "complete";
+        case msg::PlanExecutiveState::kFailed: return "failed";
+    }
+    return "?";
+}
+
+std::string planName(const msg::PlanExecutiveStatusMsg& s) {
+    return std::string(s.planName, strnlen(s.planName, sizeof s.planName));
+}
+
+// A plan mission's plan, checked on the ground before anything is sent, as
+// `rse-ground plan load` does: its size, the flight parser and method
+// selection with every component ok. False with the reason in *error.
+bool planPassesGroundCheck(const MissionOptions& o, std::string* error) {
+    std::ostringstream checkOut;
+    std::ostringstream checkErr;
+    const auto components = std::make_unique<plan_executive::SelectionInput>();
+    if (ground::checkPlanForUplink(o.planText, o.planFile, ground::kPlanUploadBytes, *components, false, checkOut,
+                                   checkErr) != 0) {
+        *error = "the plan did not pass the ground check: " + checkErr.str();
+        return false;
+    }
+    return true;
+}
+
+// A plan mission's uplink, as `rse-ground plan load` does it once the plan
+// passed the ground's check: the operator's risk bound (SET_RISK_BOUND: the
+// one the plan's drives get), PLAN_LOAD chunks (one every 20 ms: at most one a
+// frame, a few between two runs of the executive), PLAN_START with the text's
+// length and CRC-32, and the executive's verdict. False with the reason in
+// *error.
+bool uplinkPlan(const MissionOptions& o, MemoryGround& ground, LockstepRig& rig, const FlightWatch& watch,
+                const std::function<void()>& service, std::string* error) {
+    std::vector<std::uint8_t> risk;
+    try {
+        risk = ground::encodeArguments(*ground::lookupCommand("SET_RISK_BOUND"), {argument("risk", o.risk)});
+    } catch (const ground::CommandError& e) {
+        *error = e.what();
+        return false;
+    }
+    const std::uint32_t accepted = watch.planExec().plansAccepted;
+    const std::uint32_t refused = watch.planExec().plansRefused;
+    const auto step = [&](core::TimeNs t) { (void)rig.runUntil([&] { service(); return false; }, t); };
+    if (!ground.send("SET_RISK_BOUND", risk.data(), risk.size())) {
+        *error = "SET_RISK_BOUND could not be sent";
+        return false;
+    }
+    step(20 * core::kNsPerMs);
+    for (const std::vector<std::uint8_t>& chunk : ground::planLoadChunks(o.planText)) {
+        if (!ground.send("PLAN_LOAD", chunk.data(), chunk.size())) {
+            *error = "PLAN_LOAD could not be sent";
+            return false;
+        }
+        step(20 * core::kNsPerMs);
+    }
+    const std::vector<std::uint8_t> start = ground::planStartArgs(o.planText);
+    if (!ground.send("PLAN_START", start.data(), start.size())) {
+        *error = "PLAN_START could not be sent";
+        return false;
+    }
+    const auto verdict = static_cast<core::TimeNs>(ground::kPlanVerdictSeconds * 1e9);
+    (void)rig.runUntil(
+        [&] {
+            service();
+            return watch.planExec().plansAccepted != accepted || watch.planExec().plansRefused != refused;
+        },
+        verdict);
+    if (watch.planExec().plansRefused != refused) {
+        *error = "the plan executive refused the plan: " + watch.planRefusal();
+        return false;
+    }
+    if (watch.planExec().plansAccepted == accepted) {
+        char why[80];
+        std::snprintf(why, sizeof why, "no verdict from the plan executive within %.0f s", ground::kPlanVerdictSeconds);
+        *error = why;
+        return false;
+    }
+    return true;
+}
+
 MissionSummary setupFailed(MissionSummary summary, const std::string& why) {
     summary.outcome = MissionOutcome::kSetupFailed;
     summary.setupError = why;
@@ -485,6 +625,23 @@ const MissionMark* MissionSummary::firstMark(MarkKind kind, double timeS) const 
         }
     }
     return nullptr;
+}
+
+const MissionMark* MissionSummary::firstMark(MarkKind kind, double timeS, std::uint8_t faultId) const {
+    for (std::size_t i = 0; i < markCount; ++i) {
+        if (marks[i].kind == kind && marks[i].timeS >= timeS && marks[i].faultId == faultId) {
+            return &marks[i];
+        }
+    }
+    return nullptr;
+}
+
+std::size_t MissionSummary::countMarks(MarkKind kind, std::uint8_t faultId) const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < markCount; ++i) {
+        n += marks[i].kind == kind && marks[i].faultId == faultId ? 1U : 0U;
+    }
+    return n;
 }
 
 bool MissionSummary::heldBefore(double timeS) const {
@@ -503,6 +660,7 @@ const char* toString(MissionOutcome outcome) {
         case MissionOutcome::kGoalReached: return "goal reached";
         case MissionOutcome::kCalledHome: return "called home";
         case MissionOutcome::kTimedOut: return "timed out";
+        case MissionOutcome::kPlanComplete: return "plan complete";
     }
     return "?";
 }
@@ -511,10 +669,14 @@ void printMissionUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
                  "                [--report DIR | --no-report] [--any-outcome]\n"
-                 "  --scenario FILE     TOML scenario (default %s)\n"
+                 "  --scenario FILE     TOML scenario (default %s);\n"
+                 "                      its [mission] (a goal and risk bound, or a plan) is flown\n"
+                 "                      unless --goto is given\n"
                  "  --no-faults         leave the scenario's faults out\n"
-                 "  --goto X,Y[,RISK]   the goal in metres and the risk bound (default 20,0,1e-3)\n"
-                 "  --duration SECONDS  simulated seconds at most, boot included (default 180)\n"
+                 "  --goto X,Y[,RISK]   the goal in metres and the risk bound (RISK default 1e-3; without\n"
+                 "                      --goto: the scenario's [mission], else 20,0,1e-3)\n"
+                 "  --duration SECONDS  simulated seconds at most, boot included (default: the scenario's\n"
+                 "                      duration_s when it has a [mission], else 180)\n"
                  "  --quiet             no console lines, only the points and the summary\n"
                  "  --report DIR        write the mission report and map to DIR/report.md, DIR/map.svg\n"
                  "                      (default %s); --no-report writes none\n"
@@ -529,7 +691,6 @@ void printMissionUsage(std::FILE* out) {
 }
 
 ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* o, std::string* error) {
-    bool gotoGiven = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool hasValue = i + 1 < argc;
@@ -541,7 +702,6 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             if (!parseGoto(argv[++i], o, error)) {
                 return ParseOutcome::kUsageError;
             }
-            gotoGiven = true;
         } else if (a == "--duration" && hasValue) {
             const std::string v = argv[++i];
             if (!parseNumber(v, &o->durationS) || !(o->durationS > 0.0) || o->durationS > 1e6) {
@@ -568,34 +728,56 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             return ParseOutcome::kUsageError;
         }
     }
-    if (!gotoGiven) {
-        // The default goal, through the same encoder.
-        const std::string def = "20,0,1e-3";
-        if (!parseGoto(def, o, error)) {
-            return ParseOutcome::kUsageError;
-        }
-    }
     return ParseOutcome::kRun;
 }
 
-MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
+bool applyScenarioMission(const Scenario& scenario, MissionOptions* o, std::string* error) {
+    const MissionSpec& m = scenario.mission;
+    if (!(o->durationS > 0.0)) {
+        o->durationS = m.present ? scenario.durationS : kDefaultMissionDurationS;
+    }
+    if (!o->gotoArgs.empty() || !o->planText.empty()) {
+        return true;  // the command line's goal (or already applied)
+    }
+    if (m.present && !m.hasGoal) {
+        o->planText = m.planText;
+        o->planFile = m.planFile;
+        o->risk = m.riskBound;
+        return true;
+    }
+    const bool own = m.present && m.hasGoal;
+    if (!encodeGoto(own ? m.goalX : kDefaultGoalX, own ? m.goalY : kDefaultGoalY,
+                    own ? m.riskBound : kDefaultMissionRiskBound, o, error)) {
+        *error = scenario.source + ": [mission]: " + *error;
+        return false;
+    }
+    return true;
+}
+
+MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
     const auto wallStart = std::chrono::steady_clock::now();
     MissionSummary summary;
-    summary.goalX = o.goalX;
-    summary.goalY = o.goalY;
     Scenario scenario;
     std::string error;
-    if (!tryLoadScenarioFile(o.scenarioPath, &scenario, &error)) {
+    if (!tryLoadScenarioFile(options.scenarioPath, &scenario, &error)) {
         return setupFailed(summary, error);
     }
+    // The scenario's own mission where the command line did not say.
+    MissionOptions o = options;
+    if (!applyScenarioMission(scenario, &o, &error)) {
+        return setupFailed(summary, error);
+    }
+    summary.planMission = !o.planText.empty();
+    if (summary.planMission && !planPassesGroundCheck(o, &error)) {
+        return setupFailed(summary, o.planFile + ": " + error);
+    }
+    summary.goalX = summary.planMission ? scenario.start.x : o.goalX;  // a plan's: its drives' (below)
+    summary.goalY = summary.planMission ? scenario.start.y : o.goalY;
     if (o.clearFaults) {
         scenario.faults.clear();
     }
     if (o.editScenario) {
         o.editScenario(scenario);
-    }
-    if (o.gotoArgs.empty()) {
-        return setupFailed(summary, "no GOTO arguments (options not parsed)");
     }
     const core::TimeNs durationNs = static_cast<core::TimeNs>(o.durationS * 1e9);
 
@@ -618,9 +800,19 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     say(out, *rig, describeScenario(rig->scenario(), o));
     ScheduledTaskCommands taskCommands(ground, *rig, out);
     rig->rover().attachFlightTasks(&taskCommands);
+    // A plan mission's goal is its latest drive's (the executive's PlanGoalMsg).
+    std::uint32_t planGoals = rig->planGoalCount();
     const auto service = [&] {
         ground.drainDownlink();
         watch.drain();
+        if (rig->planGoalCount() != planGoals && summary.planMission) {
+            planGoals = rig->planGoalCount();
+            const msg::GoalListMsg& g = rig->planGoal().goals;
+            if (g.count > 0) {
+                summary.goalX = g.goals[0].xM;
+                summary.goalY = g.goals[0].yM;
+            }
+        }
         recorder.frame();
         if (o.onFrame) {
             o.onFrame(*rig);
@@ -651,30 +843,51 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
                        kModeAckLimitNs)) {
         return setupFailed(summary, "SET_MODE AUTONOMOUS was not sent or not taken");
     }
-    if (!ground.send("GOTO", o.gotoArgs.data(), o.gotoArgs.size())) {
-        return setupFailed(summary, "GOTO could not be sent");
+    char line[200];
+    if (summary.planMission) {
+        if (!uplinkPlan(o, ground, *rig, watch, service, &error)) {
+            return setupFailed(summary, o.planFile + ": " + error);
+        }
+        std::snprintf(line, sizeof line, "ground: SET_RISK_BOUND risk=%.3g, plan %s loaded (%zu B, PLAN_LOAD and "
+                      "PLAN_START, authenticated, lab key): accepted", o.risk, o.planFile.c_str(), o.planText.size());
+    } else {
+        if (!ground.send("GOTO", o.gotoArgs.data(), o.gotoArgs.size())) {
+            return setupFailed(summary, "GOTO could not be sent");
+        }
+        std::snprintf(line, sizeof line, "ground: GOTO x=%.2f y=%.2f risk=%.3g (authenticated, lab key)", o.goalX,
+                      o.goalY, o.risk);
     }
-    char line[160];
-    std::snprintf(line, sizeof line, "ground: GOTO x=%.2f y=%.2f risk=%.3g (authenticated, lab key)", o.goalX, o.goalY,
-                  o.risk);
     say(out, *rig, line);
 
     const core::TimeNs left = durationNs - rig->clock().now();
-    const bool ended = left > 0 && rig->runUntil([&] { service(); return watch.ended(); }, left);
+    const bool ended = left > 0 && rig->runUntil([&] { service(); return watch.ended(summary.planMission); }, left);
     summary.outcomeTimeS = seconds(rig->clock().now());
     const msg::PlanStatusMsg plan = watch.plan();
+    const msg::PlanExecutiveStatusMsg planExec = watch.planExec();
+    const bool fpCalledHome = watch.faultProtectionCalledHome();
     if (ended) {
-        summary.outcome = plan.state == msg::DeliberativeState::kComplete && !watch.faultProtectionCalledHome()
-                              ? MissionOutcome::kGoalReached
-                              : MissionOutcome::kCalledHome;
-        summary.callHome = watch.faultProtectionCalledHome() ? msg::CallHomeReason::kFaultUnrecovered : plan.callHome;
-        say(out, *rig, watch.faultProtectionCalledHome() ? std::string("fault protection called home")
-                                                         : std::string("deliberative layer: ") + stateName(plan.state));
+        if (summary.planMission) {
+            summary.outcome = planExec.state == msg::PlanExecutiveState::kComplete && !fpCalledHome
+                                  ? MissionOutcome::kPlanComplete
+                                  : MissionOutcome::kCalledHome;
+            summary.callHome = fpCalledHome ? msg::CallHomeReason::kFaultUnrecovered
+                                            : static_cast<msg::CallHomeReason>(planExec.callHomeReason);
+        } else {
+            summary.outcome = plan.state == msg::DeliberativeState::kComplete && !fpCalledHome
+                                  ? MissionOutcome::kGoalReached
+                                  : MissionOutcome::kCalledHome;
+            summary.callHome = fpCalledHome ? msg::CallHomeReason::kFaultUnrecovered : plan.callHome;
+        }
+        say(out, *rig, fpCalledHome           ? std::string("fault protection called home")
+                       : summary.planMission ? "plan executive: plan " + planName(planExec) + " " +
+                                                   planStateName(planExec.state)
+                                             : std::string("deliberative layer: ") + stateName(plan.state));
         // The console task writes events at 10 Hz; the downlink is still drained.
         (void)rig->runUntil([&] { service(); return false; }, kMissionTailNs);
     } else {
         summary.outcome = MissionOutcome::kTimedOut;
-        std::snprintf(line, sizeof line, "duration over; deliberative layer %s", stateName(plan.state));
+        std::snprintf(line, sizeof line, "duration over; deliberative layer %s, plan executive %s", stateName(plan.state),
+                      planStateName(planExec.state));
         say(out, *rig, line);
     }
     service();
@@ -688,6 +901,7 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     const deliberative::DeliberativeCounters& c = fsw.deliberative().counters();
     summary.endTimeS = seconds(rig->clock().now());
     summary.finalState = last.state;
+    summary.planExec = watch.planExec();
     summary.finalMode = watch.mode();
     summary.interlockTripped = fsw.canIo().interlock().tripped();
     summary.plansMade = last.plansMade;
@@ -710,7 +924,7 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     summary.finalX = truth.pose.x;
     summary.finalY = truth.pose.y;
     summary.finalHeadingDeg = truth.pose.theta * 180.0 / kPi;
-    summary.goalDistanceM = std::hypot(truth.pose.x - o.goalX, truth.pose.y - o.goalY);
+    summary.goalDistanceM = std::hypot(truth.pose.x - summary.goalX, truth.pose.y - summary.goalY);
     summary.distanceM = truth.distanceM;
     summary.collisions = truth.collisions;
     summary.leastClearanceM = truth.leastClearanceM;
@@ -721,13 +935,16 @@ MissionSummary runMission(const MissionOptions& o, std::FILE* out) {
     ground::MissionRecord& record = summary.record;
     record = recorder.record();
     record.scenario = rig->scenario().name + " (" + o.scenarioPath + ")";
-    record.goalX = o.goalX;
-    record.goalY = o.goalY;
+    record.goalX = summary.goalX;
+    record.goalY = summary.goalY;
     record.riskBound = o.risk;
     record.endTimeS = summary.endTimeS;
     char outcome[256];
     if (summary.outcome == MissionOutcome::kGoalReached) {
         std::snprintf(outcome, sizeof outcome, "goal reached at %.1f s", summary.outcomeTimeS);
+    } else if (summary.outcome == MissionOutcome::kPlanComplete) {
+        std::snprintf(outcome, sizeof outcome, "plan %s complete at %.1f s", planName(summary.planExec).c_str(),
+                      summary.outcomeTimeS);
     } else if (summary.outcome == MissionOutcome::kCalledHome) {
         std::snprintf(outcome, sizeof outcome, "called home at %.1f s, reason %u: %s", summary.outcomeTimeS,
                       static_cast<unsigned>(summary.callHome), summary.callHomeText.c_str());
@@ -773,6 +990,10 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
         case MissionOutcome::kGoalReached:
             std::fprintf(out, "outcome:    goal (%.2f, %.2f) reached at %.1f s\n", s.goalX, s.goalY, s.outcomeTimeS);
             break;
+        case MissionOutcome::kPlanComplete:
+            std::fprintf(out, "outcome:    plan %s complete at %.1f s, the last drive's goal (%.2f, %.2f)\n",
+                         planName(s.planExec).c_str(), s.outcomeTimeS, s.goalX, s.goalY);
+            break;
         case MissionOutcome::kCalledHome:
             std::fprintf(out, "outcome:    called home at %.1f s, reason %u: %s (mode %s%s)\n", s.outcomeTimeS,
                          static_cast<unsigned>(s.callHome), s.callHomeText.c_str(), modeName(s.finalMode),
@@ -792,6 +1013,15 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
                  100.0 * s.stateOfCharge);
     std::fprintf(out, "plan:       %u plans made; the last %.2f m, risk used %.3g (bound %.3g, in force %.3g)\n", s.plansMade,
                  s.planLengthM, s.riskUsed, s.riskBound, s.riskInForce);
+    if (s.planMission) {
+        const msg::PlanExecutiveStatusMsg& p = s.planExec;
+        std::fprintf(out, "plan exec:  %s %s: cost %.2f (before the last regeneration %.2f), %u regenerations, %u "
+                          "options deprecated; activities %u started, %u completed (%u early, %u late), %u failed; "
+                          "%u operator calls\n",
+                     planName(p).c_str(), planStateName(p.state), p.cost, p.costBefore, p.regenerations,
+                     static_cast<unsigned>(p.deprecatedCount), p.activitiesStarted, p.activitiesCompleted,
+                     p.activitiesEarly, p.activitiesLate, p.activitiesFailed, p.operatorCalls);
+    }
     std::fprintf(out, "legs:       %u sent, %u achieved, %u fail-ups; %u replans, %u bound relaxations, %u risk "
                       "relaxations, %u call homes; habitual replans %u\n",
                  s.legsSent, s.legsAchieved, s.failUps, s.replans, s.boundRelaxations, s.riskRelaxations, s.callHomes,

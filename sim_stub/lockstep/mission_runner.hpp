@@ -1,11 +1,14 @@
 // The autonomous mission in lockstep (rse-demo, `make demo`): the flight
 // software and the simulator booted on one virtual clock (LockstepRig), the
-// drives brought up, then the operator's commands - SET_MODE AUTONOMOUS and
-// GOTO x,y,risk, authenticated with the lab key - through the in-memory ground
-// link (MemoryGround), never on the software bus. The run lasts until the
-// deliberative layer publishes (PlanStatusMsg) that every goal is reached or
-// that it called home, plus kMissionTailNs so the last events reach the
-// console, or until the duration. The simulator's truth is read only for the
+// drives brought up, then the operator's commands - the scenario's COARSE_MAP,
+// SET_MODE AUTONOMOUS and GOTO x,y,risk (or, for a plan mission, SET_RISK_BOUND
+// and the plan as PLAN_LOAD chunks and PLAN_START), authenticated with the lab
+// key - through the in-memory ground link (MemoryGround), never on the
+// software bus. The run lasts until the deliberative layer publishes
+// (PlanStatusMsg) that every goal is reached or that it called home (a plan
+// mission: until the plan executive publishes its plan complete or failed),
+// or fault protection calls home, plus kMissionTailNs so the last events
+// reach the console; or until the duration. The simulator's truth is read only for the
 // summary at the end (and the report's driven track and hidden rocks).
 //
 // The ten points of the RSE demonstration are read from the flight software's
@@ -26,6 +29,7 @@
 
 #include "fsw/core/clock.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/msg/plan_executive_msgs.hpp"
 #include "ground/mission_record.hpp"
 #include "sim_stub/scenario/scenario.hpp"
 
@@ -36,14 +40,24 @@ class LockstepRig;
 constexpr const char* kDefaultMissionScenario = "sim_stub/scenarios/demo_mission.toml";
 constexpr core::TimeNs kMissionTailNs = 2 * core::kNsPerSec;
 constexpr const char* kDefaultReportDir = "build/mission";
+// A scenario without [mission]: the demo's goal and duration.
+constexpr double kDefaultGoalX = 20.0;
+constexpr double kDefaultGoalY = 0.0;
+constexpr double kDefaultMissionDurationS = 180.0;
 
+// What the mission is: the command line's (parseMissionArgs), and where it
+// says nothing, the scenario's own [mission] (applyScenarioMission, which
+// runMission calls once the scenario is loaded): a goal (GOTO) or a mission
+// plan (PLAN_LOAD, PLAN_START) at a risk bound, and a duration.
 struct MissionOptions {
     std::string scenarioPath = kDefaultMissionScenario;
     bool clearFaults = false;  // --no-faults: the scenario's faults left out
-    double goalX = 20.0;       // --goto X,Y[,RISK]
-    double goalY = 0.0;
-    double risk = 1e-3;
-    double durationS = 180.0;  // simulated seconds, boot included
+    double goalX = kDefaultGoalX;  // --goto X,Y[,RISK], or the scenario's
+    double goalY = kDefaultGoalY;
+    double risk = kDefaultMissionRiskBound;  // GOTO's, or a plan mission's SET_RISK_BOUND
+    // Simulated seconds, boot included (--duration); 0: the scenario's
+    // duration_s when it has a [mission], else kDefaultMissionDurationS.
+    double durationS = 0.0;
     bool quiet = false;        // no console lines (the summary is still written)
     // --report DIR: report.md and map.svg there; "" writes none. rse-demo's
     // main (missionMain) makes it kDefaultReportDir unless --no-report is given;
@@ -51,7 +65,13 @@ struct MissionOptions {
     std::string reportDir;
     bool noReport = false;     // --no-report
     bool anyOutcome = false;   // --any-outcome: exit 0 even when the ten points are not all in order
-    std::vector<std::uint8_t> gotoArgs;  // the GOTO argument bytes (ground encoder; filled by parseMissionArgs)
+    // The GOTO argument bytes (the ground's encoder): --goto's, or empty for
+    // the scenario's goal (or the default, 20,0,1e-3).
+    std::vector<std::uint8_t> gotoArgs;
+    // A plan mission (the scenario's [mission] plan_file, when no --goto):
+    // the text and the file it came from.
+    std::string planText;
+    std::string planFile;
     // Tests and benchmarks: changes to the loaded scenario (seed, faults, start)
     // before the rig is built; applied after --no-faults.
     std::function<void(Scenario&)> editScenario;
@@ -71,13 +91,20 @@ enum class ParseOutcome : std::uint8_t { kRun, kHelp, kUsageError };
 // the ground's command encoder (the dictionary's ranges), as rse-ground would;
 // on kUsageError *error says why.
 ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* options, std::string* error);
+// Fills what the command line left open from the scenario's [mission]: the
+// duration when 0; the goal and risk bound (encoded as GOTO) or the plan when
+// neither gotoArgs nor planText is set; without [mission], 20,0,1e-3 and
+// 180 s. False (why in *error) when the goal does not encode.
+bool applyScenarioMission(const Scenario& scenario, MissionOptions* options, std::string* error);
 void printMissionUsage(std::FILE* out);
 
 enum class MissionOutcome : std::uint8_t {
     kSetupFailed = 0,  // the scenario, the flight software, the drives or the ground link could not be used
     kGoalReached = 1,  // the deliberative layer published COMPLETE
-    kCalledHome = 2,   // ... published CALLED HOME (callHome says why), or fault protection called home
+    kCalledHome = 2,   // ... published CALLED HOME (callHome says why), or fault protection called home; a
+                       // plan mission: the plan executive found no method left (callHome kPlanNoMethod)
     kTimedOut = 3,     // neither before the duration
+    kPlanComplete = 4,  // a plan mission: the plan executive published its plan complete
 };
 const char* toString(MissionOutcome outcome);
 
@@ -121,8 +148,10 @@ struct MissionSummary {
     double outcomeTimeS = 0.0;  // when the flight software published the outcome (timed out: the end)
     double endTimeS = 0.0;      // simulated time when the run stopped
     double wallTimeS = 0.0;
-    double goalX = 0.0;
+    double goalX = 0.0;  // a plan mission: its latest drive's goal
     double goalY = 0.0;
+    bool planMission = false;
+    msg::PlanExecutiveStatusMsg planExec{};  // the plan executive's last status (a plan mission's verdict)
 
     // What the flight software published (PlanStatusMsg, mode) and its counters.
     msg::DeliberativeState finalState = msg::DeliberativeState::kIdle;
@@ -168,6 +197,9 @@ struct MissionSummary {
     std::size_t marksUnattributed = 0;  // raise, response and action marks with faultId 0 (no telemetry named them)
     // The first mark of a kind at or after timeS (nullptr: none).
     const MissionMark* firstMark(MarkKind kind, double timeS) const;
+    // ... and about fault faultId; how many marks of a kind are about it.
+    const MissionMark* firstMark(MarkKind kind, double timeS, std::uint8_t faultId) const;
+    std::size_t countMarks(MarkKind kind, std::uint8_t faultId) const;
     // Whether the mission hold was in force just before timeS (its last change
     // before timeS set it).
     bool heldBefore(double timeS) const;

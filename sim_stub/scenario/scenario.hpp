@@ -80,6 +80,21 @@ struct DeviceParams {
     InstrumentParams camera = defaultInstrumentParams(hal::instrument::Kind::kCamera);
 };
 
+// The scenario as a mission of its own ([mission], optional): what rse-demo
+// --scenario FILE flies when its command line names no goal. Either a goal
+// (a GOTO to goal at riskBound) or a mission plan (planText, sent as PLAN_LOAD
+// and PLAN_START after SET_RISK_BOUND riskBound).
+constexpr double kDefaultMissionRiskBound = 1e-3;
+struct MissionSpec {
+    bool present = false;   // the file has a [mission] section
+    bool hasGoal = false;   // goal_x_m, goal_y_m given (else planFile)
+    double goalX = 0.0;
+    double goalY = 0.0;
+    double riskBound = kDefaultMissionRiskBound;
+    std::string planFile;   // plan_file as read: relative to the scenario file's folder ("" for a goal)
+    std::string planText;   // its text
+};
+
 struct Scenario {
     std::string source;       // file name (or the name given for inline text)
     std::string name;
@@ -96,6 +111,7 @@ struct Scenario {
     DeviceParams devices;
     DriveNoiseParams drives;
     std::vector<FaultSpec> faults;  // in time order (by at)
+    MissionSpec mission;
 
     WorldConfig worldConfig() const;
 };

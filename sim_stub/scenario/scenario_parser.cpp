@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <sstream>
@@ -246,6 +247,7 @@ private:
     core::TimeNs intervalEnd(const toml::table& t, const std::string& path, double atS) const;
     // task_stall's `task`: a rate-group row (integer) or a task name (string).
     void parseTask(const toml::table& t, const std::string& path, FaultSpec* f) const;
+    void parseMission(const toml::table& t, const MapBounds& map, MissionSpec* mission) const;
 
     std::string source_;
 };
@@ -554,6 +556,57 @@ void Parser::parseTask(const toml::table& t, const std::string& p, FaultSpec* f)
     f->taskName = name;
 }
 
+void Parser::parseMission(const toml::table& t, const MapBounds& map, MissionSpec* m) const {
+    const std::string p = "mission";
+    onlyKeys(t, p, {"goal_x_m", "goal_y_m", "risk_bound", "plan_file"});
+    m->present = true;
+    const bool x = t.contains("goal_x_m");
+    const bool y = t.contains("goal_y_m");
+    const bool plan = t.contains("plan_file");
+    if (x != y) {
+        fail(join(p, x ? "goal_y_m" : "goal_x_m"), std::string("missing (a goal needs both; ") +
+                                                       (x ? "goal_x_m" : "goal_y_m") + " is given)");
+    }
+    if (x == plan) {
+        fail(p, plan ? "give a goal (goal_x_m, goal_y_m) or a plan_file, not both"
+                     : "needs a goal (goal_x_m, goal_y_m) or a plan_file");
+    }
+    // The operator's bound, in the range GOTO and SET_RISK_BOUND take (the dictionary's).
+    const cmdtlm::CommandDesc* command = cmdtlm::findCommand("GOTO");
+    const double riskMin = command != nullptr ? command->args[2].min : 0.0;
+    const double riskMax = command != nullptr ? command->args[2].max : 0.0;
+    m->riskBound = ranged(t, p, "risk_bound", kDefaultMissionRiskBound, riskMin, riskMax);
+    if (x) {
+        m->hasGoal = true;
+        m->goalX = number(t, p, "goal_x_m", 0.0, true);
+        m->goalY = number(t, p, "goal_y_m", 0.0, true);
+        if (!map.contains({m->goalX, m->goalY})) {
+            fail(p, "goal (" + num(m->goalX) + ", " + num(m->goalY) + ") is outside the map");
+        }
+        return;
+    }
+    // A plan file is named relative to the scenario file's folder.
+    const std::string name = string(t, p, "plan_file", "", true);
+    const std::string path = join(p, "plan_file");
+    if (name.empty()) {
+        fail(path, "must name a plan file");
+    }
+    const std::size_t slash = source_.find_last_of('/');
+    const std::string joined =
+        name.front() == '/' || slash == std::string::npos ? name : source_.substr(0, slash + 1) + name;
+    m->planFile = std::filesystem::path(joined).lexically_normal().string();
+    std::ifstream in(m->planFile, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) {
+        fail(path, "cannot read '" + m->planFile + "'");
+    }
+    m->planText = text.str();
+    if (m->planText.empty()) {
+        fail(path, "'" + m->planFile + "' is empty");
+    }
+}
+
 core::TimeNs Parser::intervalEnd(const toml::table& t, const std::string& path, double atS) const {
     const toml::node* duration = t.get("duration_s");
     const toml::node* until = t.get("until_s");
@@ -768,7 +821,7 @@ Scenario Parser::parse(std::string_view text) {
     }
     onlyKeys(root, "",
              {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
-              "targets", "devices", "drives", "faults"});
+              "targets", "devices", "drives", "faults", "mission"});
     Scenario s;
     s.source = source_;
     s.name = string(root, "", "name", source_);
@@ -804,6 +857,9 @@ Scenario Parser::parse(std::string_view text) {
     }
     if (const toml::node* n = node(root, "", "faults", false)) {
         parseFaults(*n, &s.faults);
+    }
+    if (const toml::table* t = table(root, "", "mission", false)) {
+        parseMission(*t, s.map, &s.mission);
     }
     return s;
 }

@@ -88,17 +88,6 @@ void checkReachedAfterResponse(const MissionSummary& s, double faultAtS) {
     LONGS_EQUAL(0, s.marksUnattributed);  // every raise, response and action named its fault (telemetry)
 }
 
-// The first mark of a kind at or after timeS about fault `faultId` (nullptr: none).
-const sim::MissionMark* firstFor(const MissionSummary& s, sim::MarkKind kind, double timeS, std::uint8_t faultId) {
-    for (std::size_t i = 0; i < s.markCount; ++i) {
-        const sim::MissionMark& m = s.marks[i];
-        if (m.kind == kind && m.timeS >= timeS && m.faultId == faultId) {
-            return &m;
-        }
-    }
-    return nullptr;
-}
-
 FaultSpec wheelFault(FaultType type, std::size_t wheel, double atS, double untilS = -1.0, double value = 0.0) {
     FaultSpec f;
     f.type = type;
@@ -126,9 +115,9 @@ TEST(LockstepFaultProtection, ADriveThatCrashesAndRestartsIsBroughtBackAndTheGoa
     // The marks name the crashed drive: its heartbeat fault (5 = 1 + wheel 4),
     // the response to it and its node reset.
     const std::uint8_t lost = msg::fault::kDriveHeartbeatLost + 4;
-    const sim::MissionMark* raised = firstFor(s, sim::MarkKind::kFaultRaised, 20.0, lost);
-    const sim::MissionMark* started = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, lost);
-    const sim::MissionMark* reset = firstFor(s, sim::MarkKind::kRecoveryAction, 20.0, lost);
+    const sim::MissionMark* raised = s.firstMark(sim::MarkKind::kFaultRaised, 20.0, lost);
+    const sim::MissionMark* started = s.firstMark(sim::MarkKind::kResponseStarted, 20.0, lost);
+    const sim::MissionMark* reset = s.firstMark(sim::MarkKind::kRecoveryAction, 20.0, lost);
     CHECK(raised != nullptr && started != nullptr && reset != nullptr);
     LONGS_EQUAL(720, raised->eventId);
     LONGS_EQUAL(4, raised->wheel);
@@ -155,10 +144,10 @@ TEST(LockstepFaultProtection, TheMarksOfTwoDrivesInTroubleAtOnceNameEachDrive) {
     const std::uint8_t ml = msg::fault::kDriveHeartbeatLost + 1;
     const std::uint8_t mr = msg::fault::kDriveHeartbeatLost + 4;
     const sim::MissionMark* first = s.firstMark(sim::MarkKind::kResponseStarted, 20.0);
-    const sim::MissionMark* mlStarted = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, ml);
-    const sim::MissionMark* mrRaised = firstFor(s, sim::MarkKind::kFaultRaised, 20.0, mr);
-    const sim::MissionMark* mrStarted = firstFor(s, sim::MarkKind::kResponseStarted, 20.0, mr);
-    const sim::MissionMark* mrReset = firstFor(s, sim::MarkKind::kRecoveryAction, 20.0, mr);
+    const sim::MissionMark* mlStarted = s.firstMark(sim::MarkKind::kResponseStarted, 20.0, ml);
+    const sim::MissionMark* mrRaised = s.firstMark(sim::MarkKind::kFaultRaised, 20.0, mr);
+    const sim::MissionMark* mrStarted = s.firstMark(sim::MarkKind::kResponseStarted, 20.0, mr);
+    const sim::MissionMark* mrReset = s.firstMark(sim::MarkKind::kRecoveryAction, 20.0, mr);
     CHECK(first != nullptr && mlStarted != nullptr && mrRaised != nullptr && mrStarted != nullptr &&
           mrReset != nullptr);
     std::printf("\n    ML response %.2f s; MR heartbeat fault %.2f s, response %.2f s, node reset %.2f s (wheel %u); "
@@ -264,7 +253,7 @@ TEST(LockstepFaultProtection, ARoverCarriedOffTheMapIsReplannedFromWhereItStands
     o.editUplinkedMap = [](Scenario& sc) { sc.map.yMin = -10.0; };  // the orbital survey ends at -10 m
     const MissionSummary s = sim::runMission(o, printConsole() ? stdout : nullptr);
     report("slid 2.5 m south off the map at 25-27 s", s);
-    const sim::MissionMark* offMap = firstFor(s, sim::MarkKind::kFaultRaised, 0.0, msg::fault::kOffMap);
+    const sim::MissionMark* offMap = s.firstMark(sim::MarkKind::kFaultRaised, 0.0, msg::fault::kOffMap);
     const double offMapAtS = offMap != nullptr ? offMap->timeS : -1.0;
     std::printf("\n  off the map (fault 46) raised at %.2f s", offMapAtS);
     CHECK(offMap != nullptr && offMap->eventId == 738);

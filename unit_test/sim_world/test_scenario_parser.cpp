@@ -646,3 +646,75 @@ TEST(SimScenario, TheTwoTargetsScenarioLoadsWithItsTargetsInstrumentsAndGrinderF
     CHECK_EQUAL(240 * kSec, s.faults[0].at);
     CHECK_EQUAL(kNever, s.faults[0].until);
 }
+
+// [mission]: the scenario as a mission of its own (rse-demo --scenario FILE).
+TEST(SimScenario, AMissionIsAGoalOrAPlanAtARiskBound) {
+    const Scenario none = parseScenario(kBase, "none.toml");
+    CHECK_FALSE(none.mission.present);
+    const Scenario goal = parseScenario(kBase + "\n[mission]\ngoal_x_m = 9\ngoal_y_m = -2.5\nrisk_bound = 1e-6\n",
+                                        "goal.toml");
+    CHECK_TRUE(goal.mission.present);
+    CHECK_TRUE(goal.mission.hasGoal);
+    DOUBLES_EQUAL(9.0, goal.mission.goalX, 0.0);
+    DOUBLES_EQUAL(-2.5, goal.mission.goalY, 0.0);
+    DOUBLES_EQUAL(1e-6, goal.mission.riskBound, 0.0);
+    CHECK_TRUE(goal.mission.planText.empty());
+    const Scenario defaultRisk = parseScenario(kBase + "\n[mission]\ngoal_x_m = 1\ngoal_y_m = 1\n", "d.toml");
+    DOUBLES_EQUAL(kDefaultMissionRiskBound, defaultRisk.mission.riskBound, 0.0);
+    // A plan file is named from the scenario file's folder, and read.
+    const Scenario plan = parseScenario(kBase + "\n[mission]\nplan_file = \"../fuzz/corpus/plan/two_targets.plan\"\n",
+                                        "unit_test/sim_world/plan.toml");
+    CHECK_TRUE(plan.mission.present);
+    CHECK_FALSE(plan.mission.hasGoal);
+    STRCMP_EQUAL("unit_test/fuzz/corpus/plan/two_targets.plan", plan.mission.planFile.c_str());
+    CHECK_TRUE(plan.mission.planText.rfind("# Two targets", 0) == 0);
+    CHECK(plan.mission.planText.find("\nend\n") != std::string::npos);
+}
+
+TEST(SimScenario, BadMissionsAreRejectedWithTheKeyPath) {
+    struct Case {
+        std::string text;
+        const char* message;
+    };
+    const std::string m = kBase + "\n[mission]\n";
+    const std::vector<Case> cases = {
+        {m + "goal_x_m = 1\ngoal_y_m = 1\ngoal_z_m = 0\n", "inline.toml: mission.goal_z_m: unknown key"},
+        {m, "inline.toml: mission: needs a goal (goal_x_m, goal_y_m) or a plan_file"},
+        {m + "risk_bound = 1e-3\n", "inline.toml: mission: needs a goal (goal_x_m, goal_y_m) or a plan_file"},
+        {m + "goal_x_m = 1\n", "inline.toml: mission.goal_y_m: missing (a goal needs both; goal_x_m is given)"},
+        {m + "goal_y_m = 1\n", "inline.toml: mission.goal_x_m: missing (a goal needs both; goal_y_m is given)"},
+        {m + "goal_x_m = 1\ngoal_y_m = 1\nplan_file = \"p.plan\"\n",
+         "inline.toml: mission: give a goal (goal_x_m, goal_y_m) or a plan_file, not both"},
+        {m + "goal_x_m = 11\ngoal_y_m = 0\n", "inline.toml: mission: goal (11, 0) is outside the map"},
+        {m + "goal_x_m = \"east\"\ngoal_y_m = 0\n", "inline.toml: mission.goal_x_m: must be a number (got a string)"},
+        {m + "goal_x_m = 1\ngoal_y_m = 0\nrisk_bound = 0.5\n",
+         "inline.toml: mission.risk_bound: must be in [1e-09, 0.49] (got 0.5)"},
+        {m + "goal_x_m = 1\ngoal_y_m = 0\nrisk_bound = 0\n",
+         "inline.toml: mission.risk_bound: must be in [1e-09, 0.49] (got 0)"},
+        {m + "plan_file = 7\n", "inline.toml: mission.plan_file: must be a string (got an integer)"},
+        {m + "plan_file = \"\"\n", "inline.toml: mission.plan_file: must name a plan file"},
+        {m + "plan_file = \"no/such.plan\"\n", "inline.toml: mission.plan_file: cannot read 'no/such.plan'"},
+        {m + "plan_file = \"/dev/null\"\n", "inline.toml: mission.plan_file: '/dev/null' is empty"},
+        {"mission = 3\n" + kBase, "inline.toml: mission: must be a table (got an integer)"},
+    };
+    for (const Case& c : cases) {
+        const std::string got = errorOf(c.text);
+        STRCMP_EQUAL_TEXT(c.message, got.c_str(), c.text.c_str());
+    }
+}
+
+// The scenario files that are missions say what they fly (the suite that
+// flies each: unit_test/lockstep/test_scenario_suite.cpp).
+TEST(SimScenario, TheShippedMissionsAreTheirFilesGoalsAndPlans) {
+    const Scenario demo = loadScenarioFile("sim_stub/scenarios/demo_mission.toml");
+    CHECK_TRUE(demo.mission.hasGoal);
+    DOUBLES_EQUAL(20.0, demo.mission.goalX, 0.0);
+    DOUBLES_EQUAL(0.0, demo.mission.goalY, 0.0);
+    DOUBLES_EQUAL(1e-3, demo.mission.riskBound, 0.0);
+    const Scenario two = loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    CHECK_FALSE(two.mission.hasGoal);
+    STRCMP_EQUAL("unit_test/fuzz/corpus/plan/two_targets.plan", two.mission.planFile.c_str());
+    CHECK(two.mission.planText.find("plan two_targets\n") != std::string::npos);
+    const Scenario estimator = loadScenarioFile("sim_stub/scenarios/estimator_drive.toml");
+    CHECK_FALSE(estimator.mission.present);  // a drive profile, not a mission
+}
