@@ -654,15 +654,7 @@ TEST(PlanExecutiveDevices, AbortWhileDrivingClearsTheGoal) {
 
 // GOTO and the goal list (docs/plan_executive.md "Goal lists"): plans of drive
 // activities run by the executive, the deliberative layer given one goal at a time.
-TEST_GROUP(PlanExecutiveGoalLists) {
-    void setup() override {
-        rig = new Rig();
-        CHECK_TRUE(rig->init());
-    }
-    void teardown() override {
-        delete rig;
-        rig = nullptr;
-    }
+TEST_GROUP_BASE(PlanExecutiveGoalLists, TEST_GROUP_CppUTestGroupPlanExecutiveTask) {
     // The deliberative layer reaches the goal it was last given.
     void reachGoal() {
         const std::uint32_t revision = rig->lastGoal.goals.revision;
