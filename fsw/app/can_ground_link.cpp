@@ -40,6 +40,7 @@ Status CanGroundLink::receive(std::uint8_t* out, std::size_t capacity, std::size
     const Status s = channel_.receive(out, capacity, length);
     if (core::isOk(s) || s == Status::kTooLarge) {
         groundHeard_ = true;
+        groundAnswering_ = true;
     }
     if (core::isOk(s)) {
         ++stats_.rxPackets;
@@ -94,6 +95,13 @@ Status CanGroundLink::sendWithPriority(const std::uint8_t* data, std::size_t len
     return s;
 }
 
+std::size_t CanGroundLink::txRoom(hal::TxPriority priority) const {
+    if (!groundAnswering_) {
+        return hal::kTxRoomUnlimited;
+    }
+    return kGroundLinkTxQueueDepth - queue(priority).size();
+}
+
 std::size_t CanGroundLink::txQueued() const {
     std::size_t n = 0;
     for (const TxQueue& q : txQueues_) {
@@ -125,7 +133,11 @@ void CanGroundLink::finishTransmission() {
         inFlight_ = false;
         if (channel_.txResult() == hal::IsoTpTxResult::kDone) {
             ++txCompleted_;
+            groundAnswering_ = groundAnswering_ || inFlightNeedsAnswer_;
         } else {
+            if (channel_.txResult() == hal::IsoTpTxResult::kTimeoutBs) {
+                groundAnswering_ = false;
+            }
             ++txAborted_;  // the channel evented the reason
         }
     }
@@ -152,6 +164,7 @@ void CanGroundLink::service() {
         // queued); kNotInitialized is refused in send(). Counted all the same.
         if (core::isOk(channel_.send(packet, length))) {
             inFlight_ = true;
+            inFlightNeedsAnswer_ = length > hal::kIsoTpMaxSingleFrame;
         } else {
             ++txAborted_;
         }

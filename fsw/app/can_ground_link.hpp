@@ -17,7 +17,9 @@
 //   telemetry, each queue in order. While routine packets wait, every
 //   kGroundLinkRoutineShare-th packet started after an event is routine, so an
 //   event storm cannot starve housekeeping (which is where the ground reads the
-//   drop counters). Routine telemetry can fill only its own queue, never the room
+//   drop counters). Telemetry output offers events only as fast as the event
+//   queue takes them (txRoom), so a burst waits in the event log instead of
+//   being refused here. Routine telemetry can fill only its own queue, never the room
 //   of an acknowledgement. Only service(), called once per minor frame by the CAN
 //   I/O task, touches the bus, so any task of the frame may send() without racing
 //   the CANopen traffic.
@@ -81,6 +83,11 @@ public:
     // Telemetry goes down only once a ground has sent something on 0x6C0: with
     // nobody there every multi-frame packet would wait N_Bs for flow control.
     bool downlinkActive() const override { return groundHeard_; }
+    // Room in the priority's queue while the ground answers; a ground that has
+    // stopped answering (the last packet went unanswered for N_Bs, nothing heard
+    // since) gets kTxRoomUnlimited: holding events back for it would only delay
+    // them on the other links, and its queue refuses (counts) what it cannot take.
+    std::size_t txRoom(hal::TxPriority priority) const override;
     // Once per minor frame: advances ISO-TP (CFs, flow control, timeouts) and starts
     // the next queued packets while the transmitter is idle.
     void service() override;
@@ -98,6 +105,7 @@ private:
     using TxQueue = hal::PacketQueue<kGroundLinkTxQueueDepth, cmdtlm::kMaxTelemetryPacket>;
 
     bool groundHeard_ = false;
+    bool groundAnswering_ = true;  // false from a packet unanswered (N_Bs) until the ground is heard or answers
     static hal::IsoTpConfig config();
     // An out-of-range value counts as routine.
     static std::size_t index(hal::TxPriority priority) {
@@ -114,6 +122,7 @@ private:
     TxQueue txQueues_[hal::kTxPriorityCount];  // indexed by hal::TxPriority
     std::size_t eventsInARow_ = 0;  // event packets started in a row while routine ones waited
     bool inFlight_ = false;  // a queued packet was handed to the channel and has not finished
+    bool inFlightNeedsAnswer_ = false;  // it is multi-frame: only the ground's flow control completes it
     // Where an uplink message too long for the reader's buffer is read to drop it.
     std::uint8_t discard_[cmdtlm::kMaxCommandPacket] = {};
     hal::PacketLinkStats stats_;

@@ -158,8 +158,13 @@ void TelemetryTask::takeBusMessages() {
 }
 
 void TelemetryTask::sendEvents() {
+    // No more than the slowest link's event queue takes: the rest wait in the
+    // event log (kEventRingDepth), so a burst on the CAN link goes down late
+    // instead of being refused; only a backlog beyond the log is lost (counted,
+    // HK.events_lost).
+    const std::size_t budget = std::min(kEventsPerFrame, output_.room(hal::TxPriority::kEvent));
     core::Event event;
-    for (std::size_t i = 0; i < kEventsPerFrame && core::isOk(events_.pop(&event)); ++i) {
+    for (std::size_t i = 0; i < budget && core::isOk(events_.pop(&event)); ++i) {
         cmdtlm::EVENT_Tlm tlm{};
         tlm.event_sequence = event.sequence;
         tlm.event_time = static_cast<double>(event.time) / static_cast<double>(core::kNsPerSec);

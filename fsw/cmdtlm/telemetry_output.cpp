@@ -1,5 +1,7 @@
 #include "fsw/cmdtlm/telemetry_output.hpp"
 
+#include <algorithm>
+
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
 
 namespace rse::cmdtlm {
@@ -33,6 +35,17 @@ void TelemetryOutput::sendPayload(std::uint16_t apid, const std::uint8_t* payloa
                            hal::toString(priority));
         }
     }
+}
+
+std::size_t TelemetryOutput::room(hal::TxPriority priority) const {
+    std::size_t least = hal::kTxRoomUnlimited;
+    for (std::size_t i = 0; i < links_.size(); ++i) {
+        const hal::PacketLink* link = links_.at(i);
+        if (link->downlinkActive()) {
+            least = std::min(least, link->txRoom(priority));
+        }
+    }
+    return least;
 }
 
 void TelemetryOutput::reportTooLarge(std::uint16_t apid, std::size_t length) {

@@ -45,6 +45,9 @@ public:
         }
     }
     void sendPayload(std::uint16_t apid, const std::uint8_t* payload, std::size_t length);
+    // Packets of this priority every link offered telemetry would take now
+    // (the least txRoom; hal::kTxRoomUnlimited when none limits it).
+    std::size_t room(hal::TxPriority priority) const;
 
     std::uint32_t sent() const { return sent_; }        // packets accepted by a link (counted per link)
     std::uint32_t dropped() const { return dropped_; }  // packets a link refused

@@ -22,7 +22,7 @@ constexpr std::uint8_t kFsClearToSend = 0x0;
 constexpr std::uint8_t kFsWait = 0x1;
 constexpr std::uint8_t kFsOverflow = 0x2;
 
-constexpr std::size_t kSfMaxData = 7;     // SF_DL 1..7 (classic CAN)
+constexpr std::size_t kSfMaxData = kIsoTpMaxSingleFrame;  // SF_DL 1..7 (classic CAN)
 constexpr std::size_t kFfData = 6;        // data bytes in a FF with a 12-bit FF_DL
 constexpr std::size_t kCfMaxData = 7;     // data bytes in a CF
 constexpr std::size_t kFfMinLength = 8;   // FF_DLmin for classic CAN

@@ -79,6 +79,8 @@ namespace rse::hal {
 // Largest message (12-bit FF_DL, classic CAN). The size of each channel's transmit
 // and reassembly buffers.
 constexpr std::size_t kIsoTpMaxMessage = 4095;
+// Longest message sent as one Single Frame (classic CAN): it needs no flow control.
+constexpr std::size_t kIsoTpMaxSingleFrame = 7;
 // Completed-message FIFO per channel: two largest messages with their 2-byte length.
 constexpr std::size_t kIsoTpRxStoreBytes = 2 * (kIsoTpMaxMessage + 2);
 // CFs one poll() may send when the receiver asked for STmin 0 (so a poll never runs

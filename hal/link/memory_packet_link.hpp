@@ -41,6 +41,7 @@ public:
     // kOk, kFull (downlink full), kTooLarge (> kMemoryLinkMaxPacket),
     // kInvalidArgument (empty or null); every refusal counts in txDropped.
     core::Status send(const std::uint8_t* data, std::size_t length) override;
+    std::size_t txRoom(TxPriority) const override { return kMemoryLinkDownlinkDepth - downlink_.size(); }
     const char* name() const override { return "memory"; }
     const PacketLinkStats& stats() const override { return stats_; }
 

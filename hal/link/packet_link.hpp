@@ -31,6 +31,9 @@ inline const char* toString(TxPriority priority) {
     return "?";
 }
 
+// txRoom() of a link that sends at once (UDP, in-memory with room to spare).
+constexpr std::size_t kTxRoomUnlimited = static_cast<std::size_t>(-1);
+
 struct PacketLinkStats {
     std::uint32_t rxPackets = 0;   // handed to the caller
     std::uint32_t rxDropped = 0;   // lost before the caller read them (queue full, too large, truncated)
@@ -54,6 +57,14 @@ public:
     virtual core::Status sendWithPriority(const std::uint8_t* data, std::size_t length, TxPriority priority) {
         (void)priority;
         return send(data, length);
+    }
+    // How many more packets of this priority send would take now without
+    // refusing one. A sender that can wait (telemetry output's events, which
+    // stay in the event log) offers no more than this, so a burst is sent
+    // late rather than lost. A link that sends at once: kTxRoomUnlimited.
+    virtual std::size_t txRoom(TxPriority priority) const {
+        (void)priority;
+        return kTxRoomUnlimited;
     }
     // Advances the transport once per minor frame (segmentation, retries).
     virtual void service() {}

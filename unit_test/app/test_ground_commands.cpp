@@ -826,3 +826,35 @@ TEST(GroundCommandsTimeScale, HousekeepingAndAnEventSayTheTimelineIsSlowed) {
         LONGS_EQUAL(factor, static_cast<long>(field(lastOf(received, "HK"), "time_scale")));
     }
 }
+
+// A burst of events larger than the link can take at once waits in the event
+// log and goes down in order as the link drains: not one event refused.
+TEST(GroundCommands, AnEventBurstBeyondTheLinksRoomWaitsInTheEventLogAndArrivesWhole) {
+    runFrames(2);
+    received.clear();
+    constexpr int kBurst = 3 * static_cast<int>(hal::kMemoryLinkDownlinkDepth);
+    static_assert(kBurst < static_cast<int>(core::kEventRingDepth), "the burst fits the event log");
+    for (int i = 0; i < kBurst; ++i) {
+        fsw.events().report(999, core::Severity::kInfo, "burst %d", i);
+    }
+    fsw.run(nullptr, 10);  // the ground reads nothing for 10 frames: the downlink fills
+    CHECK(link.downlinkQueued() > 0);
+    runFrames(60);
+    std::vector<long> sequences;
+    int next = 0;
+    for (const Packet& p : received) {
+        if (p.apid != findTelemetry("EVENT")->apid) {
+            continue;
+        }
+        sequences.push_back(static_cast<long>(field(p, "event_sequence")));
+        if (static_cast<long>(field(p, "event_id")) == 999) {
+            ++next;
+        }
+    }
+    LONGS_EQUAL(kBurst, next);
+    for (std::size_t i = 1; i < sequences.size(); ++i) {
+        LONGS_EQUAL(sequences[i - 1] + 1, sequences[i]);  // no gap: nothing lost on the way
+    }
+    LONGS_EQUAL(0, fsw.events().lost());
+    LONGS_EQUAL(0, fsw.telemetryOutput().dropped(hal::TxPriority::kEvent));
+}

@@ -239,6 +239,34 @@ TEST(CanGroundLink, ATransmissionTheGroundNeverAnswersIsCountedAndTheNextPacketG
     LONGS_EQUAL(0, link.txQueued());
 }
 
+TEST(CanGroundLink, TxRoomIsTheQueuesRoomWhileTheGroundAnswersAndUnlimitedOnceItStops) {
+    fill(sent, 100, 7);
+    LONGS_EQUAL(app::kGroundLinkTxQueueDepth, link.txRoom(hal::TxPriority::kEvent));
+    CHECK(Status::kOk == link.sendWithPriority(sent, 100, hal::TxPriority::kEvent));
+    CHECK(Status::kOk == link.sendWithPriority(sent, 100, hal::TxPriority::kEvent));
+    LONGS_EQUAL(app::kGroundLinkTxQueueDepth - 2, link.txRoom(hal::TxPriority::kEvent));
+    LONGS_EQUAL(app::kGroundLinkTxQueueDepth, link.txRoom(hal::TxPriority::kRoutine));  // per priority
+    // The ground goes silent: the packet in flight waits out N_Bs. Holding
+    // events back for a ground that does not answer would only delay them on
+    // the other links: the room is no longer its limit.
+    groundListens = false;
+    for (int i = 0; i < kMaxFrames && link.txAborted() == 0; ++i) {
+        frame();
+    }
+    LONGS_EQUAL(1, link.txAborted());
+    CHECK(hal::kTxRoomUnlimited == link.txRoom(hal::TxPriority::kEvent));
+    // A single-frame packet completes without an answer: it proves nothing.
+    CHECK(Status::kOk == link.send(sent, 3));
+    frame();
+    frame();
+    CHECK(hal::kTxRoomUnlimited == link.txRoom(hal::TxPriority::kEvent));
+    // Heard again (a command): the queue's room is the limit once more.
+    groundListens = true;
+    uplink(sent, 5);
+    CHECK(Status::kOk == link.receive(got, sizeof got, &length));
+    CHECK(link.txRoom(hal::TxPriority::kEvent) <= app::kGroundLinkTxQueueDepth);
+}
+
 TEST(CanGroundLink, AnAcknowledgementNeverWaitsBehindRoutineTelemetry) {
     fill(sent, 100, 7);
     for (std::size_t i = 0; i < app::kGroundLinkTxQueueDepth; ++i) {
