@@ -19,6 +19,10 @@
 #include "ground/ground_link.hpp"
 #include "ground/ground_session.hpp"
 #include "ground/key_file.hpp"
+#include "fsw/geometry/rover_footprint.hpp"
+#include "ground/mission_from_telemetry.hpp"
+#include "ground/mission_points.hpp"
+#include "ground/mission_report.hpp"
 #include "ground/mission_telemetry.hpp"
 #include "ground/plan_tool.hpp"
 #include "ground/plan_transfer.hpp"
@@ -53,6 +57,8 @@ constexpr const char* kUsage =
     "  record FILE [--seconds S] [--until-outcome] [--tail S] [--quiet]\n"
     "                                                        record every packet received, with its time\n"
     "  summary FILE [--facts] [--no-events]                  the mission a recording's telemetry shows\n"
+    "  report FILE [--map MAP] [--tables DIR] [--out DIR] [--name TEXT]\n"
+    "                                                        the ten points, report.md and map.svg from a recording\n"
     "  resync [--auth-seq N]                                 AUTH_RESYNC with the nonce of the rover's next HK\n"
     "  run SCRIPT [--verbose]                                run a command script (docs/ground.md)\n"
     "  table load IMAGE.tbl [--activate] [--force]           upload, validate (and activate) a table\n"
@@ -183,6 +189,7 @@ public:
     int watch(const std::vector<std::string>& args);
     int record(const std::vector<std::string>& args);
     int summary(const std::vector<std::string>& args);
+    int report(const std::vector<std::string>& args);
     int run(const std::vector<std::string>& args);
     int table(const std::vector<std::string>& args);
     int plan(const std::vector<std::string>& args);
@@ -608,6 +615,81 @@ int Cli::summary(const std::vector<std::string>& args) {
     return kExitOk;
 }
 
+// The mission from a recording as rse-demo shows it: the ten points (printed as
+// the tracker saw them, then the verdict), build/mission-style report.md and
+// map.svg. The coarse map is the one the rover flew: --map (an uploaded image,
+// or its .toml source), else DIR/coarse_map.toml of --tables (default
+// "tables", the rover's defaults); the footprint from DIR/rover_geometry.toml.
+// Exit 0 when the ten points were all seen in order, 3 when not.
+int Cli::report(const std::vector<std::string>& args) {
+    std::vector<std::string> words = args;
+    const std::string tablesDir = takeValue(&words, "--tables").value_or("tables");
+    const std::string mapPath = takeValue(&words, "--map").value_or(tablesDir + "/coarse_map.toml");
+    const std::string outDir = takeValue(&words, "--out").value_or("build/mission_telemetry");
+    std::optional<std::string> name = takeValue(&words, "--name");
+    rejectOptions(words, "report");
+    if (words.size() != 1) {
+        throw UsageError("usage: rse-ground report FILE [--map MAP] [--tables DIR] [--out DIR] [--name TEXT]");
+    }
+    std::ifstream in(words[0]);
+    if (!in) {
+        err_ << "report: cannot read '" << words[0] << "'\n";
+        return kExitLink;
+    }
+    const SessionRecording recording = readSessionRecording(in);
+    for (const std::string& e : recording.errors) {
+        err_ << words[0] << ": " << e << "\n";
+    }
+    if (recording.packets.empty()) {
+        err_ << "report: '" << words[0] << "' holds no packet\n";
+        return kExitLink;
+    }
+    // The tables, compiled and checked with the flight code (a bad one is a
+    // usage error that names the file and the field).
+    auto loadImage = [](const std::string& path) {
+        const bool source = path.size() > 5 && path.compare(path.size() - 5, 5, ".toml") == 0;
+        return source ? compileTableFile(path).image : readTableImageFile(path);
+    };
+    tables::CoarseMapTable map{};
+    tables::RoverGeometryTable geometry{};
+    try {
+        const std::vector<std::uint8_t> mapImage = loadImage(mapPath);
+        const tables::TableCheck mapCheck = tables::decodeTable(mapImage.data(), mapImage.size(), &map);
+        if (!mapCheck.ok()) {
+            throw UsageError("report: " + mapPath + " is not a good COARSE_MAP image: " +
+                             describeCheck(mapImage.data(), mapImage.size()));
+        }
+        const std::string geometryPath = tablesDir + "/rover_geometry.toml";
+        const std::vector<std::uint8_t> geometryImage = loadImage(geometryPath);
+        if (!tables::decodeTable(geometryImage.data(), geometryImage.size(), &geometry).ok()) {
+            throw UsageError("report: " + geometryPath + " is not a good ROVER_GEOMETRY image: " +
+                             describeCheck(geometryImage.data(), geometryImage.size()));
+        }
+    } catch (const TableSourceError& e) {
+        throw UsageError(std::string("report: ") + e.what());
+    }
+    const MissionTelemetry mission = readMissionTelemetry(recording);
+    const TelemetryMissionRecord result = missionRecordFromTelemetry(
+        recording, mission, map, geometry::clearanceRadiusM(geometry),
+        name.value_or(words[0] + " (telemetry received on " + recording.link + ")"));
+    for (const MissionPoint& p : result.pointsInOrder) {
+        out_ << TenPointTracker::formatPoint(p) << "\n";
+    }
+    out_ << "outcome:    " << result.record.outcome << "\n";
+    out_ << "plans:      " << result.plansDrawn << " drawn from PLAN_PATH (" << mission.plansMade
+         << " made, events 902)\n";
+    out_ << "points:     " << result.record.verdict << "\n";
+    std::string reportPath;
+    std::string mapFile;
+    std::string error;
+    if (!writeMissionFiles(result.record, outDir, &reportPath, &mapFile, &error)) {
+        err_ << "report: " << error << "\n";
+        return kExitLink;
+    }
+    out_ << "mission report: " << reportPath << "\nmission map:    " << mapFile << "\n";
+    return result.record.allInOrder ? kExitOk : kExitRejected;
+}
+
 int Cli::run(const std::vector<std::string>& args) {
     std::vector<std::string> words = args;
     const bool verbose = takeFlag(&words, "--verbose");
@@ -837,6 +919,9 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
         }
         if (command == "summary") {
             return cli.summary(commandArgs);
+        }
+        if (command == "report") {
+            return cli.report(commandArgs);
         }
         if (command == "table") {
             return cli.table(commandArgs);

@@ -1,5 +1,6 @@
 #include "ground/mission_points.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -93,7 +94,28 @@ void TenPointTracker::onPose(double timeS, double xM, double yM) {
     }
 }
 
-void TenPointTracker::onCallHomeReason(std::uint8_t reason) { callHomeReason_ = reason; }
+void TenPointTracker::onCallHomeReason(std::uint8_t reason) {
+    callHomeReason_ = reason;
+    seePointTen();
+}
+
+// Point 10 needs the call home (912), PLAN's reason and the rover safed (215).
+// On the bus the reason comes before the event; on a downlink PLAN is routine
+// telemetry and may come after both events, so whichever comes last decides.
+void TenPointTracker::seePointTen() {
+    if (callHomeEventText_.empty() || safedS_ < 0.0 || points_[9].seen) {
+        return;
+    }
+    setFact(10, "call home reason", callHomeReason_);
+    if (callHomeReason_ != static_cast<std::uint8_t>(msg::CallHomeReason::kNoPlanWithinRisk)) {
+        return;
+    }
+    std::string text = "CALL HOME, operator called: " + callHomeWords(callHomeEventText_);
+    if (!callHomeRiskRelaxText_.empty()) {
+        text = "no plan within the bound even after " + callHomeRiskRelaxText_ + "; " + text;
+    }
+    see(10, safedS_, "deliberative + mode owner", text + "; rover safed: " + safedText_);
+}
 
 void TenPointTracker::see(int number, double timeS, const std::string& layer, const std::string& what, bool atPose) {
     MissionPoint& p = points_[static_cast<std::size_t>(number - 1)];
@@ -123,6 +145,14 @@ double TenPointTracker::fact(int number, const std::string& name) const {
     return f == p.facts.end() ? std::nan("") : f->second;
 }
 
+// Within the rover's footprint of the straight line from where the current
+// leg was sent to its end.
+bool TenPointTracker::onLegWay(const HazardSeen& h) const {
+    const double reach = h.radiusM + footprintRadiusM_;
+    return geometry::pointSegmentDistanceSquared(geometry::Point2{h.xM, h.yM}, geometry::Point2{legFromX_, legFromY_},
+                                                 geometry::Point2{legToX_, legToY_}) < reach * reach;
+}
+
 LegRecord* TenPointTracker::leg(std::uint32_t id) {
     for (LegRecord& l : legs_) {
         if (l.legId == id) {
@@ -148,6 +178,7 @@ void TenPointTracker::onHazardBlocked(const FlightEvent& e) {
         hidden_.legId = legId;
         hidden_.hazardId = hazard;
         hidden_.seenS = e.timeS;
+        hiddenTried_.push_back(hazard);
     }
 }
 
@@ -250,6 +281,25 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
             legToX_ = l.xM;
             legToY_ = l.yM;
             legs_.push_back(l);
+            // A hidden obstacle seen before this leg was sent, on its way: the
+            // deliberative layer's leg (coarse map) runs through it, so the
+            // leg's plan must go round it (as when it is seen while planning).
+            if (!hidden_.active && !points_[4].seen) {
+                for (const HazardSeen& h : hazards_) {
+                    const bool tried = std::find(hiddenTried_.begin(), hiddenTried_.end(), h.id) != hiddenTried_.end();
+                    if (h.hidden && !tried && onLegWay(h)) {
+                        hidden_ = HiddenBlock{};
+                        hidden_.active = true;
+                        hidden_.legId = currentLeg_;
+                        hidden_.hazardId = h.id;
+                        hidden_.seenS = h.timeS;
+                        hiddenTried_.push_back(h.id);
+                        hidden_.whilePlanning = true;
+                        hidden_.beforeLeg = true;
+                        break;
+                    }
+                }
+            }
             if (planPending_) {
                 planPending_ = false;
                 setFact(2, "power bound W", l.powerBoundW);
@@ -330,9 +380,10 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                     setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
                     const std::string how =
                         hidden_.whilePlanning
-                            ? " seen on the leg's way at " + seconds(hidden_.seenS) + " while leg " +
-                                  std::to_string(legId) + " was being planned; planned round it locally within its "
-                                                          "bounds at " +
+                            ? " seen on the leg's way at " + seconds(hidden_.seenS) +
+                                  (hidden_.beforeLeg ? " before leg " : " while leg ") + std::to_string(legId) +
+                                  (hidden_.beforeLeg ? " was sent" : " was being planned") +
+                                  "; planned round it locally within its bounds at " +
                                   seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
                             : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(legId) +
                                   " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
@@ -358,16 +409,13 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                 hazards_.push_back(h);
                 // Seen while the leg in force was being planned, on its way:
                 // its plan must go round it (else it is seen on the path, 804).
-                const double reach = h.radiusM + footprintRadiusM_;
-                const bool onTheWay =
-                    geometry::pointSegmentDistanceSquared(geometry::Point2{h.xM, h.yM}, geometry::Point2{legFromX_, legFromY_},
-                                                          geometry::Point2{legToX_, legToY_}) < reach * reach;
-                if (h.hidden && !hidden_.active && currentLeg_ != 0 && !currentLegPlanned_ && onTheWay) {
+                if (h.hidden && !hidden_.active && currentLeg_ != 0 && !currentLegPlanned_ && onLegWay(h)) {
                     hidden_ = HiddenBlock{};
                     hidden_.active = true;
                     hidden_.legId = currentLeg_;
                     hidden_.hazardId = id;
                     hidden_.seenS = e.timeS;
+                    hiddenTried_.push_back(id);
                     hidden_.whilePlanning = true;
                 }
             }
@@ -418,19 +466,17 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
             break;
         case dev::kCallHome:
             decisions_.push_back(MissionDecision{e.timeS, "call home", body(t)});
-            setFact(10, "call home reason", callHomeReason_);
-            if (callHomeReason_ == static_cast<std::uint8_t>(msg::CallHomeReason::kNoPlanWithinRisk)) {
-                callHomeText_ = "CALL HOME, operator called: " + callHomeWords(t);
-                if (!riskRelaxText_.empty()) {
-                    callHomeText_ = "no plan within the bound even after " + riskRelaxText_ + "; " + callHomeText_;
-                }
-            }
+            callHomeEventText_ = t;
+            callHomeRiskRelaxText_ = riskRelaxText_;
+            safedS_ = -1.0;  // the rover safed after this call home
+            seePointTen();
             break;
         case app::events::kSafedOnRequest:
             decisions_.push_back(MissionDecision{e.timeS, "safed", body(t)});
-            if (!callHomeText_.empty()) {
-                see(10, e.timeS, "deliberative + mode owner", callHomeText_ + "; rover safed: " + body(t));
-                callHomeText_.clear();
+            if (!callHomeEventText_.empty() && safedS_ < 0.0) {
+                safedS_ = e.timeS;
+                safedText_ = body(t);
+                seePointTen();
             }
             break;
         case fault_protection::events::kGaveUp:

@@ -80,6 +80,8 @@ private:
     LegRecord* leg(std::uint32_t id);
     void onHazardBlocked(const FlightEvent& e);
     void onHabitualFailUp(const FlightEvent& e);
+    void seePointTen();
+    bool onLegWay(const HazardSeen& h) const;
 
     tables::CoarseMapTable map_;
     const double footprintRadiusM_;
@@ -109,8 +111,10 @@ private:
         std::string plan;                  // the replanned trajectory (803 text)
         double replanX = 0.0, replanY = 0.0;  // the estimated position then
         bool whilePlanning = false;        // first seen while the leg was being planned (no 804)
+        bool beforeLeg = false;            // ... or before the leg was sent
         std::uint32_t failUps = 0;         // fail-ups of the leg since
     } hidden_;
+    std::vector<unsigned> hiddenTried_;    // hazards point 5 was tried on (once each: a fail-up spoils it)
     std::string lastPlanSent_;             // last 803 text
     // Drives (bit per wheel) the drive mode estimator declares degraded / failed.
     unsigned degraded_ = 0, failed_ = 0;
@@ -125,7 +129,11 @@ private:
     double relaxedPowerW_ = 0.0;
     std::string replanText_;               // last 911
     std::string riskRelaxText_;            // last 904
-    std::string callHomeText_;             // a 912 with the risk reason, until the rover is safed (215)
+    // Point 10: the last call home (912) and the safing (215) after it.
+    std::string callHomeEventText_;        // the 912's text ("" none yet)
+    std::string callHomeRiskRelaxText_;    // the risk relaxation before it
+    double safedS_ = -1.0;                 // the 215 after it (-1 not yet)
+    std::string safedText_;
 };
 
 }  // namespace rse::ground

@@ -157,6 +157,38 @@ TEST(TenPointTracker, AHiddenObstacleSeenWhileItsLegIsPlannedOnItsWayCounts) {
     CHECK_FALSE(beside.points()[4].seen);
 }
 
+// The vcan mission's form: the hidden rock seen while the leg before was
+// driven, lying on the next leg's way; that leg's plan goes round it.
+TEST(TenPointTracker, AHiddenObstacleSeenBeforeItsLegWasSentOnItsWayCounts) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 5);  // leg 1 achieved at (3.73, -0.28)
+    steps.push_back({17.27, 906, "deliberative: leg 1 reached (1 of 6)"});
+    steps.push_back({17.27, 905, "deliberative: leg 2 (2 of 6) to (8.0, -0.28): <= 6.0 m, <= 8000 J, <= 308 W, risk 1e-06"});
+    steps.push_back({17.5, 803, "habitual: leg 2 trajectory 4: 2 pts, 4.3/6.0 m, 4000/8000 J"});
+    steps.push_back({30.0, 816, "habitual: hazard 3 seen at (10.0, -0.20), radius 0.38 m: on the map"});
+    steps.push_back({35.0, 808, "habitual: leg 2 achieved at (7.9, -0.28): 4.2 m, 3900 J driven"});
+    steps.push_back({35.02, 906, "deliberative: leg 2 reached (2 of 6)"});
+    steps.push_back({35.02, 905, "deliberative: leg 3 (3 of 6) to (13.0, -0.28): <= 6.0 m, <= 8000 J, <= 308 W, risk 1e-06"});
+    steps.push_back({35.5, 803, "habitual: leg 3 trajectory 6: 8 pts, 5.7/6.0 m, 7000/8000 J"});
+    steps.push_back({60.0, 808, "habitual: leg 3 achieved at (12.9, -0.2): 5.7 m, 7000 J driven"});
+    auto run = [&](TenPointTracker* tracker) {
+        for (const Step& st : steps) {
+            tracker->onPose(st.t, st.t < 17.3 ? st.t / 5.0 : (st.t < 35.1 ? 7.9 : 12.9), -0.28);
+            tracker->onEvent(FlightEvent{st.t, st.id, 1, st.text});
+        }
+    };
+    run(t);
+    CHECK_TRUE(t->points()[4].seen);
+    DOUBLES_EQUAL(60.0, t->points()[4].timeS, 0.0);
+    DOUBLES_EQUAL(3.0, t->fact(5, "leg"), 0.0);
+    CHECK_TRUE(contains(t->points()[4].what, "before leg 3 was sent; planned round it"));
+
+    // A fail-up on that leg spoils it.
+    TenPointTracker failed(oneRock());
+    steps.insert(steps.end() - 1, Step{40.0, 807, "habitual: leg 3 fail-up: path blocked"});
+    run(&failed);
+    CHECK_FALSE(failed.points()[4].seen);
+}
+
 TEST(TenPointTracker, AKnownRockSeenByTheDetectorIsNoHiddenObstacle) {
     std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 7);
     // A disc that reaches rock 0 of the coarse map: the map's rock, seen.
@@ -213,6 +245,25 @@ TEST(TenPointTracker, ACallHomeForAnotherReasonIsNotPointTen) {
     CHECK_FALSE(t->points()[9].seen);
     DOUBLES_EQUAL(5.0, t->fact(10, "call home reason"), 0.0);
     CHECK_TRUE(contains(t->verdict(), "missing 10"));
+}
+
+// On a downlink PLAN is routine telemetry: its call-home reason can come down
+// after both the call home's and the safing's events. Point 10 then comes
+// with the reason, at the time the rover was safed.
+TEST(TenPointTracker, PointTenWaitsForTheReasonWhenItComesAfterTheEvents) {
+    t->onCallHomeReason(0);
+    for (const Step& s : kDemo) {
+        t->onPose(s.t, s.t / 5.0, 0.0);
+        t->onEvent(FlightEvent{s.t, s.id, 1, s.text});
+    }
+    CHECK_FALSE(t->points()[9].seen);
+    (void)t->takeNew();
+    t->onCallHomeReason(static_cast<std::uint8_t>(msg::CallHomeReason::kNoPlanWithinRisk));
+    CHECK_TRUE(t->points()[9].seen);
+    DOUBLES_EQUAL(104.68, t->points()[9].timeS, 1e-9);
+    CHECK_TRUE(contains(t->points()[9].what, "CALL HOME, operator called: no plan within the risk limit"));
+    LONGS_EQUAL(1, t->takeNew().size());
+    CHECK_TRUE(t->allInOrder());
 }
 
 TEST(TenPointTracker, TheCallHomeWordsDropTheGoalCountsWholeOrCut) {
