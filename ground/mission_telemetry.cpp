@@ -194,6 +194,7 @@ void MissionTelemetryReader::onHousekeeping(const DecodedPacket& p) {
     m.frameLatenessMaxUs = static_cast<std::uint32_t>(number(p, "frame_lateness_max_us"));
     m.frameBusyMaxUs = static_cast<std::uint32_t>(number(p, "frame_busy_max_us"));
     m.telemetryDropped = static_cast<std::uint32_t>(number(p, "tlm_dropped"));
+    m.eventLogLost = static_cast<std::uint32_t>(number(p, "events_lost"));
     if (!m.flightStartKnown) {
         // HK goes out at the start of a frame: the frames counted so far (run
         // and skipped) are the time since the executive started.
@@ -291,7 +292,8 @@ void printMissionTelemetry(const MissionTelemetry& m, std::ostream& out, bool ev
     }
     out << "link:       " << m.eventsReceived << " events received, " << m.eventsLost
         << " lost (event_sequence gaps); the rover dropped " << m.telemetryDropped
-        << " packets (HK.tlm_dropped, since its start); " << m.commandsAccepted << " commands acknowledged accepted, "
+        << " packets (HK.tlm_dropped, since its start) and its event log overwrote " << m.eventLogLost
+        << " events unsent (HK.events_lost); " << m.commandsAccepted << " commands acknowledged accepted, "
         << m.commandsRejected << " rejected\n";
     if (eventsToo) {
         out << "events:\n";
@@ -347,6 +349,7 @@ void printMissionFacts(const MissionTelemetry& m, std::ostream& out) {
     num("events", m.eventsReceived);
     num("events_lost", m.eventsLost);
     num("tlm_dropped", m.telemetryDropped);
+    num("event_log_lost", m.eventLogLost);
     num("commands_accepted", m.commandsAccepted);
     num("commands_rejected", m.commandsRejected);
     num("track_points", static_cast<double>(m.track.size()));

@@ -23,8 +23,8 @@
 //   faults       every fault id HEALTH.active_faults showed set.
 //   timing       the last HK: frames run, overruns, frames skipped, worst frame
 //                start lateness and busy time; time_scale (rse-fsw --time-scale);
-//                tlm_dropped (what the rover could not send: events lost in a burst
-//                on the CAN link are counted there).
+//                tlm_dropped (what a link refused) and events_lost (events the
+//                rover's event log overwrote while they waited for the CAN link).
 //   flight start the MET at which the rover's executive started: an HK's MET less
 //                (frames_run + frames_skipped) minor frames; mission times are also
 //                given from there ("flight time"), the timeline rse-demo prints.
@@ -126,6 +126,7 @@ struct MissionTelemetry {
     std::uint32_t frameLatenessMaxUs = 0;
     std::uint32_t frameBusyMaxUs = 0;
     std::uint32_t telemetryDropped = 0;  // HK.tlm_dropped: packets the rover's links could not take, since its start
+    std::uint32_t eventLogLost = 0;      // HK.events_lost: events the event log overwrote before telemetry sent them
 
     // The link.
     std::uint32_t eventsReceived = 0;

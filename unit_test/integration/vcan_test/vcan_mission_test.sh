@@ -22,7 +22,10 @@
 # slowness raised no fault (every fault raised is one the lockstep run raised
 # or one of a drive the scenario wears or breaks) and
 # the rover ran at the time scale asked; that every event missing from the
-# recording is one the rover counted as dropped. Frame timing is printed.
+# recording is one the rover counted as not sent; and, from the recording with
+# the map uploaded (rse-ground report), the ten points all in order, in the
+# lockstep run's order, report.md and map.svg with every plan. Frame timing is
+# printed.
 # Ends with "N passed, N failed".
 #
 # env: RSE_BIN_DIR (default build/x86_64/bin), VCAN_MISSION_SCENARIO (default
@@ -47,7 +50,7 @@ check() {  # check NAME CONDITION-COMMAND...
   else failed=$((failed + 1)); echo "FAIL: $name"; fi
 }
 finish() {
-  echo "logs: $out/ (lockstep.log, vm.log, session.rec, summary.txt, facts.txt); wall time $(( $(date +%s) - t0 )) s"
+  echo "logs: $out/ (lockstep.log, vm.log, session.rec, summary.txt, facts.txt, report.log, report/); wall time $(( $(date +%s) - t0 )) s"
   echo "$passed passed, $failed failed"
   [ "$failed" -eq 0 ]
   exit
@@ -171,8 +174,26 @@ echo "frame timing (HK, mission time): $(fact frames_run) frames run, $(fact fra
 # a burst of events (start-up, a fault response) loses some, and the rover
 # counts them (HK.tlm_dropped). What the ground missed must be what the rover
 # says it dropped, nothing lost silently on the way.
-check "events missing from the recording ($(fact events_lost) of $(( $(fact events) + $(fact events_lost) ))) are no more than the rover counted dropped (HK.tlm_dropped $(fact tlm_dropped))" \
-  [ "$(fact events_lost)" -le "$(fact tlm_dropped)" ]
+check "events missing from the recording ($(fact events_lost) of $(( $(fact events) + $(fact events_lost) ))) are no more than the rover counted unsent (HK.tlm_dropped $(fact tlm_dropped), HK.events_lost $(fact event_log_lost))" \
+  [ "$(fact events_lost)" -le $(( $(fact tlm_dropped) + $(fact event_log_lost) )) ]
+
+# --- The ten points, the report and the map from the telemetry alone
+# (rse-ground report), as an operator on the bus would get them: the same
+# points in the same order as the lockstep run's, and the two files.
+"$bin/rse-ground" report "$out/session.rec" --map "$out/coarse_map.tbl" --out "$out/report" \
+  --name "$(basename "$scenario") over vcan0 (telemetry)" > "$out/report.log" 2> "$out/report.err"; report_rc=$?
+grep '^\[.*\] POINT ' "$out/report.log"
+ref_points=$(sed -n 's/^\[ *[0-9.]*\] POINT \([0-9]*\) .*/\1/p' "$out/lockstep.log" | paste -sd' ' -)
+vm_points=$(sed -n 's/^\[ *[0-9.]*\] POINT \([0-9]*\) .*/\1/p' "$out/report.log" | paste -sd' ' -)
+check "rse-ground report: $(sed -n 's/^points: *//p' "$out/report.log") (exit $report_rc)" \
+  sh -c "[ $report_rc -eq 0 ] && grep -q '^points: *ten points: all in order' '$out/report.log'"
+check "the points from telemetry came in the lockstep run's order: [$vm_points] (lockstep [$ref_points])" \
+  [ -n "$ref_points" ] && [ "$vm_points" = "$ref_points" ]
+plans_drawn=$(sed -n 's/^plans: *\([0-9]*\) drawn.*/\1/p' "$out/report.log")
+check "report.md names all ten points and map.svg draws the rover's $(fact plans) plan(s) from PLAN_PATH ($plans_drawn drawn)" \
+  sh -c "[ \$(awk '/^## The ten points/ { on = 1 } /^## Legs/ { on = 0 } on && /^\\| [0-9]+ \\| [0-9.]+ \\| [a-z]/' '$out/report/report.md' | wc -l) -eq 10 ] \\
+         && ! grep -q 'NOT SEEN' '$out/report/report.md' \
+         && [ '${plans_drawn:-0}' = '$(fact plans)' ] && [ '${plans_drawn:-0}' -ge 1 ] && grep -q '<svg' '$out/report/map.svg'"
 ref_line() { sed -n "s/^$1: *//p" "$out/lockstep.log"; }
 echo "--- lockstep (rse-demo, simulator truth) beside vcan (telemetry):"
 echo "  lockstep outcome: $ref_kind at $ref_time s, final position ($ref_x, $ref_y)"
