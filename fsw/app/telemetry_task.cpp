@@ -9,13 +9,16 @@ namespace rse::app {
 
 core::Status TelemetryTask::init() {
     // Depth: drive status and the pose estimate arrive every frame, at most one
-    // status per instrument, the rest seldom, and this task runs every frame.
-    core::Status status = bus_.createPipe("telemetry", 13, &pipe_);
+    // status per instrument, the rest seldom (a plan path at most once per
+    // deliberative run), and this task runs every frame. 14: one more than
+    // before PlanPathMsg; the flight's pipes take 206 of the bus's 256 slots
+    // (kBusTotalQueueSlots), so the constant stays.
+    core::Status status = bus_.createPipe("telemetry", 14, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
                                msg::ids::kGoalList, msg::ids::kPlanStatus, msg::ids::kFaultProtectionStatus,
                                msg::ids::kMissionHold, msg::ids::kInstrumentStatus,
-                               msg::ids::kPlanExecutiveStatus};
+                               msg::ids::kPlanExecutiveStatus, msg::ids::kPlanPath};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -128,6 +131,16 @@ void TelemetryTask::takeBusMessages() {
                 }
                 break;
             }
+            case msg::ids::kPlanPath:
+                // News every time: one PLAN_PATH per plan made, sent at once.
+                status = inbox_.decode(&planPath_);
+                if (core::isOk(status) && planPath_.steps >= msg::kPlanPathMeans) {
+                    status = core::Status::kInvalidArgument;  // more means than the message holds
+                }
+                if (core::isOk(status)) {
+                    sendPlanPath(planPath_);
+                }
+                break;
             case msg::ids::kGoalList:
                 status = inbox_.decode(&goals_);
                 planChanged_ = planChanged_ || core::isOk(status);
@@ -347,6 +360,32 @@ void TelemetryTask::sendPlan() {
         plan_.leg_energy_bound[i] = static_cast<float>(p.legs[i].energyJ / 3600.0);
     }
     output_.send(plan_);
+}
+
+void TelemetryTask::sendPlanPath(const msg::PlanPathMsg& m) {
+    planPathTlm_ = cmdtlm::PLAN_PATH_Tlm{};
+    cmdtlm::PLAN_PATH_Tlm& t = planPathTlm_;
+    t.plan_number = m.planNumber;
+    t.plan_time = static_cast<double>(m.timeNs) / static_cast<double>(core::kNsPerSec);
+    t.status = m.status;
+    static_assert(sizeof t.mean_x / sizeof t.mean_x[0] == msg::kPlanPathMeans, "PLAN_PATH holds every mean");
+    const std::size_t steps = m.steps < msg::kPlanPathMeans ? m.steps : msg::kPlanPathMeans - 1;  // checked on receipt
+    t.steps = static_cast<std::uint8_t>(steps);
+    t.risk_bound = m.riskBound;
+    t.risk_used = m.riskUsed;
+    t.length = static_cast<float>(m.lengthM);
+    t.process_sigma = static_cast<float>(m.processSigmaM);
+    for (std::size_t i = 0; i < 4; ++i) {
+        t.start_cov[i] = static_cast<float>(m.startCov[i]);
+    }
+    t.goal_x = static_cast<float>(m.goalX);
+    t.goal_y = static_cast<float>(m.goalY);
+    for (std::size_t i = 0; i <= steps; ++i) {
+        t.mean_x[i] = static_cast<float>(m.meanX[i]);
+        t.mean_y[i] = static_cast<float>(m.meanY[i]);
+    }
+    output_.send(t);
+    ++planPathsSent_;
 }
 
 void TelemetryTask::sendTableStatus(tables::TableId id, const tables::TableCheck& check) {

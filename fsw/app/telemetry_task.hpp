@@ -12,6 +12,8 @@
 //                result, fault code or last refusal changes (not its progress);
 //                PLAN_EXEC when the plan executive's state, counters,
 //                selection or activities change (not its slack or time)
+//   on event     PLAN_PATH, one per PlanPathMsg received (one per plan the
+//                deliberative layer makes), in the frame it is taken off the bus
 //   on request   HK and TASK_TIMING (REQUEST_HK), TABLE_STATUS and TABLE_DUMP
 //                (table commands) through the send helpers below
 #pragma once
@@ -79,6 +81,7 @@ public:
     std::uint32_t eventsSent() const { return eventsSent_; }
     std::uint32_t housekeepingSent() const { return housekeepingSent_; }
     std::uint32_t malformed() const { return malformed_; }
+    std::uint32_t planPathsSent() const { return planPathsSent_; }
 
 private:
     void takeBusMessages();
@@ -90,6 +93,7 @@ private:
     void sendFaultProtection();
     void sendInstruments();
     void sendPlanExec();
+    void sendPlanPath(const msg::PlanPathMsg& m);
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -112,6 +116,8 @@ private:
     msg::ModeMsg mode_{};
     msg::GoalListMsg goals_{};
     msg::PlanStatusMsg planStatus_{};
+    msg::PlanPathMsg planPath_{};
+    std::uint32_t planPathsSent_ = 0;
     msg::FaultProtectionStatusMsg protection_{};
     msg::MissionHoldMsg hold_{};
     bool protectionChanged_ = false;
@@ -123,6 +129,7 @@ private:
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};
     cmdtlm::PLAN_Tlm plan_{};
+    cmdtlm::PLAN_PATH_Tlm planPathTlm_{};
     cmdtlm::TABLE_DUMP_Tlm dump_{};
     std::uint8_t image_[tables::kMaxTableImageSize] = {};
 };

@@ -14,6 +14,8 @@ namespace rse::deliberative {
 
 namespace {
 
+static_assert(msg::kPlanPathMeans == kMaxPlanSteps + 1, "PlanPathMsg holds mu_0 .. mu_N of the longest plan");
+
 constexpr std::uint8_t kLargestHabitualState = static_cast<std::uint8_t>(msg::HabitualState::kAchieved);
 constexpr std::uint8_t kLargestConstraint = static_cast<std::uint8_t>(msg::LegConstraint::kPower);
 
@@ -887,6 +889,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
         // cannot drive on the others until they are isolated, which no layer
         // does yet.
         ++counters_.plansFound;
+        publishPlanPath(now);
         callHome(msg::CallHomeReason::kMobilityLost, "a plan fits, but the interlock holds every drive", now);
         return;
     }
@@ -894,6 +897,7 @@ void DeliberativeTask::onPlanFinished(core::TimeNs now) {
         const LegParams params = legParams();
         if (core::isOk(splitPlanIntoLegs(plan_, params, &legs_)) && legs_.count > 0) {
             ++counters_.plansFound;
+            publishPlanPath(now);
             // A budget plan is not an optimum: say how far it may be off
             // (issue 15 item 5), from the search's proven lower bound.
             const double best = planner_.evenSplitCost();
@@ -1193,6 +1197,29 @@ void DeliberativeTask::published(core::Status status, const char* what) {
         events_.report(events::kPublishFailed, core::Severity::kError, "deliberative: %s not published (%s), %u so far",
                        what, core::toString(status), static_cast<unsigned>(counters_.publishFailures));
     }
+}
+
+void DeliberativeTask::publishPlanPath(core::TimeNs now) {
+    msg::PlanPathMsg m{};
+    m.timeNs = now;
+    m.planNumber = counters_.plansFound;
+    m.status = static_cast<std::uint8_t>(plan_.status);
+    const std::size_t steps = plan_.steps <= kMaxPlanSteps ? plan_.steps : kMaxPlanSteps;
+    m.steps = static_cast<std::uint8_t>(steps);
+    m.riskBound = problem_.riskBound;
+    m.riskUsed = plan_.riskUsed;
+    m.lengthM = plan_.euclideanLengthM;
+    m.processSigmaM = problem_.processSigmaM;
+    for (std::size_t i = 0; i < 4; ++i) {
+        m.startCov[i] = problem_.startCov[i];
+    }
+    m.goalX = problem_.goalX;
+    m.goalY = problem_.goalY;
+    for (std::size_t t = 0; t <= steps; ++t) {
+        m.meanX[t] = plan_.meanX[t];
+        m.meanY[t] = plan_.meanY[t];
+    }
+    published(bus_.publish(m), "plan path");
 }
 
 void DeliberativeTask::publishStatus(core::TimeNs now) {

@@ -303,6 +303,9 @@ private:
 
     void setState(msg::DeliberativeState state);
     void publishStatus(core::TimeNs now);
+    // The plan just made (plan_, problem_) as PlanPathMsg numbered
+    // counters_.plansFound: call right after counting it.
+    void publishPlanPath(core::TimeNs now);
     void published(core::Status status, const char* what);
 
     core::SoftwareBus& bus_;

@@ -1,6 +1,7 @@
 // What the deliberative layer tells the rest of the rover: the plan it is
-// executing (for telemetry: PLAN packet) and, when no plan within the risk
-// bound exists, the request to safe the rover (the "call home").
+// executing (for telemetry: PLAN packet), every plan's mean path with what a
+// ground needs to draw its risk ellipses (PLAN_PATH packet) and, when no plan
+// within the risk bound exists, the request to safe the rover (the "call home").
 #pragma once
 
 #include <cstddef>
@@ -10,6 +11,7 @@
 
 namespace rse::msg {
 
+constexpr std::size_t kPlanPathMeans = 25;   // mu_0 .. mu_N of a plan: deliberative::kMaxPlanSteps + 1 (checked there)
 constexpr std::size_t kPlanStatusLegs = 12;  // legs shown, from the current one (PLAN telemetry: it must fit 512 bytes)
 
 enum class DeliberativeState : std::uint8_t {
@@ -70,6 +72,33 @@ struct PlanStatusMsg {
     std::uint32_t goalRevision;    // revision of the goal list in force (GoalListMsg or PlanGoalMsg)
     std::uint8_t pad2[4];
     PlanLeg legs[kPlanStatusLegs];
+};
+
+// One per plan made: published exactly when PlanStatusMsg::plansMade counts
+// (a plan with a path that was cut into legs, and a plan with a path made
+// while the interlock holds every drive, which calls home for lost mobility).
+// A plan attempt that found no path (no plan within the risk in force, a
+// bad problem, a path that could not be cut into legs) counts in no
+// plansMade and publishes none. Carries the plan's mean path and what makes
+// its covariance, Sigma_t = startCov + t processSigmaM^2 I (cc_problem.hpp),
+// so a ground can draw the plan with its risk ellipses (PLAN_PATH packet).
+// 496 bytes: within kBusMaxPayload (1024).
+struct PlanPathMsg {
+    static constexpr core::MsgId kMsgId = ids::kPlanPath;
+    std::int64_t timeNs;           // when the planner finished
+    std::uint32_t planNumber;      // the PlanStatusMsg::plansMade value this plan made (1 for the first)
+    std::uint8_t status;           // deliberative::CcStatus: 0 optimal, 1 feasible (budget plan)
+    std::uint8_t steps;            // N: meanX/Y[0..steps] are the means, the rest 0
+    std::uint8_t pad[2];
+    double riskBound;              // Delta planned to (the risk in force, after any relaxation)
+    double riskUsed;               // the plan's certified bound on P(collision) (CcPlan::riskUsed)
+    double lengthM;                // Euclidean length of the mean path (CcPlan::euclideanLengthM)
+    double processSigmaM;          // sigma per step
+    double startCov[4];            // Sigma_0, row major, m^2
+    double goalX;                  // mu_N as asked (the goal)
+    double goalY;
+    double meanX[kPlanPathMeans];  // mu_0 (the start planned from) .. mu_N
+    double meanY[kPlanPathMeans];
 };
 
 // Put the rover in SAFE and hold it there: sent once per call home.

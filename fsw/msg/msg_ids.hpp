@@ -48,6 +48,7 @@ constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, comman
 // deliberative -> telemetry, command handlers (deliberative_msgs.hpp)
 constexpr core::MsgId kPlanStatus = 0x0141;    // PlanStatusMsg, on change and 1 Hz, deliberative -> telemetry
 constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home, deliberative -> command handlers (mode owner)
+constexpr core::MsgId kPlanPath = 0x0143;      // PlanPathMsg, per plan made (plansMade), deliberative -> telemetry (PLAN_PATH)
 
 // fault protection -> CAN I/O and the layers (fault_protection_msgs.hpp)
 constexpr core::MsgId kMissionHold = 0x0180;    // MissionHoldMsg, on change and 1 Hz, fault protection -> can_io, habitual, deliberative, telemetry

@@ -11,6 +11,7 @@
 #include "fsw/app/app_events.hpp"
 #include "fsw/app/fsw_app.hpp"
 #include "fsw/cmdtlm/command_packet.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
 #include "fsw/tables/table_image.hpp"
@@ -220,6 +221,95 @@ TEST(GroundCommands, GoalsAndRiskBoundShowInThePlanPacket) {
     LONGS_EQUAL(1, static_cast<long>(field(waiting, "status")));
     LONGS_EQUAL(1, static_cast<long>(field(waiting, "goal_count")));
     LONGS_EQUAL(0, static_cast<long>(field(waiting, "waypoint_count")));
+}
+
+// PLAN_PATH: the telemetry task sends one packet per PlanPathMsg it takes off
+// the bus (an on-event packet, never repeated), its fields decoded by the
+// dictionary's descriptors carrying the message's values; no heap on the way.
+// A message with more steps than means is malformed: counted, not sent.
+TEST(GroundCommands, APlanPathOnTheBusGoesDownAsOnePlanPathPacket) {
+    runFrames(3);
+    received.clear();
+    msg::PlanPathMsg m{};
+    m.timeNs = 12 * core::kNsPerSec + 250 * core::kNsPerMs;
+    m.planNumber = 7;
+    m.status = 1;
+    m.steps = 3;
+    m.riskBound = 1e-3;
+    m.riskUsed = 7.5e-4;
+    m.lengthM = 20.25;
+    m.processSigmaM = 0.0625;
+    m.startCov[0] = 0.04;
+    m.startCov[1] = 0.005;
+    m.startCov[2] = 0.005;
+    m.startCov[3] = 0.09;
+    m.goalX = 20.0;
+    m.goalY = -1.5;
+    const double xs[4] = {0.5, 7.0, 13.5, 20.0};
+    const double ys[4] = {0.0, 1.25, -0.75, -1.5};
+    for (std::size_t t = 0; t < 4; ++t) {
+        m.meanX[t] = xs[t];
+        m.meanY[t] = ys[t];
+    }
+    std::size_t downlinked = 0;
+    {
+        test::AllocationWatch watch;
+        CHECK(core::isOk(fsw.bus().publish(m)));
+        fsw.run(nullptr, 1);
+        LONGS_EQUAL(0, watch.count());
+        std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
+        std::size_t length = 0;
+        while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
+            const PrimaryHeader h = decodePrimaryHeader(bytes);
+            downlinked += h.apid == findTelemetry("PLAN_PATH")->apid ? 1U : 0U;
+            if (h.apid == findTelemetry("PLAN_PATH")->apid) {
+                LONGS_EQUAL(findTelemetry("PLAN_PATH")->payloadSize, length - kTelemetryHeaderSize);
+                Packet p;
+                p.apid = h.apid;
+                received.push_back(p);  // after the watch's count: the test's own heap
+                received.back().payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
+            }
+        }
+    }
+    LONGS_EQUAL(1, downlinked);
+    LONGS_EQUAL(0x017, findTelemetry("PLAN_PATH")->apid);
+    const Packet& path = last("PLAN_PATH");
+    LONGS_EQUAL(7, static_cast<long>(field(path, "plan_number")));
+    DOUBLES_EQUAL(12.25, field(path, "plan_time"), 1e-12);
+    LONGS_EQUAL(1, static_cast<long>(field(path, "status")));
+    LONGS_EQUAL(3, static_cast<long>(field(path, "steps")));
+    DOUBLES_EQUAL(1e-3, field(path, "risk_bound"), 0.0);
+    DOUBLES_EQUAL(7.5e-4, field(path, "risk_used"), 0.0);
+    DOUBLES_EQUAL(20.25, field(path, "length"), 0.0);
+    DOUBLES_EQUAL(0.0625, field(path, "process_sigma"), 0.0);
+    DOUBLES_EQUAL(0.04, field(path, "start_cov", 0), 1e-8);
+    DOUBLES_EQUAL(0.005, field(path, "start_cov", 1), 1e-9);
+    DOUBLES_EQUAL(0.005, field(path, "start_cov", 2), 1e-9);
+    DOUBLES_EQUAL(0.09, field(path, "start_cov", 3), 1e-8);
+    DOUBLES_EQUAL(20.0, field(path, "goal_x"), 0.0);
+    DOUBLES_EQUAL(-1.5, field(path, "goal_y"), 0.0);
+    for (std::size_t t = 0; t < 4; ++t) {
+        DOUBLES_EQUAL(xs[t], field(path, "mean_x", t), 0.0);
+        DOUBLES_EQUAL(ys[t], field(path, "mean_y", t), 0.0);
+    }
+    for (std::size_t t = 4; t < msg::kPlanPathMeans; ++t) {
+        DOUBLES_EQUAL(0.0, field(path, "mean_x", t), 0.0);
+        DOUBLES_EQUAL(0.0, field(path, "mean_y", t), 0.0);
+    }
+    LONGS_EQUAL(1, fsw.telemetry().planPathsSent());
+
+    // Not repeated: nothing new on the bus, no packet.
+    runFrames(120);
+    LONGS_EQUAL(1, countOf("PLAN_PATH"));
+
+    // More steps than the message has means: malformed, counted, not sent.
+    const std::uint32_t malformed = fsw.telemetry().malformed();
+    m.steps = static_cast<std::uint8_t>(msg::kPlanPathMeans);
+    CHECK(core::isOk(fsw.bus().publish(m)));
+    runFrames(1);
+    LONGS_EQUAL(malformed + 1, fsw.telemetry().malformed());
+    LONGS_EQUAL(1, countOf("PLAN_PATH"));
+    LONGS_EQUAL(1, fsw.telemetry().planPathsSent());
 }
 
 // PLAN_EXTEND: refused by mode in SAFE; in STANDBY passed to the plan

@@ -3,7 +3,7 @@
 // estimator (a PoseEstimateMsg per run from a synthetic pose and covariance),
 // the plan executive (PlanGoalMsg) and the command handlers (ModeMsg), the drive-mode estimator
 // (DriveModesMsg) and the habitual layer (LegReportMsg, written by each test).
-// It records what the task publishes (legs, plan status, safe requests) and
+// It records what the task publishes (legs, plan status, plan paths, safe requests) and
 // the events it raises, without allocating.
 #pragma once
 
@@ -42,7 +42,8 @@ public:
         }
         if (!core::isOk(bus.createPipe("probe", 32, &probe)) || !core::isOk(bus.subscribe(probe, msg::ids::kLegCommand)) ||
             !core::isOk(bus.subscribe(probe, msg::ids::kPlanStatus)) ||
-            !core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest))) {
+            !core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest)) ||
+            !core::isOk(bus.subscribe(probe, msg::ids::kPlanPath))) {
             return false;
         }
         if (!core::isOk(task.init())) {
@@ -236,6 +237,8 @@ public:
     unsigned statuses = 0;
     msg::SafeRequestMsg lastSafe{};
     unsigned safeRequests = 0;
+    msg::PlanPathMsg lastPath{};
+    unsigned planPaths = 0;
     unsigned seen[1000] = {};
     char texts[1000][core::kEventTextSize] = {};
 
@@ -252,6 +255,7 @@ private:
             msg::LegCommandMsg leg{};
             msg::PlanStatusMsg status{};
             msg::SafeRequestMsg safe{};
+            msg::PlanPathMsg path{};
             if (inbox.header.id == msg::ids::kLegCommand && core::isOk(inbox.decode(&leg))) {
                 if (leg.legId == 0) {
                     ++cancels;
@@ -265,6 +269,9 @@ private:
             } else if (inbox.header.id == msg::ids::kSafeRequest && core::isOk(inbox.decode(&safe))) {
                 lastSafe = safe;
                 ++safeRequests;
+            } else if (inbox.header.id == msg::ids::kPlanPath && core::isOk(inbox.decode(&path))) {
+                lastPath = path;
+                ++planPaths;
             }
         }
     }

@@ -133,6 +133,72 @@ TEST(DeliberativeTask, APlanBecomesLegsOfAtMostTheSpacingEndingAtTheGoalWithThei
     LONGS_EQUAL(1, rig->seenCount(deliberative::events::kLegSent));
 }
 
+// PLAN_PATH's source: every plan made is published once as PlanPathMsg with
+// the plan's means, the problem's start covariance, motion noise and the
+// bound planned to, numbered as PlanStatusMsg::plansMade counts it.
+TEST(DeliberativeTask, EveryPlanMadeIsPublishedOnceWithItsMeansCovarianceAndNumber) {
+    rig->x = 1.0;
+    rig->y = -0.5;
+    rig->positionVariance = 0.04;
+    autonomousToFirstLeg();
+    LONGS_EQUAL(1, rig->planPaths);
+    const deliberative::CcProblem& p = rig->task.problem();
+    const deliberative::CcPlan& plan = rig->task.plan();
+    const msg::PlanPathMsg& m = rig->lastPath;
+    LONGS_EQUAL(1, m.planNumber);
+    LONGS_EQUAL(rig->task.counters().plansFound, m.planNumber);
+    LONGS_EQUAL(static_cast<long>(plan.status), m.status);
+    LONGS_EQUAL(plan.steps, m.steps);
+    CHECK(m.steps >= 1);
+    DOUBLES_EQUAL(kRisk, m.riskBound, 0.0);
+    DOUBLES_EQUAL(p.riskBound, m.riskBound, 0.0);
+    DOUBLES_EQUAL(plan.riskUsed, m.riskUsed, 0.0);
+    CHECK(m.riskUsed > 0.0 && m.riskUsed <= kRisk);
+    DOUBLES_EQUAL(plan.euclideanLengthM, m.lengthM, 0.0);
+    CHECK(m.lengthM >= std::hypot(kGoalX - 1.0, kGoalY + 0.5) - 1e-9);
+    DOUBLES_EQUAL(p.processSigmaM, m.processSigmaM, 0.0);
+    CHECK(m.processSigmaM > 0.0);
+    for (std::size_t i = 0; i < 4; ++i) {
+        DOUBLES_EQUAL(p.startCov[i], m.startCov[i], 0.0);
+    }
+    DOUBLES_EQUAL(0.04, m.startCov[0], 0.0);  // the estimate's (x, y) block
+    DOUBLES_EQUAL(0.0, m.startCov[1], 0.0);
+    DOUBLES_EQUAL(0.04, m.startCov[3], 0.0);
+    DOUBLES_EQUAL(kGoalX, m.goalX, 0.0);
+    DOUBLES_EQUAL(kGoalY, m.goalY, 0.0);
+    for (std::size_t t = 0; t <= m.steps; ++t) {
+        DOUBLES_EQUAL(plan.meanX[t], m.meanX[t], 0.0);
+        DOUBLES_EQUAL(plan.meanY[t], m.meanY[t], 0.0);
+    }
+    DOUBLES_EQUAL(1.0, m.meanX[0], 0.0);  // mu_0: the pose planned from
+    DOUBLES_EQUAL(-0.5, m.meanY[0], 0.0);
+    DOUBLES_EQUAL(kGoalX, m.meanX[m.steps], 1e-9);
+    DOUBLES_EQUAL(kGoalY, m.meanY[m.steps], 1e-9);
+    for (std::size_t t = m.steps + 1U; t < msg::kPlanPathMeans; ++t) {
+        DOUBLES_EQUAL(0.0, m.meanX[t], 0.0);
+        DOUBLES_EQUAL(0.0, m.meanY[t], 0.0);
+    }
+    CHECK(m.timeNs > 0 && m.timeNs <= rig->clock.now());
+    rig->run();
+    LONGS_EQUAL(1, rig->planPaths);  // once, not with every status
+    LONGS_EQUAL(m.planNumber, rig->lastStatus.plansMade);
+
+    // A replan is a plan made: the second, from where the rover stands now.
+    rig->x = 3.0;
+    rig->y = 0.25;
+    rig->report(HabitualState::kFailedUp, LegConstraint::kNoPath);
+    rig->run();
+    CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
+    LONGS_EQUAL(2, rig->planPaths);
+    LONGS_EQUAL(2, rig->lastPath.planNumber);
+    LONGS_EQUAL(rig->task.counters().plansFound, rig->lastPath.planNumber);
+    DOUBLES_EQUAL(rig->task.problem().startX, rig->lastPath.meanX[0], 0.0);
+    DOUBLES_EQUAL(rig->task.problem().startY, rig->lastPath.meanY[0], 0.0);
+    DOUBLES_EQUAL(rig->task.plan().riskUsed, rig->lastPath.riskUsed, 0.0);
+    rig->run();
+    LONGS_EQUAL(2, rig->lastStatus.plansMade);
+}
+
 TEST(DeliberativeTask, AchievedLegsAdvanceThroughEveryGoalToComplete) {
     const double goals[2][2] = {{kGoalX, kGoalY}, {24.0, 6.0}};
     rig->setMode(DeliberativeRig::kAutonomous);
@@ -275,6 +341,9 @@ TEST(DeliberativeTask, NoPlanWithinTheRiskRelaxesItToTheTableLimitThenCallsHome)
     DOUBLES_EQUAL(kRisk * relaxLimit, rig->task.problem().riskBound, 1e-15);
     CHECK(CallHomeReason::kNoPlanWithinRisk == rig->lastSafe.reason);
     LONGS_EQUAL(0, rig->legs);
+    // No plan made, none counted in plansMade: no plan path published.
+    LONGS_EQUAL(0, rig->task.counters().plansFound);
+    LONGS_EQUAL(0, rig->planPaths);
     rig->run();
     DOUBLES_EQUAL(kRisk * relaxLimit, rig->lastStatus.riskInForce, 1e-15);
     DOUBLES_EQUAL(kRisk, rig->lastStatus.riskBound, 0.0);
@@ -445,6 +514,12 @@ TEST(DeliberativeTask, AnInterlockLatchedOnADriveDeclaredFailedIsDecidedByPlanni
     CHECK_TRUE(rig->runUntil([this] { return rig->safeRequests >= 2; }, kPlanRuns));
     CHECK(CallHomeReason::kMobilityLost == rig->lastSafe.reason);
     CHECK(std::strstr(rig->seenText(deliberative::events::kCallHome), "a plan fits, but the interlock") != nullptr);
+    // That plan counts in plansMade, so it is downlinked too (the one before
+    // it, with no plan within the risk, is not).
+    LONGS_EQUAL(rig->task.counters().plansFound, rig->planPaths);
+    LONGS_EQUAL(rig->task.counters().plansFound, rig->lastPath.planNumber);
+    DOUBLES_EQUAL(-2.0, rig->lastPath.goalX, 0.0);
+    DOUBLES_EQUAL(-5.0, rig->lastPath.goalY, 0.0);
 }
 
 // Degraded, or unknown (nothing says its wheel has stopped): mobility lost.
