@@ -493,7 +493,14 @@ void HabitualTask::beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, 
 }
 
 bool HabitualTask::rebuildMap(LocalMap* map, double clearanceM, const MapRelief* relief) {
-    const core::Status status = mapBuilder_.build(tables_.coarseMap(), clearanceM, map, relief);
+    // Every map of a leg (planning and checking alike) takes the hazard whose
+    // cover reaches the leg's end as its seen disc (map_builder.hpp, MapRelief).
+    MapRelief withEnd = relief != nullptr ? *relief : MapRelief{};
+    if (leg_.legId != 0) {
+        withEnd.seenAt = Point2{leg_.goalXM, leg_.goalYM};
+        withEnd.hasSeenAt = true;
+    }
+    const core::Status status = mapBuilder_.build(tables_.coarseMap(), clearanceM, map, &withEnd);
     if (!core::isOk(status)) {
         ++counters_.mapRefused;
         if (core::isReportableOccurrence(counters_.mapRefused)) {
@@ -1167,9 +1174,10 @@ void HabitualTask::publishHazards(core::TimeNs now) {
         const RememberedHazard& h = mapBuilder_.slot(k);
         if (h.used) {
             msg::KnownHazard& out = m.hazards[m.count++];
-            out.xM = static_cast<float>(h.centre.x);
-            out.yM = static_cast<float>(h.centre.y);
-            out.radiusM = static_cast<float>(h.radiusM);
+            // The seen disc, not the cover (map_builder.hpp).
+            out.xM = static_cast<float>(h.seenCentre.x);
+            out.yM = static_cast<float>(h.seenCentre.y);
+            out.radiusM = static_cast<float>(h.seenRadiusM);
             out.obstacleId = h.obstacleId;
         }
     }

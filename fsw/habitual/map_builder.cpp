@@ -13,6 +13,26 @@ using geometry::distanceToCoarseMap;
 using geometry::kCoarseMapVerticesPerSlot;
 using geometry::Point2;
 
+namespace {
+
+// The smallest disc enclosing discs a and b (a or b itself when it encloses the other).
+Point2 enclosingDisc(Point2 a, double ra, Point2 b, double rb, double* radius) {
+    const double apart = distance(a, b);
+    if (apart + rb <= ra) {
+        *radius = ra;
+        return a;
+    }
+    if (apart + ra <= rb) {
+        *radius = rb;
+        return b;
+    }
+    const double enclosing = 0.5 * (apart + ra + rb);
+    *radius = enclosing;
+    return a + ((enclosing - ra) / apart) * (b - a);
+}
+
+}  // namespace
+
 SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point2 roverPosition,
                                      double roverHeadingRad, const msg::HazardSightingTlm& sighting) {
     ++sightings_;
@@ -31,7 +51,16 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
         ++known_;
         return SightingOutcome::kKnownObstacle;
     }
-    const double radius = std::fmax(kSightingRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
+    // The seen part's disc (the deliberative layer's estimate) and the cover of
+    // every rock the sighting allows (the habitual layer's): same centre. A
+    // nearest point on (within the margin of) a mapped rock is that rock's
+    // surface: the map has the rock whole, so the cover is the seen disc.
+    const double seenRadius = std::fmax(kSightingRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
+    const Point2 nearest{roverPosition.x + sighting.rangeM * std::cos(direction),
+                         roverPosition.y + sighting.rangeM * std::sin(direction)};
+    const bool onMappedRock = distanceToCoarseMap(coarse, nearest) <= kKnownObstacleMarginM;
+    const double coverRadius =
+        onMappedRock ? seenRadius : std::fmax(kCoverRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
 
     // The id's own slot, else a free one, else the one seen longest ago.
     std::size_t chosen = kMaxMapDiscs;
@@ -51,22 +80,28 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
         }
     }
     SightingOutcome outcome = SightingOutcome::kUpdated;
-    Point2 mergedCentre = centre;
-    double mergedRadius = radius;
+    Point2 seenCentre = centre;
+    double seenR = seenRadius;
+    Point2 coverCentre = centre;
+    double coverR = coverRadius;
     if (chosen != kMaxMapDiscs) {
         RememberedHazard& old = slots_[chosen];
-        const double apart = distance(old.centre, centre);
-        if (apart + radius <= old.radiusM) {
+        const bool seenInside = distance(old.seenCentre, centre) + seenRadius <= old.seenRadiusM;
+        const bool coverInside = distance(old.centre, centre) + coverRadius <= old.radiusM;
+        if (seenInside && coverInside) {
             old.lastSeen = sightings_;
             ++unchanged_;
             return SightingOutcome::kUnchanged;
         }
-        if (apart + old.radiusM > radius) {  // neither encloses the other: the disc round both
-            const double enclosing = 0.5 * (apart + old.radiusM + radius);
-            if (enclosing <= kMaxMergedRadiusM) {
-                mergedCentre = old.centre + ((enclosing - old.radiusM) / apart) * (centre - old.centre);
-                mergedRadius = enclosing;
-            }
+        // The seen discs decide whether it is the same obstacle: round both
+        // within kMaxMergedRadiusM, each disc becomes the disc round its old and
+        // new self; otherwise the new sighting replaces both.
+        double mergedSeenR = 0.0;
+        const Point2 mergedSeen = enclosingDisc(old.seenCentre, old.seenRadiusM, centre, seenRadius, &mergedSeenR);
+        if (mergedSeenR <= kMaxMergedRadiusM) {
+            seenCentre = mergedSeen;
+            seenR = mergedSeenR;
+            coverCentre = enclosingDisc(old.centre, old.radiusM, centre, coverRadius, &coverR);
         }
     }
     if (chosen == kMaxMapDiscs) {
@@ -82,7 +117,7 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
     } else {
         ++updated_;
     }
-    slots_[chosen] = RememberedHazard{mergedCentre, mergedRadius, sightings_, sighting.obstacleId, true};
+    slots_[chosen] = RememberedHazard{coverCentre, coverR, seenCentre, seenR, sightings_, sighting.obstacleId, true};
     ++revision_;
     return outcome;
 }
@@ -132,13 +167,19 @@ core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clea
         if (!h.used) {
             continue;
         }
-        double radius = h.radiusM;
+        Point2 centre = h.centre;
+        double full = h.radiusM;
+        if (relief != nullptr && relief->hasSeenAt && distance(relief->seenAt, h.centre) < h.radiusM + clearanceM) {
+            centre = h.seenCentre;
+            full = h.seenRadiusM;
+        }
+        double radius = full;
         for (std::size_t i = 0; relief != nullptr && i < relief->count && i < 2; ++i) {
-            if (distance(relief->at[i], h.centre) < h.radiusM + clearanceM) {
-                radius = h.radiusM > relief->marginM ? h.radiusM - relief->marginM : 0.0;
+            if (distance(relief->at[i], centre) < full + clearanceM) {
+                radius = full > relief->marginM ? full - relief->marginM : 0.0;
             }
         }
-        const core::Status st = map->addDisc(h.centre, radius);
+        const core::Status st = map->addDisc(centre, radius);
         if (!core::isOk(st) && core::isOk(first)) {
             first = st;
         }

@@ -2,32 +2,52 @@
 // plus the obstacles the hazard detector has seen, remembered across frames.
 //
 // A hazard sighting (HazardMsg, rover frame: range to the nearest point, bearing,
-// half width across the line of sight) becomes a disc in the site frame:
+// half width across the line of sight; docs/icd.md §1.6) becomes two discs in
+// the site frame, with one centre:
 //   centre = rover + (range + halfWidth) * (cos(heading + bearing), sin(heading + bearing))
-//   radius = max(kSightingRadiusFactor * halfWidth, kMinHazardRadiusM)
-// The sighting says how wide the rock is across the line of sight (2 halfWidth)
-// but not where that width lies about the nearest point (anywhere from all on
-// one side to centred), nor how deep the rock is. With radius = halfWidth the
-// union of views still left a corner of the demo's hidden rock 0.28 m outside
-// its disc, and the three-layer lockstep mission (unit_test/lockstep/
-// test_lockstep_deliberative.cpp) drove into it. A disc enclosing every rock
-// those figures allow (no deeper than wide: sqrt(5) halfWidth) blocked the
-// rover's own position on close sightings and stalled the habitual lockstep
-// leg. kSightingRadiusFactor = 1.5 is the measured compromise: both lockstep
-// missions pass without contact. It is not a guarantee for every rock shape. Discs are remembered in a fixed table of kMaxMapDiscs slots keyed by the
-// detector's obstacle id. A new sighting of an id is merged with its disc: the
-// remembered disc becomes the smallest disc enclosing both (unchanged when it
-// already encloses the new one). One sighting sees only the part of an obstacle
-// in the field of view, nearest point first, so its disc is offset towards the
-// rover and shrinks as the rover drives past; "latest wins" made the disc chase
-// the rover round the obstacle (the lockstep demo replanned ten times and
-// touched the rock), whereas the union of the views converges on a disc that
+//   seen   radius = max(kSightingRadiusFactor * halfWidth, kMinHazardRadiusM)
+//   cover  radius = max(kCoverRadiusFactor * halfWidth, kMinHazardRadiusM)
+// What the sighting says: the nearest point P of the rock (range, bearing) and
+// how wide the rock is across the line of sight (2 halfWidth), but not where that
+// width lies about P - anywhere from centred on it to all on one side (a rock
+// seen edge-on at its corner: the one-sided case) - nor how deep the rock is.
+// So every point of the rock lies within 2 halfWidth of the bearing line, on
+// either side, beyond P. Assuming the rock no deeper along the line of sight
+// than its sighted width (2 halfWidth), every rock the sighting allows lies in
+// the rectangle 4 halfWidth across by 2 halfWidth deep beyond P, whose smallest
+// enclosing disc is the cover: centre halfWidth beyond P, radius sqrt(5)
+// halfWidth. The seen disc (1.5 halfWidth) covers a rock centred on the bearing
+// line and misses up to (sqrt(5) - 1.5) halfWidth of a one-sided one: Monte
+// Carlo seed 52 (docs/montecarlo.md) saw its boulder edge-on at the corner,
+// planned round a 0.39 m seen disc, passed the unseen side and touched it.
+//
+// The habitual layer plans, checks its path and backs out against the cover
+// (centre, radiusM): it is what the detector's reports allow, not a guess. The
+// seen disc (seenCentre, seenRadiusM) is the estimate of the rock the views
+// converge on and is what the deliberative layer is told (KnownHazardsMsg): its
+// coarse plans and leg ends need the rock where it most likely is, and the
+// habitual layer keeps the rover off the rest (docs/habitual.md, "Hazards").
+// With the seen disc alone at 1.0 the union of views left a corner of the demo's
+// hidden rock 0.28 m outside; 1.5 is the factor the scenario's choreography was
+// measured with (docs/mission.md), kept for the deliberative layer.
+//
+// Discs are remembered in a fixed table of kMaxMapDiscs slots keyed by the
+// detector's obstacle id. A new sighting of an id is merged with its discs: each
+// remembered disc becomes the smallest disc enclosing it and the new one
+// (unchanged when it already encloses it). One sighting sees only the part of
+// an obstacle in the field of view, nearest point first, so its disc is offset
+// towards the rover and shrinks as the rover drives past; "latest wins" made the
+// disc chase the rover round the obstacle (the lockstep demo replanned ten times
+// and touched the rock), whereas the union of the views converges on a disc that
 // covers the obstacle and only grows, so a detour planned round it stays free.
-// A merged disc wider than kMaxMergedRadiusM is not the same obstacle (a reused
-// id, or a pose jump): the new sighting then replaces it. A sighting whose centre lies inside a coarse-map
-// polygon or within kKnownObstacleMarginM of one is an obstacle the map already
-// has: it is counted and not added. When every slot is taken, the slot seen
-// longest ago is replaced (counted: the caller events it).
+// When the seen discs merged would be wider than kMaxMergedRadiusM it is not the
+// same obstacle (a reused id, or a pose jump): the new sighting then replaces
+// both discs (the cover, from the same views, is then at most about
+// kCoverRadiusFactor / kSightingRadiusFactor times that). A sighting whose
+// centre lies inside a coarse-map polygon or within kKnownObstacleMarginM of one
+// is an obstacle the map already has: it is counted and not added. When every
+// slot is taken, the slot seen longest ago is replaced (counted: the caller
+// events it).
 //
 // Lifetime: remembered discs are kept until forgetAll() (the habitual task calls
 // it never during a mission; see habitual_task.hpp): rocks do not move, a disc
@@ -57,8 +77,15 @@ namespace rse::habitual {
 // Below this a sighted obstacle is still given some size: a zero half width is
 // a post or an edge seen end-on, not a point.
 constexpr double kMinHazardRadiusM = 0.1;
-// Disc radius per sighted half width: see the file comment.
+// Seen-disc radius per sighted half width (the deliberative layer's estimate):
+// see the file comment.
 constexpr double kSightingRadiusFactor = 1.5;
+// Cover radius per sighted half width, sqrt(5): the smallest disc enclosing every
+// rock no deeper than its sighted width that the sighting allows, the width on
+// either side of the nearest point (the file comment). Geometry, not a tuning:
+// a site whose rocks are deeper than wide would need the depth assumption
+// changed, not this number.
+constexpr double kCoverRadiusFactor = 2.23606797749978969641;
 // A sighting this close to a known polygon is that polygon seen again (the
 // detector's range and bearing noise and the pose error are a few centimetres;
 // the disc centre estimate of a large rock lands inside or near it).
@@ -71,16 +98,18 @@ constexpr double kMaxMergedRadiusM = 2.0;
 
 enum class SightingOutcome : std::uint8_t {
     kAdded = 0,           // a new obstacle id, in a free slot
-    kUpdated = 1,         // an id already remembered: its disc grown to enclose the new one (or replaced, see above)
-    kUnchanged = 2,       // an id already remembered whose disc already encloses the new one
+    kUpdated = 1,         // an id already remembered: its discs grown to enclose the new ones (or replaced, see above)
+    kUnchanged = 2,       // an id already remembered whose discs already enclose the new ones
     kReplacedOldest = 3,  // a new id with the table full: the oldest slot replaced
     kKnownObstacle = 4,   // on (or within the margin of) a coarse-map polygon: not added
     kRejected = 5,        // not finite, negative, beyond kMaxSightingRangeM, or id 0 ("clear")
 };
 
 struct RememberedHazard {
-    geometry::Point2 centre;
+    geometry::Point2 centre;  // the cover: what the habitual layer plans round
     double radiusM;
+    geometry::Point2 seenCentre;  // the seen disc: what the deliberative layer is told
+    double seenRadiusM;
     std::uint32_t lastSeen;  // remember() call count when last sighted (larger is newer)
     std::uint8_t obstacleId;
     bool used;
@@ -91,10 +120,16 @@ struct RememberedHazard {
 // added marginM smaller (not below 0), every other obstacle keeps the whole
 // clearance. A rover that stopped inside a grown disc's planning margin can
 // then plan away from it without the margin being cut for every obstacle.
+// seenAt (the leg's end, when hasSeenAt): a hazard whose cover, inflated,
+// contains it is added as its seen disc instead (before marginM is taken off).
+// The deliberative layer keeps leg ends off the seen discs it is told of, not
+// off the covers (the file comment), so such an end is reachable.
 struct MapRelief {
     geometry::Point2 at[2] = {};
     std::size_t count = 0;
     double marginM = 0.0;
+    geometry::Point2 seenAt = {};
+    bool hasSeenAt = false;
 };
 
 class MapBuilder {
@@ -106,7 +141,7 @@ public:
     void forgetAll();
 
     // map reset to the coarse-map bounds with clearanceM, then every coarse
-    // polygon and remembered disc. The first refusal of the map is returned (the
+    // polygon and remembered cover. The first refusal of the map is returned (the
     // map then holds what was added before it); kOk otherwise.
     core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
                        const MapRelief* relief = nullptr) const;

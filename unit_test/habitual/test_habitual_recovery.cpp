@@ -76,9 +76,12 @@ TEST(HabitualRecovery, RememberedHazardsArePublishedWhenTheyChangeAndAtOneHertz)
     }
     CHECK(h != nullptr);
     LONGS_EQUAL(3, rig->lastHazards.hazards[0].obstacleId);
-    DOUBLES_EQUAL(h->centre.x, static_cast<double>(rig->lastHazards.hazards[0].xM), 1e-5);
-    DOUBLES_EQUAL(h->centre.y, static_cast<double>(rig->lastHazards.hazards[0].yM), 1e-5);
-    DOUBLES_EQUAL(h->radiusM, static_cast<double>(rig->lastHazards.hazards[0].radiusM), 1e-5);
+    // The deliberative layer is told the seen disc, not the habitual layer's
+    // cover (map_builder.hpp): the estimate of the rock, inside the cover's reach.
+    DOUBLES_EQUAL(h->seenCentre.x, static_cast<double>(rig->lastHazards.hazards[0].xM), 1e-5);
+    DOUBLES_EQUAL(h->seenCentre.y, static_cast<double>(rig->lastHazards.hazards[0].yM), 1e-5);
+    DOUBLES_EQUAL(h->seenRadiusM, static_cast<double>(rig->lastHazards.hazards[0].radiusM), 1e-5);
+    CHECK(h->seenRadiusM < h->radiusM);
     LONGS_EQUAL(rig->task.mapBuilder().revision(), rig->lastHazards.revision);
     // Unchanged: once a second, not every run.
     rig->follow = false;

@@ -88,8 +88,12 @@ TEST(MapBuilder, SightingBecomesADiscInTheSiteFrame) {
     CHECK(h != nullptr);
     DOUBLES_EQUAL(4.5, h->centre.x, 1e-9);
     DOUBLES_EQUAL(1.0, h->centre.y, 1e-9);
-    const double radius = habitual::kSightingRadiusFactor * 0.5;
+    // The habitual layer's cover (sqrt(5) half widths) and the seen disc (1.5), one centre.
+    const double radius = habitual::kCoverRadiusFactor * 0.5;
     DOUBLES_EQUAL(radius, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(habitual::kSightingRadiusFactor * 0.5, h->seenRadiusM, 1e-12);
+    DOUBLES_EQUAL(h->centre.x, h->seenCentre.x, 1e-12);
+    DOUBLES_EQUAL(h->centre.y, h->seenCentre.y, 1e-12);
     CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
     LONGS_EQUAL(1, map.discCount());
     CHECK_FALSE(map.pointFree(Point2{4.5, 1.0}));
@@ -104,6 +108,7 @@ TEST(MapBuilder, ZeroHalfWidthGetsTheRadiusFloor) {
     const habitual::RememberedHazard* h = findId(builder, 3);
     CHECK(h != nullptr);
     DOUBLES_EQUAL(habitual::kMinHazardRadiusM, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(habitual::kMinHazardRadiusM, h->seenRadiusM, 1e-12);
     DOUBLES_EQUAL(1.0, h->centre.x, 1e-12);
 }
 
@@ -119,21 +124,91 @@ TEST(MapBuilder, ResightingsOfAnIdGrowItsDiscToEncloseEveryView) {
     CHECK(builder.revision() != revision);
     LONGS_EQUAL(1, builder.rememberedCount());
     const habitual::RememberedHazard* h = findId(builder, 9);
-    // Views: (3.2, 0) r 0.3 F and (2.0, 0.4) r 0.2 F (F = kSightingRadiusFactor);
-    // enclosing radius (d + 0.3 F + 0.2 F) / 2.
-    const double f = habitual::kSightingRadiusFactor;
+    // Views: (3.2, 0) r 0.3 F and (2.0, 0.4) r 0.2 F (F = kCoverRadiusFactor for
+    // the cover, kSightingRadiusFactor for the seen disc); each enclosing radius
+    // (d + 0.3 F + 0.2 F) / 2.
+    const double f = habitual::kCoverRadiusFactor;
+    const double fs = habitual::kSightingRadiusFactor;
     const double d = std::hypot(1.2, 0.4);
     DOUBLES_EQUAL(0.5 * (d + 0.5 * f), h->radiusM, 1e-9);
     CHECK(std::hypot(h->centre.x - 3.2, h->centre.y - 0.0) + 0.3 * f <= h->radiusM + 1e-9);
     CHECK(std::hypot(h->centre.x - 2.0, h->centre.y - 0.4) + 0.2 * f <= h->radiusM + 1e-9);
+    DOUBLES_EQUAL(0.5 * (d + 0.5 * fs), h->seenRadiusM, 1e-9);
+    CHECK(std::hypot(h->seenCentre.x - 3.2, h->seenCentre.y - 0.0) + 0.3 * fs <= h->seenRadiusM + 1e-9);
+    CHECK(std::hypot(h->seenCentre.x - 2.0, h->seenCentre.y - 0.4) + 0.2 * fs <= h->seenRadiusM + 1e-9);
     // A view enclosing the remembered disc replaces it.
     revision = builder.revision();
     CHECK(SightingOutcome::kUpdated == builder.remember(coarse, Point2{0.0, 0.0}, 0.0, sighting(9, 1.0, 0.0, 1.9)));
     DOUBLES_EQUAL(2.9, findId(builder, 9)->centre.x, 1e-9);
     DOUBLES_EQUAL(1.9 * f, findId(builder, 9)->radiusM, 1e-9);
+    DOUBLES_EQUAL(2.9, findId(builder, 9)->seenCentre.x, 1e-9);
+    DOUBLES_EQUAL(1.9 * fs, findId(builder, 9)->seenRadiusM, 1e-9);
     LONGS_EQUAL(2, builder.updated());
     LONGS_EQUAL(1, builder.unchanged());
     LONGS_EQUAL(1, builder.added());
+}
+
+TEST(MapBuilder, ARockSeenEdgeOnAtItsCornerLiesInsideTheCoverWhereverItsWidthLies) {
+    // Monte Carlo seed 52's case (docs/montecarlo.md): a 0.5 m square boulder
+    // seen from 3 m straight at its corner, all of it on one side of the line
+    // of sight. From (0, -8) facing east the detector reports the corner (3, -8):
+    // range 3, bearing 0, half width 0.25 (the rock's extent across the line).
+    // It cannot say on which side the width lies: the rock may be y -8.5..-8.0,
+    // -8.25..-7.75 or -8.0..-7.5, and as deep as 0.5 m (no deeper than wide).
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, -8.0}, 0.0, sighting(4, 3.0, 0.0, 0.25)));
+    const habitual::RememberedHazard* h = findId(builder, 4);
+    CHECK(h != nullptr);
+    const Point2 corners[] = {{3.0, -8.5}, {3.5, -8.5}, {3.0, -7.5}, {3.5, -7.5}, {3.5, -8.0}, {3.0, -8.0}};
+    for (const Point2& c : corners) {
+        CHECK(std::hypot(c.x - h->centre.x, c.y - h->centre.y) <= h->radiusM + 1e-9);
+    }
+    // The seen disc (1.5 half widths, the model before) leaves the far corner of
+    // a one-sided rock 0.18 m outside: the rover planned round it and touched it.
+    const double farCorner = std::hypot(3.5 - h->seenCentre.x, -8.5 - h->seenCentre.y);
+    CHECK(farCorner > h->seenRadiusM + 0.15);
+    // A rover passing 0.6 m (its footprint) clear of the cover clears the rock.
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    CHECK_FALSE(map.pointFree(Point2{3.5, -8.5 - 0.55}));
+    CHECK_FALSE(map.pointFree(Point2{3.5, -7.5 + 0.55}));
+}
+
+TEST(MapBuilder, ALegEndWithinACoverIsPlannedToAgainstThatHazardsSeenDiscOnly) {
+    // Two hazards, each half width 0.25: cover 0.559 m, seen disc 0.375 m.
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{0.0, -8.0}, 0.0, sighting(4, 3.0, 0.0, 0.25)));
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{20.0, -8.0}, 0.0, sighting(8, 2.0, 0.0, 0.25)));
+    // A leg end 1.05 m south of the first's centre: inside its cover grown by
+    // the 0.6 m footprint (1.159 m), outside its seen disc grown so (0.975 m),
+    // where the deliberative layer (told the seen disc) may put it.
+    const Point2 end{3.25, -9.05};
+    const Point2 besideOther{22.25, -9.05};
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    CHECK_FALSE(map.pointFree(end));
+    CHECK_FALSE(map.pointFree(besideOther));
+    habitual::MapRelief relief;
+    relief.seenAt = end;
+    relief.hasSeenAt = true;
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map, &relief));
+    CHECK_TRUE(map.pointFree(end));
+    CHECK_FALSE(map.pointFree(Point2{3.25, -8.0 - 0.95}));  // the seen disc is still there
+    CHECK_FALSE(map.pointFree(besideOther));                // the other hazard keeps its cover
+}
+
+TEST(MapBuilder, ASightingWhoseNearestPointIsOnAMappedRockKeepsTheSeenDiscAsItsCover) {
+    // Rock 0 spans x 5..6.5, y 1.8..3.2. From (3, 2) the nearest point seen is
+    // (5, 1.55), within the 0.3 m margin of the rock's south-west corner; a wide
+    // half width (0.6) puts the centre 0.38 m off the rock, so it is added. The
+    // nearest point is the mapped rock's surface: the map has the rock whole and
+    // the cover is not grown past the seen disc.
+    const double dx = 2.0;
+    const double dy = -0.45;
+    const double range = std::hypot(dx, dy);
+    CHECK(SightingOutcome::kAdded ==
+          builder.remember(coarse, Point2{3.0, 2.0}, 0.0, sighting(6, range, std::atan2(dy, dx), 0.6)));
+    const habitual::RememberedHazard* h = findId(builder, 6);
+    CHECK(h != nullptr);
+    CHECK(geometry::distanceToCoarseMap(coarse, h->centre) > habitual::kKnownObstacleMarginM);
+    DOUBLES_EQUAL(habitual::kSightingRadiusFactor * 0.6, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(h->seenRadiusM, h->radiusM, 1e-12);
 }
 
 TEST(MapBuilder, AnIdSeenFarFromItsDiscIsAnotherObstacle) {
@@ -143,7 +218,8 @@ TEST(MapBuilder, AnIdSeenFarFromItsDiscIsAnotherObstacle) {
     const habitual::RememberedHazard* h = findId(builder, 5);
     DOUBLES_EQUAL(12.5, h->centre.x, 1e-9);
     DOUBLES_EQUAL(-6.0, h->centre.y, 1e-9);
-    DOUBLES_EQUAL(habitual::kSightingRadiusFactor * 0.5, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(habitual::kCoverRadiusFactor * 0.5, h->radiusM, 1e-12);
+    DOUBLES_EQUAL(habitual::kSightingRadiusFactor * 0.5, h->seenRadiusM, 1e-12);
 }
 
 TEST(MapBuilder, SightingOnOrNearACoarsePolygonIsAKnownObstacle) {
