@@ -152,16 +152,12 @@ vm_faults=$( { tr ',' '\n' <<< "$(fact faults)"; grep -o 'EVT 7[0-9][0-9] [A-Z]*
 # scenario's doing, not the slowness's: the worn motor may trip on overcurrent
 # in a turn the bus run makes and the lockstep run does not (CI measured: 12,
 # overcurrent on wheel 1, where lockstep saw 2, its heartbeat lost). The
-# scenario's [[faults]] name drives by CAN node; the default drive_nodes
-# [1..6] make node n wheel n-1 (a scenario with its own drive_nodes gets no
-# allowance). A drive's faults: heartbeat lost 1+w, overcurrent 11+w,
-# overtemperature 40+w (fsw/msg/health_msgs.hpp).
-scenario_wheel_faults=
-if ! grep -q '^drive_nodes' "$scenario"; then
-  scenario_wheel_faults=$(awk '/^\[\[faults\]\]/ { f = 1; next } /^\[/ { f = 0 }
-      f && /^wheel *=/ { sub(/#.*/, ""); split($0, a, "="); w = a[2] + 0 - 1
-                         if (w >= 0 && w < 6) printf "%d,%d,%d,", 1 + w, 11 + w, 40 + w }' "$scenario")
-fi
+# scenario's [[faults]] number wheels 1..6 (sim_stub/scenarios/README.md), the
+# flight's faults 0..5: heartbeat lost 1+w, overcurrent 11+w, overtemperature
+# 40+w (fsw/msg/health_msgs.hpp).
+scenario_wheel_faults=$(awk '/^\[\[faults\]\]/ { f = 1; next } /^\[/ { f = 0 }
+    f && /^wheel *=/ { line = $0; sub(/#.*/, "", line); split(line, a, "="); w = a[2] - 1
+                       if (w >= 0 && w < 6) printf "%d,%d,%d,", 1 + w, 11 + w, 40 + w }' "$scenario")
 subset_of() { [ -z "$(comm -23 <(tr ',' '\n' <<< "$1" | grep . | sort -u) <(tr ',' '\n' <<< "$2" | grep . | sort -u))" ]; }
 check "the slowness raised nothing: faults raised [$vm_faults] are among the lockstep run's [$ref_faults] and the scenario's faulted drives' [${scenario_wheel_faults%,}]" \
   subset_of "$vm_faults" "$ref_faults,$scenario_wheel_faults"
@@ -188,7 +184,7 @@ vm_points=$(sed -n 's/^\[ *[0-9.]*\] POINT \([0-9]*\) .*/\1/p' "$out/report.log"
 check "rse-ground report: $(sed -n 's/^points: *//p' "$out/report.log") (exit $report_rc)" \
   sh -c "[ $report_rc -eq 0 ] && grep -q '^points: *ten points: all in order' '$out/report.log'"
 check "the points from telemetry came in the lockstep run's order: [$vm_points] (lockstep [$ref_points])" \
-  [ -n "$ref_points" ] && [ "$vm_points" = "$ref_points" ]
+  sh -c "[ -n '$ref_points' ] && [ '$vm_points' = '$ref_points' ]"
 plans_drawn=$(sed -n 's/^plans: *\([0-9]*\) drawn.*/\1/p' "$out/report.log")
 check "report.md names all ten points and map.svg draws the rover's $(fact plans) plan(s) from PLAN_PATH ($plans_drawn drawn)" \
   sh -c "[ \$(awk '/^## The ten points/ { on = 1 } /^## Legs/ { on = 0 } on && /^\\| [0-9]+ \\| [0-9.]+ \\| [a-z]/' '$out/report/report.md' | wc -l) -eq 10 ] \\
