@@ -182,6 +182,39 @@ void TenPointTracker::onHazardBlocked(const FlightEvent& e) {
     }
 }
 
+// The hidden obstacle's leg ended: point 5 when the leg's plan went round the
+// obstacle within its bounds and no fail-up came between.
+void TenPointTracker::completePointFive(double timeS, const std::string& ending) {
+    hidden_.active = false;
+    if (hidden_.replannedS < 0.0 || hidden_.failUps != 0) {
+        return;
+    }
+    const std::string legId = std::to_string(hidden_.legId);
+    setFact(5, "fail-ups", 0.0);
+    setFact(5, "hazard", hidden_.hazardId);
+    setFact(5, "leg", hidden_.legId);
+    setFact(5, "seen s", hidden_.seenS);
+    setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
+    const std::string how =
+        hidden_.mergedFromLeg != 0
+            ? " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(hidden_.mergedFromLeg) +
+                  " replanned locally within its bounds at " + seconds(hidden_.firstReplanS) +
+                  ", logged as a minor anomaly; the leg's end inside it, merged into leg " + legId +
+                  ", planned round it at " + seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
+        : hidden_.whilePlanning
+            ? " seen on the leg's way at " + seconds(hidden_.seenS) + (hidden_.beforeLeg ? " before leg " : " while leg ") +
+                  legId + (hidden_.beforeLeg ? " was sent" : " was being planned") +
+                  "; planned round it locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
+                  hidden_.plan + ")"
+            : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + legId +
+                  " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" + hidden_.plan +
+                  "), logged as a minor anomaly";
+    see(5, timeS, "habitual", "hidden obstacle " + std::to_string(hidden_.hazardId) + how + "; " + ending);
+    // Placed where it happened: where the rover replanned.
+    points_[4].xM = hidden_.replanX;
+    points_[4].yM = hidden_.replanY;
+}
+
 void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
     unsigned legId = 0;
     const char* s = after(e.text, "leg ");
@@ -193,6 +226,14 @@ void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
         l->outcome = std::string("failed up: ") + (what != nullptr ? what + 9 : "?");
     }
     decisions_.push_back(MissionDecision{e.timeS, "fail-up", body(e.text)});
+    const bool power = e.text.find("fail-up: power") != std::string::npos;
+    if (hidden_.active && hidden_.legId == legId && power && degraded_ != 0U && failed_ == 0U &&
+        hidden_.replannedS >= 0.0) {
+        // The leg was driven on round the obstacle until a worn motor broke its
+        // power bound (point 6's fail-up): the detour held; the leg ends here
+        // for a reason of its own.
+        completePointFive(e.timeS, "driven on round it with no fail-up until a worn motor broke the leg's power bound");
+    }
     if (hidden_.active && hidden_.legId == legId) {
         ++hidden_.failUps;
         decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
@@ -201,7 +242,6 @@ void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
                                                  ": the leg failed up (no local replan within its bounds)"});
         hidden_.active = false;
     }
-    const bool power = e.text.find("fail-up: power") != std::string::npos;
     if (power && failed_ == 0U) {
         // 6: a worn motor's extra draw broke the leg's power bound.
         const LegRecord* l = leg(legId);
@@ -264,7 +304,21 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
             if (LegRecord* previous = leg(currentLeg_); previous != nullptr && previous->outcome.empty()) {
                 previous->outcome = "superseded";
             }
-            if (hidden_.active && hidden_.legId == currentLeg_) {
+            if (hidden_.active && hidden_.legId == currentLeg_ && legEndSkippedS_ == e.timeS &&
+                hidden_.replannedS >= 0.0 && hidden_.failUps == 0) {
+                // The leg's end lay inside the obstacle as it grew: the
+                // deliberative layer merged the leg into the next (919) and
+                // re-sent it; the local detour goes on as that leg's.
+                decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
+                                                     "hazard " + std::to_string(hidden_.hazardId) + ": leg " +
+                                                         std::to_string(currentLeg_) + "'s end inside it, merged into leg " +
+                                                         std::to_string(l.legId)});
+                hidden_.mergedFromLeg = hidden_.legId;
+                hidden_.firstReplanS = hidden_.replannedS;
+                hidden_.legId = l.legId;
+                hidden_.replannedS = -1.0;  // the merged leg's own plan must go round it too
+                hidden_.whilePlanning = true;
+            } else if (hidden_.active && hidden_.legId == currentLeg_) {
                 // A new leg before the hidden obstacle's leg was achieved: the
                 // deliberative layer stepped in (merged, re-sent or replanned).
                 decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
@@ -371,29 +425,7 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
                 l->drivenJ = j;
             }
             if (hidden_.active && hidden_.legId == legId) {
-                hidden_.active = false;
-                if (hidden_.replannedS >= 0.0 && hidden_.failUps == 0) {
-                    setFact(5, "fail-ups", 0.0);
-                    setFact(5, "hazard", hidden_.hazardId);
-                    setFact(5, "leg", legId);
-                    setFact(5, "seen s", hidden_.seenS);
-                    setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
-                    const std::string how =
-                        hidden_.whilePlanning
-                            ? " seen on the leg's way at " + seconds(hidden_.seenS) +
-                                  (hidden_.beforeLeg ? " before leg " : " while leg ") + std::to_string(legId) +
-                                  (hidden_.beforeLeg ? " was sent" : " was being planned") +
-                                  "; planned round it locally within its bounds at " +
-                                  seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
-                            : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(legId) +
-                                  " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
-                                  hidden_.plan + "), logged as a minor anomaly";
-                    see(5, e.timeS, "habitual",
-                        "hidden obstacle " + std::to_string(hidden_.hazardId) + how + "; leg achieved, no fail-up");
-                    // Placed where it happened: where the rover replanned.
-                    points_[4].xM = hidden_.replanX;
-                    points_[4].yM = hidden_.replanY;
-                }
+                completePointFive(e.timeS, "leg achieved, no fail-up");
             }
             break;
         }
@@ -449,6 +481,7 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
             decisions_.push_back(MissionDecision{e.timeS, "replan", body(t)});
             break;
         case dev::kLegEndSkipped:
+            legEndSkippedS_ = e.timeS;
             decisions_.push_back(MissionDecision{e.timeS, "leg end merged", body(t)});
             break;
         case dev::kNoPlan:

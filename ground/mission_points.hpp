@@ -14,7 +14,9 @@
 //                   with no fail-up and no new leg between; or first seen (816) while the leg was
 //                   being planned, on its way (the disc within the footprint of the straight line
 //                   from where the leg was sent to its end), the leg's plan (803) going round it
-//                   and then achieved the same way
+//                   and then achieved the same way; seen before the leg was sent counts as while
+//                   planning; a leg merged into the next (919: its end inside the rock) carries the
+//                   detour on; a worn motor's power fail-up on the detour leg ends it as achieved
 //   6 habitual      a power fail-up (807, "power") while no drive is declared failed: a worn
 //                   motor's extra draw broke the leg's power bound
 //   7 deliberative  that power bound relaxed (910) and the leg re-sent; driving resumed (803)
@@ -82,6 +84,7 @@ private:
     void onHabitualFailUp(const FlightEvent& e);
     void seePointTen();
     bool onLegWay(const HazardSeen& h) const;
+    void completePointFive(double timeS, const std::string& ending);
 
     tables::CoarseMapTable map_;
     const double footprintRadiusM_;
@@ -112,8 +115,11 @@ private:
         double replanX = 0.0, replanY = 0.0;  // the estimated position then
         bool whilePlanning = false;        // first seen while the leg was being planned (no 804)
         bool beforeLeg = false;            // ... or before the leg was sent
+        std::uint32_t mergedFromLeg = 0;   // replanned on this leg, then merged into legId (919)
+        double firstReplanS = -1.0;        // that first local replan
         std::uint32_t failUps = 0;         // fail-ups of the leg since
     } hidden_;
+    double legEndSkippedS_ = -1.0;         // the last 919 (a leg merged into the next)
     std::vector<unsigned> hiddenTried_;    // hazards point 5 was tried on (once each: a fail-up spoils it)
     std::string lastPlanSent_;             // last 803 text
     // Drives (bit per wheel) the drive mode estimator declares degraded / failed.

@@ -668,7 +668,7 @@ const char* toString(MissionOutcome outcome) {
 void printMissionUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
-                 "                [--report DIR | --no-report] [--any-outcome]\n"
+                 "                [--command-at SECONDS] [--report DIR | --no-report] [--any-outcome]\n"
                  "  --scenario FILE     TOML scenario (default %s);\n"
                  "                      its [mission] (a goal and risk bound, or a plan) is flown\n"
                  "                      unless --goto is given\n"
@@ -677,6 +677,8 @@ void printMissionUsage(std::FILE* out) {
                  "                      --goto: the scenario's [mission], else 20,0,1e-3)\n"
                  "  --duration SECONDS  simulated seconds at most, boot included (default: the scenario's\n"
                  "                      duration_s when it has a [mission], else 180)\n"
+                 "  --command-at SECONDS  SET_MODE and GOTO (or the plan) at this simulated time at the\n"
+                 "                      earliest (default: once the drives are up and the map uploaded)\n"
                  "  --quiet             no console lines, only the points and the summary\n"
                  "  --report DIR        write the mission report and map to DIR/report.md, DIR/map.svg\n"
                  "                      (default %s); --no-report writes none\n"
@@ -706,6 +708,12 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             const std::string v = argv[++i];
             if (!parseNumber(v, &o->durationS) || !(o->durationS > 0.0) || o->durationS > 1e6) {
                 *error = "--duration '" + v + "' is not a number of seconds in (0, 1e6]";
+                return ParseOutcome::kUsageError;
+            }
+        } else if (a == "--command-at" && hasValue) {
+            const std::string v = argv[++i];
+            if (!parseNumber(v, &o->commandAtS) || !(o->commandAtS >= 0.0) || o->commandAtS > 1e5) {
+                *error = "--command-at '" + v + "' is not a number of seconds in [0, 1e5]";
                 return ParseOutcome::kUsageError;
             }
         } else if (a == "--quiet") {
@@ -837,6 +845,12 @@ MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
                   "TABLE_LOAD chunks, validated, activated",
                   map.obstacles, map.bytes, static_cast<unsigned>(map.crc), map.chunks);
     say(out, *rig, mapLine);
+    const auto commandAtNs = static_cast<core::TimeNs>(o.commandAtS * static_cast<double>(core::kNsPerSec));
+    if (commandAtNs > rig->clock().now() &&
+        !rig->runUntil([&] { service(); return rig->clock().now() >= commandAtNs; },
+                       commandAtNs - rig->clock().now() + core::kNsPerSec)) {
+        return setupFailed(summary, "the run did not reach --command-at");
+    }
     say(out, *rig, "all six drives operational; ground: SET_MODE AUTONOMOUS");
     if (!ground.setMode(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)) ||
         !rig->runUntil([&] { service(); return watch.modeIs(static_cast<std::uint8_t>(cmdtlm::Mode::kAutonomous)); },

@@ -58,6 +58,11 @@ struct MissionOptions {
     // Simulated seconds, boot included (--duration); 0: the scenario's
     // duration_s when it has a [mission], else kDefaultMissionDurationS.
     double durationS = 0.0;
+    // --command-at SECONDS: SET_MODE and GOTO (or the plan) wait until this
+    // simulated time (0: as soon as the drives are up and the map uploaded,
+    // about 0.5 s). A ground on a real bus commands later (the vcan mission's
+    // GOTO came at about 2 s); this runs the lockstep mission so.
+    double commandAtS = 0.0;
     bool quiet = false;        // no console lines (the summary is still written)
     // --report DIR: report.md and map.svg there; "" writes none. rse-demo's
     // main (missionMain) makes it kDefaultReportDir unless --no-report is given;

@@ -136,6 +136,47 @@ TEST(TenPointTracker, AHiddenObstacleSeenBeforeItsLegWasSentOnItsWayCounts) {
     CHECK_FALSE(failed.points()[4].seen);
 }
 
+// A long leg replanned round the hidden rock may end in the worn motor's
+// power fail-up (point 6) before it is achieved: the detour held, point 5
+// ends there. Any other fail-up of the leg still spoils it.
+TEST(TenPointTracker, APowerFailUpOfTheWornMotorEndsTheDetourLegAsPointFive) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 11);  // leg 2 replanned round hazard 3 (805)
+    steps.push_back({79.39, 761, "drive_modes: ML nominal -> degraded (p=0.997, power x1.13)"});
+    steps.push_back({80.45, 807, "habitual: leg 2 fail-up: power 247.0 W > allowed 246.8 W by 0.3 W (power factor 1.051)"});
+    feed(t, steps);
+    CHECK_TRUE(t->points()[4].seen);
+    DOUBLES_EQUAL(80.45, t->points()[4].timeS, 0.0);
+    CHECK_TRUE(contains(t->points()[4].what, "driven on round it with no fail-up until a worn motor broke"));
+    CHECK_TRUE(t->points()[5].seen);  // the same fail-up is point 6's
+
+    TenPointTracker energy(oneRock());
+    steps.back() = {80.45, 807, "habitual: leg 2 fail-up: energy 9167 J > allowed 8000 J by 1167 J"};
+    feed(&energy, steps);
+    CHECK_FALSE(energy.points()[4].seen);
+}
+
+// The rock grows round the leg's end: the deliberative layer merges the leg
+// into the next (919); the merged leg's plan goes round it and is achieved.
+TEST(TenPointTracker, AHiddenObstacleLegMergedIntoTheNextCarriesItsDetourOn) {
+    std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 11);
+    steps.push_back({50.0, 919, "deliberative: leg end (14.33, -0.38) too near a rock: merged into leg 3 of 6 (to (17.62, -0.47))"});
+    steps.push_back({50.0, 905, "deliberative: leg 3 (3 of 6) to (17.62, -0.47): <= 19.78 m, <= 25208 J, <= 308 W, risk 4.86e-06"});
+    steps.push_back({50.3, 803, "habitual: leg 3 trajectory 13: 7 pts, 9.9/22.4 m, 10962/24074 J"});
+    steps.push_back({75.0, 808, "habitual: leg 3 achieved at (17.5, -0.45): 9.9 m, 10962 J driven"});
+    feed(t, steps);
+    CHECK_TRUE(t->points()[4].seen);
+    DOUBLES_EQUAL(75.0, t->points()[4].timeS, 0.0);
+    DOUBLES_EQUAL(3.0, t->fact(5, "leg"), 0.0);
+    CHECK_TRUE(contains(t->points()[4].what, "leg 2 replanned locally within its bounds at 45.75 s"));
+    CHECK_TRUE(contains(t->points()[4].what, "merged into leg 3, planned round it at 50.30 s"));
+
+    // Without the merge event the new leg is the deliberative layer stepping in: not point 5.
+    TenPointTracker stepped(oneRock());
+    steps.erase(steps.begin() + 11);
+    feed(&stepped, steps);
+    CHECK_FALSE(stepped.points()[4].seen);
+}
+
 TEST(TenPointTracker, AKnownRockSeenByTheDetectorIsNoHiddenObstacle) {
     std::vector<Step> steps(kDemo.begin(), kDemo.begin() + 7);
     // A disc that reaches rock 0 of the coarse map: the map's rock, seen.
