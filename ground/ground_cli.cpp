@@ -190,6 +190,7 @@ public:
     int record(const std::vector<std::string>& args);
     int summary(const std::vector<std::string>& args);
     int report(const std::vector<std::string>& args);
+    bool readRecordingFile(const char* command, const std::string& path, SessionRecording* recording);
     int run(const std::vector<std::string>& args);
     int table(const std::vector<std::string>& args);
     int plan(const std::vector<std::string>& args);
@@ -586,6 +587,21 @@ int Cli::record(const std::vector<std::string>& args) {
     return kExitOk;
 }
 
+// A recording file for `command`: false (said on stderr) when it cannot be
+// opened; its bad lines are named on stderr and skipped.
+bool Cli::readRecordingFile(const char* command, const std::string& path, SessionRecording* recording) {
+    std::ifstream in(path);
+    if (!in) {
+        err_ << command << ": cannot read '" << path << "'\n";
+        return false;
+    }
+    *recording = readSessionRecording(in);
+    for (const std::string& e : recording->errors) {
+        err_ << path << ": " << e << "\n";
+    }
+    return true;
+}
+
 int Cli::summary(const std::vector<std::string>& args) {
     std::vector<std::string> words = args;
     const bool facts = takeFlag(&words, "--facts");
@@ -594,16 +610,9 @@ int Cli::summary(const std::vector<std::string>& args) {
     if (words.size() != 1) {
         throw UsageError("usage: rse-ground summary FILE [--facts] [--no-events]");
     }
-    std::ifstream in(words[0]);
-    if (!in) {
-        err_ << "summary: cannot read '" << words[0] << "'\n";
-        return kExitLink;
-    }
-    const SessionRecording recording = readSessionRecording(in);
-    for (const std::string& e : recording.errors) {
-        err_ << words[0] << ": " << e << "\n";
-    }
-    if (recording.packets.empty() && !recording.errors.empty()) {
+    SessionRecording recording;
+    if (!readRecordingFile("summary", words[0], &recording) ||
+        (recording.packets.empty() && !recording.errors.empty())) {
         return kExitLink;
     }
     const MissionTelemetry mission = readMissionTelemetry(recording);
@@ -631,14 +640,9 @@ int Cli::report(const std::vector<std::string>& args) {
     if (words.size() != 1) {
         throw UsageError("usage: rse-ground report FILE [--map MAP] [--tables DIR] [--out DIR] [--name TEXT]");
     }
-    std::ifstream in(words[0]);
-    if (!in) {
-        err_ << "report: cannot read '" << words[0] << "'\n";
+    SessionRecording recording;
+    if (!readRecordingFile("report", words[0], &recording)) {
         return kExitLink;
-    }
-    const SessionRecording recording = readSessionRecording(in);
-    for (const std::string& e : recording.errors) {
-        err_ << words[0] << ": " << e << "\n";
     }
     if (recording.packets.empty()) {
         err_ << "report: '" << words[0] << "' holds no packet\n";
