@@ -157,9 +157,9 @@ vm_faults=$( { tr ',' '\n' <<< "$(fact faults)"; grep -o 'EVT 7[0-9][0-9] [A-Z]*
 # 40+w (fsw/msg/health_msgs.hpp).
 scenario_wheel_faults=$(awk '/^\[\[faults\]\]/ { f = 1; next } /^\[/ { f = 0 }
     f && /^wheel *=/ { line = $0; sub(/#.*/, "", line); split(line, a, "="); w = a[2] - 1
-                       if (w >= 0 && w < 6) printf "%d,%d,%d,", 1 + w, 11 + w, 40 + w }' "$scenario")
+                       if (w >= 0 && w < 6) printf "%d\n%d\n%d\n", 1 + w, 11 + w, 40 + w }' "$scenario" | sort -nu | paste -sd, -)
 subset_of() { [ -z "$(comm -23 <(tr ',' '\n' <<< "$1" | grep . | sort -u) <(tr ',' '\n' <<< "$2" | grep . | sort -u))" ]; }
-check "the slowness raised nothing: faults raised [$vm_faults] are among the lockstep run's [$ref_faults] and the scenario's faulted drives' [${scenario_wheel_faults%,}]" \
+check "the slowness raised nothing: faults raised [$vm_faults] are among the lockstep run's [$ref_faults] and the scenario's faulted drives' [$scenario_wheel_faults]" \
   subset_of "$vm_faults" "$ref_faults,$scenario_wheel_faults"
 check "the rover ran at time scale $(fact time_scale) (HK.time_scale; asked $scale)" [ "$(fact time_scale)" = "$scale" ]
 # Measured, not asserted: a frame may still overrun, or one be skipped, while
