@@ -1,11 +1,14 @@
 # RSE build. Targets (README.md has the story):
 #   make deps        install the Debian packages the project needs (idempotent; root or sudo)
 #   make / all       build rse-fsw for this machine, or for CROSS_COMPILE=aarch64-linux-gnu-
-#   make test        every unit-test suite on the host, then again for aarch64 under qemu-user,
-#                    then the Slurm campaign test (make test-slurm);
-#                    ends with one line "N passed, N failed" (total over all suites)
+#   make test        every unit-test suite on the host, and for aarch64, armhf and s390x under
+#                    qemu-user; the flight code compiled for powerpc; then the Slurm campaign
+#                    test (make test-slurm); all built and run in parallel (every core);
+#                    ends with the per-target table and one line "N passed, N failed" (total)
 #   make host-test   host suites only (quick edit-test loop)
-#   make cross-test  aarch64 suites only, under qemu-aarch64
+#   make cross-test  the cross targets only (suites under qemu-user, powerpc compiled)
+#   make all CROSS_COMPILE=arm-linux-gnueabihf-   rse-fsw for one target (also aarch64-linux-gnu-,
+#                    s390x-linux-gnu-, powerpc-linux-gnu-); docs/cross_targets.md
 #   make demo        the autonomous mission demo (rse-demo: rse-fsw and rse-sim in lockstep, GOTO
 #                    from the ground, console streamed, mission summary);
 #                    make demo DEMO_SECONDS=300 DEMO_ARGS="--no-faults"
@@ -23,14 +26,40 @@ SHELL := /bin/bash
 .DELETE_ON_ERROR:
 
 CROSS_COMPILE ?=
+# The flight computers (docs/cross_targets.md). make test builds every one and
+# runs the suites of CROSS_TEST_TARGETS under qemu-user; CROSS_COMPILE_ONLY
+# targets have no Debian libraries to link the suites with: their flight code is
+# compiled (and rse-fsw linked where its libraries exist), nothing runs.
 CROSS_AARCH64 := aarch64-linux-gnu-
+CROSS_ARMHF := arm-linux-gnueabihf-
+CROSS_S390X := s390x-linux-gnu-
+CROSS_POWERPC := powerpc-linux-gnu-
+CROSS_TEST_TARGETS := $(CROSS_AARCH64) $(CROSS_ARMHF) $(CROSS_S390X)
+CROSS_COMPILE_ONLY := $(CROSS_POWERPC)
 CXX := $(CROSS_COMPILE)g++
 AR := $(CROSS_COMPILE)ar
-ARCH := $(if $(CROSS_COMPILE),$(patsubst %-linux-gnu-,%,$(CROSS_COMPILE)),$(shell uname -m))
+# The build folder's name: the Debian port's for 32-bit ARM (the triple says
+# only "arm"), the triple's first word otherwise.
+arch_of = $(if $(filter arm-linux-gnueabihf-,$(1)),armhf,$(patsubst %-linux-gnu-,%,$(1)))
+ARCH := $(if $(CROSS_COMPILE),$(call arch_of,$(CROSS_COMPILE)),$(shell uname -m))
 BUILD := build/$(ARCH)
+HOST_ARCH := $(shell uname -m)
+TRIPLE := $(patsubst %-,%,$(CROSS_COMPILE))
+COMPILE_ONLY := $(filter $(CROSS_COMPILE),$(CROSS_COMPILE_ONLY))
 
 # How test binaries run: natively, or under qemu-user with the target's libraries.
-RUNNER := $(if $(CROSS_COMPILE),qemu-$(ARCH) -L /usr/$(patsubst %-,%,$(CROSS_COMPILE)),)
+# s390x: qemu-s390x 7.2 aborts every dynamically linked program it loads itself
+# with -L ("stack smashing detected", even int main() { return 3; }); started
+# through the target's own dynamic loader they run, so the loader is the program.
+QEMU_armhf := qemu-arm
+QEMU_powerpc := qemu-ppc
+RUNNER_s390x := qemu-s390x /usr/$(TRIPLE)/lib/ld64.so.1 --library-path /usr/$(TRIPLE)/lib
+RUNNER := $(if $(CROSS_COMPILE),$(or $(RUNNER_$(ARCH)),$(or $(QEMU_$(ARCH)),qemu-$(ARCH)) -L /usr/$(TRIPLE)),)
+
+# Parallel builds: every core, unless the caller gave its own -j (its jobserver
+# is then shared). Read where recipes expand it: only there does MAKEFLAGS hold -j.
+NPROC := $(shell nproc)
+PARALLEL = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(NPROC))
 
 # ---------------------------------------------------------------------------
 # Debian packages: exactly what the build, tests, cross-tests and the vcan VM
@@ -45,10 +74,17 @@ CBC_PACKAGES := coinor-libcbc-dev
 # (unit_test/integration/slurm/; docs/montecarlo.md). Installing them starts no
 # daemon. Installed by test-slurm (make test), not by make demo.
 SLURM_PACKAGES := slurm-wlm munge
+# Cross targets: the compiler, and the suites' libraries in the Debian port
+# (multiarch: dpkg --add-architecture, done by deps). powerpc is no Debian
+# release architecture: only its compiler and C/C++ runtime are packaged.
+CROSS_PACKAGES := g++-aarch64-linux-gnu libcpputest-dev:arm64 libmbedtls-dev:arm64 \
+                  g++-arm-linux-gnueabihf libcpputest-dev:armhf libmbedtls-dev:armhf \
+                  g++-s390x-linux-gnu libcpputest-dev:s390x libmbedtls-dev:s390x \
+                  g++-powerpc-linux-gnu
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
-                g++-aarch64-linux-gnu qemu-user libcpputest-dev:arm64 \
+                qemu-user $(CROSS_PACKAGES) \
                 qemu-system-x86 busybox-static can-utils \
-                libmbedtls-dev libmbedtls-dev:arm64 tshark clang libclang-rt-14-dev \
+                libmbedtls-dev tshark clang libclang-rt-14-dev \
                 $(CBC_PACKAGES)
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
@@ -65,7 +101,9 @@ deps:
 	  if [ "$$(id -u)" != 0 ] && [ -z "$(SUDO)" ]; then \
 	    echo "deps: missing packages and not root (no sudo): run 'make deps' as root" >&2; exit 1; \
 	  fi; \
-	  if ! dpkg --print-foreign-architectures | grep -qx arm64; then $(SUDO) dpkg --add-architecture arm64; fi; \
+	  for a in $$(printf '%s\n' $$missing | sed -n 's/.*://p' | sort -u); do \
+	    dpkg --print-foreign-architectures | grep -qx "$$a" || $(SUDO) dpkg --add-architecture "$$a"; \
+	  done; \
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
@@ -216,7 +254,10 @@ $(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
 # and the ground tools.
 HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN) $(MC_BIN)
 .PHONY: all
-all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
+# A compile-only target (no Debian mbedTLS to link rse-fsw with) stops at the
+# flight library, rse-fsw's main and the default tables, all compiled.
+all: $(if $(COMPILE_ONLY),$(FLIGHT_LIB) $(BUILD)/obj/fsw/app/main.o $(DEFAULT_TABLES_OBJ),$(FSW_BIN)) \
+     $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # ---------------------------------------------------------------------------
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
@@ -278,13 +319,13 @@ VCAN_BINS := $(FSW_BIN) $(SIM_BIN) $(GROUND_BIN) $(ISOTP_BIN) $(DEMO_BIN)
 .PHONY: test-vcan test-vcan-mission
 test-vcan: deps
 	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(VCAN_BINS)
 	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
 	  $(VCAN_TEST) $(VCAN_MISSION_TEST)
 	@unit_test/summarize.sh $(RESULTS)
 test-vcan-mission: deps
 	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS)
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(VCAN_BINS)
 	@RSE_BIN_DIR=build/$(shell uname -m)/bin unit_test/run_suites.sh $(RESULTS) "$(shell uname -m)" "" \
 	  $(VCAN_MISSION_TEST)
 	@unit_test/summarize.sh $(RESULTS)
@@ -292,9 +333,11 @@ test-vcan-mission: deps
 .PHONY: test-binaries run-suites host-test cross-test test
 test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
-# Runs this arch's suites, appending one line per suite to $(RESULTS).
+# Runs this arch's suites, appending one line per suite to $(RESULTS); builds
+# them first (in parallel) unless the caller already did (SUITES_BUILT=1).
+SUITES_BUILT ?=
 run-suites:
-	@$(MAKE) --no-print-directory test-binaries || echo "$(ARCH)/build 0 1" >> $(RESULTS)
+	@$(if $(SUITES_BUILT),,$(MAKE) --no-print-directory $(PARALLEL) test-binaries || echo "$(ARCH)/build 0 1" >> $(RESULTS))
 	@RSE_BIN_DIR=$(BUILD)/bin unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" \
 	  $(TEST_BINS) $(SCRIPT_SUITES)
 
@@ -303,17 +346,72 @@ host-test: deps
 	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=
 	@unit_test/summarize.sh $(RESULTS)
 
-cross-test: deps
-	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=$(CROSS_AARCH64)
-	@unit_test/summarize.sh $(RESULTS)
+# ---------------------------------------------------------------------------
+# make test: one parallel make over every target (the host, CROSS_TEST_TARGETS,
+# CROSS_COMPILE_ONLY), then the Slurm test, then the summary. Per target, its
+# build (test-build/T) comes before its run (test-run/T), and the host's before
+# every cross build, which needs the host rse-ground for its default tables:
+# so the host suites run while the cross targets compile, and cross suites
+# run side by side. The host run is mostly the VM tests, which mostly wait
+# (their emulated machine idles between frames: about a quarter of a core), so
+# it gets a job slot of its own beyond one per core (TEST_JOBS). -k: a target
+# that fails to build is counted ("T/build 0 1") and the others go on;
+# -Otarget: each target's output is printed whole when it ends (a run's
+# console is in build/logs/ as it happens). Timings: docs/performance.md.
+# The host's real-time tests (the VM's mission at time scale 5, rse-fsw on its
+# real clock) must not lose their CPU to the work beside them: the cross
+# targets build and run at nice 19, so they take only what the host leaves idle.
+# (A cross suite at normal priority beside the vcan mission made the rover's
+# frames start 4 ms late and changed the mission: measured, docs/performance.md.)
+beside_host = $(if $(call test_prefix,$(1)),nice -n 19)
+TEST_JOBS = $(if $(filter -j%,$(MAKEFLAGS)),,-j$$(( $(NPROC) + 1 )))
+test_label = $(if $(filter host,$(1)),$(HOST_ARCH),$(call arch_of,$(1)))
+test_prefix = $(if $(filter host,$(1)),,$(1))
+TEST_SETS := host $(CROSS_TEST_TARGETS)
 
 test: deps
-	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=
-	@$(MAKE) --no-print-directory run-suites CROSS_COMPILE=$(CROSS_AARCH64)
+	@mkdir -p build && rm -f $(RESULTS) && rm -rf $(WIRE_DIR)
+	@echo "make test: building and running $(foreach t,$(TEST_SETS),$(call test_label,$(t))) and compiling $(foreach t,$(CROSS_COMPILE_ONLY),$(call test_label,$(t))) in parallel; each prints when it ends"
+	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(TEST_SETS:%=test-run/%) $(CROSS_COMPILE_ONLY:%=test-compile/%) \
+	  || echo "make test: some target failed (counted in the results below)"
+	@$(MAKE) --no-print-directory -k $(TEST_SETS:%=test-wire/%) || true
 	@$(MAKE) --no-print-directory test-slurm SLURM_RESULTS=$(RESULTS)
 	@unit_test/summarize.sh $(RESULTS)
+
+# The cross targets only (their builds and suites, the compile-only targets):
+# make cross-test, or one of them: make cross-test CROSS_TEST_TARGETS=s390x-linux-gnu- CROSS_COMPILE_ONLY=
+cross-test: deps
+	@mkdir -p build && rm -f $(RESULTS)
+	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(CROSS_TEST_TARGETS:%=test-run/%) $(CROSS_COMPILE_ONLY:%=test-compile/%) \
+	  || echo "make cross-test: some target failed (counted in the results below)"
+	@unit_test/summarize.sh $(RESULTS)
+
+.PHONY: test-host-ground FORCE
+FORCE:
+test-host-ground:
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_GROUND_BIN)
+test-build/%: test-host-ground FORCE
+	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) test-binaries \
+	  || { echo "$(call test_label,$*)/build 0 1" >> $(RESULTS); exit 1; }
+test-run/%: test-build/% FORCE
+	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) SUITES_BUILT=1 run-suites
+# The cross-target wire check (unit_test/wire_exchange/): once every target's
+# run has written its samples to WIRE_DIR, each target reads all the others'
+# (results "<target>-peers/test_wire_exchange").
+WIRE_DIR := build/wire
+TEST_LABELS = $(foreach t,$(TEST_SETS),$(call test_label,$(t)))
+test-wire/%: FORCE
+	@$(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) wire-peers
+.PHONY: wire-peers
+wire-peers:
+	@RSE_WIRE_DIR=$(WIRE_DIR) RSE_WIRE_PEERS="$(filter-out $(ARCH),$(TEST_LABELS))" \
+	  unit_test/run_suites.sh $(RESULTS) "$(ARCH)-peers" "$(RUNNER)" $(BUILD)/bin/test_wire_exchange
+# A compile-only target: the flight code (fsw/, hal/) with the flight warnings
+# as errors, and rse-fsw where it links (docs/cross_targets.md): one check.
+test-compile/%: test-host-ground FORCE
+	@if $(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$* all; then \
+	  echo "$(call test_label,$*)/flight-compile 1 0" >> $(RESULTS); \
+	else echo "$(call test_label,$*)/flight-compile 0 1" >> $(RESULTS); exit 1; fi
 
 # The Monte Carlo campaign on Slurm (docs/montecarlo.md): a one-node cluster on
 # localhost (munged, slurmctld, slurmd with a config written into
@@ -323,7 +421,6 @@ test: deps
 # test, the one results file of every suite (make test's summary counts it).
 # Where Slurm cannot run, it fails: nothing is skipped.
 SLURM_TEST := unit_test/integration/slurm/slurm_campaign_test.sh
-HOST_ARCH := $(shell uname -m)
 SLURM_RESULTS ?=
 .PHONY: test-slurm slurm-deps
 slurm-deps: deps
@@ -331,7 +428,7 @@ slurm-deps: deps
 test-slurm: slurm-deps
 	@mkdir -p build
 	@$(if $(SLURM_RESULTS),,rm -f $(RESULTS))
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_MC_BIN) \
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(HOST_MC_BIN) \
 	  || echo "$(HOST_ARCH)/slurm-build 0 1" >> $(or $(SLURM_RESULTS),$(RESULTS))
 	@RSE_BIN_DIR=build/$(HOST_ARCH)/bin unit_test/run_suites.sh $(or $(SLURM_RESULTS),$(RESULTS)) "$(HOST_ARCH)" "" \
 	  $(SLURM_TEST)
@@ -347,7 +444,7 @@ DEMO_ARGS ?=
 HOST_DEMO_BIN := build/$(shell uname -m)/bin/rse-demo
 .PHONY: demo bench bench-check plan-picture montecarlo
 demo: deps
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_DEMO_BIN)
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(HOST_DEMO_BIN)
 	$(HOST_DEMO_BIN) --duration $(DEMO_SECONDS) $(DEMO_ARGS)
 
 # make montecarlo: the demo mission over MC_SEEDS seeds from MC_FIRST on MC_JOBS
@@ -361,7 +458,7 @@ MC_JOBS ?= $(shell nproc)
 MC_ARGS ?=
 HOST_MC_BIN := build/$(shell uname -m)/bin/rse-montecarlo
 montecarlo: deps
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_MC_BIN)
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(HOST_MC_BIN)
 	$(HOST_MC_BIN) run --seeds $(MC_FIRST):$(MC_SEEDS) --jobs $(MC_JOBS) --out build/montecarlo/results.txt \
 	  --table build/montecarlo/table.txt $(MC_ARGS)
 
@@ -369,7 +466,7 @@ montecarlo: deps
 HOST_PLAN_PICTURE_BIN := build/$(shell uname -m)/bin/rse-plan-picture
 PLAN_PICTURE_SVG := build/plan_picture.svg
 plan-picture: deps
-	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_PLAN_PICTURE_BIN)
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= $(HOST_PLAN_PICTURE_BIN)
 	$(HOST_PLAN_PICTURE_BIN) -o $(PLAN_PICTURE_SVG)
 
 # Each program unit_test/bench/bench_*.cpp is one benchmark; make bench runs them

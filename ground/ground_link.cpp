@@ -1,6 +1,7 @@
 #include "ground/ground_link.hpp"
 
 #include <arpa/inet.h>
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -74,8 +75,12 @@ sockaddr_in resolveIpv4(const std::string& host, std::uint16_t port, const std::
     if (rc != 0 || found == nullptr) {
         throw LinkError(what + ": cannot resolve host '" + host + "': " + ::gai_strerror(rc));
     }
-    std::memcpy(&address.sin_addr, &reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr,
-                sizeof address.sin_addr);
+    // Copied out, not cast: ai_addr is a sockaddr*, less aligned than sockaddr_in
+    // (a cast is undefined where alignment is enforced, 32-bit ARM).
+    sockaddr_in resolved{};
+    std::memcpy(&resolved, found->ai_addr,
+                std::min(sizeof resolved, static_cast<std::size_t>(found->ai_addrlen)));
+    address.sin_addr = resolved.sin_addr;
     ::freeaddrinfo(found);
     return address;
 }
@@ -154,9 +159,10 @@ UdpGroundLink::~UdpGroundLink() {
 }
 
 void UdpGroundLink::send(const std::vector<std::uint8_t>& packet) {
-    const ssize_t n = ::sendto(fd_, packet.data(), packet.size(), 0,
-                               reinterpret_cast<const sockaddr*>(remoteAddress_.data()),
-                               static_cast<socklen_t>(remoteAddress_.size()));
+    sockaddr_in to{};  // the stored bytes, in a properly aligned sockaddr_in
+    std::memcpy(&to, remoteAddress_.data(), sizeof to);
+    const ssize_t n =
+        ::sendto(fd_, packet.data(), packet.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
     if (n < 0 || static_cast<std::size_t>(n) != packet.size()) {
         throw LinkError("cannot send to UDP " + remote_.host + ":" + std::to_string(remote_.port) + ": " +
                         (n < 0 ? errnoText(errno) : std::string("short write")));

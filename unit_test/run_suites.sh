@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs test suite binaries and appends one line per suite to a results file:
-#   <label>/<suite> <passed> <failed>
+#   <label>/<suite> <passed> <failed> <seconds>
+# (seconds: the suite's wall time; several runs may append to one file at once,
+# make test's targets side by side: each line is one short O_APPEND write).
 # A suite passes tests per its runner's own summary: CppUTest's "OK (N tests, N ran,
 # ...)" / "Errors (F failures, N tests, N ran, ...)", or a plain "N passed, N failed"
 # line. A suite that crashes, times out, exits non-zero or prints no summary counts
@@ -25,9 +27,10 @@ for bin in "$@"; do
   log="$log_dir/$label-$suite.log"
   if [ ! -x "$bin" ]; then
     echo "[$label] $suite: binary missing (build failed)"
-    echo "$label/$suite 0 1" >> "$results"
+    echo "$label/$suite 0 1 0" >> "$results"
     continue
   fi
+  started=$SECONDS
   echo "=== [$label] $suite"
   if [[ "$bin" == *.sh ]]; then
     RSE_RUNNER=$runner timeout "$SUITE_TIMEOUT" bash "$bin" 2>&1 | tee "$log"
@@ -51,5 +54,5 @@ for bin in "$@"; do
     echo "[$label] $suite: ran no test (counted as failed)"
     failed=1
   fi
-  echo "$label/$suite $passed $failed" >> "$results"
+  echo "$label/$suite $passed $failed $((SECONDS - started))" >> "$results"
 done

@@ -5,7 +5,7 @@
 //           (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)
 //           [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]
 //           [--auth-store PATH] [--auth-store-create] [--auth-store-sync]
-//           [--time-scale N]
+//           [--time-scale N] [--spin-margin-us N]
 //
 // --can IFACE opens that SocketCAN interface (can0, vcan0, ...) as the rover bus;
 // without it the flight software runs on an in-memory bus with nothing attached.
@@ -26,6 +26,9 @@
 // CPU allows (a duration is then required). --time-scale N (lab only) slows
 // the real-time timeline N times (core::ScaledMonotonicClock): for a machine
 // too slow for the rover's 100 Hz, with rse-sim --time-scale N on the same bus.
+// --spin-margin-us N makes real-time waits hybrid (core::MonotonicClock): sleep
+// to N us before the frame start, spin the rest (docs/performance.md, "Frame-start
+// jitter"; 0, the default, sleeps only).
 // Exit status: 0 after a clean stop,
 // 1 if initialisation failed, 2 for a bad command line.
 #include <cerrno>
@@ -72,6 +75,7 @@ struct Options {
     const char* watchdogDevice = nullptr;
     int watchdogTimeoutS = 30;
     std::uint32_t timeScale = 0;  // 0: not given (CLOCK_MONOTONIC as it is)
+    long spinMarginUs = -1;       // -1: not given (sleep only)
 };
 
 void usage(std::FILE* out) {
@@ -81,7 +85,7 @@ void usage(std::FILE* out) {
                  "               (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)\n"
                  "               [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
                  "               [--auth-store PATH] [--auth-store-create] [--auth-store-sync]\n"
-                 "               [--time-scale N]\n"
+                 "               [--time-scale N] [--spin-margin-us N]\n"
                  "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
                  "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
                  "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
@@ -113,8 +117,12 @@ void usage(std::FILE* out) {
                  "  --time-scale N      lab only: mission time runs N times slower than CLOCK_MONOTONIC (1..%u;\n"
                  "                      1 = real time), for a machine too slow for 100 Hz (the qemu VM); give\n"
                  "                      rse-sim the same N. Frame periods, timeouts, budgets and --duration are\n"
-                 "                      in mission time; HK.time_scale says N\n",
-                 static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
+                 "                      in mission time; HK.time_scale says N\n"
+                 "  --spin-margin-us N  real time: sleep to N us before each frame start and spin the rest\n"
+                 "                      (0..%lld; default 0 = sleep only): frame starts on time despite the\n"
+                 "                      kernel's timer wake-up latency, for up to N us of CPU a frame\n",
+                 static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor),
+                 static_cast<long long>(rse::core::MonotonicClock::kMaxSpinMargin / rse::core::kNsPerUs));
 }
 
 // Returns false (after printing why) on a bad command line.
@@ -204,6 +212,16 @@ bool parseOptions(int argc, char** argv, Options* options) {
             }
             ++i;
             options->timeScale = static_cast<std::uint32_t>(factor);
+        } else if (std::strcmp(arg, "--spin-margin-us") == 0) {
+            char* end = nullptr;
+            const long maxUs = static_cast<long>(rse::core::MonotonicClock::kMaxSpinMargin / rse::core::kNsPerUs);
+            const long us = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : -1;
+            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || us < 0 || us > maxUs) {
+                std::fprintf(stderr, "rse-fsw: --spin-margin-us needs whole microseconds 0..%ld\n", maxUs);
+                return false;
+            }
+            ++i;
+            options->spinMarginUs = us;
         } else if (std::strcmp(arg, "--cmd-port") == 0 || std::strcmp(arg, "--tlm-port") == 0) {
             char* end = nullptr;
             const unsigned long port = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
@@ -232,6 +250,10 @@ bool parseOptions(int argc, char** argv, Options* options) {
     }
     if (options->lockstep && options->timeScale != 0) {
         std::fprintf(stderr, "rse-fsw: --time-scale slows the real-time clock: --lockstep has none\n");
+        return false;
+    }
+    if (options->lockstep && options->spinMarginUs >= 0) {
+        std::fprintf(stderr, "rse-fsw: --spin-margin-us shapes real-time waits: --lockstep has none\n");
         return false;
     }
     if (options->timeScale > 1 && options->watchdogDevice != nullptr) {
@@ -352,6 +374,13 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "rse-fsw: --time-scale %u refused\n", static_cast<unsigned>(options.timeScale));
         return 2;
     }
+    if (options.spinMarginUs > 0) {
+        const rse::core::TimeNs margin = options.spinMarginUs * rse::core::kNsPerUs;
+        if (!g_monotonicClock.setSpinMargin(margin) || !g_scaledClock.setSpinMargin(margin)) {
+            std::fprintf(stderr, "rse-fsw: --spin-margin-us %ld refused\n", options.spinMarginUs);
+            return 2;
+        }
+    }
     rse::core::Clock& clock = options.lockstep         ? static_cast<rse::core::Clock&>(g_virtualClock)
                                : options.timeScale != 0 ? static_cast<rse::core::Clock&>(g_scaledClock)
                                                         : static_cast<rse::core::Clock&>(g_monotonicClock);
@@ -427,10 +456,15 @@ int main(int argc, char** argv) {
             ? static_cast<std::uint64_t>(options.durationSec * static_cast<double>(rse::core::kNsPerSec) /
                                          static_cast<double>(rse::app::kMinorFramePeriod) + 0.5)
             : 0;
-    char timeline[96] = "";
+    char timeline[160] = "";
     if (options.timeScale != 0) {
         std::snprintf(timeline, sizeof timeline, " (time scale %u: 1 s of mission time every %u s, lab only)",
                       static_cast<unsigned>(options.timeScale), static_cast<unsigned>(options.timeScale));
+    }
+    if (options.spinMarginUs > 0) {
+        const std::size_t used = std::strlen(timeline);
+        std::snprintf(timeline + used, sizeof timeline - used, " (frame starts: sleep, then spin the last %ld us)",
+                      options.spinMarginUs);
     }
     std::printf("rse-fsw: %s%s mode, %s, CAN %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time", timeline,
                 maxFrames > 0 ? "fixed duration" : "until SIGINT/SIGTERM",

@@ -27,12 +27,27 @@ TimeNs read(clockid_t id) {
 TimeNs MonotonicClock::now() const { return read(CLOCK_MONOTONIC); }
 
 void MonotonicClock::sleepUntil(TimeNs deadline) {
-    const timespec target = toTimespec(deadline);
+    const TimeNs wakeAt = deadline - spinMargin_;
+    const timespec target = toTimespec(wakeAt);
     // EINTR (a signal such as SIGINT) resumes the same absolute sleep; the
     // executive checks its stop flag once per frame, so shutdown is at most one
     // frame late and frames never start early.
     while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &target, nullptr) == EINTR) {
     }
+    // The spin: bounded by the deadline itself, at most spinMargin_ after a timely
+    // wake-up (CLOCK_MONOTONIC only advances); nothing when the sleep woke late.
+    if (spinMargin_ > 0) {
+        while (now() < deadline) {
+        }
+    }
+}
+
+bool MonotonicClock::setSpinMargin(TimeNs margin) {
+    if (margin < 0 || margin > kMaxSpinMargin) {
+        return false;
+    }
+    spinMargin_ = margin;
+    return true;
 }
 
 bool ScaledMonotonicClock::start(std::uint32_t factor) {

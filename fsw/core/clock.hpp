@@ -52,10 +52,26 @@ private:
 
 class MonotonicClock final : public Clock {
 public:
+    // Spin margins above this are refused: a spin is CPU time taken from every
+    // other thread on the core, and a kernel that wakes this late needs fixing,
+    // not spinning (docs/performance.md, "Frame-start jitter").
+    static constexpr TimeNs kMaxSpinMargin = 2 * kNsPerMs;
+
     TimeNs now() const override;
     // clock_nanosleep(TIMER_ABSTIME): deadlines are absolute, so lateness in one
     // frame does not shift the next; interrupted sleeps resume to the same deadline.
+    // With a spin margin m > 0 (hybrid wait) it sleeps only to deadline - m and
+    // spins on now() for the rest: the kernel's timer wake-up latency (tens to
+    // hundreds of microseconds on a VM) is then paid inside the margin instead of
+    // after the deadline, at the price of up to m of CPU time a wait.
     void sleepUntil(TimeNs deadline) override;
+    // 0 = sleep only (the default). Returns false (and keeps the margin it had)
+    // outside 0..kMaxSpinMargin. rse-fsw --spin-margin-us sets it.
+    bool setSpinMargin(TimeNs margin);
+    TimeNs spinMargin() const { return spinMargin_; }
+
+private:
+    TimeNs spinMargin_ = 0;
 };
 
 // CLOCK_MONOTONIC slowed down by a whole factor, for the lab only: a machine
@@ -80,6 +96,8 @@ public:
     // when already started. Called once, before the first frame.
     bool start(std::uint32_t factor);
     std::uint32_t factor() const { return factor_; }
+    // The hybrid wait of MonotonicClock::setSpinMargin, in wall time (not scaled).
+    bool setSpinMargin(TimeNs margin) { return wall_.setSpinMargin(margin); }
     TimeNs now() const override;
     void sleepUntil(TimeNs deadline) override;
 

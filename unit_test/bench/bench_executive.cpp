@@ -5,8 +5,10 @@
 //     plus its clock reads, per frame, for 0, 1, 8 and 16 tasks; and the same on
 //     the virtual clock (lockstep).
 //  2. Frame-start jitter in real-time mode: 100 Hz for BENCH_JITTER_SECONDS
-//     (default 10) with rse-fsw's real-time posture (mlockall + SCHED_FIFO where
-//     the OS allows); lateness = actual - scheduled start of each frame.
+//     (default 10) per wait with rse-fsw's real-time posture (mlockall +
+//     SCHED_FIFO where the OS allows); lateness = actual - scheduled start of
+//     each frame; sleep only beside the hybrid sleep-then-spin wait, with the
+//     CPU time each costs.
 // Host-side program: it may allocate; the executive under test does not.
 #include <algorithm>
 #include <cstdio>
@@ -126,22 +128,55 @@ int main() {
     EventLog events(clock);
     const RealtimePosture posture = enterRealtimePosture(events, 50);
     static Executive exec(clock, events);
-    LatenessRecorder recorder(jitterFrames);
-    const RateGroupEntry table[] = {{"recorder", &recorder, 1, 0, 1000}};
-    if (!isOk(exec.init(ExecutiveConfig{}, table, 1))) {
-        std::fprintf(stderr, "bench: executive init failed\n");
-        return 1;
-    }
-    exec.run(nullptr, jitterFrames);
-    const auto& s = recorder.samples;
-    std::printf("\n== frame-start jitter, real time, 100 Hz, %.0f s (%zu frames)\n", seconds, s.size());
+    std::printf("\n== frame-start jitter, real time, 100 Hz, %.0f s (%zu frames) per wait\n", seconds, jitterFrames);
     std::printf("   posture: mlockall %s, SCHED_FIFO %s\n", posture.memoryLocked ? "yes" : "no",
                 posture.fifoScheduling ? "yes (priority 50)" : "no (time-shared)");
-    const TimeNs p50 = percentile(s, 0.50), p99 = percentile(s, 0.99);
-    const TimeNs mx = *std::max_element(s.begin(), s.end());
-    std::printf("   lateness p50 %8.1f us   p99 %8.1f us   max %8.1f us\n", us(p50), us(p99), us(mx));
-    std::printf("   frame overruns %u, skipped %u\n", static_cast<unsigned>(exec.stats().frameOverruns),
-                static_cast<unsigned>(exec.stats().framesSkipped));
-    std::printf("   target: p99 < 200 us -> %s\n", targets.check(p99 < 200 * kNsPerUs) ? "met" : "MISSED");
+    std::printf("   %-24s %10s %10s %10s %9s %14s %12s\n", "wait", "p50 us", "p99 us", "max us", "overruns",
+                "CPU us/frame", "CPU % core");
+    // One run per wait, one after the other in this process: the sleep-only wait
+    // (margin 0) and the hybrid at three spin margins (MonotonicClock::setSpinMargin,
+    // rse-fsw --spin-margin-us). The CPU column is this thread's CPU time over the
+    // run: the executive's bookkeeping plus the spin.
+    const TimeNs marginsUs[] = {0, 100, 300, 500};
+    constexpr TimeNs kTargetMarginUs = 500;  // the margin docs/performance.md recommends
+    TimeNs sleepOnlyP99 = 0, targetP99 = 0;
+    for (const TimeNs marginUs : marginsUs) {
+        if (!clock.setSpinMargin(marginUs * kNsPerUs)) {
+            std::fprintf(stderr, "bench: spin margin %lld us refused\n", static_cast<long long>(marginUs));
+            return 1;
+        }
+        LatenessRecorder recorder(jitterFrames);
+        const RateGroupEntry table[] = {{"recorder", &recorder, 1, 0, 1000}};
+        if (!isOk(exec.init(ExecutiveConfig{}, table, 1))) {
+            std::fprintf(stderr, "bench: executive init failed\n");
+            return 1;
+        }
+        ThreadCpuClock cpu;
+        const TimeNs cpuBefore = cpu.now(), wallBefore = clock.now();
+        exec.run(nullptr, jitterFrames);
+        const TimeNs cpuSpent = cpu.now() - cpuBefore, wallSpent = clock.now() - wallBefore;
+        const auto& s = recorder.samples;
+        const TimeNs p50 = percentile(s, 0.50), p99 = percentile(s, 0.99);
+        const TimeNs mx = *std::max_element(s.begin(), s.end());
+        char label[40];
+        std::snprintf(label, sizeof label, marginUs == 0 ? "sleep only" : "hybrid, spin %lld us",
+                      static_cast<long long>(marginUs));
+        std::printf("   %-24s %10.1f %10.1f %10.1f %9u %14.1f %11.1f%%\n", label, us(p50), us(p99), us(mx),
+                    static_cast<unsigned>(exec.stats().frameOverruns),
+                    us(cpuSpent) / static_cast<double>(s.size()),
+                    100.0 * static_cast<double>(cpuSpent) / static_cast<double>(wallSpent));
+        if (marginUs == 0) {
+            sleepOnlyP99 = p99;
+        }
+        if (marginUs == kTargetMarginUs) {
+            targetP99 = p99;
+        }
+    }
+    // Sleep only is reported against the old 200 us goal as a figure (the kernel's
+    // wake-up, not ours); the target is the hybrid's.
+    std::printf("   sleep only: p99 %.1f us (%s 200 us)\n", us(sleepOnlyP99),
+                sleepOnlyP99 < 200 * kNsPerUs ? "below" : "above");
+    std::printf("   target: hybrid (spin %lld us) p99 < 50 us -> %s\n", static_cast<long long>(kTargetMarginUs),
+                targets.check(targetP99 < 50 * kNsPerUs) ? "met" : "MISSED");
     return targets.finish();
 }

@@ -34,6 +34,41 @@ TEST(MonotonicClock, SleepUntilReturnsNoEarlierThanTheDeadline) {
     CHECK(clock.now() >= before);
 }
 
+TEST(MonotonicClock, SpinMarginTakesZeroToTheLimitOnly) {
+    MonotonicClock clock;
+    CHECK_EQUAL(0, clock.spinMargin());  // sleep only unless asked
+    CHECK_TRUE(clock.setSpinMargin(MonotonicClock::kMaxSpinMargin));
+    CHECK_FALSE(clock.setSpinMargin(MonotonicClock::kMaxSpinMargin + 1));
+    CHECK_FALSE(clock.setSpinMargin(-1));
+    CHECK_EQUAL(MonotonicClock::kMaxSpinMargin, clock.spinMargin());  // the refused ones changed nothing
+    CHECK_TRUE(clock.setSpinMargin(0));
+    CHECK_EQUAL(0, clock.spinMargin());
+}
+
+// The hybrid wait still never returns early, and it spins: a wait that lies
+// wholly inside the margin costs CPU time where a sleep costs next to none.
+// Loose on purpose (a quarter of the wall time, summed over five waits): a
+// loaded machine may deschedule the spinning thread, never make it cost less
+// than nothing; the CPU figures themselves are bench_executive's.
+TEST(MonotonicClock, HybridWaitSpinsTheMarginAndIsNeverEarly) {
+    MonotonicClock clock;
+    ThreadCpuClock cpu;
+    CHECK_TRUE(clock.setSpinMargin(2 * kNsPerMs));
+    TimeNs wallSpent = 0;
+    TimeNs cpuSpent = 0;
+    for (int i = 0; i < 5; ++i) {
+        const TimeNs cpuBefore = cpu.now();
+        const TimeNs start = clock.now();
+        const TimeNs deadline = start + 3 * kNsPerMs / 2;
+        clock.sleepUntil(deadline);
+        const TimeNs end = clock.now();
+        CHECK(end >= deadline);
+        wallSpent += end - start;
+        cpuSpent += cpu.now() - cpuBefore;
+    }
+    CHECK(cpuSpent * 4 >= wallSpent);
+}
+
 TEST_GROUP(ScaledMonotonicClock){};
 
 TEST(ScaledMonotonicClock, BeforeStartItIsTheMonotonicClock) {

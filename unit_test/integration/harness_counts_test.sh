@@ -22,12 +22,13 @@ fake() {
   chmod +x "$work/$name"
 }
 
-# The line run_suites.sh records for one fake suite: "<label>/<suite> P F".
+# The line run_suites.sh records for one fake suite: "<label>/<suite> P F"
+# (its fourth field, the suite's seconds, is checked on its own below).
 counted() {  # counted SUITE
   local results="$work/results-$1.txt"
   rm -f "$results"
   "$root/unit_test/run_suites.sh" "$results" fake "" "$work/$1" >"$work/$1.out" 2>&1
-  cat "$results"
+  cut -d' ' -f1-3 "$results"
 }
 
 echo "run_suites.sh: what a suite's output counts as"
@@ -51,12 +52,23 @@ check "non-zero exit without a failed test counts one failure" test "$(counted c
 fake crash_zero 139 "0 passed, 0 failed"
 check "a crash that ran nothing counts one failure, not two" test "$(counted crash_zero)" = "fake/crash_zero 0 1"
 check "a missing binary counts one failure" test "$(counted no_such_suite)" = "fake/no_such_suite 0 1"
+printf '#!/bin/sh\nsleep 1\necho "1 passed, 0 failed"\n' >"$work/slow" && chmod +x "$work/slow"
+counted slow >/dev/null
+check "the fourth field is the suite's whole seconds (a 1 s suite: 1 or 2)" \
+  grep -qE '^fake/slow 1 0 [12]$' "$work/results-slow.txt"
 
 echo "summarize.sh: the closing line and exit status"
 printf 'x/a 5 0\nx/b 3 0\n' >"$work/all_pass.txt"
 "$root/unit_test/summarize.sh" "$work/all_pass.txt" >"$work/sum.out"; rc=$?
 check "all passed: exit 0" test "$rc" -eq 0
 check "all passed: last line '8 passed, 0 failed'" test "$(tail -1 "$work/sum.out")" = "8 passed, 0 failed"
+printf 'x/a 5 0 3\ny/a 2 1 7\nx/b 3 0 4\n' >"$work/two_targets.txt"
+"$root/unit_test/summarize.sh" "$work/two_targets.txt" >"$work/sum.out"
+check "per-target table: x has 2 suites, 8 passed, 0 failed, 7 s" grep -qE '^  x +2 +8 +0 +7$' "$work/sum.out"
+check "per-target table: y has 1 suite, 2 passed, 1 failed, 7 s" grep -qE '^  y +1 +2 +1 +7$' "$work/sum.out"
+check "suites grouped by target: x/b listed before y/a" \
+  test "$(grep -oE '^  (x/b|y/a) ' "$work/sum.out" | tr -d ' \n')" = "x/by/a"
+check "two targets: last line '10 passed, 1 failed'" test "$(tail -1 "$work/sum.out")" = "10 passed, 1 failed"
 rm -f "$work/results-zero.txt"
 "$root/unit_test/run_suites.sh" "$work/results-zero.txt" fake "" "$work/plain" "$work/zero_plain" >/dev/null 2>&1
 "$root/unit_test/summarize.sh" "$work/results-zero.txt" >"$work/sum.out"; rc=$?

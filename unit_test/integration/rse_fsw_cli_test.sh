@@ -117,6 +117,18 @@ check "--time-scale 4: event 226 at start-up" grep -q "EVT 226 WARN  app: time s
 fsw --no-rt --lab-key --duration 0.2 --auth-store "$work/scaled-auth.dat" >"$work/unscaled" 2>&1; rc=$?
 check "without --time-scale: no event 226, no time scale in the start line" sh -c "[ $rc -eq 0 ] && ! grep -q 'EVT 226\|time scale' '$work/unscaled'"
 
+echo "--spin-margin-us N: hybrid frame-start waits (sleep, then spin the last N us)"
+for bad in -1 2001 abc 10x ""; do
+  fsw --spin-margin-us "$bad" --duration 0.1 --lab-key >"$work/out" 2>"$work/err"; rc=$?
+  check "--spin-margin-us '$bad': exit 2, says the range" sh -c "[ $rc -eq 2 ] && grep -q -- '--spin-margin-us needs whole microseconds 0..2000' '$work/err'"
+done
+fsw --lockstep --duration 1 --spin-margin-us 100 --lab-key >"$work/out" 2>"$work/err"; rc=$?
+check "--spin-margin-us with --lockstep: exit 2, says why" sh -c "[ $rc -eq 2 ] && grep -q -- '--spin-margin-us shapes real-time waits' '$work/err'"
+fsw --no-rt --lab-key --duration 0.3 --spin-margin-us 300 --auth-store "$work/scaled-auth.dat" >"$work/spin" 2>&1; rc=$?
+check "--spin-margin-us 300 --duration 0.3: exits 0 after 30 frames" sh -c "[ $rc -eq 0 ] && grep -q 'rse-fsw summary: 30 frames run' '$work/spin'"
+check "--spin-margin-us 300: the start line says so" grep -q "frame starts: sleep, then spin the last 300 us" "$work/spin"
+check "without --spin-margin-us: sleep only (the start line names no spin)" sh -c "! grep -q 'spin' '$work/unscaled'"
+
 for sig in INT TERM; do
   echo "real time: SIG$sig stops it cleanly"
   # Started directly (not through the fsw function) so $! is rse-fsw itself.
