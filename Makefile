@@ -27,15 +27,16 @@ SHELL := /bin/bash
 
 CROSS_COMPILE ?=
 # The flight computers (docs/cross_targets.md). make test builds every one and
-# runs the suites of CROSS_TEST_TARGETS under qemu-user; CROSS_COMPILE_ONLY
-# targets have no Debian libraries to link the suites with: their flight code is
-# compiled (and rse-fsw linked where its libraries exist), nothing runs.
+# runs the suites of CROSS_TEST_TARGETS under qemu-user. CROSS_BUILD_ONLY
+# targets have no Debian port, so no CppUTest to link the suites with: their
+# flight code is compiled, rse-fsw linked (mbedTLS built from Debian's source
+# package) and run once in lockstep under qemu-user.
 CROSS_AARCH64 := aarch64-linux-gnu-
 CROSS_ARMHF := arm-linux-gnueabihf-
 CROSS_S390X := s390x-linux-gnu-
 CROSS_POWERPC := powerpc-linux-gnu-
 CROSS_TEST_TARGETS := $(CROSS_AARCH64) $(CROSS_ARMHF) $(CROSS_S390X)
-CROSS_COMPILE_ONLY := $(CROSS_POWERPC)
+CROSS_BUILD_ONLY := $(CROSS_POWERPC)
 CXX := $(CROSS_COMPILE)g++
 AR := $(CROSS_COMPILE)ar
 # The build folder's name: the Debian port's for 32-bit ARM (the triple says
@@ -45,7 +46,7 @@ ARCH := $(if $(CROSS_COMPILE),$(call arch_of,$(CROSS_COMPILE)),$(shell uname -m)
 BUILD := build/$(ARCH)
 HOST_ARCH := $(shell uname -m)
 TRIPLE := $(patsubst %-,%,$(CROSS_COMPILE))
-COMPILE_ONLY := $(filter $(CROSS_COMPILE),$(CROSS_COMPILE_ONLY))
+BUILD_ONLY := $(filter $(CROSS_COMPILE),$(CROSS_BUILD_ONLY))
 
 # How test binaries run: natively, or under qemu-user with the target's libraries.
 # s390x: qemu-s390x 7.2 aborts every dynamically linked program it loads itself
@@ -112,7 +113,10 @@ deps:
 # Flags. Flight code (fsw/, hal/): no exceptions, no RTTI, strict warnings.
 # EIGEN_RUNTIME_NO_MALLOC everywhere so the allocation tests can forbid Eigen
 # heap use at run time (it costs nothing unless asked).
-CPPFLAGS := -I. -isystem /usr/include/eigen3 -DEIGEN_RUNTIME_NO_MALLOC -MMD -MP
+# 64-bit file offsets and time_t on 32-bit targets too (no-op on 64-bit ones):
+# without them readdir() fails on a filesystem with 64-bit directory offsets
+# (seen: armhf under qemu-user on ext4) and time_t overflows in January 2038.
+CPPFLAGS := -I. -isystem /usr/include/eigen3 -DEIGEN_RUNTIME_NO_MALLOC -D_FILE_OFFSET_BITS=64 -D_TIME_BITS=64 -MMD -MP
 CXXSTD := -std=c++17
 OPT := -O2 -g
 WARNINGS := -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wold-style-cast \
@@ -120,10 +124,18 @@ WARNINGS := -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wsign-conversion -Wo
 FLIGHT_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS) -fno-exceptions -fno-rtti
 # Test and host-tool code: CppUTest's macros expand to casts that -Wold-style-cast
 # and -Wconversion reject, so those two are off there.
-TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror
+# CPPUTEST_MEM_LEAK_DETECTION_DISABLED: CppUTest's headers otherwise define
+# `new` as new(__FILE__, __LINE__), whose operator ignores alignment, and a test
+# group holding an over-aligned member (FswApp: Eigen's fixed-size types want 16
+# bytes) is then misaligned where malloc aligns to 8 (armhf: Eigen's assertion).
+# Leaks are still found (the library's operator new), without file and line.
+TEST_CXXFLAGS := $(CXXSTD) $(OPT) -Wall -Wextra -Wpedantic -Wshadow -Werror -DCPPUTEST_MEM_LEAK_DETECTION_DISABLED
 SIM_CXXFLAGS := $(CXXSTD) $(OPT) $(WARNINGS)
-# HMAC-SHA-256 for authenticated commands: Debian's mbedTLS (libmbedcrypto).
-LDLIBS_CRYPTO := -lmbedcrypto
+# HMAC-SHA-256 for authenticated commands: Debian's mbedTLS (libmbedcrypto);
+# for a build-only target, built from Debian's source package (a prerequisite
+# of rse-fsw, so it links as one of its objects).
+SOURCE_MBEDCRYPTO := $(if $(BUILD_ONLY),$(BUILD)/mbedtls/libmbedcrypto.a)
+LDLIBS_CRYPTO := $(if $(BUILD_ONLY),,-lmbedcrypto)
 LDLIBS_TEST := -lCppUTest -lpthread $(LDLIBS_CRYPTO)
 # Bind every symbol at load time: no lazy-binding stall in the first frames.
 LDFLAGS := -Wl,-z,now
@@ -182,9 +194,13 @@ $(SIM_LIB): $(SIM_OBJS)
 	@mkdir -p $(@D)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(DEFAULT_TABLES_OBJ) $(FLIGHT_LIB)
+$(FSW_BIN): $(BUILD)/obj/fsw/app/main.o $(DEFAULT_TABLES_OBJ) $(FLIGHT_LIB) $(SOURCE_MBEDCRYPTO)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+ifneq ($(SOURCE_MBEDCRYPTO),)
+$(SOURCE_MBEDCRYPTO): unit_test/cross/build_mbedcrypto.sh | deps
+	unit_test/cross/build_mbedcrypto.sh $(CROSS_COMPILE) $@
+endif
 
 SIM_BIN := $(BUILD)/bin/rse-sim
 $(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(FLIGHT_LIB)
@@ -254,10 +270,7 @@ $(DEFAULT_TABLES_OBJ): $(DEFAULT_TABLES_SRC)
 # and the ground tools.
 HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_BIN) $(MC_BIN)
 .PHONY: all
-# A compile-only target (no Debian mbedTLS to link rse-fsw with) stops at the
-# flight library, rse-fsw's main and the default tables, all compiled.
-all: $(if $(COMPILE_ONLY),$(FLIGHT_LIB) $(BUILD)/obj/fsw/app/main.o $(DEFAULT_TABLES_OBJ),$(FSW_BIN)) \
-     $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
+all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # ---------------------------------------------------------------------------
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
@@ -348,7 +361,7 @@ host-test: deps
 
 # ---------------------------------------------------------------------------
 # make test: one parallel make over every target (the host, CROSS_TEST_TARGETS,
-# CROSS_COMPILE_ONLY), then the Slurm test, then the summary. Per target, its
+# CROSS_BUILD_ONLY), then the Slurm test, then the summary. Per target, its
 # build (test-build/T) comes before its run (test-run/T), and the host's before
 # every cross build, which needs the host rse-ground for its default tables:
 # so the host suites run while the cross targets compile, and cross suites
@@ -371,18 +384,18 @@ TEST_SETS := host $(CROSS_TEST_TARGETS)
 
 test: deps
 	@mkdir -p build && rm -f $(RESULTS) && rm -rf $(WIRE_DIR)
-	@echo "make test: building and running $(foreach t,$(TEST_SETS),$(call test_label,$(t))) and compiling $(foreach t,$(CROSS_COMPILE_ONLY),$(call test_label,$(t))) in parallel; each prints when it ends"
-	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(TEST_SETS:%=test-run/%) $(CROSS_COMPILE_ONLY:%=test-compile/%) \
+	@echo "make test: building and running $(foreach t,$(TEST_SETS),$(call test_label,$(t))) and building $(foreach t,$(CROSS_BUILD_ONLY),$(call test_label,$(t))) (rse-fsw under qemu, no suites) in parallel; each prints when it ends"
+	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(TEST_SETS:%=test-run/%) $(CROSS_BUILD_ONLY:%=test-build-only/%) \
 	  || echo "make test: some target failed (counted in the results below)"
 	@$(MAKE) --no-print-directory -k $(TEST_SETS:%=test-wire/%) || true
 	@$(MAKE) --no-print-directory test-slurm SLURM_RESULTS=$(RESULTS)
 	@unit_test/summarize.sh $(RESULTS)
 
 # The cross targets only (their builds and suites, the compile-only targets):
-# make cross-test, or one of them: make cross-test CROSS_TEST_TARGETS=s390x-linux-gnu- CROSS_COMPILE_ONLY=
+# make cross-test, or one of them: make cross-test CROSS_TEST_TARGETS=s390x-linux-gnu- CROSS_BUILD_ONLY=
 cross-test: deps
 	@mkdir -p build && rm -f $(RESULTS)
-	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(CROSS_TEST_TARGETS:%=test-run/%) $(CROSS_COMPILE_ONLY:%=test-compile/%) \
+	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(CROSS_TEST_TARGETS:%=test-run/%) $(CROSS_BUILD_ONLY:%=test-build-only/%) \
 	  || echo "make cross-test: some target failed (counted in the results below)"
 	@unit_test/summarize.sh $(RESULTS)
 
@@ -406,12 +419,21 @@ test-wire/%: FORCE
 wire-peers:
 	@RSE_WIRE_DIR=$(WIRE_DIR) RSE_WIRE_PEERS="$(filter-out $(ARCH),$(TEST_LABELS))" \
 	  unit_test/run_suites.sh $(RESULTS) "$(ARCH)-peers" "$(RUNNER)" $(BUILD)/bin/test_wire_exchange
-# A compile-only target: the flight code (fsw/, hal/) with the flight warnings
-# as errors, and rse-fsw where it links (docs/cross_targets.md): one check.
-test-compile/%: test-host-ground FORCE
-	@if $(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$* all; then \
-	  echo "$(call test_label,$*)/flight-compile 1 0" >> $(RESULTS); \
-	else echo "$(call test_label,$*)/flight-compile 0 1" >> $(RESULTS); exit 1; fi
+# A build-only target (docs/cross_targets.md), two checks: the flight code
+# (fsw/, hal/) compiled with the flight warnings as errors and rse-fsw linked;
+# then rse-fsw run for 1 s of lockstep under qemu-user (100 frames, exit 0).
+test-build-only/%: test-host-ground FORCE
+	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$* rse-fsw-lockstep-check
+.PHONY: rse-fsw-lockstep-check
+rse-fsw-lockstep-check:
+	@if $(MAKE) --no-print-directory all; then echo "$(ARCH)/flight-build 1 0 0" >> $(RESULTS); \
+	else echo "$(ARCH)/flight-build 0 1 0" >> $(RESULTS); exit 1; fi
+	@rm -f $(BUILD)/lockstep-auth.dat; \
+	if $(RUNNER) $(FSW_BIN) --lockstep --duration 1 --lab-key --auth-store-sync \
+	     --auth-store $(BUILD)/lockstep-auth.dat --auth-store-create > $(BUILD)/lockstep-check.log 2>&1 \
+	   && grep -q "rse-fsw summary: 100 frames run, 0 overruns" $(BUILD)/lockstep-check.log; then \
+	  echo "$(ARCH)/rse-fsw-lockstep 1 0 0" >> $(RESULTS); echo "[$(ARCH)] rse-fsw: 1 s of lockstep under qemu-user, 100 frames"; \
+	else echo "$(ARCH)/rse-fsw-lockstep 0 1 0" >> $(RESULTS); cat $(BUILD)/lockstep-check.log; exit 1; fi
 
 # The Monte Carlo campaign on Slurm (docs/montecarlo.md): a one-node cluster on
 # localhost (munged, slurmctld, slurmd with a config written into
