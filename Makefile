@@ -320,6 +320,9 @@ WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
+# The suites that boot the qemu VM (real-time, mostly waiting): make test runs
+# them as a set of their own (test-run/host-vm), as soon as VCAN_BINS are built.
+VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST)
 SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
@@ -348,11 +351,14 @@ test-binaries: $(TEST_BINS) $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # Runs this arch's suites, appending one line per suite to $(RESULTS); builds
 # them first (in parallel) unless the caller already did (SUITES_BUILT=1).
+# RUN_SET=vm: only the VM suites; RUN_SET=no-vm: all the others (make test).
 SUITES_BUILT ?=
+RUN_SET ?=
+RUN_SUITES = $(if $(filter vm,$(RUN_SET)),$(VM_SUITES),\
+               $(TEST_BINS) $(if $(filter no-vm,$(RUN_SET)),$(filter-out $(VM_SUITES),$(SCRIPT_SUITES)),$(SCRIPT_SUITES)))
 run-suites:
 	@$(if $(SUITES_BUILT),,$(MAKE) --no-print-directory $(PARALLEL) test-binaries || echo "$(ARCH)/build 0 1" >> $(RESULTS))
-	@RSE_BIN_DIR=$(BUILD)/bin unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" \
-	  $(TEST_BINS) $(SCRIPT_SUITES)
+	@RSE_BIN_DIR=$(BUILD)/bin unit_test/run_suites.sh $(RESULTS) "$(ARCH)" "$(RUNNER)" $(RUN_SUITES)
 
 host-test: deps
 	@mkdir -p build && rm -f $(RESULTS)
@@ -361,16 +367,19 @@ host-test: deps
 
 # ---------------------------------------------------------------------------
 # make test: one parallel make over every target (the host, CROSS_TEST_TARGETS,
-# CROSS_BUILD_ONLY), then the Slurm test, then the summary. Per target, its
-# build (test-build/T) comes before its run (test-run/T), and the host's before
-# every cross build, which needs the host rse-ground for its default tables:
-# so the host suites run while the cross targets compile, and cross suites
-# run side by side. The host run is mostly the VM tests, which mostly wait
-# (their emulated machine idles between frames: about a quarter of a core), so
-# it gets a job slot of its own beyond one per core (TEST_JOBS). -k: a target
-# that fails to build is counted ("T/build 0 1") and the others go on;
-# -Otarget: each target's output is printed whole when it ends (a run's
-# console is in build/logs/ as it happens). Timings: docs/performance.md.
+# CROSS_BUILD_ONLY), then the cross-target wire check, the Slurm test and the
+# summary. Per target its build (test-build/T) comes before its run
+# (test-run/T). The order of the builds follows the longest chain: first the
+# programs the VM suites need (test-build-vm), whose run (test-run-vm: the vcan
+# tests and the watchdog test, ten minutes of an emulated machine that mostly
+# idles, about a quarter of a core) then starts at once; then the host's suites;
+# then the cross targets (they need the host rse-ground for their default
+# tables), which build and run beside the host's runs, side by side. The VM run
+# holds a job slot while hardly using a core, so make test gets one slot beyond
+# one per core (TEST_JOBS). -k: a target that fails to build is counted
+# ("T/build 0 1") and the others go on; -Otarget: each run's output is printed
+# whole when it ends (its console is in build/logs/ as it happens). Timings:
+# docs/performance.md, "Build and test times".
 # The host's real-time tests (the VM's mission at time scale 5, rse-fsw on its
 # real clock) must not lose their CPU to the work beside them: the cross
 # targets build and run at nice 19, so they take only what the host leaves idle.
@@ -385,8 +394,8 @@ TEST_SETS := host $(CROSS_TEST_TARGETS)
 test: deps
 	@mkdir -p build && rm -f $(RESULTS) && rm -rf $(WIRE_DIR)
 	@echo "make test: building and running $(foreach t,$(TEST_SETS),$(call test_label,$(t))) and building $(foreach t,$(CROSS_BUILD_ONLY),$(call test_label,$(t))) (rse-fsw under qemu, no suites) in parallel; each prints when it ends"
-	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget $(TEST_SETS:%=test-run/%) $(CROSS_BUILD_ONLY:%=test-build-only/%) \
-	  || echo "make test: some target failed (counted in the results below)"
+	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget test-run-vm $(TEST_SETS:%=test-run/%) \
+	  $(CROSS_BUILD_ONLY:%=test-build-only/%) || echo "make test: some target failed (counted in the results below)"
 	@$(MAKE) --no-print-directory -k $(TEST_SETS:%=test-wire/%) || true
 	@$(MAKE) --no-print-directory test-slurm SLURM_RESULTS=$(RESULTS)
 	@unit_test/summarize.sh $(RESULTS)
@@ -403,11 +412,22 @@ cross-test: deps
 FORCE:
 test-host-ground:
 	@$(MAKE) --no-print-directory CROSS_COMPILE= $(HOST_GROUND_BIN)
+# First the programs the VM suites run (their ten minutes are the longest
+# chain), then the host's suites with every slot, then the cross targets beside
+# the runs. The VM set counts as the host's (x86_64) in the results.
+.PHONY: test-build-vm test-run-vm
+test-build-vm: test-host-ground
+	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS) || { echo "$(HOST_ARCH)/vm-build 0 1" >> $(RESULTS); exit 1; }
+test-run-vm: test-build-vm
+	@$(MAKE) --no-print-directory CROSS_COMPILE= SUITES_BUILT=1 RUN_SET=vm run-suites
+test-build/host: test-build-vm
+$(CROSS_TEST_TARGETS:%=test-build/%) $(CROSS_BUILD_ONLY:%=test-build-only/%): test-build/host
 test-build/%: test-host-ground FORCE
 	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) test-binaries \
 	  || { echo "$(call test_label,$*)/build 0 1" >> $(RESULTS); exit 1; }
 test-run/%: test-build/% FORCE
-	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) SUITES_BUILT=1 run-suites
+	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) SUITES_BUILT=1 \
+	  $(if $(call test_prefix,$*),,RUN_SET=no-vm) run-suites
 # The cross-target wire check (unit_test/wire_exchange/): once every target's
 # run has written its samples to WIRE_DIR, each target reads all the others'
 # (results "<target>-peers/test_wire_exchange").

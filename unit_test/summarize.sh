@@ -20,9 +20,9 @@ echo "=== per target"
 awk '{ split($1, part, "/"); t = part[1]
        if (!(t in seen)) { seen[t] = 1; order[++n] = t }
        suites[t]++; p[t] += $2; f[t] += $3; s[t] += $4 }
-     END { printf "  %-10s %7s %8s %8s %9s\n", "target", "suites", "passed", "failed", "seconds"
+     END { printf "  %-14s %7s %8s %8s %9s\n", "target", "suites", "passed", "failed", "seconds"
            for (i = 1; i <= n; i++) { t = order[i]
-             printf "  %-10s %7d %8d %8d %9d\n", t, suites[t], p[t], f[t], s[t] } }' "$results"
+             printf "  %-14s %7d %8d %8d %9d\n", t, suites[t], p[t], f[t], s[t] } }' "$results"
 read -r passed failed < <(awk '{ p += $2; f += $3 } END { print p + 0, f + 0 }' "$results")
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]

@@ -33,6 +33,7 @@
 #include "ground/table_compiler.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "hal/canopen/le_codec.hpp"
+#include "unit_test/ground/ground_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -77,20 +78,10 @@ constexpr std::uint32_t kGotoAuthSequence = 0x00ABCDEF;
 constexpr std::uint16_t kControlword = 0x000F;
 constexpr std::int32_t kTargetVelocity = -123456;  // CiA 402 RPDO: controlword, target velocity (little-endian)
 
-Bytes packetOf(std::uint16_t apid, const std::uint8_t* payload, std::size_t length) {
-    Bytes packet(length + 64);
-    const std::size_t n =
-        cmdtlm::buildTelemetryPacket(apid, 5, 42 * core::kNsPerSec, payload, length, packet.data(), packet.size());
-    packet.resize(n);
-    return packet;
-}
-
+// Sequence 5 at MET 42 s, as the flight's TelemetryOutput builds packets.
 template <typename T>
 Bytes telemetryPacketOf(const T& telemetry) {
-    std::uint8_t payload[cmdtlm::kMaxTelemetryPacket];
-    core::BeWriter w(payload, sizeof payload);
-    cmdtlm::encodeTelemetry(w, telemetry);
-    return w.ok() ? packetOf(T::kApid, payload, w.size()) : Bytes{};
+    return test::telemetryPacket(telemetry, 5, 42 * core::kNsPerSec);
 }
 
 cmdtlm::PLAN_PATH_Tlm referencePlan() {
