@@ -45,28 +45,25 @@ TEST(MonotonicClock, SpinMarginTakesZeroToTheLimitOnly) {
     CHECK_EQUAL(0, clock.spinMargin());
 }
 
-// The hybrid wait still never returns early, and it spins: a wait that lies
-// wholly inside the margin costs CPU time where a sleep costs next to none.
-// Loose on purpose (a quarter of the wall time, summed over five waits): a
-// loaded machine may deschedule the spinning thread, never make it cost less
-// than nothing; the CPU figures themselves are bench_executive's.
-TEST(MonotonicClock, HybridWaitSpinsTheMarginAndIsNeverEarly) {
+// The hybrid wait never returns early, whether the deadline lies inside the
+// margin (no sleep at all, only the spin) or beyond it (a sleep, then the spin).
+// What it costs and gains in CPU time and lateness is bench_executive's: a
+// check of CPU time here failed under CI's load (a thread at nice 19 beside
+// other suites is descheduled for most of its spin).
+TEST(MonotonicClock, HybridWaitIsNeverEarly) {
     MonotonicClock clock;
-    ThreadCpuClock cpu;
     CHECK_TRUE(clock.setSpinMargin(2 * kNsPerMs));
-    TimeNs wallSpent = 0;
-    TimeNs cpuSpent = 0;
     for (int i = 0; i < 5; ++i) {
-        const TimeNs cpuBefore = cpu.now();
-        const TimeNs start = clock.now();
-        const TimeNs deadline = start + 3 * kNsPerMs / 2;
-        clock.sleepUntil(deadline);
-        const TimeNs end = clock.now();
-        CHECK(end >= deadline);
-        wallSpent += end - start;
-        cpuSpent += cpu.now() - cpuBefore;
+        const TimeNs inside = clock.now() + 3 * kNsPerMs / 2;
+        clock.sleepUntil(inside);
+        CHECK(clock.now() >= inside);
+        const TimeNs beyond = clock.now() + 3 * kNsPerMs;
+        clock.sleepUntil(beyond);
+        CHECK(clock.now() >= beyond);
     }
-    CHECK(cpuSpent * 4 >= wallSpent);
+    const TimeNs before = clock.now();
+    clock.sleepUntil(before - kNsPerSec);  // a past deadline returns at once
+    CHECK(clock.now() >= before);
 }
 
 TEST_GROUP(ScaledMonotonicClock){};
