@@ -2,11 +2,11 @@
 #   make deps        install the Debian packages the project needs (idempotent; root or sudo)
 #   make / all       build rse-fsw for this machine, or for CROSS_COMPILE=aarch64-linux-gnu-
 #   make test        every unit-test suite on the host, and for aarch64, armhf and s390x under
-#                    qemu-user; the flight code compiled for powerpc; then the Slurm campaign
+#                    qemu-user; powerpc built and rse-fsw run once; then the Slurm campaign
 #                    test (make test-slurm); all built and run in parallel (every core);
 #                    ends with the per-target table and one line "N passed, N failed" (total)
 #   make host-test   host suites only (quick edit-test loop)
-#   make cross-test  the cross targets only (suites under qemu-user, powerpc compiled)
+#   make cross-test  the cross targets only (suites under qemu-user, powerpc built and run once)
 #   make all CROSS_COMPILE=arm-linux-gnueabihf-   rse-fsw for one target (also aarch64-linux-gnu-,
 #                    s390x-linux-gnu-, powerpc-linux-gnu-); docs/cross_targets.md
 #   make demo        the autonomous mission demo (rse-demo: rse-fsw and rse-sim in lockstep, GOTO
@@ -322,7 +322,7 @@ WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
 # The suites that boot the qemu VM (real-time, mostly waiting): make test runs
-# them as a set of their own (test-run/host-vm), as soon as VCAN_BINS are built.
+# them as a set of their own (test-run-vm), as soon as VCAN_BINS are built.
 VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST)
 SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
@@ -401,7 +401,7 @@ test: deps
 	@$(MAKE) --no-print-directory test-slurm SLURM_RESULTS=$(RESULTS)
 	@unit_test/summarize.sh $(RESULTS)
 
-# The cross targets only (their builds and suites, the compile-only targets):
+# The cross targets only (their builds and suites, the build-only targets):
 # make cross-test, or one of them: make cross-test CROSS_TEST_TARGETS=s390x-linux-gnu- CROSS_BUILD_ONLY=
 cross-test: deps
 	@mkdir -p build && rm -f $(RESULTS)
