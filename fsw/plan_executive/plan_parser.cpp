@@ -75,7 +75,11 @@ private:
     bool guardAt(std::size_t k, Guard* g);
     bool guardImplies(const Guard& element, const Guard& event) const;
     bool guardValid(const Guard& element, std::uint16_t from, std::uint16_t to);
-    bool condition(const Token& t, bool tell, Condition* c);
+    // A condition at tokens_[k]: `VAR=VALUE` / `VAR!=VALUE` in one token, or
+    // spaced, `VAR = VALUE` / `VAR != VALUE` in three; *used says how many.
+    bool conditionAt(std::size_t k, bool tell, Condition* c, std::size_t* used);
+    bool condition(const Token& at, const Token& variable, bool negated, const Token& value, bool tell,
+                   Condition* c);
     bool decimal(const Token& t, int decimals, double lo, double hi, double* v);
     bool milliseconds(const Token& t, std::int32_t* ms);
 
@@ -544,7 +548,27 @@ bool Parser::decimal(const Token& t, int decimals, double lo, double hi, double*
     return true;
 }
 
-bool Parser::condition(const Token& t, bool tell, Condition* c) {
+bool Parser::conditionAt(std::size_t k, bool tell, Condition* c, std::size_t* used) {
+    const Token& t = tokens_[k];
+    const bool spaced = k + 2 < count_ && (equals(tokens_[k + 1], "=") || equals(tokens_[k + 1], "!="));
+    if (spaced) {
+        const Token& value = tokens_[k + 2];
+        for (std::size_t i = 0; i < t.length; ++i) {
+            if (t.text[i] == '=' || t.text[i] == '!') {
+                return fail(PlanError::kBadCondition, &t);
+            }
+        }
+        for (std::size_t i = 0; i < value.length; ++i) {
+            if (value.text[i] == '=' || value.text[i] == '!') {
+                return fail(PlanError::kBadCondition, &value);
+            }
+        }
+        if (t.quoted || value.quoted) {
+            return fail(PlanError::kBadCondition, t.quoted ? &t : &value);
+        }
+        *used = 3;
+        return condition(t, t, equals(tokens_[k + 1], "!="), value, tell, c);
+    }
     std::size_t op = 0;
     while (op < t.length && t.text[op] != '=' && t.text[op] != '!') {
         ++op;
@@ -557,11 +581,19 @@ bool Parser::condition(const Token& t, bool tell, Condition* c) {
         return fail(PlanError::kBadCondition, &t);
     }
     const std::size_t valueAt = op + (negated ? 2U : 1U);
-    if (valueAt >= t.length || (tell && negated)) {
+    if (valueAt >= t.length) {
         return fail(PlanError::kBadCondition, &t);
     }
-    const Token variable{t.text, op, false};
-    const Token value{t.text + valueAt, t.length - valueAt, false};
+    *used = 1;
+    return condition(t, Token{t.text, op, false}, negated, Token{t.text + valueAt, t.length - valueAt, false}, tell,
+                     c);
+}
+
+bool Parser::condition(const Token& t, const Token& variable, bool negated, const Token& value, bool tell,
+                       Condition* c) {
+    if (tell && negated) {  // a Tell sets a value; "not this value" sets none
+        return fail(PlanError::kBadCondition, &t);
+    }
     *c = Condition{};
     c->negated = negated;
     for (std::uint8_t k = 0; k < kComponentCount; ++k) {
@@ -677,20 +709,22 @@ bool Parser::activityLine() {
             if (a.askCount == kMaxAsks) {
                 return fail(PlanError::kTooManyConditions, &tokens_[k + 1]);
             }
-            if (!condition(tokens_[k + 1], false, &a.asks[a.askCount])) {
+            std::size_t used = 0;
+            if (!conditionAt(k + 1, false, &a.asks[a.askCount], &used)) {
                 return false;
             }
             ++a.askCount;
-            k += 2;
+            k += 1 + used;
         } else if (equals(t, "tell") && hasNext) {
             if (a.tellCount == kMaxTells) {
                 return fail(PlanError::kTooManyConditions, &tokens_[k + 1]);
             }
-            if (!condition(tokens_[k + 1], true, &a.tells[a.tellCount])) {
+            std::size_t used = 0;
+            if (!conditionAt(k + 1, true, &a.tells[a.tellCount], &used)) {
                 return false;
             }
             ++a.tellCount;
-            k += 2;
+            k += 1 + used;
         } else if (equals(t, "when") && !sawWhen) {
             if (!guardAt(k, &a.guard)) {
                 return false;

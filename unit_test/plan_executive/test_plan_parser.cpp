@@ -224,6 +224,33 @@ TEST(PlanParser, ConditionsNameKnownVariablesAndValues) {
     LONGS_EQUAL(1, plan.activities[0].asks[0].value);
 }
 
+TEST(PlanParser, ConditionsMayBeSpacedAroundTheirOperator) {
+    // `grinder = ok`, `drive_ML != failed` (the issue's own spelling) read as the joined forms do.
+    const ParseResult r = parse("var v p q; event a; activity x wait start a [0, 1] ask grinder = ok "
+                                "ask drive_ML != failed ask v!=q tell v = p cost 2; end");
+    CHECK_TEXT(r.error == PlanError::kOk, toString(r.error));
+    const Activity& x = plan.activities[0];
+    LONGS_EQUAL(3, x.askCount);
+    LONGS_EQUAL(1, x.tellCount);
+    CHECK(!x.asks[0].planVariable && !x.asks[0].negated);
+    LONGS_EQUAL(static_cast<int>(Component::kGrinder), x.asks[0].variable);
+    LONGS_EQUAL(static_cast<int>(ComponentState::kOk), x.asks[0].value);
+    CHECK(!x.asks[1].planVariable && x.asks[1].negated);
+    LONGS_EQUAL(static_cast<int>(Component::kDriveML), x.asks[1].variable);
+    LONGS_EQUAL(static_cast<int>(ComponentState::kFailed), x.asks[1].value);
+    CHECK(x.tells[0].planVariable && !x.tells[0].negated);
+    LONGS_EQUAL(0, x.tells[0].value);
+    DOUBLES_EQUAL(2.0, x.cost, 0.0);  // the field after the spaced Tell is still read
+    // Spaced but still wrong: each refused at the token that is wrong.
+    refused("var v p q; event a; activity x wait start a [0, 1] tell v != p; end", PlanError::kBadCondition, 1, "v");
+    refused("event a; activity x wait start a [0, 1] ask grinder = broken; end", PlanError::kBadCondition, 1,
+            "grinder");
+    refused("event a; activity x wait start a [0, 1] ask grinder = ok=x; end", PlanError::kBadCondition, 1, "ok=x");
+    refused("event a; activity x wait start a [0, 1] ask grinder =; end", PlanError::kBadCondition, 1, "grinder");
+    refused("event a; activity x wait start a [0, 1] ask \"grinder\" = ok; end", PlanError::kBadCondition, 1,
+            "grinder");
+}
+
 TEST(PlanParser, EachKindHasItsOwnFields) {
     refused("event a; activity x drive start a [0, 1]; end", PlanError::kMissingField, 1, "drive");
     refused("event a; activity x sample start a [0, 1]; end", PlanError::kMissingField, 1, "sample");
