@@ -5,7 +5,12 @@
 // link; the console streams to stdout and a mission summary ends the run.
 //
 //   rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]
-//            [--report DIR | --no-report] [--any-outcome]
+//            [--command-at SECONDS] [--report DIR | --no-report] [--any-outcome]
+//            [--pace F] [--udp-telemetry HOST:PORT [--udp-commands [ADDR:]PORT]]
+//
+// --pace runs it F times faster than real time against the wall clock;
+// --udp-telemetry adds rse-fsw's UDP ground link, so its telemetry also goes
+// to a ground as datagrams (docs/mission_control.md).
 //
 // Exit status: 0 when the mission showed the ten points in order (or ran at
 // all, with --any-outcome), 3 when it ran but did not, 1 when the setup failed

@@ -1,5 +1,8 @@
 #include "sim_stub/lockstep/mission_runner.hpp"
 
+#include <arpa/inet.h>
+
+#include <algorithm>
 #include <bitset>
 #include <chrono>
 #include <cmath>
@@ -7,6 +10,7 @@
 #include <cstring>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
@@ -23,6 +27,7 @@
 #include "ground/mission_points.hpp"
 #include "ground/mission_report.hpp"
 #include "ground/plan_transfer.hpp"
+#include "hal/link/udp_packet_link.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/map_upload.hpp"
 #include "sim_stub/lockstep/mission_recorder.hpp"
@@ -105,6 +110,100 @@ bool parseGoto(const std::string& text, MissionOptions* o, std::string* error) {
     }
     return true;
 }
+
+// A UDP port, 1..65535, as a whole number.
+bool parsePort(const std::string& text, std::uint16_t* port) {
+    if (text.empty() || text.size() > 5 || text.find_first_not_of("0123456789") != std::string::npos) {
+        return false;
+    }
+    const unsigned long value = std::strtoul(text.c_str(), nullptr, 10);
+    if (value == 0 || value > 65535) {
+        return false;
+    }
+    *port = static_cast<std::uint16_t>(value);
+    return true;
+}
+
+// A numeric IPv4 address, as hal::UdpPacketLink takes it (it looks up no names).
+bool isIpv4(const std::string& text) {
+    in_addr parsed{};
+    return inet_pton(AF_INET, text.c_str(), &parsed) == 1;
+}
+
+// "HOST:PORT" (or, hostOptional, "PORT" alone: *host left as it is) for the
+// option `option`; *error says what is wrong.
+bool parseUdpAddress(const std::string& option, const std::string& text, bool hostOptional, std::string* host,
+                     std::uint16_t* port, std::string* error) {
+    const std::size_t colon = text.rfind(':');
+    if (colon == std::string::npos && !hostOptional) {
+        *error = option + " '" + text + "': expected HOST:PORT (e.g. 127.0.0.1:1235)";
+        return false;
+    }
+    const std::string address = colon == std::string::npos ? *host : text.substr(0, colon);
+    const std::string number = colon == std::string::npos ? text : text.substr(colon + 1);
+    if (!isIpv4(address)) {
+        *error = option + " '" + text + "': '" + address + "' is not a numeric IPv4 address (no names are looked up)";
+        return false;
+    }
+    if (!parsePort(number, port)) {
+        *error = option + " '" + text + "': '" + number + "' is not a port in 1..65535";
+        return false;
+    }
+    *host = address;
+    return true;
+}
+
+// --pace: frame k of the run is due at wall time start + k x period / factor,
+// the start being the first frame paced. Each frame is waited for, not each
+// period: lateness in one frame does not shift the later ones, so a machine that
+// falls behind (a planner's long frame, a factor beyond what it can run) runs
+// the frames that are due at once until it has caught up; those are counted
+// with the latest one's lateness. Factor 0: no pacing.
+class FramePacer {
+public:
+    explicit FramePacer(double factor) : factor_(factor) {}
+    // Before `frame` runs (the executive's next frame); called again for the
+    // same frame, it does nothing.
+    void beforeFrame(std::uint64_t frame) {
+        using Clock = std::chrono::steady_clock;
+        if (!(factor_ > 0.0) || (started_ && frame == lastFrame_)) {
+            return;
+        }
+        const Clock::time_point now = Clock::now();
+        if (!started_) {
+            started_ = true;
+            firstFrame_ = frame;
+            start_ = now;
+        }
+        lastFrame_ = frame;
+        ++frames_;
+        const double dueS = static_cast<double>(frame - firstFrame_) * seconds(app::kMinorFramePeriod) / factor_;
+        const Clock::time_point due =
+            start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dueS));
+        if (now < due) {
+            std::this_thread::sleep_until(due);
+        } else if (now > due) {
+            ++behind_;
+            behindMaxMs_ = std::max(behindMaxMs_, std::chrono::duration<double, std::milli>(now - due).count());
+        }
+    }
+    void fill(MissionSummary* s) const {
+        s->pace = factor_;
+        s->pacedFrames = frames_;
+        s->framesBehind = behind_;
+        s->behindMaxMs = behindMaxMs_;
+    }
+
+private:
+    double factor_;
+    bool started_ = false;
+    std::uint64_t firstFrame_ = 0;
+    std::uint64_t lastFrame_ = 0;
+    std::chrono::steady_clock::time_point start_{};
+    std::uint64_t frames_ = 0;
+    std::uint64_t behind_ = 0;
+    double behindMaxMs_ = 0.0;
+};
 
 const char* stateName(msg::DeliberativeState s) {
     switch (s) {
@@ -669,6 +768,7 @@ void printMissionUsage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-demo [--scenario FILE] [--no-faults] [--goto X,Y[,RISK]] [--duration SECONDS] [--quiet]\n"
                  "                [--command-at SECONDS] [--report DIR | --no-report] [--any-outcome]\n"
+                 "                [--pace F] [--udp-telemetry HOST:PORT [--udp-commands [ADDR:]PORT]]\n"
                  "  --scenario FILE     TOML scenario (default %s);\n"
                  "                      its [mission] (a goal and risk bound, or a plan) is flown\n"
                  "                      unless --goto is given\n"
@@ -684,12 +784,20 @@ void printMissionUsage(std::FILE* out) {
                  "                      (default %s); --no-report writes none\n"
                  "  --any-outcome       exit 0 whatever the mission showed (else 3 when the ten points\n"
                  "                      of the RSE demonstration were not all seen, in order)\n"
+                 "  --pace F            run F times faster than real time against the wall clock (1: real\n"
+                 "                      time, 10: ten times; %g..%g; default: as fast as the CPU allows);\n"
+                 "                      frames reached late run at once and are reported (\"behind by up to\")\n"
+                 "  --udp-telemetry HOST:PORT  also send every telemetry packet and event as UDP datagrams\n"
+                 "                      to HOST:PORT (numeric IPv4), rse-fsw --udp's link, e.g. for\n"
+                 "                      rse-ground --tlm-port PORT watch or serve\n"
+                 "  --udp-commands [ADDR:]PORT  that link's command port (ADDR default %s; default:\n"
+                 "                      an unannounced port the kernel picks on 127.0.0.1)\n"
                  "Runs rse-fsw and rse-sim in lockstep, sends SET_MODE AUTONOMOUS and GOTO through the\n"
                  "authenticated ground link and runs until the rover reaches the goal, calls home or the\n"
                  "duration passes, printing the ten points as the flight software shows them.\n"
                  "Exit status: 0 the mission ran and showed the ten points in order, 3 it ran but did not,\n"
                  "1 setup failure (or the report not written), 2 bad usage.\n",
-                 kDefaultMissionScenario, kDefaultReportDir);
+                 kDefaultMissionScenario, kDefaultReportDir, kMinPace, kMaxPace, kDefaultUdpCommandHost);
 }
 
 ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions* o, std::string* error) {
@@ -729,12 +837,39 @@ ParseOutcome parseMissionArgs(int argc, const char* const* argv, MissionOptions*
             o->noReport = true;
         } else if (a == "--any-outcome") {
             o->anyOutcome = true;
+        } else if (a == "--pace" && hasValue) {
+            const std::string v = argv[++i];
+            if (!parseNumber(v, &o->pace) || !(o->pace >= kMinPace) || o->pace > kMaxPace) {
+                char range[64];
+                std::snprintf(range, sizeof range, "[%g, %g]", kMinPace, kMaxPace);
+                *error = "--pace '" + v + "' is not a factor over real time in " + range +
+                         " (1: real time; leave --pace out to run as fast as the CPU allows)";
+                return ParseOutcome::kUsageError;
+            }
+        } else if (a == "--udp-telemetry" && hasValue) {
+            if (!parseUdpAddress(a, argv[++i], false, &o->udpTelemetryHost, &o->udpTelemetryPort, error)) {
+                return ParseOutcome::kUsageError;
+            }
+        } else if (a == "--udp-commands" && hasValue) {
+            if (!parseUdpAddress(a, argv[++i], true, &o->udpCommandHost, &o->udpCommandPort, error)) {
+                return ParseOutcome::kUsageError;
+            }
         } else if (a == "--help" || a == "-h") {
             return ParseOutcome::kHelp;
         } else {
             *error = "unknown or incomplete option '" + a + "'";
             return ParseOutcome::kUsageError;
         }
+    }
+    if (o->udpCommandPort != 0 && o->udpTelemetryHost.empty()) {
+        *error = "--udp-commands is the UDP link's command port: it wants --udp-telemetry HOST:PORT too";
+        return ParseOutcome::kUsageError;
+    }
+    // The link would read its own telemetry as commands (each refused, counted).
+    if (o->udpCommandPort != 0 && o->udpCommandPort == o->udpTelemetryPort &&
+        (o->udpCommandHost == o->udpTelemetryHost || o->udpCommandHost == "0.0.0.0")) {
+        *error = "--udp-commands and --udp-telemetry name the same address: telemetry would come back as commands";
+        return ParseOutcome::kUsageError;
     }
     return ParseOutcome::kRun;
 }
@@ -789,12 +924,38 @@ MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
     }
     const core::TimeNs durationNs = static_cast<core::TimeNs>(o.durationS * 1e9);
 
+    // --udp-telemetry's link (on the heap: its receive batch is 20 kB). Held
+    // here, before the rig, whose flight software keeps a pointer to it: it is
+    // destroyed after the rig.
+    std::unique_ptr<hal::UdpPacketLink> udpLink;
     // About 2.5 MB (the flight software's planners and the console buffer): on the heap.
     auto rig = std::make_unique<LockstepRig>(scenario);
     MemoryGround ground;
     app::FswApp& fsw = rig->fsw();
     if (!core::isOk(fsw.addGroundLink(&ground.link()))) {
         return setupFailed(summary, "the in-memory ground link could not be added");
+    }
+    const bool udp = !o.udpTelemetryHost.empty();
+    if (udp) {
+        // rse-fsw --udp's link, opened and added as rse-fsw does it
+        // (fsw/app/main.cpp), after the in-memory ground: every telemetry
+        // packet goes to both. It counts as always having room (a datagram
+        // leaves at once), so events are still offered only as fast as the
+        // in-memory ground's queue takes them, as without it.
+        udpLink = std::make_unique<hal::UdpPacketLink>(fsw.events());
+        if (!core::isOk(udpLink->open(o.udpCommandHost.c_str(), o.udpCommandPort, o.udpTelemetryHost.c_str(),
+                                      o.udpTelemetryPort))) {
+            return setupFailed(summary, "cannot open the UDP ground link (commands on " + o.udpCommandHost + ":" +
+                                            std::to_string(o.udpCommandPort) + ", telemetry to " +
+                                            o.udpTelemetryHost + ":" + std::to_string(o.udpTelemetryPort) +
+                                            "): " + std::strerror(udpLink->lastErrno()));
+        }
+        if (!core::isOk(fsw.addGroundLink(udpLink.get()))) {
+            return setupFailed(summary, "the UDP ground link could not be added");
+        }
+        summary.udpLink = true;
+        summary.udpTelemetry = o.udpTelemetryHost + ":" + std::to_string(o.udpTelemetryPort);
+        summary.udpCommands = o.udpCommandHost + ":" + std::to_string(udpLink->boundPort());
     }
     if (!core::isOk(rig->init(o.quiet ? nullptr : out))) {
         return setupFailed(summary, "the flight software did not initialise");
@@ -806,6 +967,18 @@ MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
     MissionRecorder recorder(*rig, out);
     watch.forwardTo(&recorder);
     say(out, *rig, describeScenario(rig->scenario(), o));
+    if (udp) {
+        say(out, *rig, "telemetry and events also as UDP datagrams to " + summary.udpTelemetry +
+                           " (rse-fsw's UDP link; its commands on " + summary.udpCommands +
+                           (o.udpCommandPort == 0 ? ", a port the kernel picked)" : ")"));
+    }
+    FramePacer pacer(o.pace);
+    if (o.pace > 0.0) {
+        char paceText[120];
+        std::snprintf(paceText, sizeof paceText, "paced at %gx real time: a frame every %.3f ms of wall time", o.pace,
+                      seconds(app::kMinorFramePeriod) * 1e3 / o.pace);
+        say(out, *rig, paceText);
+    }
     ScheduledTaskCommands taskCommands(ground, *rig, out);
     rig->rover().attachFlightTasks(&taskCommands);
     // A plan mission's goal is its latest drive's (the executive's PlanGoalMsg).
@@ -825,6 +998,8 @@ MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
         if (o.onFrame) {
             o.onFrame(*rig);
         }
+        // Last, so the wait is right before the next frame.
+        pacer.beforeFrame(fsw.executive().nextFrame());
     };
 
     if (!rig->runUntil([&] { service(); return rig->allDrivesOperational(); }, kDrivesUpLimitNs)) {
@@ -906,6 +1081,11 @@ MissionSummary runMission(const MissionOptions& options, std::FILE* out) {
     }
     service();
     fsw.shutdown("mission demo over");
+    pacer.fill(&summary);
+    if (udp) {
+        summary.udpStats = udpLink->stats();
+        summary.udpUndeliverable = udpLink->undeliverableReports();
+    }
     summary.callHomeText = watch.callHomeText();
     watch.fill(&summary);
     taskCommands.fill(&summary);
@@ -1020,6 +1200,18 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
     }
     std::fprintf(out, "time:       %.1f s simulated in %.1f s wall (%.1fx real time)\n", s.endTimeS, s.wallTimeS,
                  s.wallTimeS > 0.0 ? s.endTimeS / s.wallTimeS : 0.0);
+    if (s.pace > 0.0) {
+        std::fprintf(out, "pace:       %gx real time: %llu frames paced, %llu reached after their due time; behind by "
+                          "up to %.1f ms\n",
+                     s.pace, static_cast<unsigned long long>(s.pacedFrames),
+                     static_cast<unsigned long long>(s.framesBehind), s.behindMaxMs);
+    }
+    if (s.udpLink) {
+        std::fprintf(out, "udp link:   telemetry to %s: %u packets sent, %u dropped, %u errors (%u undeliverable: "
+                          "ICMP port unreachable, nothing listening there); commands on %s: %u received\n",
+                     s.udpTelemetry.c_str(), s.udpStats.txPackets, s.udpStats.txDropped, s.udpStats.errors,
+                     s.udpUndeliverable, s.udpCommands.c_str(), s.udpStats.rxPackets);
+    }
     std::fprintf(out, "truth:      final position (%.2f, %.2f) heading %.1f deg, %.2f m from the goal; driven %.2f m; "
                       "collisions %u, least clearance %.2f m; energy %.2f Wh, state of charge %.1f %%\n",
                  s.finalX, s.finalY, s.finalHeadingDeg, s.goalDistanceM, s.distanceM, s.collisions,

@@ -11,6 +11,11 @@
 // reach the console; or until the duration. The simulator's truth is read only for the
 // summary at the end (and the report's driven track and hidden rocks).
 //
+// By default the frames run as fast as the CPU allows; MissionOptions::pace
+// paces them against the wall clock, and the UDP options add rse-fsw's UDP
+// ground link beside the in-memory one, so a ground (rse-ground watch, the
+// mission control display) receives the telemetry as it would a rover's.
+//
 // The ten points of the RSE demonstration are read from the flight software's
 // events and plan status as they come (MissionRecorder, ground/mission_points.hpp),
 // printed as "POINT n" lines, judged ("ten points: all in order" or what is
@@ -31,6 +36,7 @@
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
 #include "ground/mission_record.hpp"
+#include "hal/link/packet_link.hpp"
 #include "sim_stub/scenario/scenario.hpp"
 
 namespace rse::sim {
@@ -44,6 +50,10 @@ constexpr const char* kDefaultReportDir = "build/mission";
 constexpr double kDefaultGoalX = 20.0;
 constexpr double kDefaultGoalY = 0.0;
 constexpr double kDefaultMissionDurationS = 180.0;
+// --pace: the factors over real time accepted.
+constexpr double kMinPace = 0.1;
+constexpr double kMaxPace = 1000.0;
+constexpr const char* kDefaultUdpCommandHost = "127.0.0.1";
 
 // What the mission is: the command line's (parseMissionArgs), and where it
 // says nothing, the scenario's own [mission] (applyScenarioMission, which
@@ -84,6 +94,22 @@ struct MissionOptions {
     // scenario's site and known rocks): an orbital survey that covers less
     // than the world, a rock the survey placed wrong.
     std::function<void(Scenario&)> editUplinkedMap;
+    // --pace F: the frames paced against the wall clock, F times faster than
+    // real time (frame k of the run due at start + k x 10 ms / F; a frame
+    // reached late runs at once and is counted, MissionSummary::framesBehind).
+    // 0: as fast as the CPU allows (the default, and rse-montecarlo's).
+    double pace = 0.0;
+    // --udp-telemetry HOST:PORT: rse-fsw's UDP ground link (hal::UdpPacketLink)
+    // added to the flight software beside the in-memory ground, so every
+    // telemetry packet and event also goes to HOST:PORT as datagrams (for
+    // rse-ground watch / serve). Empty host: no UDP link.
+    std::string udpTelemetryHost;
+    std::uint16_t udpTelemetryPort = 0;
+    // --udp-commands [ADDR:]PORT: where that link takes commands (default
+    // address 127.0.0.1). The link always binds a command socket; without this
+    // option it binds 127.0.0.1 port 0, a port the kernel picks and nobody is told.
+    std::string udpCommandHost = kDefaultUdpCommandHost;
+    std::uint16_t udpCommandPort = 0;
     // Tools (rse-montecarlo): called once the rig is up and then after every
     // frame, to read what they measure of the flight software and the
     // simulator; it must change neither.
@@ -153,6 +179,20 @@ struct MissionSummary {
     double outcomeTimeS = 0.0;  // when the flight software published the outcome (timed out: the end)
     double endTimeS = 0.0;      // simulated time when the run stopped
     double wallTimeS = 0.0;
+    // --pace: the factor, the frames paced, those reached after their due
+    // wall time (run at once, without sleeping) and by how much the latest was late.
+    double pace = 0.0;
+    std::uint64_t pacedFrames = 0;
+    std::uint64_t framesBehind = 0;
+    double behindMaxMs = 0.0;
+    // --udp-telemetry: where the UDP link sent, its command port as bound and
+    // its counters at the end (undeliverable: ICMP "port unreachable" reports,
+    // nothing listening there; also in errors).
+    bool udpLink = false;
+    std::string udpTelemetry;  // "HOST:PORT"
+    std::string udpCommands;   // "ADDR:PORT" as bound
+    hal::PacketLinkStats udpStats{};
+    std::uint32_t udpUndeliverable = 0;
     double goalX = 0.0;  // a plan mission: its latest drive's goal
     double goalY = 0.0;
     bool planMission = false;

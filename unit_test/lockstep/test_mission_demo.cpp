@@ -3,19 +3,28 @@
 // summary's wording, short lockstep missions judged against the truth the
 // summary reports, and the demo itself: the ten points of the RSE
 // demonstration in order, each with its substance, the report and the map
-// written; a run that cannot show them all saying so and exiting 3. (The
-// hidden rock whose detour does not fit, point 5's other side, is in the
-// scenario suite, test_scenario_suite.cpp.)
+// written; a run that cannot show them all saying so and exiting 3; a run
+// paced against the wall clock sending its telemetry over UDP (--pace,
+// --udp-telemetry). (The hidden rock whose detour does not fit, point 5's
+// other side, is in the scenario suite, test_scenario_suite.cpp.)
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "fsw/core/byte_codec.hpp"
+#include "ground/telemetry_decoder.hpp"
 #include "sim_stub/lockstep/mission_runner.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 
@@ -74,6 +83,42 @@ void checkGotoArgs(const MissionOptions& o, double x, double y, double risk) {
     DOUBLES_EQUAL(y, r.f64(), 0.0);
     DOUBLES_EQUAL(risk, r.f64(), 0.0);
 }
+
+// A UDP socket bound to 127.0.0.1 on a port the kernel picks: a ground's
+// telemetry port, or a port taken.
+class LoopbackSocket {
+public:
+    LoopbackSocket() {
+        fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        socklen_t length = sizeof a;
+        if (fd_ >= 0 && ::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
+            ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &length) == 0) {
+            port_ = ntohs(a.sin_port);
+        }
+    }
+    ~LoopbackSocket() {
+        if (fd_ >= 0) {
+            ::close(fd_);
+        }
+    }
+    LoopbackSocket(const LoopbackSocket&) = delete;
+    LoopbackSocket& operator=(const LoopbackSocket&) = delete;
+    std::uint16_t port() const { return port_; }  // 0: the socket could not be made
+    // Every datagram waiting, in arrival order.
+    void drainInto(std::vector<std::vector<std::uint8_t>>* datagrams) {
+        std::uint8_t buffer[2048];
+        for (ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0); n >= 0; n = ::recv(fd_, buffer, sizeof buffer, 0)) {
+            datagrams->emplace_back(buffer, buffer + n);
+        }
+    }
+
+private:
+    int fd_ = -1;
+    std::uint16_t port_ = 0;
+};
 
 }  // namespace
 
@@ -225,6 +270,126 @@ TEST(MissionDemoOptions, UnknownFlagsMissingValuesAndBadDurationsAreUsageErrors)
     CHECK(ParseOutcome::kHelp == parse({"--help"}, &o, &error));
 }
 
+// --pace F: a factor over real time in [0.1, 1000]; without it, no pacing.
+TEST(MissionDemoOptions, ThePaceIsAFactorOverRealTimeWithinItsRange) {
+    DOUBLES_EQUAL(0.0, o.pace, 0.0);  // as fast as the CPU allows
+    CHECK(ParseOutcome::kRun == parse({"--pace", "10"}, &o, &error));
+    DOUBLES_EQUAL(10.0, o.pace, 0.0);
+    CHECK(ParseOutcome::kRun == parse({"--pace", "0.1"}, &o, &error));
+    DOUBLES_EQUAL(sim::kMinPace, o.pace, 0.0);
+    CHECK(ParseOutcome::kRun == parse({"--pace", "1000"}, &o, &error));
+    DOUBLES_EQUAL(sim::kMaxPace, o.pace, 0.0);
+    for (const char* bad : {"0.09", "1000.5", "0", "-1", "fast", "10x", "nan", "inf", ""}) {
+        MissionOptions fresh;
+        error.clear();
+        if (parse({"--pace", bad}, &fresh, &error) != ParseOutcome::kUsageError) {
+            FAIL(("--pace '" + std::string(bad) + "' was accepted").c_str());
+        }
+        CHECK_TEXT(contains(error, ("--pace '" + std::string(bad) + "' is not a factor over real time in [0.1, 1000]")
+                                       .c_str()),
+                   error.c_str());
+    }
+    CHECK(ParseOutcome::kUsageError == parse({"--pace"}, &o, &error));
+    CHECK_TRUE(contains(error, "'--pace'"));
+}
+
+// --udp-telemetry HOST:PORT (numeric IPv4, the UDP link looks up no names) and
+// --udp-commands [ADDR:]PORT, which needs it; without them, no UDP link.
+TEST(MissionDemoOptions, TheUdpLinksAddressesAreCheckedAndItsCommandPortWantsItsTelemetry) {
+    CHECK_TRUE(o.udpTelemetryHost.empty());
+    LONGS_EQUAL(0, o.udpCommandPort);
+    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "127.0.0.1:1235"}, &o, &error));
+    STRCMP_EQUAL("127.0.0.1", o.udpTelemetryHost.c_str());
+    LONGS_EQUAL(1235, o.udpTelemetryPort);
+    LONGS_EQUAL(0, o.udpCommandPort);  // a port the kernel picks
+    STRCMP_EQUAL("127.0.0.1", o.udpCommandHost.c_str());
+    MissionOptions both;
+    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "10.1.2.3:65535", "--udp-commands", "1234"}, &both, &error));
+    STRCMP_EQUAL("10.1.2.3", both.udpTelemetryHost.c_str());
+    LONGS_EQUAL(65535, both.udpTelemetryPort);
+    STRCMP_EQUAL("127.0.0.1", both.udpCommandHost.c_str());
+    LONGS_EQUAL(1234, both.udpCommandPort);
+    CHECK(ParseOutcome::kRun == parse({"--udp-commands", "0.0.0.0:1240", "--udp-telemetry", "127.0.0.1:1235"}, &both,
+                                      &error));
+    STRCMP_EQUAL("0.0.0.0", both.udpCommandHost.c_str());
+    LONGS_EQUAL(1240, both.udpCommandPort);
+
+    const struct {
+        const char* option;
+        const char* value;
+        const char* why;
+    } bad[] = {
+        {"--udp-telemetry", "localhost:1235", "'localhost' is not a numeric IPv4 address"},
+        {"--udp-telemetry", ":1235", "'' is not a numeric IPv4 address"},
+        {"--udp-telemetry", "1.2.3:1235", "'1.2.3' is not a numeric IPv4 address"},
+        {"--udp-telemetry", "127.0.0.1", "expected HOST:PORT"},
+        {"--udp-telemetry", "1235", "expected HOST:PORT"},
+        {"--udp-telemetry", "127.0.0.1:0", "'0' is not a port in 1..65535"},
+        {"--udp-telemetry", "127.0.0.1:65536", "'65536' is not a port in 1..65535"},
+        {"--udp-telemetry", "127.0.0.1:-5", "'-5' is not a port"},
+        {"--udp-telemetry", "127.0.0.1:12x", "'12x' is not a port"},
+        {"--udp-commands", "host:1234", "'host' is not a numeric IPv4 address"},
+        {"--udp-commands", "0", "'0' is not a port in 1..65535"},
+    };
+    for (const auto& b : bad) {
+        MissionOptions fresh;
+        error.clear();
+        if (parse({"--udp-telemetry", "127.0.0.1:1235", b.option, b.value}, &fresh, &error) !=
+            ParseOutcome::kUsageError) {
+            FAIL((std::string(b.option) + " " + b.value + " was accepted").c_str());
+        }
+        CHECK_TEXT(contains(error, b.option) && contains(error, b.why), error.c_str());
+    }
+    // A command port with nowhere to send telemetry, or on the telemetry's own address.
+    MissionOptions alone;
+    CHECK(ParseOutcome::kUsageError == parse({"--udp-commands", "1234"}, &alone, &error));
+    CHECK_TEXT(contains(error, "--udp-commands is the UDP link's command port: it wants --udp-telemetry"),
+               error.c_str());
+    for (const char* commands : {"1235", "127.0.0.1:1235", "0.0.0.0:1235"}) {
+        MissionOptions loop;
+        CHECK(ParseOutcome::kUsageError ==
+              parse({"--udp-telemetry", "127.0.0.1:1235", "--udp-commands", commands}, &loop, &error));
+        CHECK_TEXT(contains(error, "telemetry would come back as commands"), error.c_str());
+    }
+    MissionOptions elsewhere;
+    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "10.0.0.9:1235", "--udp-commands", "1235"}, &elsewhere, &error));
+}
+
+// rse-demo itself: a refused pace or address exits 2 with the reason and the
+// usage, which names the options.
+TEST(MissionDemoOptions, ABadPaceOrUdpAddressExitsTwoWithTheReason) {
+    std::FILE* out = std::tmpfile();
+    std::FILE* err = std::tmpfile();
+    CHECK(out != nullptr && err != nullptr);
+    const char* slow[] = {"rse-demo", "--pace", "0.05"};
+    LONGS_EQUAL(2, sim::missionMain(3, slow, out, err));
+    const char* named[] = {"rse-demo", "--udp-telemetry", "ground:1235"};
+    LONGS_EQUAL(2, sim::missionMain(3, named, out, err));
+    const std::string errText = readAll(err);
+    CHECK_TRUE(contains(errText, "rse-demo: --pace '0.05' is not a factor over real time in [0.1, 1000]"));
+    CHECK_TRUE(contains(errText, "rse-demo: --udp-telemetry 'ground:1235': 'ground' is not a numeric IPv4 address"));
+    CHECK_TRUE(contains(errText, "[--pace F] [--udp-telemetry HOST:PORT [--udp-commands [ADDR:]PORT]]"));
+    std::fclose(out);
+    std::fclose(err);
+}
+
+// A UDP link that cannot be opened (its command port taken) is a setup
+// failure that says so, before the flight software starts.
+TEST(MissionDemoOptions, AUdpCommandPortInUseFailsTheSetup) {
+    LoopbackSocket taken;
+    CHECK(taken.port() != 0);
+    CHECK(ParseOutcome::kRun == parse({"--quiet", "--udp-telemetry", "127.0.0.1:9", "--udp-commands",
+                                       std::to_string(taken.port()).c_str()},
+                                      &o, &error));
+    const MissionSummary s = sim::runMission(o, nullptr);
+    CHECK(MissionOutcome::kSetupFailed == s.outcome);
+    CHECK_TEXT(contains(s.setupError, ("cannot open the UDP ground link (commands on 127.0.0.1:" +
+                                       std::to_string(taken.port()) + ", telemetry to 127.0.0.1:9): ")
+                                          .c_str()),
+               s.setupError.c_str());
+    CHECK_TEXT(contains(s.setupError, "in use"), s.setupError.c_str());
+}
+
 TEST(MissionDemoOptions, ExitCodesAreTwoForUsageOneForSetupZeroForHelp) {
     std::FILE* out = std::tmpfile();
     std::FILE* err = std::tmpfile();
@@ -324,6 +489,73 @@ TEST(MissionDemoRun, ANearGoalWithoutFaultsIsReachedAndTheSummaryAgreesWithTheTr
     CHECK_TRUE(contains(text, "outcome:    goal (4.00, 0.00) reached"));
     CHECK_TRUE(contains(text, "rse-fsw summary:"));
     CHECK_TRUE(contains(text, "deliberative"));
+}
+
+// --pace 10 --udp-telemetry: 2 s of mission take at least about 0.2 s of wall
+// time (only a lower bound is asserted: a shared machine may be slower, never
+// faster), and a ground's UDP socket receives every telemetry packet the
+// flight software sent on the link, CCSDS packets the ground's decoder reads
+// (HK, ROVER_STATE, EVENT among them), while the in-memory ground commands
+// the mission as before.
+TEST(MissionDemoRun, APacedRunTakesItsWallTimeAndSendsItsTelemetryOverUdp) {
+    CHECK(out != nullptr);
+    LoopbackSocket ground;
+    CHECK(ground.port() != 0);
+    const std::string to = "127.0.0.1:" + std::to_string(ground.port());
+    CHECK(ParseOutcome::kRun == parse({"--no-faults", "--goto", "4,0", "--duration", "2", "--pace", "10",
+                                       "--udp-telemetry", to.c_str()},
+                                      &o, &error));
+    // Read every frame, so the socket's buffer never holds more than a frame's packets.
+    std::vector<std::vector<std::uint8_t>> datagrams;
+    o.onFrame = [&](sim::LockstepRig&) { ground.drainInto(&datagrams); };
+    const auto start = std::chrono::steady_clock::now();
+    const MissionSummary s = sim::runMission(o, out);
+    const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ground.drainInto(&datagrams);
+    const std::string text = readAll(out);
+
+    CHECK(MissionOutcome::kTimedOut == s.outcome);
+    CHECK_TEXT(wallS >= 0.15, ("2 s of mission at --pace 10 took " + std::to_string(wallS) + " s").c_str());
+    DOUBLES_EQUAL(10.0, s.pace, 0.0);
+    CHECK(s.pacedFrames >= 199 && s.pacedFrames <= 201);
+    CHECK(s.framesBehind <= s.pacedFrames);
+    CHECK_TRUE(contains(text, "DEMO paced at 10x real time: a frame every 1.000 ms of wall time"));
+    CHECK_TRUE(contains(text, "pace:       10x real time: "));
+    CHECK_TRUE(contains(text, "; behind by up to "));
+    // The in-memory ground still commands: SET_MODE and GOTO taken; nothing came over UDP.
+    CHECK(s.commandsAccepted >= 2);
+    LONGS_EQUAL(0, s.commandsRejected);
+    CHECK_TRUE(s.udpLink);
+    STRCMP_EQUAL(to.c_str(), s.udpTelemetry.c_str());
+    LONGS_EQUAL(0, s.udpStats.rxPackets);
+    CHECK_TRUE(contains(text, ("DEMO telemetry and events also as UDP datagrams to " + to).c_str()));
+
+    // Every packet sent arrived, and each decodes as the dictionary says.
+    LONGS_EQUAL(0, s.udpStats.txDropped);
+    LONGS_EQUAL(0, s.udpStats.errors);
+    CHECK(s.udpStats.txPackets > 0);
+    LONGS_EQUAL(s.udpStats.txPackets, datagrams.size());
+    std::map<std::string, unsigned> byName;
+    double lastMet = 0.0;
+    double roverX = std::nan("");
+    for (const std::vector<std::uint8_t>& d : datagrams) {
+        const ground::DecodedPacket p = ground::decodeTelemetry(d);
+        if (!p.ok) {
+            FAIL(("a UDP datagram did not decode: " + p.error + ": " + ground::renderPacket(p)).c_str());
+        }
+        ++byName[p.name()];
+        CHECK(p.met >= lastMet - 1e-9);  // in the order the flight software sent them
+        lastMet = p.met;
+        if (std::string(p.name()) == "ROVER_STATE") {
+            roverX = p.value("x").value_or(std::nan(""));
+        }
+    }
+    CHECK(lastMet <= 2.0 + 1e-9);
+    CHECK(byName["HK"] >= 2);  // 1 Hz, from the first frame
+    CHECK(byName["ROVER_STATE"] >= 1);
+    CHECK(byName["EVENT"] >= 10);
+    CHECK(byName["CMD_ACK"] >= 2);  // the in-memory ground's commands are acknowledged on every link
+    DOUBLES_EQUAL(0.0, roverX, 0.5);  // where the scenario starts it, 2 s in
 }
 
 // The duration ends a mission that has not finished; --quiet leaves the console out.
