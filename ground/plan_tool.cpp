@@ -123,6 +123,27 @@ bool checkPlanText(const std::string& text, const std::string& where, const Sele
         const Window w = stn->window(e);
         out << "  " << plan->events[e].name << ": [" << seconds(w.earliestMs) << ", " << seconds(w.latestMs) << "]\n";
     }
+    // Where each selected drive goes: its point, or the region round it the
+    // rover may stop in (`within R`).
+    bool drivesShown = false;
+    for (std::size_t a = 0; a < plan->activityCount; ++a) {
+        const Activity& act = plan->activities[a];
+        if (act.kind != ActivityKind::kDrive || !exists(act.guard, result.selection)) {
+            continue;
+        }
+        if (!drivesShown) {
+            out << "drives (m):\n";
+            drivesShown = true;
+        }
+        std::ostringstream line;
+        line << std::fixed << std::setprecision(3) << "  " << act.name << ": to (" << act.x << ", " << act.y << ")";
+        if (act.radiusMm > 0) {
+            line << " within " << static_cast<double>(act.radiusMm) / 1000.0;
+        } else {
+            line << " (the point)";
+        }
+        out << line.str() << "\n";
+    }
     return true;
 }
 

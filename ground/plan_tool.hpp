@@ -6,8 +6,9 @@
 //
 // Prints the plan's size, the methods selection chooses under the given
 // component states (all ok unless --failed / --degraded name some), the
-// expected cost, and every event's window [earliest, latest] in seconds from
-// the plan's start. docs/plan_executive.md "Checking a plan on the ground".
+// expected cost, every event's window [earliest, latest] in seconds from the
+// plan's start, and each selected drive's point (and region, `within R`).
+// docs/plan_executive.md "Checking a plan on the ground".
 //
 // The same check guards `rse-ground plan load` and `plan short`
 // (ground/plan_transfer.hpp): checkPlanText() and takeComponentStates().
@@ -37,7 +38,8 @@ std::optional<std::string> takeComponentStates(std::vector<std::string>* words,
 // The check `plan check` makes, on plan text: the flight parser, then method
 // selection under input, then the selection's temporal network. Prints the
 // plan's size, the selection, each choice's option and the expected cost on
-// out (and every event's window when windows); a refusal goes to err as
+// out (and every event's window and each selected drive's goal when windows);
+// a refusal goes to err as
 // "WHERE:LINE: reason at 'token'" or "WHERE: no valid selection ...".
 // True when the rover would accept the plan under those component states.
 bool checkPlanText(const std::string& text, const std::string& where, const plan_executive::SelectionInput& input,

@@ -478,8 +478,15 @@ void DeliberativeTask::goalReached() {
     }
     goalUnconfirmed_ = false;
     ++counters_.goalsReached;
-    events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
-                   static_cast<unsigned>(goalNumber()), goal.xM, goal.yM);
+    if (goal.radiusM > 0.0F) {
+        events_.report(events::kGoalReached, core::Severity::kInfo,
+                       "deliberative: goal %u (%.2f, %.2f) reached within %.2f m (%.2f m off)",
+                       static_cast<unsigned>(goalNumber()), goal.xM, goal.yM, goalArrivalM(),
+                       std::hypot(pose_.xM - goal.xM, pose_.yM - goal.yM));
+    } else {
+        events_.report(events::kGoalReached, core::Severity::kInfo, "deliberative: goal %u (%.2f, %.2f) reached",
+                       static_cast<unsigned>(goalNumber()), goal.xM, goal.yM);
+    }
     ++goalIndex_;
     goalReplans_ = 0;
     goalBackUps_ = 0;
@@ -499,7 +506,7 @@ void DeliberativeTask::checkUnconfirmedGoal(core::TimeNs now) {
     }
     const msg::Goal& goal = goals_.goals[goalIndex_];
     const double off = std::hypot(pose_.xM - goal.xM, pose_.yM - goal.yM);
-    if (off <= static_cast<double>(tables_.habitual().goal_tolerance_m)) {
+    if (off <= goalArrivalM()) {
         goalReached();
         return;
     }
@@ -510,6 +517,11 @@ void DeliberativeTask::checkUnconfirmedGoal(core::TimeNs now) {
                    static_cast<unsigned>(goalNumber()), off, pose_.xM, pose_.yM);
     legIndex_ = legs_.count > 0 ? legs_.count - 1 : 0;
     resendFromPose(now);
+}
+
+double DeliberativeTask::goalArrivalM() const {
+    const double radius = goalIndex_ < goals_.count ? static_cast<double>(goals_.goals[goalIndex_].radiusM) : 0.0;
+    return msg::arrivalRadiusM(static_cast<double>(tables_.habitual().goal_tolerance_m), radius);
 }
 
 LegParams DeliberativeTask::legParams() const {
@@ -1144,6 +1156,10 @@ void DeliberativeTask::sendLeg(core::TimeNs now) {
     leg_.maxPathLengthM = leg.lengthM;
     leg_.maxEnergyJ = leg.energyJ;
     leg_.maxPowerW = leg.powerW * powerRelax_;
+    // The goal's last leg ends at the goal: the habitual layer may stop
+    // anywhere in its region. Earlier legs end at waypoints, reached as points.
+    leg_.arriveWithinM =
+        leg_.finalLeg != 0 && goalIndex_ < goals_.count ? static_cast<double>(goals_.goals[goalIndex_].radiusM) : 0.0;
     published(bus_.publish(leg_), "leg");
     ++counters_.legsSent;
     changed_ = true;

@@ -56,8 +56,12 @@
 //                                            within PLANNER.bound_relax_limit; else replan
 //   kExecuting --goal's last leg reached, --> no goal claimed: waits (kExecuting, no leg) until
 //                pose uncertain (fault 19  the pose is certain, then claims the goal if the pose
-//                or sigma > pose_fault_     is within HABITUAL.goal_tolerance_m of it, else
-//                sigma_m)                   re-sends the last leg from the pose
+//                or sigma > pose_fault_     is within HABITUAL.goal_tolerance_m of it (or within
+//                sigma_m)                   the goal's region when larger), else re-sends the
+//                                           last leg from the pose
+//   a goal's region (PlanGoalMsg radius, a plan's `within R`): its last leg carries
+//              it (LegCommandMsg.arriveWithinM), so the habitual layer stops on the
+//              way in; every other leg, and a back-up, carries 0 (the point)
 //   held (MissionHoldMsg reasons != 0): no leg sent, no plan started, fail-ups
 //              and mobility loss ignored (fault protection owns the response);
 //              planning already under way finishes and its first leg waits.
@@ -276,6 +280,10 @@ private:
     // while they are not the last leg; true when legIndex_ moved.
     bool skipLegEndsInHazards();
     void goalReached();
+    // How near the goal in hand the rover must stand for it to be reached:
+    // its region (PlanGoalMsg's radius, a plan's `within R`), never less
+    // than HABITUAL.goal_tolerance_m. The goal's last leg carries the region.
+    double goalArrivalM() const;
     void checkUnconfirmedGoal(core::TimeNs now);
     void resendFromPose(core::TimeNs now);
     LegParams legParams() const;

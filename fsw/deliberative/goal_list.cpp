@@ -4,7 +4,7 @@ namespace rse::deliberative {
 
 void GoalList::replaceWithGoal(double x, double y, double risk) {
     list_.count = 1;
-    list_.goals[0] = msg::Goal{x, y, 0, {}};
+    list_.goals[0] = msg::Goal{x, y, 0, {}, 0.0F};
     list_.riskBound = risk;
     ++list_.revision;
 }
@@ -13,7 +13,7 @@ core::Status GoalList::addTarget(double x, double y, std::uint8_t priority) {
     if (list_.count >= msg::kMaxGoals) {
         return core::Status::kFull;
     }
-    list_.goals[list_.count++] = msg::Goal{x, y, priority, {}};
+    list_.goals[list_.count++] = msg::Goal{x, y, priority, {}, 0.0F};
     ++list_.revision;
     return core::Status::kOk;
 }

@@ -8,6 +8,7 @@
 #include "fsw/geometry/coarse_map.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
+#include "fsw/msg/goal_msgs.hpp"
 #include "fsw/rover_model/power_model.hpp"
 
 namespace rse::habitual {
@@ -368,6 +369,10 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
         refuseLeg(leg, "power bound negative or not finite", now);
         return;
     }
+    if (!(leg.arriveWithinM >= 0.0 && leg.arriveWithinM <= static_cast<double>(msg::kMaxGoalRadiusM))) {
+        refuseLeg(leg, "arrival radius negative, too large or not finite", now);
+        return;
+    }
 
     leg_ = leg;
     legActive_ = true;
@@ -377,9 +382,16 @@ void HabitualTask::onLeg(const msg::LegCommandMsg& leg, core::TimeNs now) {
     anchorSet_ = false;
     cannotFollowReplans_ = 0;
     ++counters_.legsAccepted;
-    events_.report(events::kLegAccepted, core::Severity::kInfo,
-                   "habitual: leg %u to (%.2f, %.2f): max %.1f m, %.0f J", static_cast<unsigned>(leg.legId),
-                   leg.goalXM, leg.goalYM, leg.maxPathLengthM, leg.maxEnergyJ);
+    if (stopShortM() > 0.0) {
+        events_.report(events::kLegAccepted, core::Severity::kInfo,
+                       "habitual: leg %u to (%.2f, %.2f) within %.2f m: max %.1f m, %.0f J",
+                       static_cast<unsigned>(leg.legId), leg.goalXM, leg.goalYM, arrivalM(), leg.maxPathLengthM,
+                       leg.maxEnergyJ);
+    } else {
+        events_.report(events::kLegAccepted, core::Severity::kInfo,
+                       "habitual: leg %u to (%.2f, %.2f): max %.1f m, %.0f J", static_cast<unsigned>(leg.legId),
+                       leg.goalXM, leg.goalYM, leg.maxPathLengthM, leg.maxEnergyJ);
+    }
     sendStop(now);  // held stopped while the new leg is planned
     const tables::HabitualTable& hab = tables_.habitual();
     plan_ = Evaluation{0.0, 0.0, leg.maxPathLengthM * (1.0 - static_cast<double>(hab.distance_margin_frac)),
@@ -467,18 +479,37 @@ void HabitualTask::onFollower(const msg::FollowerStatusMsg& status, core::TimeNs
         return;
     }
     if (status.state == msg::FollowerState::kReached) {
-        ++counters_.legsAchieved;
-        legActive_ = false;
-        events_.report(events::kLegAchieved, core::Severity::kInfo,
-                       "habitual: leg %u achieved at (%.2f, %.2f): %.1f m, %.0f J driven",
-                       static_cast<unsigned>(leg_.legId), pose_.xM, pose_.yM, drivenLengthM_, drivenEnergyJ_);
-        setState(msg::HabitualState::kAchieved, now);
+        achieveLeg(false, now);
     } else if (status.state == msg::FollowerState::kCannotFollow) {
         onCannotFollow(status, now);
     }
 }
 
+void HabitualTask::achieveLeg(bool alreadyInside, core::TimeNs now) {
+    ++counters_.legsAchieved;
+    legActive_ = false;
+    queryActive_ = false;
+    if (alreadyInside) {
+        events_.report(events::kLegAchieved, core::Severity::kInfo,
+                       "habitual: leg %u achieved at (%.2f, %.2f): already within %.2f m of (%.2f, %.2f)",
+                       static_cast<unsigned>(leg_.legId), pose_.xM, pose_.yM, arrivalM(), leg_.goalXM, leg_.goalYM);
+    } else {
+        events_.report(events::kLegAchieved, core::Severity::kInfo,
+                       "habitual: leg %u achieved at (%.2f, %.2f): %.1f m, %.0f J driven",
+                       static_cast<unsigned>(leg_.legId), pose_.xM, pose_.yM, drivenLengthM_, drivenEnergyJ_);
+    }
+    setState(msg::HabitualState::kAchieved, now);
+}
+
 // ---- Planning --------------------------------------------------------------------
+
+double HabitualTask::arrivalM() const {
+    return msg::arrivalRadiusM(static_cast<double>(tables_.habitual().goal_tolerance_m), leg_.arriveWithinM);
+}
+
+double HabitualTask::stopShortM() const {
+    return arrivalM() - static_cast<double>(tables_.habitual().goal_tolerance_m);
+}
 
 void HabitualTask::beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, core::TimeNs now) {
     trigger_ = trigger;
@@ -523,6 +554,21 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
         return;
     }
     if (!queryActive_) {
+        const bool atRest =
+            std::fabs(pose_.speedMS) < kAtRestSpeedMS && std::fabs(pose_.yawRateRadS) < kAtRestYawRateRadS;
+        const bool settling = !atRest && restWaitRuns_ < kMaxRestWaitRuns;
+        const Point2 here{pose_.xM, pose_.yM};
+        if (stopShortM() > 0.0 && distance(here, Point2{leg_.goalXM, leg_.goalYM}) <= arrivalM()) {
+            // A region leg from inside its region (the leg before ended there,
+            // or a repair stopped the rover there): nothing to drive, nor a
+            // power bound to keep. Judged where the rover comes to rest.
+            if (settling) {
+                ++restWaitRuns_;
+                return;
+            }
+            achieveLeg(true, now);
+            return;
+        }
         // No path can lower the drives' power: a leg whose power bound no
         // longer holds fails up before any planning.
         const Evaluation power = powerCheck();
@@ -530,9 +576,7 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
             failUp(msg::LegConstraint::kPower, power, now);
             return;
         }
-        const bool atRest =
-            std::fabs(pose_.speedMS) < kAtRestSpeedMS && std::fabs(pose_.yawRateRadS) < kAtRestYawRateRadS;
-        if (!atRest && restWaitRuns_ < kMaxRestWaitRuns) {
+        if (settling) {
             ++restWaitRuns_;
             return;
         }
@@ -621,8 +665,10 @@ bool HabitualTask::startQuery(core::TimeNs now) {
         completePlan(2, now);
         return false;
     }
+    // A node within the leg's arrival radius that sees the point solves the
+    // query (the path still runs to the point; completePlan cuts it).
     const RrtStarParams params{static_cast<double>(hab.rrt_step_m), static_cast<double>(hab.rrt_goal_bias),
-                               static_cast<double>(hab.goal_tolerance_m), hab.rrt_k_cap};
+                               arrivalM(), hab.rrt_k_cap};
     ++queryCount_;
     const core::Status status = rrt_.start(planMap_, queryStart_, goal, params, querySeed(leg_.legId, queryCount_));
     if (!core::isOk(status)) {
@@ -778,16 +824,17 @@ void HabitualTask::finishQuery(core::TimeNs now) {
 
 void HabitualTask::completePlan(std::size_t count, core::TimeNs now) {
     ++counters_.planningRuns;
-    const tables::HabitualTable& hab = tables_.habitual();
     const Point2 goal{leg_.goalXM, leg_.goalYM};
     if (count >= 2) {
         count = shortcutPath(planMap_, rawPath_, count);
         const Point2 last = rawPath_[count - 1];
         const bool atGoal = last.x == goal.x && last.y == goal.y;
-        if (!atGoal && distance(last, goal) <= static_cast<double>(hab.goal_tolerance_m) &&
-            planMap_.segmentFree(last, goal) && count < kMaxRawPathPoints) {
+        if (!atGoal && distance(last, goal) <= arrivalM() && planMap_.segmentFree(last, goal) &&
+            count < kMaxRawPathPoints) {
             rawPath_[count++] = goal;
         }
+        // A region: the path ends where it enters it (stopShortM() from the point).
+        count = cutPathAtDisc(rawPath_, count, goal, stopShortM());
         if (count > msg::kMaxTrajectoryPoints) {
             count = 0;
         }

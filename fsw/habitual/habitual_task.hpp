@@ -13,11 +13,13 @@
 //   any     --legId 0 (cancel)------> stop, kIdle
 //   any     --mode left AUTONOMOUS--> stop, leg dropped, kIdle
 //   any     --new leg---------------> stop, kPlanning
-//   kPlanning/kRepairing: the leg's power bound first: the drives' power at the
-//           cruise speed above it -> stop, kFailedUp (kPower) at once (a new path
-//           cannot lower it); else wait for a usable pose and the rover at rest, then one
-//           planning run (RRT* sliced over frames); its plan is checked against
-//           the constraints:
+//   kPlanning/kRepairing: a region leg whose rover stands (at rest) within its
+//           region -> kAchieved at once (below); else the leg's power bound
+//           first: the drives' power at the cruise speed above it -> stop,
+//           kFailedUp (kPower) at once (a new path cannot lower it); else
+//           wait for a usable pose and the rover at rest, then one planning
+//           run (RRT* sliced over frames); its plan is checked against the
+//           constraints:
 //             both hold -----------------------------> trajectory sent, kDriving
 //             violated or no path, repairs left -----> kRepairing, next run (new seed)
 //             violated or no path, no repairs left --> stop, kFailedUp (reason, figures)
@@ -35,6 +37,14 @@
 //           still remembered. Released (reasons 0): a session in planning goes
 //           on; a leg being driven waits stopped for the deliberative layer to
 //           re-send it from the current pose (a new leg).
+//
+// A goal region (LegCommandMsg.arriveWithinM above HABITUAL.goal_tolerance_m,
+// a goal's last leg): a rover at rest within the region achieves the leg at
+// once, before the power check (nothing driven); otherwise the path is planned
+// to the point as always (RRT*'s goal tolerance the region's radius) and cut
+// where it first comes within stopShortM() of it (path_shortcut.hpp
+// cutPathAtDisc): the rover stops on the way in, the goal tolerance deep
+// inside the region, instead of driving to the centre.
 //
 // Planning run: if the straight segment to the goal is free it is the shortest
 // path and is taken without sampling; otherwise RRT* (rrt_star.hpp) from the
@@ -261,6 +271,16 @@ private:
 
     // Leg and planning.
     void refuseLeg(const msg::LegCommandMsg& leg, const char* why, core::TimeNs now);
+    // How near the leg's point the rover must stop: max(HABITUAL.goal_tolerance_m,
+    // the leg's arriveWithinM).
+    double arrivalM() const;
+    // How far short of the leg's point a trajectory ends: arrivalM() less the
+    // table's tolerance (a region is reached to the tolerance as a point is:
+    // the trajectory ends that deep inside it); 0 for a point leg.
+    double stopShortM() const;
+    // The leg done: kAchieved, counted and evented; alreadyInside: a region
+    // leg whose rover stood within its region (nothing driven).
+    void achieveLeg(bool alreadyInside, core::TimeNs now);
     void beginSession(PlanTrigger trigger, std::uint8_t firstAttempt, core::TimeNs now);
     void stepPlanning(core::TimeNs now);
     bool startQuery(core::TimeNs now);

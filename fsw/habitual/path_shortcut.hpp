@@ -1,4 +1,5 @@
-// Line-of-sight shortcutting of a planned path on the local map.
+// Line-of-sight shortcutting of a planned path on the local map, and the cut
+// that ends a path where it enters a goal region.
 //
 // Greedy: from the current point, jump to the farthest later point that is in
 // straight sight (segmentFree), keep it, repeat from there. Every kept segment
@@ -28,5 +29,14 @@ double pathLength(const geometry::Point2* path, std::size_t count);
 // points kept). count < 3 or > kMaxShortcutPoints is returned unchanged; a
 // null path gives 0.
 std::size_t shortcutPath(const LocalMap& map, geometry::Point2* path, std::size_t count);
+
+// Ends path[0..count) where it first comes within radiusM of centre: the
+// point where it enters that disc, on the first segment that reaches it,
+// becomes the last point; returns the new count (a goal region: the rover
+// stops on the way in, not at the centre). The cut path is a prefix of the
+// input, so it keeps to the free space the input kept to and is never longer.
+// Unchanged (count returned): radiusM not > 0, a path that starts inside the
+// disc or never enters it, fewer than two points. A null path gives 0.
+std::size_t cutPathAtDisc(geometry::Point2* path, std::size_t count, geometry::Point2 centre, double radiusM);
 
 }  // namespace rse::habitual

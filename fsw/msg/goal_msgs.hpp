@@ -15,13 +15,27 @@
 namespace rse::msg {
 
 constexpr std::size_t kMaxGoals = 16;  // PLAN telemetry shows up to 16 waypoints
+// The largest goal region (a plan's `drive ... at X Y within R`): wider than
+// any site the coarse map holds, so a larger one is a mistake, not a wish.
+constexpr float kMaxGoalRadiusM = 50.0F;
 
 struct Goal {
     double xM;
     double yM;
     std::uint8_t priority;  // 0: a plain GOTO goal; 1..10 science target priority
-    std::uint8_t pad[7];
+    std::uint8_t pad[3];
+    // The goal is reached anywhere within this of (xM, yM); 0 (GOTO,
+    // ADD_TARGET), or anything up to HABITUAL.goal_tolerance_m: the point,
+    // reached to that tolerance. At most kMaxGoalRadiusM.
+    float radiusM;
 };
+
+// How near the goal the rover must stop: its region, never tighter than the
+// habitual table's goal tolerance (the deliberative layer's "reached" and the
+// habitual layer's arrival on the goal's last leg use the same figure).
+inline double arrivalRadiusM(double goalToleranceM, double radiusM) {
+    return radiusM > goalToleranceM ? radiusM : goalToleranceM;
+}
 
 // Published whenever the goal list or the risk bound changes.
 struct GoalListMsg {
@@ -34,14 +48,15 @@ struct GoalListMsg {
     Goal goals[kMaxGoals];
 };
 
-// The checks every reader applies: at most kMaxGoals, finite points, a risk
-// bound in (0, 0.5) (NaN refused).
+// The checks every reader applies: at most kMaxGoals, finite points, a radius
+// in [0, kMaxGoalRadiusM], a risk bound in (0, 0.5) (NaN refused).
 inline bool goalListUsable(const GoalListMsg& g) {
     if (g.count > kMaxGoals || !(g.riskBound > 0.0 && g.riskBound < 0.5)) {
         return false;
     }
     for (std::size_t i = 0; i < g.count; ++i) {
-        if (!std::isfinite(g.goals[i].xM) || !std::isfinite(g.goals[i].yM)) {
+        const float r = g.goals[i].radiusM;
+        if (!std::isfinite(g.goals[i].xM) || !std::isfinite(g.goals[i].yM) || !(r >= 0.0F && r <= kMaxGoalRadiusM)) {
             return false;
         }
     }

@@ -11,6 +11,11 @@
 namespace rse::msg {
 
 // Drive to (goalXM, goalYM) within the bounds. legId 0 cancels: stop safely and wait.
+// arriveWithinM: the leg is achieved once the rover stands within
+// max(HABITUAL.goal_tolerance_m, arriveWithinM) of the point (the habitual
+// layer stops short on the way in rather than driving to the point); 0, as on
+// every leg but a region goal's last: the table's tolerance. Finite, >= 0, at
+// most kMaxGoalRadiusM (goal_msgs.hpp), else the leg is refused.
 struct LegCommandMsg {
     static constexpr core::MsgId kMsgId = ids::kLegCommand;
     std::int64_t timeNs;
@@ -22,6 +27,7 @@ struct LegCommandMsg {
     double maxPathLengthM;     // not to exceed: path length of the local plan
     double maxEnergyJ;         // not to exceed: energy the drives may draw on this leg
     double maxPowerW;          // not to exceed: power the drives draw at the cruise speed (0: no power bound)
+    double arriveWithinM;      // the goal region's radius on a goal's last leg (0: the point)
 };
 
 enum class HabitualState : std::uint8_t {

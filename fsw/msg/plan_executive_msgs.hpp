@@ -89,8 +89,9 @@ enum class PlanRegeneration : std::uint8_t {
 };
 
 // A drive activity's goal for the deliberative layer, its only source of
-// goals: a goal list of one goal (the activity's point, priority 0, the
-// operator's risk bound from the last GoalListMsg) when the activity starts,
+// goals: a goal list of one goal (the activity's point and region radius, its
+// `within R` or 0, priority 0, the operator's risk bound from the last
+// GoalListMsg) when the activity starts,
 // of none when it is cancelled. Revisions count from 0x80000000, apart from
 // the command handlers'; PlanStatusMsg's goalRevision says which list the
 // deliberative layer is working on. listIndex: the goal's index in the

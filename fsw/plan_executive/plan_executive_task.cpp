@@ -396,6 +396,9 @@ void PlanExecutiveTask::publishGoal(std::uint16_t a) {
         g.count = 1;
         g.goals[0].xM = drive.x;
         g.goals[0].yM = drive.y;
+        // `within R`: the deliberative layer claims the goal, and the habitual
+        // layer stops, anywhere within R of the point.
+        g.goals[0].radiusM = static_cast<float>(drive.radiusMm) / 1000.0F;
         driveRevision_ = goalRevision_;
         // A goal plan's activities are the operator's goals in order.
         goal_.listIndex = goalPlan_ && a < msg::kMaxGoals ? static_cast<std::uint8_t>(a) : 0;
@@ -989,10 +992,16 @@ void PlanExecutiveTask::beginGoalPlan() {
         if (i > 0) {
             std::snprintf(from, sizeof from, "goal%u", static_cast<unsigned>(i));
         }
+        // A goal's region goes with it (the command handlers' goals are
+        // points: radius 0, no `within`); below the text's 1 mm it is the point.
+        char within[24] = "";
+        if (g.goals[i].radiusM >= 0.0005F) {
+            std::snprintf(within, sizeof within, " within %.3f", static_cast<double>(g.goals[i].radiusM));
+        }
         n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n,
-                                                    "activity drive%u drive %s goal%u [0, inf] at %.3f %.3f\n",
+                                                    "activity drive%u drive %s goal%u [0, inf] at %.3f %.3f%s\n",
                                                     static_cast<unsigned>(i + 1), from, static_cast<unsigned>(i + 1),
-                                                    g.goals[i].xM, g.goals[i].yM));
+                                                    g.goals[i].xM, g.goals[i].yM, within));
     }
     if (n < sizeof goalText_) {
         n += static_cast<std::size_t>(std::snprintf(goalText_ + n, sizeof goalText_ - n, "end\n"));

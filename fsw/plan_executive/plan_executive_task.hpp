@@ -99,9 +99,10 @@ public:
     static constexpr std::uint16_t kStatusPipeDepth = 12;
     static constexpr std::uint32_t kGoalRevisionBase = 0x80000000U;
     // A goal plan's text: a header and "end" (32 B), then a goal's event line
-    // (at most 24 B) and drive line (at most 72 B with coordinates up to
-    // 100 km to the mm); a longer text is refused (overflow), never cut.
-    static constexpr std::size_t kGoalPlanTextBytes = 32 + msg::kMaxGoals * (24 + 72);
+    // (at most 24 B) and drive line (at most 87 B: coordinates up to 100 km
+    // to the mm and " within 50.000"); a longer text is refused (overflow),
+    // never cut.
+    static constexpr std::size_t kGoalPlanTextBytes = 32 + msg::kMaxGoals * (24 + 88);
     // The most extra time one PLAN_EXTEND may ask: the instrument's field (6553.5 s).
     static constexpr std::uint32_t kMaxExtendMs = 6553500;
 

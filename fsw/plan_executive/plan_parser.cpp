@@ -2,15 +2,22 @@
 
 #include <cstring>
 
+#include "fsw/msg/goal_msgs.hpp"
+
 namespace rse::plan_executive {
 
 namespace {
 
-// The longest statement (an activity with every field, four asks and two
-// tells) has 31 tokens; a line with more is refused rather than cut.
+// The longest statement (a drive with cost, `at X Y within R`, four asks, two
+// tells and a guard) has 31 tokens; a line with more is refused rather than cut.
 constexpr std::size_t kMaxTokens = 40;
 constexpr double kMaxCoordinateM = 100000.0;
 constexpr double kMaxCost = 1000000.0;
+// A drive's region, `within R`: at least 1 mm (the text's resolution; R = 0
+// would be the point, written without `within`), at most the bus goal's limit.
+constexpr double kMinRadiusM = 0.001;
+constexpr double kMaxRadiusM = static_cast<double>(msg::kMaxGoalRadiusM);
+static_assert(kMaxRadiusM * 1000.0 <= 65535.0, "Activity::radiusMm holds the largest radius in mm");
 
 struct Token {
     const char* text = nullptr;
@@ -33,8 +40,17 @@ bool equalsName(const Token& t, const char* name) {
     return t.length == n && std::memcmp(t.text, name, n) == 0;
 }
 
-const char* const kKeywords[] = {"plan", "var",  "event", "choice", "activity", "constraint", "end",
-                                 "when", "cost", "at",    "target", "ask",      "tell",       "inf"};
+const char* const kKeywords[] = {"plan", "var",  "event", "choice", "activity", "constraint", "end",   "when",
+                                 "cost", "at",   "within", "target", "ask",     "tell",       "inf"};
+
+// A token that can only be meant as a number (names start with a letter or '_').
+bool looksNumeric(const Token& t) {
+    if (t.quoted || t.length == 0) {
+        return false;
+    }
+    const char c = t.text[0];
+    return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+';
+}
 
 bool isKeyword(const Token& t) {
     for (const char* k : kKeywords) {
@@ -692,9 +708,25 @@ bool Parser::activityLine() {
                 !decimal(tokens_[k + 2], 3, -kMaxCoordinateM, kMaxCoordinateM, &a.y)) {
                 return false;
             }
-            // No radius: the deliberative layer reaches every goal to
-            // HABITUAL.goal_tolerance_m (a radius it did not keep would mislead).
             k += 3;
+            // `within R`: the drive is done anywhere within R m of the point
+            // (the deliberative and habitual layers stop on the way in). A
+            // bare number after the point is refused, not read as a radius:
+            // it was one once, with nothing to keep it.
+            if (k < count_ && equals(tokens_[k], "within")) {
+                double radiusM = 0.0;
+                if (k + 1 >= count_) {
+                    return fail(PlanError::kMissingField, &tokens_[k]);
+                }
+                if (!decimal(tokens_[k + 1], 3, kMinRadiusM, kMaxRadiusM, &radiusM)) {
+                    return false;
+                }
+                // decimal() read at most 3 fractional digits: whole mm up to rounding.
+                a.radiusMm = static_cast<std::uint16_t>(radiusM * 1000.0 + 0.5);
+                k += 2;
+            } else if (k < count_ && looksNumeric(tokens_[k])) {
+                return fail(PlanError::kRadiusWithoutWithin, &tokens_[k]);
+            }
             sawAt = true;
         } else if (equals(t, "target") && !sawTarget && hasNext &&
                    (a.kind == ActivityKind::kSample || a.kind == ActivityKind::kImage || a.kind == ActivityKind::kDig)) {
@@ -880,6 +912,7 @@ const char* toString(PlanError e) {
         "from and to are the same event",
         "event guarded by an option the element does not imply",
         "cycle of precedence",
+        "number after a drive's point (a region is written within R)",
     };
     const auto i = static_cast<std::size_t>(e);
     return i < kPlanErrorCount ? kNames[i] : "?";

@@ -57,8 +57,9 @@ enum class PlanError : std::uint8_t {
     kSelfLoop = 28,          // from == to
     kBadGuard = 29,          // an element's event is guarded by an option the element does not imply
     kCycle = 30,             // a cycle of precedence through the named event
+    kRadiusWithoutWithin = 31, // a number after a drive's point: a region is `at X Y within R`
 };
-constexpr std::size_t kPlanErrorCount = 31;
+constexpr std::size_t kPlanErrorCount = 32;
 
 const char* toString(PlanError e);
 

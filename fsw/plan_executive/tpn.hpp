@@ -47,7 +47,7 @@ constexpr std::int32_t kMaxBoundMs = 1000000000;  // finite bounds up to ~11.6 d
 constexpr std::uint8_t kNoChoice = 0xFF;          // Guard::choice of an unguarded element
 
 enum class ActivityKind : std::uint8_t {
-    kDrive = 0,        // to a point (x, y) within radius
+    kDrive = 0,        // to a point (x, y), or anywhere within a radius of it
     kSample = 1,       // grinder/sampler on a target
     kImage = 2,        // camera on a target
     kDig = 3,          // grinder/sampler, dig mode, on a target
@@ -104,8 +104,12 @@ struct Activity {
     std::uint16_t to = 0;
     Bounds duration;
     double cost = 0.0;
-    // kDrive: the goal (x, y) m, reached to HABITUAL.goal_tolerance_m.
+    // kDrive: the goal (x, y) m, reached to HABITUAL.goal_tolerance_m; with
+    // `within R`, anywhere within radiusMm (mm, 1..kMaxGoalRadiusM of
+    // goal_msgs.hpp; 0: the point). Millimetres, as the text's 3 decimals:
+    // 16 bits keep the activity at 96 B.
     double x = 0.0, y = 0.0;
+    std::uint16_t radiusMm = 0;
     // kSample, kImage, kDig: the science target's id (1..255).
     std::uint8_t target = 0;
     std::uint8_t askCount = 0;

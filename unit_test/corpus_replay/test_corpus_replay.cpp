@@ -65,6 +65,7 @@ const PlanSeedReason kPlanSeedReasons[] = {
     {"bounds_reversed", plan_executive::PlanError::kBoundsReversed},
     {"no_end_marker", plan_executive::PlanError::kNoEndMarker},
     {"unterminated_string", plan_executive::PlanError::kUnterminatedString},
+    {"radius_without_within", plan_executive::PlanError::kRadiusWithoutWithin},
 };
 
 constexpr Mode kModes[kModeCount] = {Mode::kSafe, Mode::kStandby, Mode::kAutonomous, Mode::kManual};

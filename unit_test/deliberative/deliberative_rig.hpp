@@ -62,7 +62,8 @@ public:
     }
     // The plan executive's goals: one (a drive activity); lists with more as
     // well (the task takes them, the executive sends one at a time).
-    void sendGoals(const double (*xy)[2], std::size_t count, double risk, std::uint8_t listIndex = 0) {
+    void sendGoals(const double (*xy)[2], std::size_t count, double risk, std::uint8_t listIndex = 0,
+                   float radiusM = 0.0F) {
         msg::PlanGoalMsg p{};
         p.listIndex = listIndex;
         msg::GoalListMsg& g = p.goals;
@@ -73,12 +74,14 @@ public:
         for (std::size_t i = 0; i < count; ++i) {
             g.goals[i].xM = xy[i][0];
             g.goals[i].yM = xy[i][1];
+            g.goals[i].radiusM = radiusM;
         }
         (void)bus.publish(p);
     }
-    void sendGoal(double gx, double gy, double risk) {
+    // radiusM: a drive `within` it (0: the point).
+    void sendGoal(double gx, double gy, double risk, float radiusM = 0.0F) {
         const double xy[1][2] = {{gx, gy}};
-        sendGoals(xy, 1, risk);
+        sendGoals(xy, 1, risk, 0, radiusM);
     }
     // The interlock latched (or not), with wheel `failed` failed and the others operational.
     void sendDriveStatus(bool interlockTripped, std::size_t failed = msg::kWheelCount) {

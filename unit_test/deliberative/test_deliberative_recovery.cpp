@@ -41,9 +41,9 @@ TEST_GROUP(DeliberativeRecovery) {
     }
     void teardown() override { delete rig; }
 
-    void autonomousToFirstLeg() {
+    void autonomousToFirstLeg(float radiusM = 0.0F) {
         rig->setMode(DeliberativeRig::kAutonomous);
-        rig->sendGoal(kGoalX, kGoalY, kRisk);
+        rig->sendGoal(kGoalX, kGoalY, kRisk, radiusM);
         CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
         CHECK(rig->legs >= 1);
     }
@@ -323,6 +323,51 @@ TEST(DeliberativeRecovery, AGoalReachedWithASigmaAboveTheFaultLimitIsDrivenAgain
     rig->achieveLeg();
     rig->run();
     CHECK(DeliberativeState::kComplete == rig->task.state());
+}
+
+// A goal's region (a plan's `within R`): the rover 2 m short of the goal is
+// inside a 3 m region, so the goal is claimed once the pose is certain, where
+// the point (the test above) had its last leg driven again. A region below
+// HABITUAL.goal_tolerance_m is the point.
+TEST(DeliberativeRecovery, AGoalRegionIsClaimedFromACertainPoseInsideItWhereThePointWouldBeDrivenAgain) {
+    const double tolerance = static_cast<double>(rig->tables.habitual().goal_tolerance_m);
+    CHECK(2.0 > tolerance);  // 2 m short is not the point
+    autonomousToFirstLeg(3.0F);
+    achieveAllButLastLeg();
+    DOUBLES_EQUAL(3.0, rig->lastLeg.arriveWithinM, 1e-6);  // the last leg carries the region
+    const double limit = static_cast<double>(rig->tables.estimatorNoise().pose_fault_sigma_m);
+    rig->positionSigma = 1.5 * limit;
+    rig->achieveLeg();
+    rig->run();
+    LONGS_EQUAL(1, rig->seenCount(ev::kGoalUnconfirmed));
+    const unsigned sent = rig->legs;
+    rig->positionSigma = 0.5 * limit;
+    rig->x = kGoalX - 2.0;
+    rig->run();
+    CHECK(DeliberativeState::kComplete == rig->task.state());
+    LONGS_EQUAL(sent, rig->legs);  // nothing driven again
+    LONGS_EQUAL(0, rig->seenCount(ev::kGoalLegResent));
+    LONGS_EQUAL(1, rig->task.counters().goalsReached);
+    CHECK(contains(rig->seenText(ev::kGoalReached), "reached within 3.00 m (2.00 m off)"));
+}
+
+TEST(DeliberativeRecovery, OutsideItsRegionAGoalIsNotClaimedAndItsLastLegIsDrivenAgain) {
+    autonomousToFirstLeg(3.0F);
+    achieveAllButLastLeg();
+    const double limit = static_cast<double>(rig->tables.estimatorNoise().pose_fault_sigma_m);
+    rig->positionSigma = 1.5 * limit;
+    rig->achieveLeg();
+    rig->run();
+    const unsigned sent = rig->legs;
+    rig->positionSigma = 0.5 * limit;
+    rig->x = kGoalX - 3.2;
+    rig->run();
+    CHECK(DeliberativeState::kExecuting == rig->task.state());
+    LONGS_EQUAL(sent + 1, rig->legs);
+    LONGS_EQUAL(1, rig->lastLeg.finalLeg);
+    DOUBLES_EQUAL(3.0, rig->lastLeg.arriveWithinM, 1e-6);  // re-sent with its region
+    LONGS_EQUAL(1, rig->seenCount(ev::kGoalLegResent));
+    LONGS_EQUAL(0, rig->task.counters().goalsReached);
 }
 
 // ---- the replan request ---------------------------------------------------------------

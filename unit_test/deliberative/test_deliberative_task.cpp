@@ -55,9 +55,9 @@ TEST_GROUP(DeliberativeTask) {
             rig->run();
         }
     }
-    void autonomousToFirstLeg(double gx = kGoalX, double gy = kGoalY, double risk = kRisk) {
+    void autonomousToFirstLeg(double gx = kGoalX, double gy = kGoalY, double risk = kRisk, float radiusM = 0.0F) {
         rig->setMode(DeliberativeRig::kAutonomous);
-        rig->sendGoal(gx, gy, risk);
+        rig->sendGoal(gx, gy, risk, radiusM);
         CHECK_TRUE(rig->runUntilState(DeliberativeState::kExecuting, kPlanRuns));
         CHECK(rig->legs >= 1);
     }
@@ -123,6 +123,7 @@ TEST(DeliberativeTask, APlanBecomesLegsOfAtMostTheSpacingEndingAtTheGoalWithThei
     DOUBLES_EQUAL(legs.legs[0].lengthM, rig->lastLeg.maxPathLengthM, 0.0);
     DOUBLES_EQUAL(legs.legs[0].energyJ, rig->lastLeg.maxEnergyJ, 0.0);
     LONGS_EQUAL(legs.count == 1 ? 1 : 0, rig->lastLeg.finalLeg);
+    DOUBLES_EQUAL(0.0, rig->lastLeg.arriveWithinM, 0.0);  // a point goal: the table's tolerance
     rig->run();
     CHECK(DeliberativeState::kExecuting == rig->lastStatus.state);
     LONGS_EQUAL(rig->lastLeg.legId, rig->lastStatus.currentLegId);
@@ -229,6 +230,28 @@ TEST(DeliberativeTask, AchievedLegsAdvanceThroughEveryGoalToComplete) {
     rig->run();
     CHECK(DeliberativeState::kComplete == rig->task.state());
     LONGS_EQUAL(0, rig->task.counters().failUps);
+}
+
+// A goal's region (PlanGoalMsg radius, a plan's `within R`) goes to the
+// habitual layer on the goal's last leg only: the waypoints before it are
+// reached as points, the last one anywhere within the region.
+TEST(DeliberativeTask, OnlyTheGoalsLastLegCarriesItsRegion) {
+    autonomousToFirstLeg(kGoalX, kGoalY, kRisk, 3.0F);
+    const std::size_t count = rig->task.legs().count;
+    CHECK(count >= 2);
+    for (std::size_t k = 0; k + 1 < count; ++k) {
+        LONGS_EQUAL(0, rig->lastLeg.finalLeg);
+        DOUBLES_EQUAL(0.0, rig->lastLeg.arriveWithinM, 0.0);
+        rig->achieveLeg();
+        rig->run();
+    }
+    LONGS_EQUAL(1, rig->lastLeg.finalLeg);
+    DOUBLES_EQUAL(kGoalX, rig->lastLeg.goalXM, 1e-9);  // the leg still ends at the point
+    DOUBLES_EQUAL(3.0, rig->lastLeg.arriveWithinM, 1e-6);
+    rig->x = kGoalX - 2.5;  // the habitual layer stopped inside the region
+    rig->report(HabitualState::kAchieved);
+    rig->run();
+    CHECK(DeliberativeState::kComplete == rig->task.state());
 }
 
 TEST(DeliberativeTask, AnEnergyFailUpWithinTheRelaxLimitResendsTheLegWithTheBoundGrownByWhatIsNeeded) {
@@ -586,6 +609,12 @@ TEST(DeliberativeTask, MalformedInputsAreCountedEventedAndIgnored) {
     bad.goals.count = 1;
     bad.listIndex = msg::kMaxGoals;  // past any goal list
     CHECK(core::isOk(rig->bus.publish(bad)));
+    bad.listIndex = 0;
+    // A region radius that is no number, negative or beyond kMaxGoalRadiusM.
+    for (const float radius : {NAN, -0.001F, msg::kMaxGoalRadiusM + 0.01F}) {
+        bad.goals.goals[0].radiusM = radius;
+        CHECK(core::isOk(rig->bus.publish(bad)));
+    }
     msg::LegReportMsg report{};
     report.state = static_cast<HabitualState>(9);
     CHECK(core::isOk(rig->bus.publish(report)));
@@ -595,10 +624,33 @@ TEST(DeliberativeTask, MalformedInputsAreCountedEventedAndIgnored) {
     CHECK(core::isOk(rig->bus.publish(pose)));
     rig->publishPose = false;
     rig->run();
-    LONGS_EQUAL(6, rig->task.counters().malformedInputs);
+    LONGS_EQUAL(9, rig->task.counters().malformedInputs);
     CHECK(rig->seenCount(deliberative::events::kMalformedInput) >= 3);  // throttled: 1st, 2nd, 4th
     CHECK(DeliberativeState::kIdle == rig->task.state());
     LONGS_EQUAL(0, rig->task.counters().goalListsAdopted);
+}
+
+// goalListUsable, every goal reader's check: a region radius in [0,
+// kMaxGoalRadiusM] (0: the point), NaN refused like a point that is no number.
+TEST(DeliberativeTask, AGoalListIsUsableOnlyWithEveryRegionRadiusInRange) {
+    msg::GoalListMsg g{};
+    g.riskBound = 1e-3;
+    g.count = 2;
+    g.goals[0].xM = 1.0;
+    g.goals[1].xM = 2.0;
+    CHECK_TRUE(msg::goalListUsable(g));
+    g.goals[1].radiusM = msg::kMaxGoalRadiusM;
+    CHECK_TRUE(msg::goalListUsable(g));
+    g.goals[1].radiusM = 0.001F;
+    CHECK_TRUE(msg::goalListUsable(g));
+    const float bad[] = {NAN, INFINITY, -INFINITY, -0.001F, std::nextafter(msg::kMaxGoalRadiusM, 100.0F)};
+    for (const float r : bad) {
+        g.goals[1].radiusM = r;
+        CHECK_FALSE(msg::goalListUsable(g));
+    }
+    // Only the goals in use are judged.
+    g.count = 1;
+    CHECK_TRUE(msg::goalListUsable(g));
 }
 
 // The plan executive gives a goal plan's goals one at a time with their index

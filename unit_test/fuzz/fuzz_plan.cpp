@@ -9,7 +9,8 @@
 //     variable; only the start event);
 //   - an accepted plan is well formed: counts within the limits, every name
 //     NUL-terminated, every activity and constraint between two distinct known
-//     events with lb <= ub and finite lb, guards naming existing options,
+//     events with lb <= ub and finite lb, a drive's region within 50 m and
+//     none on another kind, guards naming existing options,
 //     conditions naming existing variables and values, no Tell with !=;
 //   - parsing is deterministic: the same text gives the same verdict twice.
 #include <cstddef>
@@ -62,6 +63,8 @@ void checkAccepted(const Tpn& p) {
         require(a.askCount <= kMaxAsks && a.tellCount <= kMaxTells);
         require(guardOk(p, a.guard));
         require(a.cost >= 0.0 && a.cost == a.cost);
+        // A region only on a drive, and within the bus goal's limit (50 m, in mm).
+        require(a.radiusMm <= 50000 && (a.kind == ActivityKind::kDrive || a.radiusMm == 0));
         for (std::size_t k = 0; k < a.askCount; ++k) {
             require(conditionOk(p, a.asks[k]));
         }

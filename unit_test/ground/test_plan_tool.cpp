@@ -54,6 +54,28 @@ TEST(PlanTool, TheTwoTargetsPlanSamplesBothTargetsWhenEverythingWorks) {
     CHECK(has(r.out, "3600.000]"));  // the deadline bounds done2
 }
 
+// The drives' goals: a point, or a region (`within R`, the flight parser's).
+TEST(PlanTool, EachSelectedDriveIsShownWithItsPointOrRegion) {
+    const Run r = planCli({"plan", "check", kTwoTargets});
+    CHECK_TEXT(has(r.out, "drives (m):\n  drive1: to (10.000, 0.000) (the point)\n"
+                          "  drive2: to (20.000, 5.000) (the point)\n"),
+               r.out.c_str());
+    const Run region = planCli({"plan", "check", "unit_test/fuzz/corpus/plan/drive_region.plan"});
+    CHECK_TEXT(region.rc == 0, region.err.c_str());
+    CHECK_TEXT(has(region.out, "  drive1: to (10.000, 0.000) within 3.000\n"), region.out.c_str());
+    // A bare number after the point is refused as on board, with its reason.
+    const std::string path = "build/test_plan_tool_radius.plan";
+    {
+        std::ofstream f(path);
+        f << "event a\nactivity go drive start a [0, 600] at 5 5 2\nend\n";
+    }
+    const Run bare = planCli({"plan", "check", path});
+    LONGS_EQUAL(2, bare.rc);
+    CHECK_TEXT(has(bare.err, path + ":2: number after a drive's point (a region is written within R) at '2'"),
+               bare.err.c_str());
+    std::remove(path.c_str());
+}
+
 TEST(PlanTool, AFailedGrinderMakesBothTargetsImagesAtAHigherCost) {
     const Run r = planCli({"plan", "check", kTwoTargets, "--failed", "grinder"});
     CHECK_TEXT(r.rc == 0, r.err.c_str());

@@ -69,8 +69,9 @@ public:
         h.estop = estop;
         (void)bus.publish(h);
     }
+    // arriveWithinM: a goal region's radius (0: the point, reached to the table's tolerance).
     void sendLeg(std::uint32_t legId, double gx, double gy, double maxLengthM, double maxEnergyJ,
-                 double maxPowerW = 0.0) {
+                 double maxPowerW = 0.0, double arriveWithinM = 0.0) {
         msg::LegCommandMsg leg{};
         leg.timeNs = clock.now();
         leg.legId = legId;
@@ -79,6 +80,7 @@ public:
         leg.maxPathLengthM = maxLengthM;
         leg.maxEnergyJ = maxEnergyJ;
         leg.maxPowerW = maxPowerW;
+        leg.arriveWithinM = arriveWithinM;
         (void)bus.publish(leg);
     }
     void sendPowerFactors(const double (&factors)[msg::kWheelCount], msg::DriveMode declared = msg::DriveMode::kNominal,

@@ -9,6 +9,7 @@
 
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/path_shortcut.hpp"
+#include "fsw/msg/goal_msgs.hpp"
 #include "fsw/rover_model/power_model.hpp"
 #include "unit_test/habitual/habitual_rig.hpp"
 #include "unit_test/support/alloc_guard.hpp"
@@ -380,6 +381,99 @@ TEST(HabitualTask, BadLegsAreRefusedAndTheLegInForceGoesOn) {
     LONGS_EQUAL(4, rig->seenCount(ev::kLegRefused));
     CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 800));
     LONGS_EQUAL(1, findReport(*rig, 1)->legsAchieved);
+}
+
+// ---- Goal regions (LegCommandMsg.arriveWithinM, a plan's `within R`) ----------------
+
+// The open straight line to (20, 0) within 3 m: the trajectory ends where the
+// line is the goal tolerance deep inside the region (3 - 0.5 = 2.5 m short of
+// the point), and the leg is achieved there; the same leg as a point ends at
+// the point.
+TEST(HabitualTask, ARegionLegStopsOnTheWayInInsteadOfDrivingToThePoint) {
+    const double tolerance = static_cast<double>(rig->tables.habitual().goal_tolerance_m);
+    rig->sendLeg(1, 20.0, 0.0, 40.0, 5000.0, 0.0, 3.0);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    LONGS_EQUAL(2, rig->trajectory.count);
+    DOUBLES_EQUAL(20.0 - (3.0 - tolerance), rig->trajectory.points[1].xM, 1e-9);
+    DOUBLES_EQUAL(0.0, rig->trajectory.points[1].yM, 1e-9);
+    DOUBLES_EQUAL(20.0 - (3.0 - tolerance), rig->lastReport.predictedLengthM, 1e-9);  // judged on what is driven
+    CHECK_TRUE(contains(rig->seenText(ev::kLegAccepted), "to (20.00, 0.00) within 3.00 m"));
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 800));
+    const double off = std::hypot(rig->x - 20.0, rig->y);
+    CHECK(off > tolerance);  // not at the point
+    CHECK(off <= 3.0);       // inside the region
+    LONGS_EQUAL(1, rig->task.counters().legsAchieved);
+
+    // The same leg as a point, from where the rover stopped: to the point itself.
+    rig->sendLeg(2, 20.0, 0.0, 40.0, 5000.0);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    DOUBLES_EQUAL(20.0, rig->trajectory.points[rig->trajectory.count - 1].xM, 1e-9);
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 200));
+    DOUBLES_EQUAL(20.0, rig->x, 1e-6);
+}
+
+// Round rock 0 of the default map (RRT*): the path runs towards the point
+// and is cut where it comes within 2 - 0.5 = 1.5 m of it; still free.
+TEST(HabitualTask, ARegionLegPlannedRoundARockIsCutWhereItEntersTheRegion) {
+    const double tolerance = static_cast<double>(rig->tables.habitual().goal_tolerance_m);
+    rig->x = 3.0;
+    rig->y = 2.5;
+    rig->sendLeg(1, 9.0, 2.5, 30.0, 5000.0, 0.0, 2.0);
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 40));
+    CHECK_FALSE(rig->task.lastQuery().straightLine);
+    const msg::TrajectoryMsg t = rig->trajectory;
+    const Point2 goal{9.0, 2.5};
+    const Point2 last{t.points[t.count - 1].xM, t.points[t.count - 1].yM};
+    DOUBLES_EQUAL(2.0 - tolerance, geometry::distance(last, goal), 1e-6);
+    for (std::size_t i = 0; i + 1 < t.count; ++i) {  // it enters the region at its end, not before
+        CHECK(geometry::distance(Point2{t.points[i].xM, t.points[i].yM}, goal) > 2.0 - tolerance);
+    }
+    CHECK_TRUE(trajectoryFree(rig->task.checkMap(), t));
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 600));
+    const double off = std::hypot(rig->x - 9.0, rig->y - 2.5);
+    CHECK(off > tolerance && off <= 2.0);
+}
+
+// A region leg that starts inside its region (the leg before ended there) is
+// achieved at once: nothing planned or driven, and no power bound to keep (1 W
+// here: a leg that drove would fail up on it). A point leg from as near still
+// drives to the point, and a region no wider than the tolerance is the point.
+TEST(HabitualTask, ARegionLegStartingInsideItsRegionIsAchievedWithoutDriving) {
+    rig->x = 18.0;
+    rig->y = 0.5;
+    rig->sendLeg(1, 20.0, 0.0, 40.0, 5000.0, 1.0, 3.0);
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 10));
+    LONGS_EQUAL(0, rig->task.counters().failUps);
+    LONGS_EQUAL(0, rig->plans);
+    LONGS_EQUAL(1, rig->task.counters().legsAchieved);
+    CHECK(HabitualState::kAchieved == rig->lastReport.state);
+    LONGS_EQUAL(1, rig->lastReport.legId);
+    CHECK_TRUE(contains(rig->seenText(ev::kLegAchieved), "already within 3.00 m of (20.00, 0.00)"));
+
+    rig->sendLeg(2, 20.0, 0.0, 40.0, 5000.0, 0.0, 0.4);  // below the 0.5 m tolerance: the point
+    CHECK_TRUE(rig->runUntil([&] { return driving(); }, 5));
+    LONGS_EQUAL(1, rig->plans);
+    DOUBLES_EQUAL(20.0, rig->trajectory.points[rig->trajectory.count - 1].xM, 1e-9);
+    DOUBLES_EQUAL(0.0, rig->trajectory.points[rig->trajectory.count - 1].yM, 1e-9);
+}
+
+TEST(HabitualTask, ALegWithAnArrivalRadiusNotFiniteNegativeOrBeyondTheLimitIsRefused) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const double bad[] = {nan, inf, -0.1, static_cast<double>(msg::kMaxGoalRadiusM) + 0.001};
+    std::uint32_t id = 1;
+    for (const double r : bad) {
+        rig->sendLeg(id++, 10.0, 0.0, 40.0, 5000.0, 0.0, r);
+        rig->run();
+    }
+    LONGS_EQUAL(4, rig->task.counters().legsRefused);
+    CHECK(inState(HabitualState::kIdle));
+    LONGS_EQUAL(0, rig->plans);
+    CHECK_TRUE(contains(rig->seenText(ev::kLegRefused), "arrival radius"));
+    // The largest radius is a leg like any other (here the rover stands inside it).
+    rig->sendLeg(id, 10.0, 0.0, 40.0, 5000.0, 0.0, static_cast<double>(msg::kMaxGoalRadiusM));
+    CHECK_TRUE(rig->runUntil([&] { return inState(HabitualState::kAchieved); }, 10));
+    LONGS_EQUAL(4, rig->task.counters().legsRefused);
 }
 
 TEST(HabitualTask, LegOutsideAutonomousIsRefused) {

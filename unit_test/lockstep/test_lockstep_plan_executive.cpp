@@ -10,11 +10,15 @@
 // (10, 0) and 2 at (20, 5), the grinder failing for good at 240 s, after it
 // sampled target 1 and while the rover drives to target 2.
 //
+// A drive `within 3` of (10, 0): completed inside the region, short of the
+// point, sooner than the drive to the point.
+//
 // Opportunistic science (group LockstepExtension, the grinder healthy):
 // PLAN_EXTEND sent while a sample runs, taken (a follow-on to the simulated
 // grinder over CAN, the sample completing 60 s later than in the same run
 // without it, within its ub) or refused (beyond its ub; past a later
 // deadline, the plan then running as if nothing was asked).
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -289,6 +293,88 @@ TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
     DOUBLES_EQUAL(5.0, field("state"), 0.0);
     DOUBLES_EQUAL(1.0, field("operator_calls"), 0.0);
     DOUBLES_EQUAL(7.0, field("call_home"), 0.0);
+}
+
+// ---- A drive to a region (`at X Y within R`) ---------------------------------
+
+namespace {
+struct DriveRun {
+    bool complete = false;
+    double completeS = 0.0;  // plan time the drive's end event was executed
+    double estimateOffM = 0.0;  // the rover's final estimated position to the point
+    double truthOffM = 0.0;     // the same, the simulator's truth
+};
+}  // namespace
+
+// Issue 16, "drive to a point or region": one drive to (10, 0) on the
+// two-targets site (clear of the rocks; the grinder's fault removed), as a
+// point, `within 3` and `within 2`. The region's goal reaches the deliberative
+// layer with its radius, its last leg reaches the habitual layer with it, and
+// the rover stops on the way in: the drive completes with the rover's estimate
+// farther from the point than HABITUAL.goal_tolerance_m but within R of it,
+// sooner than the same drive to the point. With 3 m the leg before the last
+// already ends inside the region (the last is achieved without driving); with
+// 2 m the last leg's trajectory is cut where it enters the region. No heap
+// from the uplink to the plan's end.
+TEST(LockstepPlanExecutive, ADriveWithinARegionStopsInsideItSoonerThanTheSameDriveToThePoint) {
+    sim::Scenario s = sim::loadScenarioFile("sim_stub/scenarios/two_targets.toml");
+    s.faults.clear();
+    // One session: the plan uplinked and run to its end (at most 200 s).
+    const auto fly = [&](const char* region) {
+        start(s);
+        const std::string plan = std::string("plan region\nevent there\n"
+                                             "activity drive1 drive start there [0, 900] at 10 0") +
+                                 region + "\nend\n";
+        DriveRun r;
+        {
+            test::AllocationWatch watch;
+            uplink(plan);
+            r.complete = rig->runUntil([&] { return complete(); }, 200 * kNsPerSec);
+            LONGS_EQUAL(0, watch.count());
+        }
+        rig->runFor(1100 * kNsPerMs);  // the last PLAN_EXEC downlinked, the rover at rest
+        dumpOnFailure(r.complete);
+        r.completeS = rig->fsw().planExecutive().dispatcher().eventTimeMs(1) / 1000.0;
+        const msg::PoseEstimateMsg& est = rig->fsw().poseEstimator().latest();
+        r.estimateOffM = std::hypot(est.xM - 10.0, est.yM);
+        const sim::Pose2 p = rig->rover().truth().pose;
+        r.truthOffM = std::hypot(p.x - 10.0, p.y);
+        LONGS_EQUAL(1, rig->consoleCount("EVT 964 INFO  plan_exec: plan region complete"));
+        DOUBLES_EQUAL(4.0, field("state"), 0.0);
+        return r;
+    };
+    const auto next = [&] {  // a fresh run, from the start
+        session.reset();
+        rig = nullptr;
+        ground = nullptr;
+    };
+    const DriveRun point = fly("");
+    CHECK_TRUE(point.complete);
+    const double tolerance = static_cast<double>(rig->fsw().tables().habitual().goal_tolerance_m);
+    CHECK(point.estimateOffM <= tolerance);  // the point, reached to the tolerance
+    DOUBLES_EQUAL(0.0, rig->planGoal().goals.goals[0].radiusM, 0.0);
+    next();
+
+    const DriveRun within3 = fly(" within 3");
+    CHECK_TRUE(within3.complete);
+    DOUBLES_EQUAL(3.0, rig->planGoal().goals.goals[0].radiusM, 1e-6);
+    LONGS_EQUAL(1, rig->consoleCount("to (10.00, 0.00) within 3.00 m"));  // the last leg, at the habitual layer
+    LONGS_EQUAL(1, rig->consoleCount("deliberative: goal 0 (10.00, 0.00) reached within 3.00 m"));
+    CHECK(within3.estimateOffM > tolerance);  // stopped short of the point
+    CHECK(within3.estimateOffM <= 3.0);       // inside the region
+    CHECK(within3.completeS < point.completeS);
+    next();
+
+    const DriveRun within2 = fly(" within 2");
+    CHECK_TRUE(within2.complete);
+    LONGS_EQUAL(1, rig->consoleCount("deliberative: goal 0 (10.00, 0.00) reached within 2.00 m"));
+    CHECK(within2.estimateOffM > tolerance);
+    CHECK(within2.estimateOffM <= 2.0);
+    CHECK(within2.completeS < point.completeS);
+    std::printf("\n  region: drive to (10, 0) complete at %.1f s, the estimate %.2f m off (truth %.2f m); within 3 m "
+                "%.1f s, %.2f m (%.2f m); within 2 m %.1f s, %.2f m (%.2f m)\n",
+                point.completeS, point.estimateOffM, point.truthOffM, within3.completeS, within3.estimateOffM,
+                within3.truthOffM, within2.completeS, within2.estimateOffM, within2.truthOffM);
 }
 
 // ---- Opportunistic science (PLAN_EXTEND) -----------------------------------

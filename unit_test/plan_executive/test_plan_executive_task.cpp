@@ -158,6 +158,20 @@ struct Rig {
         }
         CHECK_TRUE(core::isOk(bus.publish(g)));
     }
+    // The same with each goal's region radius (the command handlers' goals are points: 0).
+    void goalListWithRadii(std::uint32_t revision, const double (*xyr)[3], std::size_t count, double risk = 1e-3) {
+        msg::GoalListMsg g{};
+        g.timeNs = clock.now();
+        g.riskBound = risk;
+        g.revision = revision;
+        g.count = static_cast<std::uint8_t>(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            g.goals[i].xM = xyr[i][0];
+            g.goals[i].yM = xyr[i][1];
+            g.goals[i].radiusM = static_cast<float>(xyr[i][2]);
+        }
+        CHECK_TRUE(core::isOk(bus.publish(g)));
+    }
     void send(msg::PlanCommandKind kind, const char* data = nullptr, std::size_t length = 0, std::uint32_t offset = 0) {
         command = msg::PlanCommandMsg{};
         command.timeNs = clock.now();
@@ -523,6 +537,7 @@ TEST(PlanExecutiveDevices, DriveIsAGoalForTheDeliberativeLayerAndCompletesWhenIt
     DOUBLES_EQUAL(10.0, rig->lastGoal.goals.goals[0].xM, 1e-12);
     DOUBLES_EQUAL(0.0, rig->lastGoal.goals.goals[0].yM, 1e-12);
     DOUBLES_EQUAL(2e-3, rig->lastGoal.goals.riskBound, 1e-15);
+    DOUBLES_EQUAL(0.0, rig->lastGoal.goals.goals[0].radiusM, 0.0);  // no `within`: the point
     CHECK(rig->lastGoal.goals.revision >= PlanExecutiveTask::kGoalRevisionBase);
     // A status about another goal list before this one is adopted is not news.
     rig->deliberative(msg::DeliberativeState::kComplete, 1);
@@ -643,6 +658,35 @@ TEST(PlanExecutiveDevices, AbortCancelsTheInstrumentCommandAndClearsTheGoal) {
     CHECK(rig->lastInstrument.action == msg::InstrumentAction::kCancel);
     LONGS_EQUAL(sampleId, rig->lastInstrument.commandId);
     LONGS_EQUAL(1, rig->count(ev::kActivityCancelled));
+}
+
+// `at X Y within R`: the drive's goal for the deliberative layer carries the
+// region (the deliberative layer claims it, the habitual layer stops, within R),
+// and the drive completes on the deliberative layer's complete as any drive.
+TEST(PlanExecutiveTask, ADriveWithinARegionGivesTheDeliberativeLayerItsRadius) {
+    rig->uploadAndStart("plan region\n"
+                        "event at1\n"
+                        "event at2\n"
+                        "activity d1 drive start at1 [0, 900] at 10 0 within 3\n"
+                        "activity d2 drive at1 at2 [0, 900] at 20 5 within 0.25\n"
+                        "end\n");
+    CHECK_TRUE(rig->runUntil(PlanExecutiveState::kDispatching, 20));
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->goals);
+    DOUBLES_EQUAL(10.0, rig->lastGoal.goals.goals[0].xM, 0.0);
+    DOUBLES_EQUAL(3.0, rig->lastGoal.goals.goals[0].radiusM, 1e-6);
+    CHECK_TRUE(msg::goalListUsable(rig->lastGoal.goals));
+    const std::uint32_t first = rig->lastGoal.goals.revision;
+    rig->deliberative(msg::DeliberativeState::kExecuting, first);
+    rig->run();
+    rig->deliberative(msg::DeliberativeState::kComplete, first);
+    rig->runFor(2);
+    CHECK(rig->task.dispatcher().state(0) == plan_executive::ActivityState::kDone);
+    // The next drive's goal with its own radius (below the goal tolerance: the
+    // deliberative layer reaches it as the point, but it is carried as given).
+    LONGS_EQUAL(2, rig->goals);
+    DOUBLES_EQUAL(20.0, rig->lastGoal.goals.goals[0].xM, 0.0);
+    DOUBLES_EQUAL(0.25, rig->lastGoal.goals.goals[0].radiusM, 1e-6);
 }
 
 TEST(PlanExecutiveDevices, AbortWhileDrivingClearsTheGoal) {
@@ -808,12 +852,33 @@ TEST(PlanExecutiveGoalLists, AGoalListWhileASelectionRunsIsTakenWhenItEnds) {
     LONGS_EQUAL(0, rig->count(ev::kUploadRefused));
 }
 
+// A goal list's regions go into the plan made from it (`within R`) and out
+// with each goal; a goal of radius 0 (GOTO, ADD_TARGET) stays the point.
+TEST(PlanExecutiveGoalLists, AGoalsRegionIsKeptInItsPlanAndGivenWithTheGoal) {
+    const double xyr[2][3] = {{6.0, 1.0, 2.5}, {9.0, -1.0, 0.0}};
+    rig->goalListWithRadii(4, xyr, 2);
+    rig->runFor(2);
+    LONGS_EQUAL(1, rig->count(ev::kPlanAccepted));
+    LONGS_EQUAL(2500, rig->task.plan().activities[0].radiusMm);
+    LONGS_EQUAL(0, rig->task.plan().activities[1].radiusMm);
+    DOUBLES_EQUAL(2.5, rig->lastGoal.goals.goals[0].radiusM, 1e-6);
+    reachGoal();
+    LONGS_EQUAL(2, rig->goals);
+    DOUBLES_EQUAL(9.0, rig->lastGoal.goals.goals[0].xM, 1e-9);
+    DOUBLES_EQUAL(0.0, rig->lastGoal.goals.goals[0].radiusM, 0.0);
+}
+
 TEST(PlanExecutiveGoalLists, AMalformedGoalListIsDroppedAndCounted) {
     const double xy[1][2] = {{NAN, 0.0}};
     rig->goalList(2, xy, 1);
     rig->goalList(3, nullptr, 0, 0.7);  // risk bound out of (0, 0.5)
+    // A region radius that is no number, negative, or beyond kMaxGoalRadiusM.
+    const double badRadii[3][3] = {{1.0, 0.0, NAN}, {1.0, 0.0, -0.5}, {1.0, 0.0, 50.5}};
+    for (std::size_t i = 0; i < 3; ++i) {
+        rig->goalListWithRadii(static_cast<std::uint32_t>(4 + i), &badRadii[i], 1);
+    }
     rig->runFor(2);
-    LONGS_EQUAL(2, rig->task.malformed());
+    LONGS_EQUAL(5, rig->task.malformed());
     LONGS_EQUAL(0, rig->count(ev::kGoalPlan));
     LONGS_EQUAL(0, rig->count(ev::kGoalListEmpty));
 }

@@ -259,13 +259,65 @@ TEST(PlanParser, EachKindHasItsOwnFields) {
     refused("event a; activity x image start a [0, 1] target 0; end", PlanError::kBadNumber, 1, "0");
     refused("event a; activity x image start a [0, 1] target 2.5; end", PlanError::kBadNumber, 1, "2.5");
     refused("event a; activity x drive start a [0, 1] at 1; end", PlanError::kUnexpectedToken, 1, "at");
-    // No radius after the point (the goal tolerance is the habitual layer's table's).
-    refused("event a; activity x drive start a [0, 1] at 1 2 0.8; end", PlanError::kUnexpectedToken, 1, "0.8");
+    // A bare number after the point is no radius (a region is `within R`, below).
+    refused("event a; activity x drive start a [0, 1] at 1 2 0.8; end", PlanError::kRadiusWithoutWithin, 1, "0.8");
     refused("event a; activity x wait start a [0, 1] cost 1 cost 2; end", PlanError::kUnexpectedToken, 1, "cost");
     refused("event a; activity x wait start a [0, 1] cost; end", PlanError::kMissingField, 1, "cost");
     refused("event a; activity x wait start a [0, 1] fast; end", PlanError::kUnexpectedToken, 1, "fast");
     refused("event a; activity x wait start a; end", PlanError::kMissingField, 1, "a");
     refused("end extra", PlanError::kUnexpectedToken, 1, "extra");
+}
+
+// `at X Y within R`: the drive is done anywhere within R m of the point, kept
+// in mm (the text's 3 decimals); without `within`, the point (radius 0).
+TEST(PlanParser, ADriveMayEndAnywhereWithinARegionOfItsPoint) {
+    const ParseResult r = parse(
+        "event a; event b; event c; event e\n"
+        "activity d1 drive start a [0, 900] cost 10 at 10 0 within 3 ask drive_ML!=failed\n"
+        "activity d2 drive a b [0, inf] at 20.5 -5.25 within 0.001\n"
+        "activity d3 drive b c [0, inf] at 1 2 within 50.000\n"
+        "activity d4 drive c e [0, inf] at 4 4 cost 2\n"
+        "end\n");
+    CHECK_TEXT(r.error == PlanError::kOk, toString(r.error));
+    LONGS_EQUAL(4, plan.activityCount);
+    const Activity& d1 = plan.activities[0];
+    DOUBLES_EQUAL(10.0, d1.x, 0.0);
+    DOUBLES_EQUAL(0.0, d1.y, 0.0);
+    LONGS_EQUAL(3000, d1.radiusMm);
+    DOUBLES_EQUAL(10.0, d1.cost, 0.0);  // fields before and after `within` are read as usual
+    LONGS_EQUAL(1, d1.askCount);
+    LONGS_EQUAL(1, plan.activities[1].radiusMm);
+    DOUBLES_EQUAL(-5.25, plan.activities[1].y, 0.0);
+    LONGS_EQUAL(50000, plan.activities[2].radiusMm);
+    LONGS_EQUAL(0, plan.activities[3].radiusMm);  // no `within`: the point
+    DOUBLES_EQUAL(2.0, plan.activities[3].cost, 0.0);
+
+    // R must be a plain decimal in [0.001, 50] m with at most 3 decimals.
+    const char* const head = "event a; activity x drive start a [0, 1] at 1 2 within ";
+    refused(std::string(head) + "0; end", PlanError::kBadNumber, 1, "0");
+    refused(std::string(head) + "0.0004; end", PlanError::kBadNumber, 1, "0.0004");
+    refused(std::string(head) + "-3; end", PlanError::kBadNumber, 1, "-3");
+    refused(std::string(head) + "50.001; end", PlanError::kBadNumber, 1, "50.001");
+    refused(std::string(head) + "1e1; end", PlanError::kBadNumber, 1, "1e1");
+    refused(std::string(head) + "nan; end", PlanError::kBadNumber, 1, "nan");
+    refused(std::string(head) + "inf; end", PlanError::kBadNumber, 1, "inf");
+    refused(std::string(head) + "three; end", PlanError::kBadNumber, 1, "three");
+    refused(std::string(head) + "cost 3; end", PlanError::kBadNumber, 1, "cost");
+    // `within` with no number, twice, before the point, or on another kind.
+    refused("event a; activity x drive start a [0, 1] at 1 2 within; end", PlanError::kMissingField, 1, "within");
+    refused("event a; activity x drive start a [0, 1] at 1 2 within 3 within 4; end", PlanError::kUnexpectedToken, 1,
+            "within");
+    refused("event a; activity x drive start a [0, 1] within 3 at 1 2; end", PlanError::kUnexpectedToken, 1,
+            "within");
+    refused("event a; activity x image start a [0, 1] target 1 within 3; end", PlanError::kUnexpectedToken, 1,
+            "within");
+    // A bare number after the point: refused with its own reason, whatever it looks like.
+    refused("event a; activity x drive start a [0, 1] at 1 2 3; end", PlanError::kRadiusWithoutWithin, 1, "3");
+    refused("event a; activity x drive start a [0, 1] at 1 2 -3; end", PlanError::kRadiusWithoutWithin, 1, "-3");
+    refused("event a; activity x drive start a [0, 1] at 1 2 .5 cost 1; end", PlanError::kRadiusWithoutWithin, 1,
+            ".5");
+    // A keyword now: not a name.
+    refused("event within; end", PlanError::kBadName, 1, "within");
 }
 
 TEST(PlanParser, GuardsMustImplyTheirEvents) {

@@ -1,4 +1,6 @@
-// Line-of-sight shortcutting: never longer, never through an obstacle, ends kept.
+// Line-of-sight shortcutting: never longer, never through an obstacle, ends
+// kept; and the cut that ends a path where it enters a goal region.
+#include <cmath>
 #include <cstdint>
 
 #include "fsw/geometry/geometry2d.hpp"
@@ -101,4 +103,42 @@ TEST(PathShortcut, RrtPathsOnTheClutteredFieldGetShorterAndStayFree) {
             CHECK(field.segmentFree(raw[i - 1], raw[i]));
         }
     }
+}
+
+// A goal region: the path ends where it first comes within the radius of the
+// centre, on the segment that gets there (interpolated), a prefix of the input.
+TEST(PathShortcut, APathIsCutWhereItFirstEntersTheDisc) {
+    using rse::habitual::cutPathAtDisc;
+    // Straight in along x: enters the 2.5 m disc round (10, 0) at (7.5, 0).
+    Point2 line[2] = {{0.0, 0.0}, {10.0, 0.0}};
+    LONGS_EQUAL(2, cutPathAtDisc(line, 2, Point2{10.0, 0.0}, 2.5));
+    DOUBLES_EQUAL(7.5, line[1].x, 1e-12);
+    DOUBLES_EQUAL(0.0, line[1].y, 1e-12);
+    // A dog-leg whose second segment enters the disc round (6, 4) of radius
+    // 1: its last point dropped, the entry on the second segment at (6, 3).
+    Point2 leg[3] = {{0.0, 0.0}, {6.0, 0.0}, {6.0, 4.0}};
+    LONGS_EQUAL(3, cutPathAtDisc(leg, 3, Point2{6.0, 4.0}, 1.0));
+    CHECK(samePoint(Point2{6.0, 0.0}, leg[1]));
+    DOUBLES_EQUAL(6.0, leg[2].x, 1e-12);
+    DOUBLES_EQUAL(3.0, leg[2].y, 1e-12);
+    // The first entry counts, even on a chord that leaves the disc again: the
+    // path skims past (5, 1) within 1.5 m before turning back to it.
+    Point2 skim[4] = {{0.0, 0.0}, {10.0, 0.0}, {10.0, 5.0}, {5.0, 1.0}};
+    LONGS_EQUAL(2, cutPathAtDisc(skim, 4, Point2{5.0, 1.0}, 1.5));
+    DOUBLES_EQUAL(5.0 - std::sqrt(1.5 * 1.5 - 1.0), skim[1].x, 1e-12);
+    DOUBLES_EQUAL(0.0, skim[1].y, 1e-12);
+    DOUBLES_EQUAL(1.5, rse::geometry::distance(skim[1], Point2{5.0, 1.0}), 1e-12);
+}
+
+TEST(PathShortcut, APathNotEnteringTheDiscOrStartingInItIsLeftWhole) {
+    using rse::habitual::cutPathAtDisc;
+    Point2 p[3] = {{0.0, 0.0}, {4.0, 0.0}, {4.0, 4.0}};
+    LONGS_EQUAL(3, cutPathAtDisc(p, 3, Point2{9.0, 9.0}, 2.0));  // never within 2 m
+    CHECK(samePoint(Point2{4.0, 4.0}, p[2]));
+    LONGS_EQUAL(3, cutPathAtDisc(p, 3, Point2{0.5, 0.0}, 1.0));  // starts inside: nothing to cut to
+    LONGS_EQUAL(3, cutPathAtDisc(p, 3, Point2{4.0, 4.0}, 0.0));  // radius 0: the point itself
+    CHECK(samePoint(Point2{4.0, 4.0}, p[2]));
+    LONGS_EQUAL(3, cutPathAtDisc(p, 3, Point2{4.0, 4.0}, -1.0));
+    LONGS_EQUAL(1, cutPathAtDisc(p, 1, Point2{4.0, 4.0}, 1.0));
+    LONGS_EQUAL(0, cutPathAtDisc(nullptr, 3, Point2{4.0, 4.0}, 1.0));
 }
