@@ -72,7 +72,9 @@ core::Status FswApp::init(std::FILE* console) {
         status = initStep(canIo_.init(), "CAN I/O task init");
     }
     if (core::isOk(status)) {
-        status = initStep(addGroundLink(&canIo_.groundLink()), "adding the CAN ground link");
+        // Serviced by the CAN I/O task, in the frame that moves its bus frames.
+        status = initStep(groundLinks_.add(&canIo_.groundLink(), cmdtlm::GroundLinks::Service::kByOwner),
+                          "adding the CAN ground link");
     }
     if (core::isOk(status) && commands_.keys().size() == 0) {
         // No key, no commanding: the public lab key is never a silent default.

@@ -44,7 +44,8 @@ public:
     FswApp(core::Clock& clock, hal::CanBus& can);
 
     // Before init: ground links besides ISO-TP on the rover CAN bus (UDP, or an
-    // in-memory link in tests); each carries commands in and telemetry out.
+    // in-memory link in tests); each carries commands in and telemetry out, and
+    // the command task calls its service() once a frame.
     core::Status addGroundLink(hal::PacketLink* link);
     // The computer's watchdog, fed while every task is live (before init; none: not fed).
     void attachWatchdog(hal::Watchdog* watchdog) { watchdog_.attach(watchdog); }

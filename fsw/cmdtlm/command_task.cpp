@@ -91,6 +91,7 @@ void CommandTask::run(const core::FrameContext&) {
     now_ = start;
     stalledNs_ = 0;
     handler_.serviceOnboardRequests();
+    links_.serviceCommandTaskLinks();  // before ingest: a UDP link's error reports leave room for commands
     ingest();
     now_ = clock_.now();
     validator_.replay().service();

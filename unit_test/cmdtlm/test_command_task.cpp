@@ -58,7 +58,9 @@ public:
     }
     const char* name() const override { return "scripted"; }
     const hal::PacketLinkStats& stats() const override { return stats_; }
+    void service() override { ++serviced; }
 
+    std::size_t serviced = 0;  // service() calls
     std::size_t sentCount() const { return txCount_; }
     const Packet& sent(std::size_t i) const { return tx_[i % kSlots]; }
 
@@ -214,6 +216,18 @@ TEST(CommandTask, AuthenticatedCommandIsExecutedAndAcknowledged) {
     LONGS_EQUAL(1, task->counters().accepted);
     LONGS_EQUAL(0, task->counters().rejected);
     LONGS_EQUAL(1, test::drainEventsWithId(*events, events::kCommandExecuted));
+}
+
+TEST(CommandTask, ServicesEachLinkOnceAFrameButThoseItsOwnerServices) {
+    // A UDP link's ICMP reports wait for service() (hal/link/udp_packet_link.hpp);
+    // the CAN link's transport is the CAN I/O task's, so not serviced twice.
+    ScriptedLink owned;
+    CHECK(core::isOk(links->add(&owned, GroundLinks::Service::kByOwner)));
+    for (int i = 0; i < 3; ++i) {
+        runFrame();
+    }
+    LONGS_EQUAL(3, link->serviced);
+    LONGS_EQUAL(0, owned.serviced);
 }
 
 TEST(CommandTask, TruncatedPacketIsRejectedForLength) {
