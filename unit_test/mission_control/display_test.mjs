@@ -34,7 +34,13 @@ import { fileURLToPath } from 'node:url';
 const repoDir = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const webDir = path.join(repoDir, 'ground/mission_control/web');
 // puppeteer-core is installed with the display's npm packages (make mission-control-deps).
-const puppeteer = createRequire(path.join(webDir, 'package.json'))('puppeteer-core');
+let puppeteer;
+try {
+  puppeteer = createRequire(path.join(webDir, 'package.json'))('puppeteer-core');
+} catch (error) {
+  console.error(`display_test: puppeteer-core not found under ${webDir}/node_modules (make mission-control-deps): ${error.message}`);
+  process.exit(2);
+}
 
 function usage(message) {
   console.error(`display_test: ${message}`);

@@ -221,9 +221,11 @@ export class RseObjects {
   #eventLog() {
     const packet = this.dictionary.packet('EVENT');
     const shown = ['utc', 'severity', 'event_id', 'text'];
-    const hiddenColumns = { name: true, met: true };
+    // Open MCT adds a "<key>-unit" column beside each value with a unit.
+    const hiddenColumns = { name: true, met: true, 'met-unit': true };
     for (const field of packet.fields) {
       if (!shown.includes(field.key)) hiddenColumns[field.key] = true;
+      hiddenColumns[`${field.key}-unit`] = true;
     }
     return {
       identifier: id('event-log'),
@@ -236,7 +238,7 @@ export class RseObjects {
         columnOrder: shown,
         // Fixed widths: autosized columns share the width equally and push
         // the text, the widest, out of a narrow frame.
-        columnWidths: { utc: 180, severity: 70, event_id: 70, text: 600 },
+        columnWidths: { utc: 200, severity: 75, event_id: 70, text: 600 },
         cellFormat: {},
         autosize: false,
         telemetryMode: 'unlimited',

@@ -28,7 +28,7 @@ export class MapView {
     this.openmct = openmct;
     this.dictionary = dictionary;
     this.hazards = hazardFields(dictionary);
-    this.watches = [];
+    this.watches = {}; // packet -> PacketWatch
     this.site = undefined;
     this.rocks = [];
     this.mapError = undefined;
@@ -93,8 +93,8 @@ export class MapView {
   }
 
   destroy() {
-    this.watches.forEach((w) => w.stop());
-    this.watches = [];
+    Object.values(this.watches).forEach((w) => w.stop());
+    this.watches = {};
     cancelAnimationFrame(this.frame);
   }
 
@@ -105,8 +105,7 @@ export class MapView {
   #watch(packet, options) {
     if (!this.dictionary.hasPacket(packet)) return;
     const watch = new PacketWatch(this.openmct, packet, { ...options, onChange: () => this.#scheduleDraw() });
-    this.watches.push(watch);
-    this[`watch${packet}`] = watch;
+    this.watches[packet] = watch;
     watch.start();
   }
 
@@ -148,7 +147,7 @@ export class MapView {
 
   #trackPoints() {
     const points = [];
-    for (const d of this.watchROVER_STATE?.datums || []) {
+    for (const d of this.watches.ROVER_STATE?.datums || []) {
       if (d.estimate_valid === 0 || !finite(d.x, d.y)) continue;
       const last = points[points.length - 1];
       if (last && Math.hypot(d.x - last.x, d.y - last.y) < TRACK_MIN_STEP_M) continue;
@@ -159,7 +158,7 @@ export class MapView {
 
   #draw() {
     const track = this.#trackPoints();
-    const plan = planFromDatum(this.watchPLAN_PATH?.latest);
+    const plan = planFromDatum(this.watches.PLAN_PATH?.latest);
     const site = this.#extent(track, plan);
     const width = site.x_max - site.x_min;
     const height = site.y_max - site.y_min;
@@ -168,7 +167,7 @@ export class MapView {
     const labelRoom = 3 * this.labelSize; // left of the site for the y labels, below it for x
     this.svg.setAttribute(
       'viewBox',
-      [site.x_min - labelRoom, -site.y_max - margin, width + labelRoom + margin, height + labelRoom]
+      [site.x_min - labelRoom, -site.y_max - margin, width + labelRoom + 3 * margin, height + labelRoom]
         .map((v) => v.toFixed(3))
         .join(' ')
     );
@@ -230,7 +229,7 @@ export class MapView {
   }
 
   #hazardCircles() {
-    const d = this.watchHAZARDS?.latest;
+    const d = this.watches.HAZARDS?.latest;
     const h = this.hazards;
     if (!d || !h.present) return [];
     const arrayLength = this.dictionary.arrayKeys('HAZARDS', h.x).length;
@@ -255,7 +254,7 @@ export class MapView {
         d: `M ${x - s} ${y - s} L ${x + s} ${y + s} M ${x - s} ${y + s} L ${x + s} ${y - s}`
       });
     };
-    const p = this.watchPLAN?.latest;
+    const p = this.watches.PLAN?.latest;
     if (p) {
       const n = Number(p.goal_count) || 0;
       for (let i = 0; i < n; i++) {
@@ -269,7 +268,7 @@ export class MapView {
   }
 
   #drawRover() {
-    const d = this.watchROVER_STATE?.latest;
+    const d = this.watches.ROVER_STATE?.latest;
     if (!d || !finite(d.x, d.y)) {
       this.layers.rover.replaceChildren();
       return;
@@ -292,7 +291,7 @@ export class MapView {
   #drawStatus(plan, track) {
     const parts = [];
     if (this.mapError) parts.push(this.mapError);
-    const pose = this.watchROVER_STATE?.latest;
+    const pose = this.watches.ROVER_STATE?.latest;
     parts.push(
       pose && finite(pose.x, pose.y)
         ? `rover (${fixed(pose.x, 2)}, ${fixed(pose.y, 2)}) m, heading ${fixed((pose.heading * 180) / Math.PI, 0)}°, σ ${fixed(pose.position_sigma, 2)} m at ${timeOfDay(pose.utc)}`
