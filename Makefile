@@ -16,6 +16,9 @@
 #                    table (rse-montecarlo, docs/montecarlo.md); make montecarlo MC_SEEDS=1000 MC_FIRST=1
 #   make test-slurm  only the Slurm campaign test (a one-node cluster on localhost; make test runs it too)
 #   make plan-picture  the demo map planned at Delta = 1e-2 and 1e-6, drawn to build/plan_picture.svg
+#   make mission-control-deps  Node.js, Chromium and the display's npm packages (ground/mission_control/web)
+#   make mission-control-web-test  the display's JavaScript library under node --test
+#   make mission-control-display-test MC_URL=...  the browser test against a running rse-ground serve
 #   make bench       benchmarks; they print their figures (see docs/performance.md)
 #   make bench-check the same, but a missed target (MISSED / NOT MET / FAIL) fails it
 #   make clean
@@ -481,6 +484,40 @@ test-slurm: slurm-deps
 	@RSE_BIN_DIR=build/$(HOST_ARCH)/bin unit_test/run_suites.sh $(or $(SLURM_RESULTS),$(RESULTS)) "$(HOST_ARCH)" "" \
 	  $(SLURM_TEST)
 	@$(if $(SLURM_RESULTS),,unit_test/summarize.sh $(RESULTS))
+
+# ---------------------------------------------------------------------------
+# Mission control display, browser side (docs/mission_control.md):
+# ground/mission_control/web holds index.html, the RSE plugin for Open MCT and
+# package.json + package-lock.json (openmct; puppeteer-core for the browser
+# test, which drives Debian's Chromium: nothing downloads a browser).
+# mission-control-deps: Node.js and npm from Debian only when the machine has
+# none (a newer Node already installed is kept: Debian's npm would conflict
+# with it), Chromium like every Debian package here, and npm ci whenever
+# node_modules is missing or older than the lock file.
+MC_WEB := ground/mission_control/web
+MC_DEB_PACKAGES := chromium
+.PHONY: mission-control-deps mission-control-web-test mission-control-display-test
+mission-control-deps: deps
+	@command -v node >/dev/null && command -v npm >/dev/null \
+	  || $(MAKE) --no-print-directory deps DEB_PACKAGES="nodejs npm"
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="$(MC_DEB_PACKAGES)"
+	@if [ ! -d $(MC_WEB)/node_modules ] || [ $(MC_WEB)/package-lock.json -nt $(MC_WEB)/node_modules ]; then \
+	  echo "mission-control-deps: npm ci in $(MC_WEB)"; \
+	  (cd $(MC_WEB) && npm ci --no-audit --no-fund) && touch $(MC_WEB)/node_modules; \
+	fi
+
+# The display's JavaScript library (dictionary, limits, history paging, risk
+# ellipses, ...) under Node's test runner: no browser, no server.
+mission-control-web-test: mission-control-deps
+	node --test unit_test/mission_control/web_lib.test.mjs
+
+# The browser test against a running rse-ground serve at MC_URL:
+# make mission-control-display-test MC_URL=http://127.0.0.1:8090/ [MC_TEST_ARGS="--history --interval S:E"]
+MC_URL ?= http://127.0.0.1:8090/
+MC_TEST_ARGS ?=
+mission-control-display-test: mission-control-deps
+	node unit_test/mission_control/display_test.mjs --url $(MC_URL) \
+	  --screenshot build/mission_control/display_test.png $(MC_TEST_ARGS)
 
 # ---------------------------------------------------------------------------
 # Demo, plan picture and benchmarks (host).
