@@ -7,6 +7,7 @@
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "ground/command_encoder.hpp"
+#include "ground/telemetry_limits.hpp"
 #include "ground/text_format.hpp"
 
 namespace rse::ground {
@@ -114,6 +115,27 @@ const TelemetryDesc* telemetry(std::size_t* count) { return cmdtlm::telemetryDes
 
 std::string anchor(const char* name) { return toLower(name); }
 
+// A bound for the Markdown table: the number, or "-" for no bound.
+std::string mdBound(double bound) { return hasBound(bound) ? formatNumber(bound) : "-"; }
+
+// The field's limits as a JSON object (only the sides that have a bound, then why).
+std::string jsonLimits(const TelemetryLimit& limit) {
+    std::string out = "{";
+    const struct {
+        const char* key;
+        double value;
+    } bounds[] = {{"warn_low", limit.warnLow},
+                  {"warn_high", limit.warnHigh},
+                  {"alarm_low", limit.alarmLow},
+                  {"alarm_high", limit.alarmHigh}};
+    for (const auto& b : bounds) {
+        if (hasBound(b.value)) {
+            out += "\"" + std::string(b.key) + "\": " + formatNumber(b.value) + ", ";
+        }
+    }
+    return out + "\"why\": " + json(limit.why) + "}";
+}
+
 }  // namespace
 
 const char* rejectReasonDescription(unsigned reason) {
@@ -141,7 +163,14 @@ std::string exportDictionaryMarkdown() {
       << "  payload, the fields listed. At most " << cmdtlm::kMaxTelemetryPacket << " bytes.\n"
       << "- A command is refused whole if any argument is outside [min, max] or, for floats, not\n"
       << "  finite. Types: u8/u16/u32/u64 unsigned, i16/i32/i64 signed, f32/f64 IEEE 754, chr N: text of\n"
-      << "  N bytes padded with NUL, blob: the remaining bytes of the packet (last argument only).\n\n";
+      << "  N bytes padded with NUL, blob: the remaining bytes of the packet (last argument only).\n"
+      << "- Display limits: some telemetry fields have them (a table under the packet's fields; in the\n"
+      << "  JSON, `limits` on the field). A value below warn_low or above warn_high is outside its\n"
+      << "  normal range (warn), below alarm_low or above alarm_high past its limit (alarm); a value\n"
+      << "  equal to a bound is inside it, \"-\" is no bound, and an array field's limits hold for every\n"
+      << "  element. `why` says where each bound comes from: most mirror the default value of the table\n"
+      << "  field named (a unit test holds them to it). They colour the display only: the rover's faults\n"
+      << "  use the tables in force.\n\n";
 
     o << "## Modes\n\n| Value | Mode |\n|---:|---|\n";
     for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
@@ -219,6 +248,21 @@ std::string exportDictionaryMarkdown() {
             o << "| " << offset << " | " << field.name << " | " << cmdtlm::toString(field.type) << " | " << field.count
               << " | " << md(field.units) << " | " << md(field.description) << " |\n";
             offset += fieldSize(field);
+        }
+        bool heading = false;
+        for (std::size_t f = 0; f < t.fieldCount; ++f) {
+            const TelemetryLimit* limit = findTelemetryLimit(t.name, t.fields[f].name);
+            if (limit == nullptr) {
+                continue;
+            }
+            if (!heading) {
+                o << "\nDisplay limits:\n\n| Field | Warn low | Warn high | Alarm low | Alarm high | Why |\n"
+                  << "|---|---:|---:|---:|---:|---|\n";
+                heading = true;
+            }
+            o << "| " << limit->field << " | " << mdBound(limit->warnLow) << " | " << mdBound(limit->warnHigh)
+              << " | " << mdBound(limit->alarmLow) << " | " << mdBound(limit->alarmHigh) << " | " << md(limit->why)
+              << " |\n";
         }
     }
     return o.str();
@@ -308,7 +352,11 @@ std::string exportDictionaryJson() {
             const FieldDesc& field = t.fields[f];
             o << (f > 0 ? "," : "") << "\n        {\"name\": " << json(field.name) << ", \"type\": "
               << json(cmdtlm::toString(field.type)) << ", \"count\": " << field.count << ", \"offset\": " << offset
-              << ", \"units\": " << json(field.units) << ", \"description\": " << json(field.description) << "}";
+              << ", \"units\": " << json(field.units) << ", \"description\": " << json(field.description);
+            if (const TelemetryLimit* limit = findTelemetryLimit(t.name, field.name)) {
+                o << ", \"limits\": " << jsonLimits(*limit);
+            }
+            o << "}";
             offset += fieldSize(field);
         }
         o << "\n      ]\n    }" << (i + 1 < telemetryCount ? "," : "") << "\n";

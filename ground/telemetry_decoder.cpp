@@ -7,6 +7,7 @@
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
+#include "ground/telemetry_limits.hpp"
 #include "ground/text_format.hpp"
 
 namespace rse::ground {
@@ -59,14 +60,29 @@ std::string escapeText(const std::string& text) {
     return out;
 }
 
-std::string renderField(const DecodedField& f) {
+// An element outside the field's display limits (telemetry_limits.hpp) is
+// marked: "23.5!ALARM", "2.6!WARN".
+std::string renderLimited(const DecodedField& f, std::size_t i, const TelemetryLimit* limit) {
+    std::string text = renderElement(f, i);
+    if (limit != nullptr) {
+        switch (limitLevel(*limit, f.values[i])) {
+            case LimitLevel::kAlarm: text += "!ALARM"; break;
+            case LimitLevel::kWarn: text += "!WARN"; break;
+            case LimitLevel::kNominal: break;
+        }
+    }
+    return text;
+}
+
+std::string renderField(const DecodedField& f, const char* packetName) {
     std::string out = std::string(f.desc->name) + "=";
     const std::size_t count = f.raw.size();
     if (f.desc->type == FieldType::chr) {
         return out + "\"" + escapeText(f.text) + "\"";
     }
+    const TelemetryLimit* limit = findTelemetryLimit(packetName, f.desc->name);
     if (count == 1) {
-        return out + renderElement(f, 0);
+        return out + renderLimited(f, 0, limit);
     }
     if (f.desc->type == FieldType::u8 && count > 16) {
         std::string hex;
@@ -79,9 +95,26 @@ std::string renderField(const DecodedField& f) {
     }
     out += "[";
     for (std::size_t i = 0; i < count; ++i) {
-        out += (i > 0 ? "," : "") + renderElement(f, i);
+        out += (i > 0 ? "," : "") + renderLimited(f, i, limit);
     }
     return out + "]";
+}
+
+// HAZARDS: the revision, then only the hazards in use (count of them), each as
+// its detector id, centre and radius: " revision=4 count=2 hazards=[#7 (12.5,-1.25) r=0.5; #9 (3,4) r=0.25]".
+std::string renderHazards(const DecodedPacket& p) {
+    const DecodedField* x = p.field("x");
+    const std::size_t slots = x != nullptr ? x->values.size() : 0;
+    const auto count = static_cast<std::size_t>(p.value("count").value_or(0));
+    std::string line = " revision=" + formatNumber(p.value("revision").value_or(0)) +
+                       " count=" + std::to_string(count) + " hazards=[";
+    for (std::size_t i = 0; i < count && i < slots; ++i) {
+        line += (i > 0 ? "; #" : "#") + formatNumber(p.value("obstacle_id", i).value_or(0)) + " (" +
+                formatFloat(static_cast<float>(p.value("x", i).value_or(0))) + "," +
+                formatFloat(static_cast<float>(p.value("y", i).value_or(0))) +
+                ") r=" + formatFloat(static_cast<float>(p.value("radius", i).value_or(0)));
+    }
+    return line + "]" + (count > slots ? " (count beyond the " + std::to_string(slots) + " entries)" : "");
 }
 
 std::string padName(const std::string& name) {
@@ -271,8 +304,11 @@ std::string renderPacket(const DecodedPacket& p) {
                 "  [event_sequence=" + formatNumber(p.value("event_sequence").value_or(0)) + "]";
         return line;
     }
+    if (p.desc->apid == cmdtlm::HAZARDS_Tlm::kApid) {
+        return line + renderHazards(p);
+    }
     for (const DecodedField& f : p.fields) {
-        line += " " + renderField(f);
+        line += " " + renderField(f, p.desc->name);
     }
     if (p.desc->apid == cmdtlm::CMD_ACK_Tlm::kApid) {
         line += "  => " + describeAck(p);

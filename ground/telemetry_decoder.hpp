@@ -54,6 +54,9 @@ inline DecodedPacket decodeTelemetry(const std::vector<std::uint8_t>& packet) {
 //   HK       apid=0x001 seq=12 met=1234.500 utc_at_met_zero=1.7e9 mode=1 ... cmd_rejected_by_reason=[0,1,...]
 //   EVENT    apid=0x003 seq=4 met=12.000 EVT 42 WARN some text (event_sequence=7 event_time=11.98)
 //   CMD_ACK  apid=0x002 ... GOTO accepted / rejected: wrong_mode (detail 1)
+//   POWER    apid=0x018 ... battery_voltage=23.9!ALARM ...   (a value outside the field's display
+//            limits, ground/telemetry_limits.hpp, marked !WARN or !ALARM)
+//   HAZARDS  apid=0x019 ... revision=4 count=1 hazards=[#7 (12.5,-1.25) r=0.5]   (the count in use only)
 //   UNKNOWN  apid=0x07f seq=3 length 20: 00 01 ...
 //   MALFORMED length 3 (shorter than the 12-byte telemetry header): 00 01 02
 std::string renderPacket(const DecodedPacket& packet);

@@ -8,17 +8,15 @@
 namespace rse::app {
 
 core::Status TelemetryTask::init() {
-    // Depth: drive status and the pose estimate arrive every frame, at most one
-    // status per instrument, the rest seldom (a plan path at most once per
-    // deliberative run), and this task runs every frame. 14: one more than
-    // before PlanPathMsg; the flight's pipes take 206 of the bus's 256 slots
-    // (kBusTotalQueueSlots), so the constant stays.
-    core::Status status = bus_.createPipe("telemetry", 14, &pipe_);
+    // This task runs every frame, so the pipe holds one frame's messages at
+    // most (kTelemetryPipeDepth).
+    core::Status status = bus_.createPipe("telemetry", kTelemetryPipeDepth, &pipe_);
     const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kWheelCommand, msg::ids::kPoseEstimate,
                                msg::ids::kFaultStatus, msg::ids::kDriveModes, msg::ids::kMode,
                                msg::ids::kGoalList, msg::ids::kPlanStatus, msg::ids::kFaultProtectionStatus,
                                msg::ids::kMissionHold, msg::ids::kInstrumentStatus,
-                               msg::ids::kPlanExecutiveStatus, msg::ids::kPlanPath};
+                               msg::ids::kPlanExecutiveStatus, msg::ids::kPlanPath,
+                               msg::ids::kPower, msg::ids::kKnownHazards};
     for (const core::MsgId id : ids) {
         if (core::isOk(status)) {
             status = bus_.subscribe(pipe_, id);
@@ -58,6 +56,13 @@ void TelemetryTask::run(const core::FrameContext& frame) {
     if (frame.slot == kPlanExecSlot || planExecChanged_) {
         planExecChanged_ = false;
         sendPlanExec();
+    }
+    if (frame.slot == kPowerSlot) {
+        sendPower();
+    }
+    if (frame.slot == kHazardsSlot && (hazardsChanged_ || frame.frame % kHazardsPeriodFrames == kHazardsSlot)) {
+        hazardsChanged_ = false;
+        sendHazards();
     }
     if (planChanged_ || frame.frame % kPlanPeriodFrames == 0) {
         planChanged_ = false;
@@ -141,6 +146,20 @@ void TelemetryTask::takeBusMessages() {
                     sendPlanPath(planPath_);
                 }
                 break;
+            case msg::ids::kPower: status = inbox_.decode(&power_); break;
+            case msg::ids::kKnownHazards: {
+                msg::KnownHazardsMsg m{};
+                status = inbox_.decode(&m);
+                if (core::isOk(status) && m.count > msg::kMaxKnownHazards) {
+                    status = core::Status::kInvalidArgument;  // more hazards than the message holds
+                }
+                if (core::isOk(status)) {
+                    // Published at 1 Hz and on change: only a new revision is news.
+                    hazardsChanged_ = hazardsChanged_ || m.revision != hazards_.revision;
+                    hazards_ = m;
+                }
+                break;
+            }
             case msg::ids::kGoalList:
                 status = inbox_.decode(&goals_);
                 planChanged_ = planChanged_ || core::isOk(status);
@@ -386,6 +405,45 @@ void TelemetryTask::sendPlanPath(const msg::PlanPathMsg& m) {
     }
     output_.send(t);
     ++planPathsSent_;
+}
+
+void TelemetryTask::sendPower() {
+    cmdtlm::POWER_Tlm tlm{};
+    tlm.battery_voltage = static_cast<float>(power_.busVoltageV);
+    tlm.battery_current = static_cast<float>(power_.busCurrentA);
+    tlm.state_of_charge = static_cast<float>(power_.stateOfCharge);
+    tlm.solar_current = static_cast<float>(power_.solarCurrentA);
+    tlm.power_sample_time =
+        static_cast<float>(static_cast<double>(power_.timeNs) / static_cast<double>(core::kNsPerSec));
+    static_assert(sizeof tlm.motor_temperature / sizeof tlm.motor_temperature[0] == msg::kWheelCount,
+                  "POWER holds every wheel");
+    for (std::size_t i = 0; i < msg::kWheelCount; ++i) {
+        const msg::WheelStatus& w = drives_.wheels[i];
+        tlm.temperature_valid[i] = w.temperatureValid != 0 ? 1 : 0;
+        tlm.motor_temperature[i] = w.temperatureValid != 0 ? w.temperatureC : 0.0F;
+    }
+    output_.send(tlm);
+}
+
+void TelemetryTask::sendHazards() {
+    static_assert(sizeof hazardsTlm_.x / sizeof hazardsTlm_.x[0] == msg::kMaxKnownHazards,
+                  "HAZARDS holds every hazard the message can carry");
+    static_assert(cmdtlm::kHAZARDS_TlmSize + cmdtlm::kTelemetryHeaderSize <= cmdtlm::kMaxTelemetryPacket,
+                  "HAZARDS fits in one telemetry packet");
+    hazardsTlm_ = cmdtlm::HAZARDS_Tlm{};
+    cmdtlm::HAZARDS_Tlm& t = hazardsTlm_;
+    t.revision = hazards_.revision;
+    const std::size_t count = std::min<std::size_t>(hazards_.count, msg::kMaxKnownHazards);  // checked on receipt
+    t.count = static_cast<std::uint8_t>(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const msg::KnownHazard& h = hazards_.hazards[i];
+        t.x[i] = h.xM;
+        t.y[i] = h.yM;
+        t.radius[i] = h.radiusM;
+        t.obstacle_id[i] = h.obstacleId;
+    }
+    output_.send(t);
+    ++hazardsSent_;
 }
 
 void TelemetryTask::sendTableStatus(tables::TableId id, const tables::TableCheck& check) {

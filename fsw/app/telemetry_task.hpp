@@ -4,8 +4,12 @@
 //   1 Hz         HK in slot 0, TASK_TIMING for task i in slot 10 + i, DRIVES in
 //                slot 50, ROVER_STATE in slot 60, HEALTH in slot 70,
 //                FAULT_PROTECTION in slot 80, INSTRUMENTS in slot 90, PLAN_EXEC
-//                in slot 40: spread over
+//                in slot 40, POWER in slot 30: spread over
 //                the second so the slow CAN downlink never gets them in one burst
+//   0.2 Hz       HAZARDS in slot 45 of every fifth second, and in slot 45 of a
+//                second in which the hazard map's revision changed (so at most
+//                1 Hz: the map may change at every habitual run, 10 Hz, and a
+//                HAZARDS packet is 433 bytes, about 62 ISO-TP frames on CAN)
 //   on change    PLAN (goal list), and every 5 s; HEALTH when the active faults
 //                or a declared drive mode change; FAULT_PROTECTION with every
 //                status; INSTRUMENTS when an instrument's state, command,
@@ -32,8 +36,10 @@
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
+#include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::app {
@@ -47,6 +53,17 @@ constexpr std::uint32_t kHealthSlot = 70;
 constexpr std::uint32_t kFaultProtectionSlot = 80;
 constexpr std::uint32_t kInstrumentsSlot = 90;
 constexpr std::uint32_t kPlanExecSlot = 40;
+constexpr std::uint32_t kPowerSlot = 30;
+constexpr std::uint32_t kHazardsSlot = 45;            // HAZARDS: in this slot, on change or ...
+constexpr std::uint32_t kHazardsPeriodFrames = 500;   // ... every 5 s
+// The task drains its pipe every frame, so the pipe holds one frame's inputs:
+// each of its 15 message ids at most once a frame, the instrument status twice
+// (one per instrument), the wheel command once (the follower commands in
+// AUTONOMOUS, manual drive in MANUAL, never both): 16, two more than before
+// POWER (PowerMsg) and HAZARDS (KnownHazardsMsg). A copy lost to a full pipe is
+// counted and evented by the bus (event 101). The flight's pipes take 208 of
+// the bus's 256 slots (kBusTotalQueueSlots), so that constant stays.
+constexpr std::uint16_t kTelemetryPipeDepth = 16;
 
 // What the task reads besides the bus. All references, all owned by FswApp.
 struct TelemetrySources {
@@ -82,6 +99,7 @@ public:
     std::uint32_t housekeepingSent() const { return housekeepingSent_; }
     std::uint32_t malformed() const { return malformed_; }
     std::uint32_t planPathsSent() const { return planPathsSent_; }
+    std::uint32_t hazardsSent() const { return hazardsSent_; }
 
 private:
     void takeBusMessages();
@@ -94,6 +112,8 @@ private:
     void sendInstruments();
     void sendPlanExec();
     void sendPlanPath(const msg::PlanPathMsg& m);
+    void sendPower();
+    void sendHazards();
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
@@ -125,11 +145,16 @@ private:
     bool instrumentsChanged_ = false;
     msg::PlanExecutiveStatusMsg planExec_{};
     bool planExecChanged_ = false;
+    msg::PowerMsg power_{};
+    msg::KnownHazardsMsg hazards_{};
+    bool hazardsChanged_ = false;  // a revision not yet sent
+    std::uint32_t hazardsSent_ = 0;
     // Packet structs kept out of the task's stack.
     msg::HousekeepingMsg hkMsg_{};
     cmdtlm::HK_Tlm hk_{};
     cmdtlm::PLAN_Tlm plan_{};
     cmdtlm::PLAN_PATH_Tlm planPathTlm_{};
+    cmdtlm::HAZARDS_Tlm hazardsTlm_{};
     cmdtlm::TABLE_DUMP_Tlm dump_{};
     std::uint8_t image_[tables::kMaxTableImageSize] = {};
 };

@@ -53,6 +53,7 @@ using namespace mode_mask;
 #define RSE_TLM(NAME, apid, text)
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -97,6 +98,7 @@ constexpr CommandDesc kCommands[] = {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one descriptor per command code");
 
 #define RSE_CMD(NAME, apid, fc, modes, text)
@@ -106,10 +108,12 @@ static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one desc
 #define RSE_TLM(NAME, apid, text) constexpr FieldDesc k##NAME##_FieldDescs[] = {
 #define RSE_FIELD(type, name, count, units, text) {#name, FieldType::type, count, units, text},
 #define RSE_TLM_END(NAME) };
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 #define RSE_TLM(NAME, apid, text)                                                              \
     {#NAME, apid, text, k##NAME##_FieldDescs,                                                  \
@@ -117,6 +121,7 @@ static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one desc
      static_cast<std::uint16_t>(k##NAME##_TlmSize)},
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 constexpr TelemetryDesc kTelemetry[] = {
 #include "fsw/cmdtlm/dictionary.def"
 };
@@ -127,6 +132,7 @@ constexpr TelemetryDesc kTelemetry[] = {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 constexpr std::size_t kTelemetryCount = sizeof kTelemetry / sizeof kTelemetry[0];
 

@@ -2,6 +2,8 @@
 // command, one struct per telemetry packet, their big-endian codecs, and the
 // descriptor tables that the command validator, the ground tool and the exported
 // documents read. The data itself is fsw/cmdtlm/dictionary.def (the one source).
+// Its display limits (RSE_LIMIT) are the ground's alone
+// (ground/telemetry_limits.hpp): every expansion here defines RSE_LIMIT empty.
 //
 // Generated names keep the dictionary's spelling so a reader can grep one name
 // across flight, ground and docs: command GOTO has arguments struct GOTO_Args
@@ -73,6 +75,7 @@ enum class CommandCode : std::uint8_t {
 #define RSE_TLM(NAME, apid, text)
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -81,6 +84,7 @@ enum class CommandCode : std::uint8_t {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
     kCount
 };
 constexpr std::size_t kCommandCount = static_cast<std::size_t>(CommandCode::kCount);
@@ -93,6 +97,7 @@ constexpr std::size_t kCommandCount = static_cast<std::size_t>(CommandCode::kCou
 #define RSE_TLM(NAME, apid, text)
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -153,6 +158,7 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 // ---- Telemetry -----------------------------------------------------------------
 #define RSE_CMD(NAME, apid, fc, modes, text)
@@ -162,23 +168,28 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #define RSE_TLM(NAME, apid_, text) struct NAME##_Tlm { static constexpr std::uint16_t kApid = apid_;
 #define RSE_FIELD(T, name, count, units, text) typename wire::Storage<wire::T, count>::type name;
 #define RSE_TLM_END(NAME) };
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 #define RSE_TLM(NAME, apid_, text) inline void encodeTelemetry(core::BeWriter& w, const NAME##_Tlm& t) {
 #define RSE_FIELD(type, name, count, units, text) writeValue(w, t.name);
 #define RSE_TLM_END(NAME) }
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 // Payload sizes on the wire (after the telemetry header).
 #define RSE_TLM(NAME, apid_, text) constexpr std::size_t k##NAME##_TlmSize = 0
 #define RSE_FIELD(type, name, count, units, text) +wireSize(FieldType::type) * (count)
 #define RSE_TLM_END(NAME) ;
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -187,6 +198,7 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 // ---- Descriptors (generic access by name or id) --------------------------------
 struct ArgDesc {

@@ -16,7 +16,7 @@ constexpr core::MsgId kHousekeeping = 0x0801;  // HousekeepingMsg, 1 Hz, cmdtlm 
 constexpr core::MsgId kDriveStatus = 0x0110;   // DriveStatusMsg, 100 Hz, can_io -> estimator, reflexive, telemetry
 constexpr core::MsgId kWheelCommand = 0x0111;  // WheelCommandMsg, on change, reflexive -> can_io
 constexpr core::MsgId kImu = 0x0120;           // ImuMsg, per sample (100 Hz), can_io -> estimator
-constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), can_io -> estimator, health
+constexpr core::MsgId kPower = 0x0121;         // PowerMsg, per sample (10 Hz), can_io -> estimator, health, telemetry (POWER)
 constexpr core::MsgId kPositionFix = 0x0122;   // PositionFixMsg, per fix (1 Hz), can_io -> estimator
 constexpr core::MsgId kHazards = 0x0123;       // HazardMsg, 10 Hz, can_io -> habitual
 constexpr core::MsgId kNodeStatus = 0x0124;    // NodeStatusMsg, 100 Hz, can_io -> health
@@ -33,7 +33,7 @@ constexpr core::MsgId kDriveModes = 0x0152;    // DriveModesMsg, 10 Hz, drive_mo
 // deliberative <-> habitual (habitual_msgs.hpp)
 constexpr core::MsgId kLegCommand = 0x0160;    // LegCommandMsg, per leg, deliberative -> habitual
 constexpr core::MsgId kLegReport = 0x0161;     // LegReportMsg, on change and 1 Hz, habitual -> deliberative, telemetry
-constexpr core::MsgId kKnownHazards = 0x0162;  // KnownHazardsMsg, on change and 1 Hz, habitual -> deliberative
+constexpr core::MsgId kKnownHazards = 0x0162;  // KnownHazardsMsg, on change and 1 Hz, habitual -> deliberative, telemetry (HAZARDS)
 
 // habitual <-> reflexive (trajectory_msgs.hpp)
 constexpr core::MsgId kTrajectory = 0x0170;      // TrajectoryMsg, per plan or repair, habitual -> reflexive

@@ -50,24 +50,29 @@ double field(const Packet& p, const char* name, std::size_t element = 0) {
     return 0.0;
 }
 
-// Runs the flight software n frames, collecting what it sends down the link
-// (each packet checked against its dictionary size).
+// Takes what the flight software sent down the link so far (each packet
+// checked against its dictionary size).
+void collectDownlink(hal::MemoryPacketLink& link, std::vector<Packet>* received) {
+    std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
+    std::size_t length = 0;
+    while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
+        const PrimaryHeader h = decodePrimaryHeader(bytes);
+        LONGS_EQUAL(length, h.dataLength + 7u);
+        Packet p;
+        p.apid = h.apid;
+        p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
+        const TelemetryDesc* t = findTelemetry(h.apid);
+        CHECK(t != nullptr);
+        LONGS_EQUAL(t->payloadSize, p.payload.size());
+        received->push_back(p);
+    }
+}
+
+// Runs the flight software n frames, collecting what it sends down the link.
 void runAndCollect(app::FswApp& fsw, hal::MemoryPacketLink& link, int n, std::vector<Packet>* received) {
     for (int i = 0; i < n; ++i) {
         fsw.run(nullptr, 1);
-        std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
-        std::size_t length = 0;
-        while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
-            const PrimaryHeader h = decodePrimaryHeader(bytes);
-            LONGS_EQUAL(length, h.dataLength + 7u);
-            Packet p;
-            p.apid = h.apid;
-            p.payload.assign(bytes + kTelemetryHeaderSize, bytes + length);
-            const TelemetryDesc* t = findTelemetry(h.apid);
-            CHECK(t != nullptr);
-            LONGS_EQUAL(t->payloadSize, p.payload.size());
-            received->push_back(p);
-        }
+        collectDownlink(link, received);
     }
 }
 
@@ -947,4 +952,200 @@ TEST(GroundCommands, AnEventBurstBeyondTheLinksRoomWaitsInTheEventLogAndArrivesW
     }
     LONGS_EQUAL(0, fsw.events().lost());
     LONGS_EQUAL(0, fsw.telemetryOutput().dropped(hal::TxPriority::kEvent));
+}
+
+// POWER (1 Hz, minor frame 30): the power monitor's sample and every drive's
+// motor temperature, from the frames the devices put on the CAN bus through
+// CAN I/O's bus messages, each field equal to what PowerMsg and
+// DriveStatusMsg carried. A drive that has not reported a temperature reads
+// invalid (0). No heap on the way.
+TEST(GroundCommands, PowerCarriesTheBatteryAndEveryMotorTemperatureFromTheBus) {
+    hal::MemoryCanEndpoint* devices = can.attach("devices");
+    CHECK(devices != nullptr);
+    CHECK(core::isOk(fsw.bus().subscribe(probe, msg::ids::kPower)));
+    runFrames(100);
+    LONGS_EQUAL(1, countOf("POWER"));  // nothing heard yet: all zero, no temperature valid
+    LONGS_EQUAL(0x018, findTelemetry("POWER")->apid);
+    DOUBLES_EQUAL(0.0, field(last("POWER"), "battery_voltage"), 0.0);
+    DOUBLES_EQUAL(0.0, field(last("POWER"), "power_sample_time"), 0.0);
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        LONGS_EQUAL(0, static_cast<long>(field(last("POWER"), "temperature_valid", w)));
+    }
+
+    // The power monitor (0x6A1: mV, mA + discharge, 0.01 %, mA) and TPDO2 of
+    // drive nodes 1..5 (0.1 degC); node 6 (RR) stays silent.
+    hal::CanFrame power{};
+    power.id = hal::device_ids::kPower;
+    power.dlc = 8;
+    const std::uint16_t millivolts = 27123;
+    const auto charging = static_cast<std::uint16_t>(-1500);
+    const std::uint16_t soc = 8765;
+    const std::uint16_t solar = 2500;
+    const std::uint16_t words[4] = {millivolts, charging, soc, solar};
+    for (std::size_t i = 0; i < 4; ++i) {
+        power.data[2 * i] = static_cast<std::uint8_t>(words[i]);
+        power.data[2 * i + 1] = static_cast<std::uint8_t>(words[i] >> 8);
+    }
+    CHECK(core::isOk(devices->send(power)));
+    const std::int16_t deciC[5] = {215, 350, -105, 812, 650};
+    for (std::size_t node = 1; node <= 5; ++node) {
+        hal::CanFrame tpdo2{};
+        tpdo2.id = 0x280 + static_cast<std::uint32_t>(node);
+        tpdo2.dlc = 2;
+        tpdo2.data[0] = static_cast<std::uint8_t>(deciC[node - 1]);
+        tpdo2.data[1] = static_cast<std::uint8_t>(static_cast<std::uint16_t>(deciC[node - 1]) >> 8);
+        CHECK(core::isOk(devices->send(tpdo2)));
+    }
+    // What CAN I/O published, as the telemetry task read it: the power sample,
+    // and the drive status of the frame POWER went down in (one a frame).
+    CHECK(core::isOk(fsw.bus().subscribe(probe, msg::ids::kDriveStatus)));
+    msg::PowerMsg published{};
+    int powerMessages = 0;
+    msg::DriveStatusMsg drives{};
+    msg::DriveStatusMsg drivesWhenSent{};
+    std::uint64_t allocations = 0;
+    for (int i = 0; i < 100; ++i) {
+        {
+            test::AllocationWatch watch;
+            fsw.run(nullptr, 1);
+            allocations += watch.count();
+        }
+        core::Message m;
+        while (core::isOk(fsw.bus().receive(probe, &m))) {
+            if (m.header.id == msg::ids::kPower) {
+                CHECK(core::isOk(m.decode(&published)));
+                ++powerMessages;
+            } else if (m.header.id == msg::ids::kDriveStatus) {
+                CHECK(core::isOk(m.decode(&drives)));
+            }
+        }
+        const std::size_t before = countOf("POWER");
+        collectDownlink(link, &received);
+        if (countOf("POWER") > before) {
+            drivesWhenSent = drives;
+        }
+    }
+    LONGS_EQUAL(0, allocations);
+    LONGS_EQUAL(2, countOf("POWER"));
+    LONGS_EQUAL(1, powerMessages);
+    const Packet& p = last("POWER");
+    DOUBLES_EQUAL(27.123, published.busVoltageV, 1e-12);
+    DOUBLES_EQUAL(static_cast<float>(published.busVoltageV), field(p, "battery_voltage"), 0.0);
+    DOUBLES_EQUAL(static_cast<float>(published.busCurrentA), field(p, "battery_current"), 0.0);
+    DOUBLES_EQUAL(-1.5, field(p, "battery_current"), 0.0);
+    DOUBLES_EQUAL(static_cast<float>(published.stateOfCharge), field(p, "state_of_charge"), 0.0);
+    DOUBLES_EQUAL(0.8765, field(p, "state_of_charge"), 1e-7);
+    DOUBLES_EQUAL(2.5, field(p, "solar_current"), 0.0);
+    CHECK(published.timeNs > 0);
+    DOUBLES_EQUAL(static_cast<float>(static_cast<double>(published.timeNs) / 1e9), field(p, "power_sample_time"), 0.0);
+    for (std::size_t w = 0; w < 5; ++w) {
+        LONGS_EQUAL(1, drivesWhenSent.wheels[w].temperatureValid);
+        LONGS_EQUAL(1, static_cast<long>(field(p, "temperature_valid", w)));
+        DOUBLES_EQUAL(drivesWhenSent.wheels[w].temperatureC, field(p, "motor_temperature", w), 0.0);
+        DOUBLES_EQUAL(static_cast<float>(deciC[w]) * 0.1F, field(p, "motor_temperature", w), 0.0);
+    }
+    LONGS_EQUAL(0, drivesWhenSent.wheels[5].temperatureValid);
+    LONGS_EQUAL(0, static_cast<long>(field(p, "temperature_valid", 5)));
+    DOUBLES_EQUAL(0.0, field(p, "motor_temperature", 5), 0.0);
+}
+
+// HAZARDS (APID 0x019): the habitual layer's remembered hazards. With the
+// hazard map unchanged it goes down every 5 s (minor frame 45 of every fifth
+// second); a new revision goes down in the next minor frame 45, carrying the
+// message's hazards, with no heap. A message listing more hazards than it
+// holds is malformed: counted, not sent.
+TEST(GroundCommands, HazardsGoDownEveryFiveSecondsAndWithinASecondOfANewRevision) {
+    CHECK(core::isOk(fsw.bus().subscribe(probe, msg::ids::kKnownHazards)));
+    std::vector<std::uint64_t> hazardFrames;
+    msg::KnownHazardsMsg habitual{};  // the habitual layer's latest
+    std::uint64_t allocations = 0;
+    // One frame: run (heap counted), the packets taken, the probe drained;
+    // true when the habitual layer published its hazards in it.
+    auto step = [&]() {
+        {
+            test::AllocationWatch watch;
+            fsw.run(nullptr, 1);
+            allocations += watch.count();
+        }
+        const std::size_t before = received.size();
+        collectDownlink(link, &received);
+        for (std::size_t i = before; i < received.size(); ++i) {
+            if (received[i].apid == findTelemetry("HAZARDS")->apid) {
+                hazardFrames.push_back(fsw.executive().stats().framesRun - 1);
+            }
+        }
+        bool published = false;
+        core::Message m;
+        while (core::isOk(fsw.bus().receive(probe, &m))) {
+            if (m.header.id == msg::ids::kKnownHazards) {
+                CHECK(core::isOk(m.decode(&habitual)));
+                published = true;
+            }
+        }
+        return published;
+    };
+    for (int i = 0; i < 1000; ++i) {
+        (void)step();
+    }
+    // Ten seconds, the map unchanged (nothing seen): two packets, at frames 45 and 545.
+    LONGS_EQUAL(2, hazardFrames.size());
+    LONGS_EQUAL(45, static_cast<long>(hazardFrames[0]));
+    LONGS_EQUAL(545, static_cast<long>(hazardFrames[1]));
+    LONGS_EQUAL(habitual.revision, static_cast<long>(field(last("HAZARDS"), "revision")));
+    LONGS_EQUAL(0, static_cast<long>(field(last("HAZARDS"), "count")));
+    LONGS_EQUAL(2, fsw.telemetry().hazardsSent());
+
+    // Just after the habitual layer's 1 Hz publication (so none of its own
+    // comes before the next frame 45), and not in a second whose frame 45 is
+    // the 5 s one: a new revision.
+    std::uint64_t frame = 0;
+    std::uint64_t next45 = 0;
+    for (int i = 0; i < 1000; ++i) {
+        const bool published = step();
+        frame = fsw.executive().stats().framesRun - 1;
+        next45 = frame + (145 - frame % 100) % 100;
+        next45 += next45 == frame ? 100 : 0;
+        if (published && next45 % 500 != 45) {
+            break;
+        }
+    }
+    CHECK(next45 % 500 != 45);
+    msg::KnownHazardsMsg seen{};
+    seen.timeNs = 1;
+    seen.revision = habitual.revision + 7;
+    seen.count = 2;
+    seen.hazards[0] = msg::KnownHazard{12.5F, -1.25F, 0.5F, 7, {}};
+    seen.hazards[1] = msg::KnownHazard{3.0F, 4.0F, 0.25F, 9, {}};
+    CHECK(core::isOk(fsw.bus().publish(seen)));
+    const std::size_t sentBefore = hazardFrames.size();
+    while (fsw.executive().stats().framesRun - 1 < next45) {
+        (void)step();
+    }
+    LONGS_EQUAL(sentBefore + 1, hazardFrames.size());
+    LONGS_EQUAL(static_cast<long>(next45), static_cast<long>(hazardFrames.back()));
+    const Packet& h = last("HAZARDS");
+    LONGS_EQUAL(seen.revision, static_cast<long>(field(h, "revision")));
+    LONGS_EQUAL(2, static_cast<long>(field(h, "count")));
+    DOUBLES_EQUAL(12.5, field(h, "x", 0), 0.0);
+    DOUBLES_EQUAL(-1.25, field(h, "y", 0), 0.0);
+    DOUBLES_EQUAL(0.5, field(h, "radius", 0), 0.0);
+    LONGS_EQUAL(7, static_cast<long>(field(h, "obstacle_id", 0)));
+    DOUBLES_EQUAL(3.0, field(h, "x", 1), 0.0);
+    DOUBLES_EQUAL(4.0, field(h, "y", 1), 0.0);
+    DOUBLES_EQUAL(0.25, field(h, "radius", 1), 0.0);
+    LONGS_EQUAL(9, static_cast<long>(field(h, "obstacle_id", 1)));
+    for (std::size_t i = 2; i < msg::kMaxKnownHazards; ++i) {
+        DOUBLES_EQUAL(0.0, field(h, "radius", i), 0.0);
+        LONGS_EQUAL(0, static_cast<long>(field(h, "obstacle_id", i)));
+    }
+    LONGS_EQUAL(0, allocations);
+
+    // More hazards than the message holds: malformed, counted, not taken.
+    const std::uint32_t malformed = fsw.telemetry().malformed();
+    msg::KnownHazardsMsg bad = seen;
+    bad.revision = seen.revision + 1;
+    bad.count = static_cast<std::uint8_t>(msg::kMaxKnownHazards + 1);
+    CHECK(core::isOk(fsw.bus().publish(bad)));
+    (void)step();
+    LONGS_EQUAL(malformed + 1, fsw.telemetry().malformed());
 }

@@ -8,6 +8,8 @@
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "ground/dictionary_export.hpp"
+#include "ground/telemetry_limits.hpp"
+#include "ground/text_format.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -102,6 +104,39 @@ TEST(GroundDictionaryExport, EveryCommandArgumentPacketFieldAndReasonIsExported)
     CHECK_TRUE(contains(md, "| 3 | MANUAL |"));
     CHECK_TRUE(contains(json, "{\"value\": 2, \"name\": \"AUTONOMOUS\"}"));
     CHECK_TRUE(contains(json, "{\"name\": \"risk\", \"type\": \"f64\", \"units\": \"\", \"min\": 1e-09, \"max\": 0.49"));
+}
+
+// Every RSE_LIMIT is in both exports: a row under its packet in the Markdown,
+// a "limits" object on its field in the JSON, with only the sides it bounds.
+TEST(GroundDictionaryExport, EveryDisplayLimitIsExported) {
+    const std::string md = ground::exportDictionaryMarkdown();
+    const std::string json = ground::exportDictionaryJson();
+    std::size_t count = 0;
+    const ground::TelemetryLimit* limits = ground::telemetryLimits(&count);
+    CHECK_TRUE(count > 0);
+    auto bound = [](double b) { return ground::hasBound(b) ? ground::formatNumber(b) : std::string("-"); };
+    for (std::size_t i = 0; i < count; ++i) {
+        const ground::TelemetryLimit& l = limits[i];
+        const std::string row = std::string("| ") + l.field + " | " + bound(l.warnLow) + " | " + bound(l.warnHigh) +
+                                " | " + bound(l.alarmLow) + " | " + bound(l.alarmHigh) + " | ";
+        CHECK_TEXT(contains(md, row), row.c_str());
+        // The row is under its own packet's heading: the last "### " before it names the packet.
+        const std::size_t at = md.find(row);
+        const std::size_t heading = md.rfind("\n### ", at);
+        CHECK_TEXT(md.compare(heading + 5, std::string(l.packet).size() + 1, std::string(l.packet) + "\n") == 0, l.packet);
+    }
+    CHECK_TRUE(contains(md, "| battery_voltage | 25 | - | 24 | - | alarm_low = FAULT_RESPONSE.battery_low_v"));
+    CHECK_TRUE(contains(json, "\"name\": \"battery_voltage\", \"type\": \"f32\", \"count\": 1, \"offset\": 0, "
+                              "\"units\": \"V\", \"description\": \"battery bus voltage (the battery-low fault compares it)\", "
+                              "\"limits\": {\"warn_low\": 25, \"alarm_low\": 24, \"why\": \"alarm_low = "));
+    CHECK_TRUE(contains(json, "\"limits\": {\"warn_high\": 0.5, \"alarm_high\": 1, \"why\": \"alarm_high = ESTIMATOR_NOISE.pose_fault_sigma_m"));
+    CHECK_TRUE(contains(json, "\"limits\": {\"warn_low\": -2.52, \"warn_high\": 2.52, \"alarm_low\": -2.8, \"alarm_high\": 2.8, "));
+    // One "limits" per RSE_LIMIT, none elsewhere.
+    std::size_t objects = 0;
+    for (std::size_t at = json.find("\"limits\": {"); at != std::string::npos; at = json.find("\"limits\": {", at + 1)) {
+        ++objects;
+    }
+    CHECK_EQUAL(count, objects);
 }
 
 TEST(GroundDictionaryExport, JsonIsBalancedAndHasNoTrailingCommas) {

@@ -121,6 +121,7 @@ TEST_GROUP(GroundDictionaryDrift){};
     CHECK_EQUAL(p.fields.size(), fields); \
     ++g_packetsChecked;                  \
     }
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -129,6 +130,7 @@ TEST_GROUP(GroundDictionaryDrift){};
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
 
 TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
     std::size_t expanded = 0;
@@ -141,6 +143,7 @@ TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
     CHECK_EQUAL(cmdtlm::k##NAME##_TlmSize, static_cast<std::size_t>(cmdtlm::findTelemetry(#NAME)->payloadSize));
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -149,6 +152,7 @@ TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
     std::size_t count = 0;
     (void)cmdtlm::telemetryDescs(&count);
     CHECK_EQUAL(count, expanded);
@@ -341,4 +345,59 @@ TEST(GroundTelemetryDecoder, RejectReasonNamesAndCodes) {
     CHECK_EQUAL(10, ground::rejectReasonCode("REPLAYED_SEQUENCE"));
     CHECK_EQUAL(0, ground::rejectReasonCode("accepted"));
     CHECK_EQUAL(-1, ground::rejectReasonCode("bogus"));
+}
+
+// POWER renders every field, and a value outside its display limits
+// (dictionary.def's RSE_LIMIT) is marked: the battery below its warn bound,
+// a motor past its alarm bound; values inside are not.
+TEST(GroundTelemetryDecoder, ValuesOutsideTheirDisplayLimitsAreMarked) {
+    cmdtlm::POWER_Tlm power{};
+    power.battery_voltage = 24.5F;  // warn (below 25), not alarm (24)
+    power.battery_current = 3.25F;
+    power.state_of_charge = 0.5F;
+    power.solar_current = 1.0F;
+    power.power_sample_time = 12.5F;
+    for (std::size_t w = 0; w < 6; ++w) {
+        power.motor_temperature[w] = 30.0F;
+        power.temperature_valid[w] = 1;
+    }
+    power.motor_temperature[1] = 81.5F;  // alarm (above 80)
+    power.motor_temperature[4] = 70.0F;  // warn (above 65)
+    const std::string line = ground::renderPacket(roundTrip(power, 3, 13 * core::kNsPerSec));
+    CHECK_TEXT(line.rfind("POWER ", 0) == 0, line.c_str());
+    CHECK_TEXT(line.find(" battery_voltage=24.5!WARN ") != std::string::npos, line.c_str());
+    CHECK_TEXT(line.find(" battery_current=3.25 ") != std::string::npos, line.c_str());
+    CHECK_TEXT(line.find(" state_of_charge=0.5 ") != std::string::npos, line.c_str());
+    CHECK_TEXT(line.find(" motor_temperature=[30,81.5!ALARM,30,30,70!WARN,30] ") != std::string::npos, line.c_str());
+    CHECK_TEXT(line.find(" temperature_valid=[1,1,1,1,1,1]") != std::string::npos, line.c_str());
+
+    power.battery_voltage = 23.75F;
+    CHECK_TRUE(ground::renderPacket(roundTrip(power, 4, 0)).find(" battery_voltage=23.75!ALARM ") != std::string::npos);
+    power.battery_voltage = 25.0F;  // on the bound: inside it
+    CHECK_TRUE(ground::renderPacket(roundTrip(power, 5, 0)).find(" battery_voltage=25 ") != std::string::npos);
+}
+
+// HAZARDS shows the hazards in use only (count of the 32 entries), each with
+// its detector id, centre and radius.
+TEST(GroundTelemetryDecoder, HazardsShowOnlyTheHazardsInUse) {
+    cmdtlm::HAZARDS_Tlm h{};
+    h.revision = 12;
+    h.count = 2;
+    h.x[0] = 12.5F;
+    h.y[0] = -1.25F;
+    h.radius[0] = 0.5F;
+    h.obstacle_id[0] = 7;
+    h.x[1] = 3.0F;
+    h.y[1] = 4.0F;
+    h.radius[1] = 0.25F;
+    h.obstacle_id[1] = 9;
+    h.x[2] = 99.0F;  // beyond count: not shown
+    const std::string line = ground::renderPacket(roundTrip(h, 1, 45 * core::kNsPerSec));
+    CHECK_TEXT(line.rfind("HAZARDS ", 0) == 0, line.c_str());
+    CHECK_TEXT(line.find("apid=0x019 seq=1 met=45.000 revision=12 count=2 hazards=[#7 (12.5,-1.25) r=0.5; #9 (3,4) r=0.25]") !=
+                   std::string::npos,
+               line.c_str());
+    CHECK_TEXT(line.find("99") == std::string::npos, line.c_str());
+    h.count = 0;
+    CHECK_TRUE(ground::renderPacket(roundTrip(h, 2, 0)).find(" revision=12 count=0 hazards=[]") != std::string::npos);
 }

@@ -31,6 +31,7 @@ inline bool decodesInRange(const cmdtlm::CommandVerdict& v) {
 #define RSE_TLM(NAME, apid, text)
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
+#define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -39,6 +40,7 @@ inline bool decodesInRange(const cmdtlm::CommandVerdict& v) {
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
+#undef RSE_LIMIT
         case CommandCode::kCount:
             break;
     }
