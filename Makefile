@@ -86,11 +86,15 @@ CROSS_PACKAGES := g++-aarch64-linux-gnu libcpputest-dev:arm64 libmbedtls-dev:arm
                   g++-arm-linux-gnueabihf libcpputest-dev:armhf libmbedtls-dev:armhf \
                   g++-s390x-linux-gnu libcpputest-dev:s390x libmbedtls-dev:s390x \
                   g++-powerpc-linux-gnu
+# Mission control (rse-ground serve, ground/mission_control/; host only): the
+# SQLite archive (C API), HTTP and WebSocket with Boost.Beast/Asio
+# (header-only), JSON with nlohmann/json (header-only).
+MC_PACKAGES := libsqlite3-dev libboost-dev nlohmann-json3-dev
 DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
                 qemu-user $(CROSS_PACKAGES) \
                 qemu-system-x86 busybox-static can-utils \
                 libmbedtls-dev tshark clang libclang-rt-14-dev \
-                $(CBC_PACKAGES)
+                $(CBC_PACKAGES) $(MC_PACKAGES)
 SUDO := $(if $(filter 0,$(shell id -u)),,$(shell command -v sudo))
 
 .PHONY: deps
@@ -229,10 +233,20 @@ $(ISOTP_BIN): $(BUILD)/obj/ground/rse_isotp.o $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^
 
-GROUND_BIN := $(BUILD)/bin/rse-ground
-$(GROUND_BIN): $(BUILD)/obj/ground/rse_ground.o $(GROUND_LIB) $(FLIGHT_LIB)
+# The mission control server (rse-ground serve): its own library, host only
+# (SQLite, Boost.Beast), linked into rse-ground and its suite
+# (unit_test/mission_control_server/), never into the cross-built ground library.
+MC_SRCS := $(sort $(wildcard ground/mission_control/*.cpp))
+MC_LIB := $(BUILD)/lib/librse_mission_control.a
+LDLIBS_MC := -lsqlite3 -lpthread
+$(MC_LIB): $(MC_SRCS:%.cpp=$(BUILD)/obj/%.o)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+	rm -f $@ && $(AR) rcs $@ $^
+
+GROUND_BIN := $(BUILD)/bin/rse-ground
+$(GROUND_BIN): $(BUILD)/obj/ground/rse_ground.o $(MC_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) $(LDLIBS_MC)
 
 # rse-plan-picture: the default tables' map planned at two risk bounds, one SVG.
 PLAN_PICTURE_BIN := $(BUILD)/bin/rse-plan-picture
@@ -280,7 +294,9 @@ all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 # Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
 # linked with the shared support code (allocation guard, CppUTest main).
 # A suite is any folder of unit_test/ holding .cpp files, except these helpers.
-SUITES := $(sort $(filter-out support integration bench fuzz,\
+# HOST_ONLY_SUITES are not built for a cross target (their libraries are the host's).
+HOST_ONLY_SUITES := mission_control_server
+SUITES := $(sort $(filter-out support integration bench fuzz $(if $(CROSS_COMPILE),$(HOST_ONLY_SUITES)),\
             $(patsubst unit_test/%/,%,$(dir $(wildcard unit_test/*/*.cpp)))))
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
@@ -308,6 +324,9 @@ SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp uni
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal_nvm/test_threaded_record_writer.cpp
 # fork() under qemu-user is not what the worker-pool tests are about: host only.
 SUITE_HOST_ONLY_montecarlo := unit_test/montecarlo/test_worker_pool.cpp
+# The mission control server's suite: its library, SQLite and threads (host only).
+SUITE_OBJS_mission_control_server := $(MC_LIB)
+SUITE_LIBS_mission_control_server := $(LDLIBS_MC)
 SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
 SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
 $(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))

@@ -72,6 +72,10 @@ constexpr const char* kUsage =
     "                                                        the same for a plan in one PLAN_SHORT (';' lines)\n"
     "  plan abort                                            stop the plan running (PLAN_ABORT)\n"
     "  encode NAME [arg=value ...] [--auth-seq N] [-o FILE]  write a command packet (hex without -o)\n"
+    "  serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR] [--tables DIR] [--seconds S]\n"
+    "                                                        mission control: telemetry archived and served to\n"
+    "                                                        Open MCT over HTTP and WebSocket (default\n"
+    "                                                        127.0.0.1:8090; docs/mission_control.md)\n"
     "global options:\n"
     "  --udp HOST[:PORT]        commands to HOST:PORT over UDP (default 127.0.0.1:1234)\n"
     "  --tlm-port [ADDR:]PORT   receive telemetry on ADDR:PORT (default 0.0.0.0:1235)\n"
@@ -181,8 +185,9 @@ std::vector<std::string> takeGlobalOptions(const std::vector<std::string>& args,
 
 class Cli {
 public:
-    Cli(GlobalOptions options, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory)
-        : g_(std::move(options)), out_(out), err_(err), linkFactory_(linkFactory) {}
+    Cli(GlobalOptions options, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory,
+        const ServeCommand& serveCommand)
+        : g_(std::move(options)), out_(out), err_(err), linkFactory_(linkFactory), serveCommand_(serveCommand) {}
 
     int send(const std::vector<std::string>& args);
     int resync(const std::vector<std::string>& args);
@@ -196,6 +201,7 @@ public:
     int plan(const std::vector<std::string>& args);
     int encode(const std::vector<std::string>& args);
     int dict(const std::vector<std::string>& args);
+    int serve(const std::vector<std::string>& args);
 
 private:
     PacketAuth auth() {
@@ -357,6 +363,7 @@ private:
     std::ostream& err_;
     std::unique_ptr<SequenceStore> store_;
     const LinkFactory& linkFactory_;
+    const ServeCommand& serveCommand_;
 };
 
 int Cli::send(const std::vector<std::string>& args) {
@@ -650,21 +657,17 @@ int Cli::report(const std::vector<std::string>& args) {
     }
     // The tables, compiled and checked with the flight code (a bad one is a
     // usage error that names the file and the field).
-    auto loadImage = [](const std::string& path) {
-        const bool source = path.size() > 5 && path.compare(path.size() - 5, 5, ".toml") == 0;
-        return source ? compileTableFile(path).image : readTableImageFile(path);
-    };
     tables::CoarseMapTable map{};
     tables::RoverGeometryTable geometry{};
     try {
-        const std::vector<std::uint8_t> mapImage = loadImage(mapPath);
+        const std::vector<std::uint8_t> mapImage = readTableFile(mapPath);
         const tables::TableCheck mapCheck = tables::decodeTable(mapImage.data(), mapImage.size(), &map);
         if (!mapCheck.ok()) {
             throw UsageError("report: " + mapPath + " is not a good COARSE_MAP image: " +
                              describeCheck(mapImage.data(), mapImage.size()));
         }
         const std::string geometryPath = tablesDir + "/rover_geometry.toml";
-        const std::vector<std::uint8_t> geometryImage = loadImage(geometryPath);
+        const std::vector<std::uint8_t> geometryImage = readTableFile(geometryPath);
         if (!tables::decodeTable(geometryImage.data(), geometryImage.size(), &geometry).ok()) {
             throw UsageError("report: " + geometryPath + " is not a good ROVER_GEOMETRY image: " +
                              describeCheck(geometryImage.data(), geometryImage.size()));
@@ -881,13 +884,27 @@ int Cli::dict(const std::vector<std::string>& args) {
     return kExitOk;
 }
 
+// The mission control server (ground/mission_control/serve_command.hpp) on the
+// link `watch` and `record` use.
+int Cli::serve(const std::vector<std::string>& args) {
+    if (!serveCommand_) {
+        throw UsageError("serve is not built into this program (rse-ground has it)");
+    }
+    return serveCommand_(args, [this] { return openLink(true); }, out_, err_);
+}
+
 }  // namespace
 
 int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err) {
-    return runGroundCli(argc, argv, out, err, LinkFactory());
+    return runGroundCli(argc, argv, out, err, LinkFactory(), ServeCommand());
 }
 
 int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory) {
+    return runGroundCli(argc, argv, out, err, linkFactory, ServeCommand());
+}
+
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory,
+                 const ServeCommand& serveCommand) {
     std::vector<std::string> args;
     for (int i = 1; i < argc; ++i) {
         args.emplace_back(argv[i] != nullptr ? argv[i] : "");
@@ -905,7 +922,7 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
             out << kUsage;
             return kExitOk;
         }
-        Cli cli(options, out, err, linkFactory);
+        Cli cli(options, out, err, linkFactory, serveCommand);
         if (command == "send") {
             return cli.send(commandArgs);
         }
@@ -938,6 +955,9 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, co
         }
         if (command == "plan") {
             return cli.plan(commandArgs);
+        }
+        if (command == "serve") {
+            return cli.serve(commandArgs);
         }
         err << "rse-ground: unknown command '" << command << "'\n" << kUsage;
         return kExitUsage;

@@ -14,6 +14,8 @@
 //   rse-ground [global options] plan abort                            (ground/plan_transfer.hpp)
 //   rse-ground dict --markdown|--json [-o FILE]
 //   rse-ground [global options] encode NAME [arg=value ...] [--auth-seq N] [-o FILE]
+//   rse-ground [global options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR] [--tables DIR] [--seconds S]
+//                                                      (ground/mission_control/serve_command.hpp)
 //
 // Global options (anywhere before a table build|show|check|list or plan check):
 //   --udp HOST[:PORT]     commands to HOST:PORT (default 127.0.0.1:1234)
@@ -34,6 +36,8 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "ground/ground_link.hpp"
 
@@ -52,5 +56,16 @@ int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err);
 // false for send --no-wait, which needs no telemetry.
 using LinkFactory = std::function<std::unique_ptr<GroundLink>(bool listen)>;
 int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory);
+
+// The body of `serve` (the mission control server): it lives in
+// ground/mission_control/ (host only: SQLite and Boost.Beast), outside the
+// ground library that the cross-built suites link, so rse-ground's main hands
+// it in (without it `serve` says it is not built in). It gets serve's
+// arguments and opens the link of the global options with openLink.
+using ServeCommand = std::function<int(const std::vector<std::string>& args,
+                                       const std::function<std::unique_ptr<GroundLink>()>& openLink,
+                                       std::ostream& out, std::ostream& err)>;
+int runGroundCli(int argc, char** argv, std::ostream& out, std::ostream& err, const LinkFactory& linkFactory,
+                 const ServeCommand& serve);
 
 }  // namespace rse::ground

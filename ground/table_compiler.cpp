@@ -345,6 +345,11 @@ std::vector<std::uint8_t> readTableImageFile(const std::string& path) {
     return std::vector<std::uint8_t>(data.begin(), data.end());
 }
 
+std::vector<std::uint8_t> readTableFile(const std::string& path) {
+    const bool source = path.size() > 5 && path.compare(path.size() - 5, 5, ".toml") == 0;
+    return source ? compileTableSource(path) : readTableImageFile(path);
+}
+
 void writeTableImageFile(const std::string& path, const std::vector<std::uint8_t>& image) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(image.data()), static_cast<std::streamsize>(image.size()));

@@ -52,6 +52,9 @@ std::vector<std::uint8_t> compileTableSource(const std::string& path);
 // refuses files far beyond any image (1 MiB).
 std::vector<std::uint8_t> readTableImageFile(const std::string& path);
 void writeTableImageFile(const std::string& path, const std::vector<std::uint8_t>& image);
+// The image a table file holds: a source (name ending ".toml") compiled, any
+// other file read as an image (unchecked, as readTableImageFile).
+std::vector<std::uint8_t> readTableFile(const std::string& path);
 
 // One line for a check verdict: "ok", "bad CRC (header 0x..., computed 0x...)",
 // "out of range: drive_node_id[2] = 200, allowed [1, 127] node", ...

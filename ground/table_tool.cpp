@@ -26,10 +26,6 @@ int usage(std::ostream& err, const std::string& why) {
     return kExitUsage;
 }
 
-bool endsWith(const std::string& s, const std::string& suffix) {
-    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // Writes OUT only once everything compiled, so a failed build leaves no
 // half-written file for make to mistake as up to date.
 int build(const std::vector<std::string>& args, std::ostream& out) {
@@ -78,8 +74,7 @@ int build(const std::vector<std::string>& args, std::ostream& out) {
 }
 
 int show(const std::string& path, std::ostream& out) {
-    const std::vector<std::uint8_t> image =
-        endsWith(path, ".toml") ? compileTableSource(path) : readTableImageFile(path);
+    const std::vector<std::uint8_t> image = readTableFile(path);
     out << describeImage(image.data(), image.size());
     return tables::checkTableImage(image.data(), image.size()).ok() ? kExitOk : kExitBadInput;
 }
