@@ -3,6 +3,8 @@
 #include <cstddef>
 #include <string>
 
+#include "ground/telemetry_limits.hpp"
+
 namespace rse::ground::mission_control {
 namespace {
 
@@ -26,9 +28,12 @@ Json limitsJson(const FieldLimits& limits) {
 }  // namespace
 
 std::optional<FieldLimits> dictionaryLimits(const cmdtlm::TelemetryDesc& packet, const cmdtlm::FieldDesc& field) {
-    (void)packet;
-    (void)field;
-    return std::nullopt;
+    const TelemetryLimit* limit = findTelemetryLimit(packet.name, field.name);
+    if (limit == nullptr) {
+        return std::nullopt;
+    }
+    const auto bound = [](double b) { return hasBound(b) ? std::optional<double>(b) : std::nullopt; };
+    return FieldLimits{bound(limit->warnLow), bound(limit->warnHigh), bound(limit->alarmLow), bound(limit->alarmHigh)};
 }
 
 Json displayDictionary(const LimitsLookup& limits) {

@@ -33,11 +33,8 @@ struct FieldLimits {
 using LimitsLookup =
     std::function<std::optional<FieldLimits>(const cmdtlm::TelemetryDesc& packet, const cmdtlm::FieldDesc& field)>;
 
-// The flight dictionary's limits. Limits are declared in the flight
-// dictionary itself (fsw/cmdtlm/dictionary.def, next to the field they bound)
-// and read here from its descriptors; the dictionary declares none yet, so
-// this answers none for every field and the display dictionary lists no
-// "limits".
+// The flight dictionary's limits: its RSE_LIMIT lines (fsw/cmdtlm/dictionary.def,
+// read through ground/telemetry_limits.hpp), each side only where bounded.
 std::optional<FieldLimits> dictionaryLimits(const cmdtlm::TelemetryDesc& packet, const cmdtlm::FieldDesc& field);
 
 // The display dictionary, with limits from `limits`.

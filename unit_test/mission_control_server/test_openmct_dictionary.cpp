@@ -14,6 +14,7 @@
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "ground/mission_control/openmct_dictionary.hpp"
+#include "ground/telemetry_limits.hpp"
 #include "ground/mission_control/telemetry_datum.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "unit_test/mission_control_server/mc_test_support.hpp"
@@ -83,7 +84,10 @@ TEST(OpenMctDictionary, ListsEveryPacketAndFieldOfTheFlightDictionary) {
                 STRCMP_EQUAL_TEXT(field.units, entryField["units"].get<std::string>().c_str(), where.c_str());
                 STRCMP_EQUAL_TEXT(field.description, entryField["description"].get<std::string>().c_str(),
                                   where.c_str());
-                CHECK_TEXT(!entryField.contains("limits"), where.c_str());  // the dictionary declares none yet
+                // Limits exactly where an RSE_LIMIT bounds the field (their values: LimitsAreListedWhereGiven).
+                CHECK_TEXT(entryField.contains("limits") ==
+                               (rse::ground::findTelemetryLimit(desc.name, field.name) != nullptr),
+                           where.c_str());
             }
         }
         CHECK_EQUAL_TEXT(at, fields.size(), desc.name);
@@ -133,11 +137,31 @@ TEST(OpenMctDictionary, NoFieldKeyCollidesWithUtcMetOrAnother) {
 TEST(OpenMctDictionary, LimitsAreListedWhereGiven) {
     std::size_t count = 0;
     const cmdtlm::TelemetryDesc* packets = flightPackets(&count);
+    // The flight dictionary's own: exactly its RSE_LIMIT lines, every side as written.
+    std::size_t limited = 0;
     for (std::size_t p = 0; p < count; ++p) {
         for (std::size_t f = 0; f < packets[p].fieldCount; ++f) {
-            CHECK_FALSE(dictionaryLimits(packets[p], packets[p].fields[f]).has_value());
+            const std::optional<FieldLimits> got = dictionaryLimits(packets[p], packets[p].fields[f]);
+            const rse::ground::TelemetryLimit* want =
+                rse::ground::findTelemetryLimit(packets[p].name, packets[p].fields[f].name);
+            CHECK_EQUAL(want != nullptr, got.has_value());
+            if (want == nullptr) {
+                continue;
+            }
+            ++limited;
+            const auto same = [](double bound, const std::optional<double>& side) {
+                return rse::ground::hasBound(bound) ? side.has_value() && *side == bound : !side.has_value();
+            };
+            CHECK(same(want->warnLow, got->warnLow));
+            CHECK(same(want->warnHigh, got->warnHigh));
+            CHECK(same(want->alarmLow, got->alarmLow));
+            CHECK(same(want->alarmHigh, got->alarmHigh));
         }
     }
+    std::size_t declared = 0;
+    (void)rse::ground::telemetryLimits(&declared);
+    CHECK(declared > 0);
+    LONGS_EQUAL(declared, limited);
     // A lookup with limits on DRIVES.current (all four) and HK.mode (a high alarm only).
     const auto limits = [](const cmdtlm::TelemetryDesc& packet, const cmdtlm::FieldDesc& field) -> std::optional<FieldLimits> {
         if (std::string(packet.name) == "DRIVES" && std::string(field.name) == "current") {
