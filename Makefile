@@ -16,6 +16,7 @@
 #                    table (rse-montecarlo, docs/montecarlo.md); make montecarlo MC_SEEDS=1000 MC_FIRST=1
 #   make test-slurm  only the Slurm campaign test (a one-node cluster on localhost; make test runs it too)
 #   make plan-picture  the demo map planned at Delta = 1e-2 and 1e-6, drawn to build/plan_picture.svg
+#   make mission-control       the mission control display (Open MCT) on the paced demo: http://127.0.0.1:8090/
 #   make mission-control-deps  Node.js, Chromium and the display's npm packages (ground/mission_control/web)
 #   make mission-control-web-test  the display's JavaScript library under node --test
 #   make mission-control-display-test MC_URL=...  the browser test against a running rse-ground serve
@@ -343,10 +344,15 @@ WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
+# The mission control display (issue 19): its JavaScript library under node,
+# and end to end: rse-ground serve, the paced demo over UDP, headless Chromium
+# (host only; needs mission-control-deps, which make test runs first).
+MC_WEB_TEST := unit_test/mission_control/web_lib_test.sh
+MC_DISPLAY_TEST := unit_test/mission_control/mission_control_test.sh
 # The suites that boot the qemu VM (real-time, mostly waiting): make test runs
 # them as a set of their own (test-run-vm), as soon as VCAN_BINS are built.
 VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST)
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 
@@ -414,7 +420,7 @@ test_label = $(if $(filter host,$(1)),$(HOST_ARCH),$(call arch_of,$(1)))
 test_prefix = $(if $(filter host,$(1)),,$(1))
 TEST_SETS := host $(CROSS_TEST_TARGETS)
 
-test: deps
+test: deps mission-control-deps
 	@mkdir -p build && rm -f $(RESULTS) && rm -rf $(WIRE_DIR)
 	@echo "make test: building and running $(foreach t,$(TEST_SETS),$(call test_label,$(t))) and building $(foreach t,$(CROSS_BUILD_ONLY),$(call test_label,$(t))) (rse-fsw under qemu, no suites) in parallel; each prints when it ends"
 	@$(MAKE) --no-print-directory $(TEST_JOBS) -k -Otarget test-run-vm $(TEST_SETS:%=test-run/%) \
@@ -528,7 +534,28 @@ mission-control-deps: deps
 # The display's JavaScript library (dictionary, limits, history paging, risk
 # ellipses, ...) under Node's test runner: no browser, no server.
 mission-control-web-test: mission-control-deps
-	node --test unit_test/mission_control/web_lib.test.mjs
+	bash $(MC_WEB_TEST)
+
+# make mission-control: the display on the demo. rse-ground serve on
+# http://$(MC_HTTP)/ (telemetry on UDP 127.0.0.1:$(MC_TLM_PORT), archive
+# build/mission_control/archive.sqlite, kept across runs), and the demo mission
+# paced at MC_PACE x real time sending its telemetry there; the display stays
+# up after the mission (its archive answers history) until Ctrl-C. On a live
+# rover: rse-ground --tlm-port PORT serve (docs/mission_control.md).
+MC_HTTP ?= 127.0.0.1:8090
+MC_TLM_PORT ?= 1235
+MC_PACE ?= 1
+.PHONY: mission-control
+mission-control: mission-control-deps
+	@$(MAKE) --no-print-directory $(PARALLEL) CROSS_COMPILE= build/$(HOST_ARCH)/bin/rse-ground $(HOST_DEMO_BIN)
+	@build/$(HOST_ARCH)/bin/rse-ground --tlm-port 127.0.0.1:$(MC_TLM_PORT) serve --http $(MC_HTTP) & serve=$$!; \
+	  trap 'kill $$serve 2>/dev/null; wait $$serve' EXIT INT TERM; sleep 1; \
+	  kill -0 $$serve 2>/dev/null || exit 1; \
+	  echo "mission-control: open http://$(MC_HTTP)/ in a browser; the demo starts now at $(MC_PACE)x real time"; \
+	  $(HOST_DEMO_BIN) --pace $(MC_PACE) --udp-telemetry 127.0.0.1:$(MC_TLM_PORT) --duration $(DEMO_SECONDS) \
+	    --any-outcome $(DEMO_ARGS); \
+	  echo "mission-control: the mission is over; the display stays up on http://$(MC_HTTP)/ (Ctrl-C stops it)"; \
+	  wait $$serve
 
 # The browser test against a running rse-ground serve at MC_URL:
 # make mission-control-display-test MC_URL=http://127.0.0.1:8090/ [MC_TEST_ARGS="--history --interval S:E"]
