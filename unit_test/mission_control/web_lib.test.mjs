@@ -4,10 +4,11 @@
 //   node --test unit_test/mission_control/web_lib.test.mjs   (make mission-control-web-test)
 
 import assert from 'node:assert/strict';
+import fs from 'node:fs';
 import { test } from 'node:test';
 
 import { DisplayDictionary, splitArrayKey } from '../../ground/mission_control/web/lib/dictionary.js';
-import { enumerationsFor, nameOf } from '../../ground/mission_control/web/lib/enumerations.js';
+import { enumerationsFor, nameOf, NAMES } from '../../ground/mission_control/web/lib/enumerations.js';
 import { requestHistory } from '../../ground/mission_control/web/lib/history.js';
 import { fieldLimits, limitState, makeLimitDefinition, makeLimitEvaluator } from '../../ground/mission_control/web/lib/limits.js';
 import { formatNumber } from '../../ground/mission_control/web/lib/number-format.js';
@@ -231,3 +232,31 @@ test('tasks are learnt from TASK_TIMING history and split by task index', async 
   assert.deepEqual(task.rse, { packet: 'TASK_TIMING', taskIndex: 7 });
   assert.equal(task.name, 'habitual (task 7)');
 });
+
+// The display's own words where the dictionary's would not read as a value.
+const DISPLAY_WORDING = { 'PLAN.call_home': { 0: 'no' } };
+
+test('every coded value the display names is the one the flight dictionary describes', () => {
+  const dictionary = JSON.parse(fs.readFileSync(new URL('../../docs/dictionary.json', import.meta.url), 'utf8'));
+  for (const [key, names] of Object.entries(NAMES)) {
+    const [packetName, fieldName] = key.split('.');
+    const packet = dictionary.telemetry.find((p) => p.name === packetName);
+    assert.ok(packet, `${key}: no packet ${packetName} in the dictionary`);
+    const field = packet.fields.find((x) => x.name === fieldName);
+    assert.ok(field, `${key}: no field ${fieldName} in ${packetName}`);
+    // "0 SAFE, 1 STANDBY", "...: 0 nominal, 1 degraded", "0 boot-up wait .. 4 operational"
+    const described = [...field.description.matchAll(/(?:^|[:,]|\.\.)\s*(\d+) ([A-Za-z][^,(:.]*)/g)];
+    assert.ok(described.length >= 2, `${key}: its description names no values: ${field.description}`);
+    for (const [, value, text] of described) {
+      const i = Number(value);
+      const want = DISPLAY_WORDING[key]?.[i];
+      assert.ok(i < names.length, `${key}: the dictionary describes ${i} (${text.trim()}), the display has no name for it`);
+      if (want !== undefined) {
+        assert.equal(names[i], want, `${key} ${i}`);
+      } else {
+        assert.ok(text.trim().startsWith(names[i]), `${key} ${i}: the display says "${names[i]}", the dictionary "${text.trim()}"`);
+      }
+    }
+  }
+});
+

@@ -3,14 +3,16 @@
 // these are copied from the field descriptions in docs/dictionary.md (and
 // fsw/msg/drive_msgs.hpp for the drive states); a field the dictionary gives
 // its own "enumerations" for uses those instead. A value with no name shows as
-// its number.
+// its number. unit_test/mission_control/web_lib.test.mjs holds every name here
+// to the value the dictionary's description gives it (docs/dictionary.json,
+// itself checked against the flight dictionary), so they cannot drift apart.
 
 import { splitArrayKey } from './dictionary.js';
 
 // Wheel order of every per-wheel array (fsw/msg/drive_msgs.hpp, kWheelCount).
 export const WHEEL_NAMES = ['FL', 'ML', 'RL', 'FR', 'MR', 'RR'];
 
-const NAMES = {
+export const NAMES = {
   'EVENT.severity': ['DEBUG', 'INFO', 'WARN', 'ERROR', 'CRIT'],
   'HK.mode': ['SAFE', 'STANDBY', 'AUTONOMOUS', 'MANUAL'],
   'DRIVES.state': [
