@@ -147,16 +147,12 @@ struct Rig {
     }
     // The command handlers' goal list (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
     void goalList(std::uint32_t revision, const double (*xy)[2], std::size_t count, double risk = 1e-3) {
-        msg::GoalListMsg g{};
-        g.timeNs = clock.now();
-        g.riskBound = risk;
-        g.revision = revision;
-        g.count = static_cast<std::uint8_t>(count);
-        for (std::size_t i = 0; i < count; ++i) {
-            g.goals[i].xM = xy[i][0];
-            g.goals[i].yM = xy[i][1];
+        double xyr[msg::kMaxGoals][3] = {};
+        for (std::size_t i = 0; i < count && i < msg::kMaxGoals; ++i) {
+            xyr[i][0] = xy[i][0];
+            xyr[i][1] = xy[i][1];
         }
-        CHECK_TRUE(core::isOk(bus.publish(g)));
+        goalListWithRadii(revision, xyr, count, risk);
     }
     // The same with each goal's region radius (the command handlers' goals are points: 0).
     void goalListWithRadii(std::uint32_t revision, const double (*xyr)[3], std::size_t count, double risk = 1e-3) {
