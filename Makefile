@@ -72,7 +72,7 @@ PARALLEL = $(if $(filter -j%,$(MAKEFLAGS)),,-j$(NPROC))
 # test need (the VM test also downloads Debian's kernel package into build/).
 # COIN-OR CBC: the exact MILP reference of the chance-constrained planner
 # (unit_test/bench/cc_reference_milp.*), linked into the host build of the
-# cc_reference suite and into bench_cc_reference only; never into flight code,
+# system_cc_reference suite and into bench_cc_reference only; never into flight code,
 # rse-fsw or any aarch64 binary (the suite's CBC tests are host only).
 CBC_PACKAGES := coinor-libcbc-dev
 # Slurm (and munge, its authentication) for the Monte Carlo campaign test: a
@@ -236,7 +236,7 @@ $(ISOTP_BIN): $(BUILD)/obj/ground/rse_isotp.o $(FLIGHT_LIB)
 
 # The mission control server (rse-ground serve): its own library, host only
 # (SQLite, Boost.Beast), linked into rse-ground and its suite
-# (unit_test/mission_control_server/), never into the cross-built ground library.
+# (unit_test/ground/mission_control/), never into the cross-built ground library.
 MC_SRCS := $(sort $(wildcard ground/mission_control/*.cpp))
 MC_LIB := $(BUILD)/lib/librse_mission_control.a
 LDLIBS_MC := -lsqlite3 -lpthread
@@ -292,19 +292,33 @@ HOST_TOOLS := $(SIM_BIN) $(DEMO_BIN) $(ISOTP_BIN) $(GROUND_BIN) $(PLAN_PICTURE_B
 all: $(FSW_BIN) $(if $(CROSS_COMPILE),,$(HOST_TOOLS))
 
 # ---------------------------------------------------------------------------
-# Unit-test suites: one binary per folder of unit_test/ named in SUITES, each
-# linked with the shared support code (allocation guard, CppUTest main).
-# A suite is any folder of unit_test/ holding .cpp files, except these helpers.
+# Unit-test suites. unit_test/ mirrors the code (docs/architecture.md, "Where
+# the tests live"): a suite is a folder under unit_test/, at any depth, that
+# holds .cpp files itself, and its binary is test_<that folder under unit_test/,
+# '/' as '_'>: unit_test/fsw/estimator/ is test_fsw_estimator, unit_test/ground/
+# test_ground, unit_test/ground/mission_control/ (a folder of its own, so a suite
+# of its own) test_ground_mission_control. Each is linked with the shared support
+# code (allocation guard, CppUTest main). These folders, and those under them,
+# hold helpers, not suites:
+TEST_HELPER_DIRS := support integration bench fuzz cross
 # HOST_ONLY_SUITES are not built for a cross target (their libraries are the host's).
-HOST_ONLY_SUITES := mission_control_server
-SUITES := $(sort $(filter-out support integration bench fuzz $(if $(CROSS_COMPILE),$(HOST_ONLY_SUITES)),\
-            $(patsubst unit_test/%/,%,$(dir $(wildcard unit_test/*/*.cpp)))))
+HOST_ONLY_SUITES := ground_mission_control
+suite_name = $(subst /,_,$(patsubst unit_test/%,%,$(1)))
+ALL_SUITE_DIRS := $(sort $(patsubst %/,%,$(dir $(filter-out $(TEST_HELPER_DIRS:%=unit_test/%/%),\
+                    $(shell find unit_test -name '*.cpp' -type f)))))
+SUITE_DIRS := $(strip $(foreach d,$(ALL_SUITE_DIRS),\
+                $(if $(and $(CROSS_COMPILE),$(filter $(call suite_name,$(d)),$(HOST_ONLY_SUITES))),,$(d))))
+SUITES := $(foreach d,$(SUITE_DIRS),$(call suite_name,$(d)))
+# Two folders must not map to one name (unit_test/a/b and unit_test/a_b).
+$(if $(filter-out $(words $(SUITES)),$(words $(sort $(SUITES)))),\
+  $(error two unit_test folders give one suite name: $(SUITES)))
 SUPPORT_OBJS := $(patsubst %.cpp,$(BUILD)/obj/%.o,$(wildcard unit_test/support/*.cpp))
 
-# A suite may add objects (SUITE_OBJS_<suite>) and libraries (SUITE_LIBS_<suite>),
-# and leave test files out of the aarch64 build (SUITE_HOST_ONLY_<suite>).
+# suite_rule NAME FOLDER. A suite may add objects (SUITE_OBJS_<name>) and
+# libraries (SUITE_LIBS_<name>), and leave test files out of a cross build
+# (SUITE_HOST_ONLY_<name>).
 define suite_rule
-$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(filter-out $(if $(CROSS_COMPILE),$(SUITE_HOST_ONLY_$(1))),$(wildcard unit_test/$(1)/*.cpp))) $(SUITE_OBJS_$(1)) $(SUPPORT_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+$(BUILD)/bin/test_$(1): $(patsubst %.cpp,$(BUILD)/obj/%.o,$(filter-out $(if $(CROSS_COMPILE),$(SUITE_HOST_ONLY_$(1))),$(wildcard $(2)/*.cpp))) $(SUITE_OBJS_$(1)) $(SUPPORT_OBJS) $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $$(@D)
 	$(CXX) $(LDFLAGS) -o $$@ $$^ $(LDLIBS_TEST) $(SUITE_LIBS_$(1))
 endef
@@ -319,18 +333,18 @@ CBC_LDLIBS := -lCbcSolver -lCbc -lOsiClp -lClp -lOsi -lCoinUtils
 $(CC_MILP_OBJ): unit_test/bench/cc_reference_milp.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CBC_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
-SUITE_HOST_ONLY_cc_reference := $(wildcard unit_test/cc_reference/*_milp.cpp unit_test/cc_reference/*_host.cpp)
+SUITE_HOST_ONLY_system_cc_reference := $(wildcard unit_test/system/cc_reference/*_milp.cpp unit_test/system/cc_reference/*_host.cpp)
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
-SUITE_HOST_ONLY_hal_nvm := unit_test/hal_nvm/test_threaded_record_writer.cpp
+SUITE_HOST_ONLY_hal_nvm := unit_test/hal/nvm/test_threaded_record_writer.cpp
 # fork() under qemu-user is not what the worker-pool tests are about: host only.
-SUITE_HOST_ONLY_montecarlo := unit_test/montecarlo/test_worker_pool.cpp
+SUITE_HOST_ONLY_sim_stub_montecarlo := unit_test/sim_stub/montecarlo/test_worker_pool.cpp
 # The mission control server's suite: its library, SQLite and threads (host only).
-SUITE_OBJS_mission_control_server := $(MC_LIB)
-SUITE_LIBS_mission_control_server := $(LDLIBS_MC)
-SUITE_OBJS_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
-SUITE_LIBS_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
-$(foreach s,$(SUITES),$(eval $(call suite_rule,$(s))))
+SUITE_OBJS_ground_mission_control := $(MC_LIB)
+SUITE_LIBS_ground_mission_control := $(LDLIBS_MC)
+SUITE_OBJS_system_cc_reference := $(CC_BENCH_OBJS) $(if $(CROSS_COMPILE),,$(CC_MILP_OBJ))
+SUITE_LIBS_system_cc_reference := $(if $(CROSS_COMPILE),,$(CBC_LDLIBS))
+$(foreach d,$(SUITE_DIRS),$(eval $(call suite_rule,$(call suite_name,$(d)),$(d))))
 TEST_BINS := $(SUITES:%=$(BUILD)/bin/test_%)
 # Script suites drive the built executables (RSE_BIN_DIR, under RSE_RUNNER).
 # The vcan test boots an x86_64 VM with real SocketCAN: host build only.
@@ -347,8 +361,8 @@ HARNESS_TEST := unit_test/integration/harness_counts_test.sh
 # The mission control display (issue 19): its JavaScript library under node,
 # and end to end: rse-ground serve, the paced demo over UDP, headless Chromium
 # (host only; needs mission-control-deps, which make test runs first).
-MC_WEB_TEST := unit_test/mission_control/web_lib_test.sh
-MC_DISPLAY_TEST := unit_test/mission_control/mission_control_test.sh
+MC_WEB_TEST := unit_test/ground/mission_control/web/web_lib_test.sh
+MC_DISPLAY_TEST := unit_test/ground/mission_control/web/mission_control_test.sh
 # The suites that boot the qemu VM (real-time, mostly waiting): make test runs
 # them as a set of their own (test-run-vm), one after the other, as soon as
 # VCAN_BINS are built. The mission control display's end-to-end test closes the
@@ -466,9 +480,9 @@ test-build/%: test-host-ground FORCE
 test-run/%: test-build/% FORCE
 	@$(call beside_host,$*) $(MAKE) --no-print-directory CROSS_COMPILE=$(call test_prefix,$*) SUITES_BUILT=1 \
 	  $(if $(call test_prefix,$*),,RUN_SET=no-vm) run-suites
-# The cross-target wire check (unit_test/wire_exchange/): once every target's
+# The cross-target wire check (unit_test/system/wire_exchange/): once every target's
 # run has written its samples to WIRE_DIR, each target reads all the others'
-# (results "<target>-peers/test_wire_exchange").
+# (results "<target>-peers/test_system_wire_exchange").
 WIRE_DIR := build/wire
 TEST_LABELS = $(foreach t,$(TEST_SETS),$(call test_label,$(t)))
 test-wire/%: FORCE
@@ -476,7 +490,7 @@ test-wire/%: FORCE
 .PHONY: wire-peers
 wire-peers:
 	@RSE_WIRE_DIR=$(WIRE_DIR) RSE_WIRE_PEERS="$(filter-out $(ARCH),$(TEST_LABELS))" \
-	  unit_test/run_suites.sh $(RESULTS) "$(ARCH)-peers" "$(RUNNER)" $(BUILD)/bin/test_wire_exchange
+	  unit_test/run_suites.sh $(RESULTS) "$(ARCH)-peers" "$(RUNNER)" $(BUILD)/bin/test_system_wire_exchange
 # A build-only target (docs/cross_targets.md), two checks: the flight code
 # (fsw/, hal/) compiled with the flight warnings as errors and rse-fsw linked;
 # then rse-fsw run for 1 s of lockstep under qemu-user (100 frames, exit 0).
@@ -566,7 +580,7 @@ mission-control: mission-control-deps
 MC_URL ?= http://127.0.0.1:8090/
 MC_TEST_ARGS ?=
 mission-control-display-test: mission-control-deps
-	node unit_test/mission_control/display_test.mjs --url $(MC_URL) \
+	node unit_test/ground/mission_control/web/display_test.mjs --url $(MC_URL) \
 	  --screenshot build/mission_control/display_test.png $(MC_TEST_ARGS)
 
 # ---------------------------------------------------------------------------

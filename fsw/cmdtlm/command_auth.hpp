@@ -42,7 +42,7 @@ const char* toString(KeyWeakness weakness);
 // One HMAC-SHA-256 engine, used by flight and ground alike. init() allocates
 // mbedTLS's context once, at start-up; computing a MAC afterwards allocates
 // nothing. Every MAC, packetMac included, goes through compute(), the code the
-// RFC 4231 known-answer tests check (unit_test/cmdtlm/test_hmac_sha256.cpp).
+// RFC 4231 known-answer tests check (unit_test/fsw/cmdtlm/test_hmac_sha256.cpp).
 class HmacSha256 {
 public:
     HmacSha256();

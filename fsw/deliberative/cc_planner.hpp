@@ -141,7 +141,7 @@
 // core; bench_cc_complete measures CPU ns per unit on its runs). The default
 // 20 000 (20 M units) is 10 - 20 ms there.
 // Measured with the defaults before the layered seed and the slicing
-// (unit_test/deliberative's random instances, x86-64 host, wall clock,
+// (unit_test/fsw/deliberative's random instances, x86-64 host, wall clock,
 // another process on the other core; no command reproduces these any more):
 // N = 10, M = 4 median 15 ms, max 19 ms (50 instances: ~900 nodes, cost
 // within 0.44 % of the proven optimum, median 0 %); N = 20, M = 8 median

@@ -72,7 +72,7 @@
 // power_factor_gain per update, of the current ratio on updates where the
 // comparison gave one (not from an over-current trip alone); it starts at 1.
 //
-// Time bounds with the default table (unit_test/drive_modes proves them on a
+// Time bounds with the default table (unit_test/fsw/estimator/test_drive_mode_*.cpp prove them on a
 // drive model with the simulator's lag and current law):
 //  - a degradation with current factor >= 1.5 while driving is declared within
 //    0.6 s (the partial window, then four updates of "high" current);

@@ -38,7 +38,7 @@
 //   (the base load does not depend on the path).
 // - Energy the drives draw while the rover stands still (no-load current while
 //   planning) is not path energy and is not counted.
-// Calibration against the simulator: unit_test/rover_model/test_power_model_calibration.cpp
+// Calibration against the simulator: unit_test/fsw/rover_model/test_power_model_calibration.cpp
 // and docs/habitual.md ("Power model").
 //
 // Pure math: no bus, no events, no state.

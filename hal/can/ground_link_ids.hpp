@@ -3,7 +3,7 @@
 // rse-ground --can). Normal addressing, 11-bit ids. They lie outside every CiA 301
 // restricted CAN-ID range (hal/canopen/canopen_ids.hpp, kCia301RestrictedIds: an
 // independent CANopen stack flags those) and outside every id the rover's nodes
-// use; unit_test/hal_canopen/test_can_id_plan.cpp checks both.
+// use; unit_test/hal/canopen/test_can_id_plan.cpp checks both.
 #pragma once
 
 #include <cstdint>

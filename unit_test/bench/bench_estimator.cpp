@@ -21,7 +21,7 @@
 #include <ctime>
 #include <vector>
 
-#include "unit_test/lockstep/estimator_runs.hpp"
+#include "unit_test/system/lockstep/estimator_runs.hpp"
 #include "unit_test/bench/bench_targets.hpp"
 
 namespace {

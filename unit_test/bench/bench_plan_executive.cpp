@@ -107,8 +107,8 @@
 #include "fsw/plan_executive/stn.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 #include "unit_test/bench/bench_targets.hpp"
-#include "unit_test/plan_executive/selection_reference.hpp"
-#include "unit_test/plan_executive/tpn_builders.hpp"
+#include "unit_test/fsw/plan_executive/selection_reference.hpp"
+#include "unit_test/fsw/plan_executive/tpn_builders.hpp"
 #include "unit_test/support/plan_lockstep.hpp"
 
 using namespace rse::plan_executive;

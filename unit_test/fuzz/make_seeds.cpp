@@ -16,7 +16,7 @@
 //
 // The packets are built with encodeCommandPacket and the images are the
 // generated default images, so the seeds follow the dictionary and the table
-// sources; unit_test/corpus_replay checks them. Host tool: full language.
+// sources; unit_test/system/corpus_replay checks them. Host tool: full language.
 #include <cctype>
 #include <cmath>
 #include <cstdint>

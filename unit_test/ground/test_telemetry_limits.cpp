@@ -18,7 +18,7 @@
 #include "fsw/tables/table_image.hpp"
 #include "fsw/tables/table_types.hpp"
 #include "ground/telemetry_limits.hpp"
-#include "unit_test/tables/table_test_support.hpp"
+#include "unit_test/fsw/tables/table_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 

@@ -3,7 +3,7 @@
 // authenticated in-memory ground station (sim::MemoryGround) that keeps the
 // last PLAN_EXEC packet; plans go up as the ground sends them, PLAN_LOAD
 // chunks of 200 B (one every 20 ms) then PLAN_START with the text's length
-// and CRC-32. Shared by unit_test/lockstep/test_lockstep_plan_executive.cpp
+// and CRC-32. Shared by unit_test/system/lockstep/test_lockstep_plan_executive.cpp
 // and unit_test/bench/bench_plan_executive.cpp. Host side; one session at a
 // time (the rig's frame callback drains this session's downlink).
 #pragma once

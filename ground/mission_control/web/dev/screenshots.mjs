@@ -2,7 +2,7 @@
 // Development aid: opens the display in headless Chromium (Debian's
 // /usr/bin/chromium through puppeteer-core) and saves a PNG of the mission
 // overview and of each ready-made view, printing the page's console errors.
-// Not a test (the test is unit_test/mission_control/display_test.mjs).
+// Not a test (the test is unit_test/ground/mission_control/web/display_test.mjs).
 //
 //   node ground/mission_control/web/dev/screenshots.mjs http://127.0.0.1:8091/ build/mission_control/screens [keys...]
 

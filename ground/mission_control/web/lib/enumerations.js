@@ -3,7 +3,7 @@
 // these are copied from the field descriptions in docs/dictionary.md (and
 // fsw/msg/drive_msgs.hpp for the drive states); a field the dictionary gives
 // its own "enumerations" for uses those instead. A value with no name shows as
-// its number. unit_test/mission_control/web_lib.test.mjs holds every name here
+// its number. unit_test/ground/mission_control/web/web_lib.test.mjs holds every name here
 // to the value the dictionary's description gives it (docs/dictionary.json,
 // itself checked against the flight dictionary), so they cannot drift apart.
 
