@@ -74,7 +74,7 @@ Status InputPipe::dispatch() {
 void InputPipe::refuse(Status why) {
     ++malformed_;
     if (isReportableOccurrence(malformed_)) {
-        events_.report(config_.malformedEvent, Severity::kError,
+        events_.report(config_.malformedEvent, config_.severity,
                        "%s: bus message 0x%04x (%u B) on pipe %s refused: %s (%u so far)", config_.owner,
                        static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(inbox_.header.length),
                        config_.name, toString(why), static_cast<unsigned>(malformed_));

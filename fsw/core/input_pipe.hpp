@@ -63,6 +63,9 @@ struct InputPipeConfig {
     std::uint16_t depth;       // messages it holds; one drain() takes at most this many
     EventId malformedEvent;    // the owner's event for a message it could not take
     const char* owner;         // the event text's first word ("estimator", "telemetry", ...)
+    // The event's severity: the owner's, as its hand-written loop reported it
+    // (the health task's is a warning).
+    Severity severity = Severity::kError;
 };
 
 class InputPipe {
@@ -90,7 +93,25 @@ public:
         static_assert(std::is_trivially_copyable<M>::value, "bus messages are plain data");
         static_assert(sizeof(M) <= kBusMaxPayload, "message larger than the bus carries");
         static_assert(alignof(M) <= alignof(std::max_align_t), "message over-aligned for the decode storage");
-        return addRoute(M::kMsgId, static_cast<typename Traits::Owner*>(owner), &deliver<Handler>);
+        return addRoute(M::kMsgId, static_cast<typename Traits::Owner*>(owner), &deliver<Handler, nullptr>);
+    }
+
+    // Start-up, as route<Handler>(), for an owner that counts a message of this
+    // id that does not decode with its own refusals of the type rather than as
+    // malformed input (the trajectory follower: a trajectory that does not
+    // decode is a refused trajectory, like one whose points it refuses).
+    // OnUndecodable is `void (Owner::*)(const Message&)`, a member of Handler's
+    // class: it gets the message as it came, and the pipe counts nothing.
+    template <auto Handler, auto OnUndecodable, typename Owner>
+    Status route(Owner* owner) {
+        using Traits = input_pipe_detail::HandlerTraits<decltype(Handler)>;
+        static_assert(std::is_same<decltype(OnUndecodable), void (Traits::Owner::*)(const Message&)>::value,
+                      "OnUndecodable is void (Owner::*)(const Message&) of the handler's class");
+        const Status status = route<Handler>(owner);
+        if (isOk(status)) {
+            routes_[routeCount_ - 1].deliver = &deliver<Handler, OnUndecodable>;
+        }
+        return status;
     }
 
     // Every run: takes the queued messages (at most the depth) and hands each
@@ -117,17 +138,24 @@ private:
         Deliver deliver = nullptr;
     };
 
-    template <auto Handler>
+    // OnUndecodable: nullptr (the pipe refuses what does not decode) or the
+    // owner's handler for it (see the second route()).
+    template <auto Handler, auto OnUndecodable>
     static Status deliver(void* owner, const Message& message, void* storage) {
         using Traits = input_pipe_detail::HandlerTraits<decltype(Handler)>;
         using M = typename Traits::Msg;
+        auto* o = static_cast<typename Traits::Owner*>(owner);
         // Placement new only constructs in the pipe's own storage: no allocation.
         M* decoded = ::new (storage) M{};
         const Status status = message.decode(decoded);
         if (!isOk(status)) {
-            return status;
+            if constexpr (std::is_null_pointer<decltype(OnUndecodable)>::value) {
+                return status;
+            } else {
+                (o->*OnUndecodable)(message);
+                return Status::kOk;
+            }
         }
-        auto* o = static_cast<typename Traits::Owner*>(owner);
         if constexpr (Traits::kReturnsStatus) {
             return (o->*Handler)(*decoded);
         } else {

@@ -20,14 +20,18 @@ core::Severity severityOf(msg::DriveMode declared) {
 }  // namespace
 
 DriveModeTask::DriveModeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
-    : bus_(bus), events_(events), tables_(tables) {
+    : bus_(bus),
+      events_(events),
+      tables_(tables),
+      input_(bus, events,
+             core::InputPipeConfig{"drive_modes", kDriveModePipeDepth, events::kDriveModeMalformedInput, "drive_modes"}) {
     fillLatest(0);
 }
 
 core::Status DriveModeTask::init() {
-    core::Status status = bus_.createPipe("drive_modes", kDriveModePipeDepth, &pipe_);
+    core::Status status = input_.create();
     if (core::isOk(status)) {
-        status = bus_.subscribe(pipe_, msg::ids::kDriveStatus);
+        status = input_.route<&DriveModeTask::takeStatus>(this);
     }
     if (!core::isOk(status)) {
         events_.report(events::kDriveModeInitFailed, core::Severity::kError,
@@ -46,35 +50,20 @@ void DriveModeTask::run(const core::FrameContext& frame) {
     if (!initialised_) {
         return;
     }
-    const DriveHealthModel& model = tables_.driveHealthModel();
-    take(model);
+    input_.drain();
     ++runs_;
     if (runs_ % kDriveModeUpdateRuns == 0) {
-        update(frame, model);
+        update(frame, tables_.driveHealthModel());
     }
 }
 
-void DriveModeTask::take(const DriveHealthModel& model) {
-    // Nothing is published between our receives, so the pipe depth bounds the drain.
-    for (std::uint16_t n = 0; n < kDriveModePipeDepth && core::isOk(bus_.receive(pipe_, &inbox_)); ++n) {
-        msg::DriveStatusMsg status;
-        if (!core::isOk(inbox_.decode(&status))) {
-            rejectInput("does not decode");
-        } else if (!core::isOk(estimator_.addStatus(status, model))) {
-            rejectInput("non-finite value or bad health");
-        } else {
-            ++taken_;
-        }
+core::Status DriveModeTask::takeStatus(const msg::DriveStatusMsg& status) {
+    // The table is the one of this run: tables change only between tasks.
+    const core::Status added = estimator_.addStatus(status, tables_.driveHealthModel());
+    if (core::isOk(added)) {
+        ++taken_;
     }
-}
-
-void DriveModeTask::rejectInput(const char* why) {
-    ++malformed_;
-    if (core::isReportableOccurrence(malformed_)) {
-        events_.report(events::kDriveModeMalformedInput, core::Severity::kError,
-                       "drive_modes: drive status 0x%04x ignored: %s (%u so far)",
-                       static_cast<unsigned>(inbox_.header.id), why, static_cast<unsigned>(malformed_));
-    }
+    return added;
 }
 
 void DriveModeTask::update(const core::FrameContext& frame, const DriveHealthModel& model) {

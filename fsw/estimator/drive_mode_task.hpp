@@ -1,7 +1,8 @@
 // The drive mode estimator on the bus (every minor frame, after the CAN I/O task):
 //   in:  DriveStatusMsg, every frame; each is one frame of the current window
 //        (one that does not decode, or carries a non-finite value or a health that
-//        is no DriveHealth, is ignored whole, counted and evented, throttled)
+//        is no DriveHealth, is ignored whole, counted and evented, throttled:
+//        core::InputPipe, event 770)
 //   out: DriveModesMsg every 10th run (100 ms): per wheel the mode probabilities,
 //        the estimated power factor and the declared mode; an event on every
 //        change of a declared mode (drive_mode_events.hpp).
@@ -14,6 +15,7 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/estimator/drive_mode_estimator.hpp"
 #include "fsw/msg/drive_msgs.hpp"
@@ -41,28 +43,27 @@ public:
     const DriveModeEstimator& estimator() const { return estimator_; }
 
     std::uint32_t statusesTaken() const { return taken_; }
-    std::uint32_t malformed() const { return malformed_; }
+    std::uint32_t malformed() const { return input_.malformed(); }
     std::uint32_t windowsWithoutStatus() const { return emptyWindows_; }
     std::uint32_t modeChanges() const { return modeChanges_; }
     std::uint32_t updates() const { return estimator_.updates(); }
 
 private:
-    void take(const DriveHealthModel& model);
-    void rejectInput(const char* why);
+    // One frame of the window; kInvalidArgument (the pipe counts and events
+    // it) for a non-finite value or a health that is no DriveHealth.
+    core::Status takeStatus(const msg::DriveStatusMsg& status);
     void update(const core::FrameContext& frame, const DriveHealthModel& model);
     void fillLatest(core::TimeNs time);
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
     const tables::TableService& tables_;
-    core::PipeId pipe_ = 0;
+    core::InputPipe input_;
     bool initialised_ = false;
-    core::Message inbox_{};
     DriveModeEstimator estimator_;
     msg::DriveModesMsg latest_{};
     std::uint32_t runs_ = 0;
     std::uint32_t taken_ = 0;
-    std::uint32_t malformed_ = 0;
     std::uint32_t emptyWindows_ = 0;
     std::uint32_t modeChanges_ = 0;
 };

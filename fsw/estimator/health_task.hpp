@@ -8,7 +8,8 @@
 //        (read directly: it is the executive's own state, not a message).
 //   out: FaultStatusMsg in every run in which a fault changed state, otherwise
 //        every kPublishPeriodRuns runs (1 s), and in the first run.
-// A message that does not decode is counted and evented (throttled) and ignored.
+// A message that does not decode is counted and evented (throttled, event 740 as
+// a warning) and ignored: core::InputPipe.
 // Limits are read from the fault-response and estimator-noise tables at every
 // run, so a table activated at a frame boundary applies from that frame.
 #pragma once
@@ -17,6 +18,7 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/estimator/health_monitor.hpp"
 #include "fsw/msg/health_msgs.hpp"
@@ -33,9 +35,9 @@ public:
     static constexpr std::uint32_t kPublishPeriodRuns = 100;
 
     HealthTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
-               const core::Executive& executive)
-        : bus_(bus), events_(events), tables_(tables), executive_(executive), monitor_(events) {}
+               const core::Executive& executive);
 
+    // Pipe "health" (kPipeDepth) routing the inputs above to their takers.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
@@ -47,15 +49,23 @@ public:
     const HealthMonitor& monitor() const { return monitor_; }
 
     // Bus messages that did not decode as the type their id names.
-    std::uint32_t malformedMessages() const { return malformed_; }
+    std::uint32_t malformedMessages() const { return input_.malformed(); }
     // Input values that were not finite (or out of their domain); see HealthMonitor.
     std::uint32_t nonFiniteInputs() const { return monitor_.nonFiniteInputs(); }
     std::uint32_t statusPublished() const { return published_; }
     std::uint32_t runs() const { return runs_; }
 
 private:
-    void drainInputs(const HealthLimits& limits, core::TimeNs now);
-    void rejectMessage();
+    // The pipe's takers, in arrival order. Node, drive and pose statuses: the
+    // latest is kept for after the drain; power samples, each in order, and
+    // the sensor samples go to the monitor at once (limits_ and now_ of this run).
+    void takeNodes(const msg::NodeStatusMsg& nodes);
+    void takeDrives(const msg::DriveStatusMsg& drives);
+    void takePose(const msg::PoseEstimateMsg& pose);
+    void takePower(const msg::PowerMsg& power);
+    void takeImu(const msg::ImuMsg& imu);
+    void takeFix(const msg::PositionFixMsg& fix);
+    void takeHazards(const msg::HazardMsg& hazards);
     void publishStatus(core::TimeNs now);
 
     core::SoftwareBus& bus_;
@@ -63,8 +73,9 @@ private:
     const tables::TableService& tables_;
     const core::Executive& executive_;
     HealthMonitor monitor_;
-    core::PipeId pipe_ = 0;
-    core::Message inbox_{};
+    core::InputPipe input_;
+    HealthLimits limits_{};  // read from the tables at the start of every run
+    core::TimeNs now_ = 0;   // this run's frame start
     msg::NodeStatusMsg nodes_{};
     msg::DriveStatusMsg drives_{};
     msg::PoseEstimateMsg pose_{};
@@ -75,7 +86,6 @@ private:
     msg::FaultStatusMsg status_{};
     std::uint32_t runsSincePublish_ = 0;
     std::uint32_t published_ = 0;
-    std::uint32_t malformed_ = 0;
     std::uint32_t runs_ = 0;
 };
 

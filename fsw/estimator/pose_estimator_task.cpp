@@ -26,13 +26,24 @@ PoseProcessNoise processNoiseFrom(const tables::EstimatorNoiseTable& t) {
     return noise;
 }
 
+PoseEstimatorTask::PoseEstimatorTask(core::SoftwareBus& bus, core::EventLog& events,
+                                     const tables::TableService& tables)
+    : bus_(bus),
+      events_(events),
+      tables_(tables),
+      input_(bus, events, core::InputPipeConfig{"estimator", kEstimatorPipeDepth, events::kEstimatorMalformed,
+                                                "estimator"}) {}
+
 core::Status PoseEstimatorTask::init() {
-    core::Status status = bus_.createPipe("estimator", kEstimatorPipeDepth, &pipe_);
-    const core::MsgId ids[] = {msg::ids::kDriveStatus, msg::ids::kImu, msg::ids::kPositionFix};
-    for (core::MsgId id : ids) {
-        if (core::isOk(status)) {
-            status = bus_.subscribe(pipe_, id);
-        }
+    core::Status status = input_.create();
+    if (core::isOk(status)) {
+        status = input_.route<&PoseEstimatorTask::takeDriveStatus>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&PoseEstimatorTask::takeImu>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&PoseEstimatorTask::takeFix>(this);
     }
     return status;
 }
@@ -40,7 +51,8 @@ core::Status PoseEstimatorTask::init() {
 void PoseEstimatorTask::run(const core::FrameContext& frame) {
     const core::TimeNs now = frame.actualStart;
     ++counters_.runs;
-    drainPipe();
+    input_.drain();
+    counters_.malformed = input_.malformed();
     if (!haveTime_) {
         haveTime_ = true;
         lastPredictNs_ = now;
@@ -51,53 +63,6 @@ void PoseEstimatorTask::run(const core::FrameContext& frame) {
     }
     applyFix();
     publish(now);
-}
-
-void PoseEstimatorTask::drainPipe() {
-    // The pipe never holds more than its depth, so this drains it.
-    for (std::uint16_t i = 0; i < kEstimatorPipeDepth; ++i) {
-        if (!core::isOk(bus_.receive(pipe_, &inbox_))) {
-            return;
-        }
-        core::Status status = core::Status::kWrongType;
-        switch (inbox_.header.id) {
-            case msg::ids::kDriveStatus: {
-                msg::DriveStatusMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status)) {
-                    takeDriveStatus(m);
-                }
-                break;
-            }
-            case msg::ids::kImu: {
-                msg::ImuMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status)) {
-                    takeImu(m);
-                }
-                break;
-            }
-            case msg::ids::kPositionFix: {
-                msg::PositionFixMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status)) {
-                    takeFix(m);
-                }
-                break;
-            }
-            default:
-                break;
-        }
-        if (!core::isOk(status)) {
-            ++counters_.malformed;
-            if (core::isReportableOccurrence(counters_.malformed)) {
-                events_.report(events::kEstimatorMalformed, core::Severity::kError,
-                               "estimator: malformed bus message 0x%04x (%u bytes) ignored (%u so far)",
-                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(inbox_.header.length),
-                               static_cast<unsigned>(counters_.malformed));
-            }
-        }
-    }
 }
 
 void PoseEstimatorTask::takeDriveStatus(const msg::DriveStatusMsg& status) {

@@ -3,11 +3,12 @@
 // PoseEstimateMsg every run.
 //
 // Each run, with now = the frame's actual start:
-//  1. Drains its pipe (at most kEstimatorPipeDepth messages): keeps the latest
-//     DriveStatusMsg, the latest IMU sample that is valid with a finite rate,
-//     and the latest PositionFixMsg (an older one in the same run is counted as
-//     superseded). A message that does not decode, a non-finite value and an
-//     invalid IMU sample are counted and evented (throttled), never used.
+//  1. Drains its pipe (core::InputPipe, at most kEstimatorPipeDepth messages):
+//     keeps the latest DriveStatusMsg, the latest IMU sample that is valid with
+//     a finite rate, and the latest PositionFixMsg (an older one in the same
+//     run is counted as superseded). A message that does not decode (counted by
+//     the pipe, event 706), a non-finite value and an invalid IMU sample are
+//     counted and evented (throttled), never used.
 //  2. Once initialised, predicts from the previous prediction time to now:
 //     - speed v = r (meanLeft + meanRight) / 2 over the wheels with fresh
 //       feedback (feedbackCount > 0 and feedbackTimeNs at most
@@ -47,6 +48,7 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/estimator/pose_ekf.hpp"
 #include "fsw/msg/drive_msgs.hpp"
@@ -75,7 +77,7 @@ struct PoseEstimatorCounters {
     std::uint32_t imuStale = 0;            // predictions that used the wheel yaw rate
     std::uint32_t yawSourceSwitches = 0;
     std::uint32_t odometryStale = 0;       // predictions without any fresh wheel (v = 0)
-    std::uint32_t malformed = 0;           // bus messages that did not decode
+    std::uint32_t malformed = 0;           // bus messages that did not decode (the input pipe's count)
     std::uint32_t notFinite = 0;           // non-finite wheel velocities or IMU rates ignored
     std::uint32_t imuInvalid = 0;          // IMU samples flagged invalid
     std::uint32_t consecutiveRejections = 0;  // fixes refused by the gate since the last one taken
@@ -85,10 +87,9 @@ struct PoseEstimatorCounters {
 
 class PoseEstimatorTask final : public core::Task {
 public:
-    PoseEstimatorTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
-        : bus_(bus), events_(events), tables_(tables) {}
+    PoseEstimatorTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
-    // Creates the pipe "estimator" and subscribes DriveStatusMsg, ImuMsg and PositionFixMsg.
+    // Creates the pipe "estimator" and routes DriveStatusMsg, ImuMsg and PositionFixMsg to their takers.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
@@ -105,7 +106,6 @@ private:
         bool stale = true;  // no wheel with fresh feedback
     };
 
-    void drainPipe();
     void takeDriveStatus(const msg::DriveStatusMsg& status);
     void takeImu(const msg::ImuMsg& sample);
     void takeFix(const msg::PositionFixMsg& fix);
@@ -120,8 +120,7 @@ private:
     core::SoftwareBus& bus_;
     core::EventLog& events_;
     const tables::TableService& tables_;
-    core::PipeId pipe_ = 0;
-    core::Message inbox_{};
+    core::InputPipe input_;
     PoseEkf filter_;
 
     msg::DriveStatusMsg drive_{};

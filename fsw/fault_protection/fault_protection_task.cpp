@@ -10,13 +10,25 @@
 
 namespace rse::fault_protection {
 
+FaultProtectionTask::FaultProtectionTask(core::SoftwareBus& bus, core::EventLog& events,
+                                         const tables::TableService& tables)
+    : bus_(bus),
+      events_(events),
+      tables_(tables),
+      responder_(events),
+      input_(bus, events,
+             core::InputPipeConfig{"fault_protection", kPipeDepth, events::kMalformedInput, "fault protection"}) {}
+
 core::Status FaultProtectionTask::init() {
-    core::Status status = bus_.createPipe("fault_protection", kPipeDepth, &pipe_);
-    const core::MsgId inputs[] = {msg::ids::kFaultStatus, msg::ids::kDriveStatus, msg::ids::kMode};
-    for (core::MsgId id : inputs) {
-        if (core::isOk(status)) {
-            status = bus_.subscribe(pipe_, id);
-        }
+    core::Status status = input_.create();
+    if (core::isOk(status)) {
+        status = input_.route<&FaultProtectionTask::takeFaultStatus>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&FaultProtectionTask::takeDriveStatus>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&FaultProtectionTask::takeMode>(this);
     }
     if (!core::isOk(status)) {
         events_.report(events::kInitFailed, core::Severity::kError, "fault protection: init refused (%s)",
@@ -25,78 +37,29 @@ core::Status FaultProtectionTask::init() {
     return status;
 }
 
-void FaultProtectionTask::drainInputs() {
-    for (std::uint16_t n = 0; n < kPipeDepth; ++n) {  // nothing is published to the pipe while we drain
-        if (!core::isOk(bus_.receive(pipe_, &inbox_))) {
-            break;
-        }
-        core::Status decoded = core::Status::kWrongType;
-        switch (inbox_.header.id) {
-            case msg::ids::kFaultStatus: {
-                msg::FaultStatusMsg f{};
-                decoded = inbox_.decode(&f);
-                if (core::isOk(decoded)) {
-                    inputs_.activeFaults = f.activeMask;
-                }
-                break;
-            }
-            case msg::ids::kDriveStatus: {
-                msg::DriveStatusMsg d{};
-                decoded = inbox_.decode(&d);
-                // A wheel health outside DriveHealth: refused whole, the previous status stands.
-                if (core::isOk(decoded) && !refuseUnknownHealth(d)) {
-                    inputs_.haveDrives = true;
-                    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
-                        inputs_.health[w] = d.wheels[w].health;
-                    }
-                    inputs_.interlockTripped = d.interlockTripped != 0;
-                }
-                break;
-            }
-            case msg::ids::kMode: {
-                msg::ModeMsg m{};
-                decoded = inbox_.decode(&m);
-                if (core::isOk(decoded)) {
-                    inputs_.autonomous = m.mode == msg::mode::kAutonomous;
-                }
-                break;
-            }
-            default:
-                break;
-        }
-        if (!core::isOk(decoded)) {
-            ++malformed_;
-            if (core::isReportableOccurrence(malformed_)) {
-                events_.report(events::kMalformedInput, core::Severity::kError,
-                               "fault protection: malformed bus message 0x%04x ignored (%u so far)",
-                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformed_));
-            }
-        }
-    }
-}
+void FaultProtectionTask::takeFaultStatus(const msg::FaultStatusMsg& f) { inputs_.activeFaults = f.activeMask; }
 
-// True (counted with the malformed messages, event 938) when a wheel's health
-// is none of DriveHealth's values. The message is then refused as a whole: its
-// producer wrote a value it has no meaning for, so its other wheels and its
+// A wheel health that is none of DriveHealth's values refuses the message as a
+// whole (kInvalidArgument: the pipe counts it with the malformed, event 938):
+// its producer wrote a value it has no meaning for, so its other wheels and its
 // interlock flag cannot be trusted either; fault protection keeps acting on the
 // last good status (a drive that was faulted stays faulted, none is taken for
 // recovered), as it does for a message that does not decode.
-bool FaultProtectionTask::refuseUnknownHealth(const msg::DriveStatusMsg& d) {
+core::Status FaultProtectionTask::takeDriveStatus(const msg::DriveStatusMsg& d) {
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         if (!msg::isKnownDriveHealth(d.wheels[w].health)) {
-            ++malformed_;
-            if (core::isReportableOccurrence(malformed_)) {
-                events_.report(events::kMalformedInput, core::Severity::kError,
-                               "fault protection: drive status refused: wheel %zu (%s) health %u is not a drive "
-                               "state (%u malformed so far)",
-                               w, msg::wheelName(w), static_cast<unsigned>(d.wheels[w].health),
-                               static_cast<unsigned>(malformed_));
-            }
-            return true;
+            return core::Status::kInvalidArgument;
         }
     }
-    return false;
+    inputs_.haveDrives = true;
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        inputs_.health[w] = d.wheels[w].health;
+    }
+    inputs_.interlockTripped = d.interlockTripped != 0;
+    return core::Status::kOk;
 }
+
+void FaultProtectionTask::takeMode(const msg::ModeMsg& m) { inputs_.autonomous = m.mode == msg::mode::kAutonomous; }
 
 void FaultProtectionTask::publish(core::Status s) {
     if (core::isOk(s)) {
@@ -134,7 +97,7 @@ void FaultProtectionTask::publishHold(core::TimeNs now, std::uint32_t reasons, b
 
 void FaultProtectionTask::run(const core::FrameContext& frame) {
     const core::TimeNs now = frame.actualStart;
-    drainInputs();
+    input_.drain();
     inputs_.now = now;
     const ResponderLimits limits = responderLimitsFrom(tables_.faultProtection(), tables_.faultResponse());
     ResponderActions actions;

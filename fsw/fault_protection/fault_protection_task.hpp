@@ -7,7 +7,7 @@
 //        ModeMsg (holds apply in AUTONOMOUS); the latest of each per run. A
 //        message that does not decode, or a drive status with a wheel health
 //        outside DriveHealth, is refused whole: counted (malformedMessages())
-//        and evented (938), the previous one stands.
+//        and evented (938) by its core::InputPipe, the previous one stands.
 //   out: MissionHoldMsg on every change and at 1 Hz (CAN I/O holds the wheels,
 //        the habitual and deliberative layers hold the mission);
 //        DriveRecoveryMsg (CAN I/O: fault reset, NMT reset node, interlock reset);
@@ -23,10 +23,13 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/fault_protection/fault_responder.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/fault_protection_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::fault_protection {
@@ -37,22 +40,25 @@ public:
     static constexpr std::uint16_t kPipeDepth = 8;
     static constexpr std::uint32_t kPublishPeriodRuns = 100;
 
-    FaultProtectionTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
-        : bus_(bus), events_(events), tables_(tables), responder_(events) {}
+    FaultProtectionTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
+    // Pipe "fault_protection" (kPipeDepth) routing the inputs above to their
+    // takers. A refusal is evented (939) and returned.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
     const FaultResponder& responder() const { return responder_; }
     const msg::MissionHoldMsg& hold() const { return hold_; }
     const msg::FaultProtectionStatusMsg& status() const { return status_; }
-    std::uint32_t malformedMessages() const { return malformed_; }
+    std::uint32_t malformedMessages() const { return input_.malformed(); }
     std::uint32_t publishFailures() const { return publishFailed_; }
     std::uint32_t callHomes() const { return callHomes_; }
 
 private:
-    void drainInputs();
-    bool refuseUnknownHealth(const msg::DriveStatusMsg& d);
+    // The pipe's takers: each keeps the latest of its input in inputs_.
+    void takeFaultStatus(const msg::FaultStatusMsg& f);
+    core::Status takeDriveStatus(const msg::DriveStatusMsg& d);
+    void takeMode(const msg::ModeMsg& m);
     void publish(core::Status s);
     void publishHold(core::TimeNs now, std::uint32_t reasons, bool force);
 
@@ -60,13 +66,11 @@ private:
     core::EventLog& events_;
     const tables::TableService& tables_;
     FaultResponder responder_;
-    core::PipeId pipe_ = 0;
-    core::Message inbox_{};
+    core::InputPipe input_;
     ResponderInputs inputs_{};
     msg::MissionHoldMsg hold_{};
     msg::FaultProtectionStatusMsg status_{};
     std::uint32_t runsSincePublish_ = kPublishPeriodRuns;  // publish in the first run
-    std::uint32_t malformed_ = 0;
     std::uint32_t publishFailed_ = 0;
     std::uint32_t callHomes_ = 0;
 };

@@ -204,15 +204,16 @@ void FaultResponder::driveAct(std::size_t w, Response& r, const ResponderInputs&
     enter(r, ResponseState::kWaiting, in.now);
 }
 
-void FaultResponder::stepWheel(std::size_t w, const ResponderInputs& in, const ResponderLimits& limits,
-                               ResponderActions* out) {
-    Response& r = wheels_[w];
-    const auto lostId = static_cast<std::uint8_t>(msg::fault::kDriveHeartbeatLost + w);
-    const bool lostFault = bit(in.activeFaults, lostId);
-    const msg::DriveHealth h = in.health[w];
-    const bool lost = lostFault || (in.haveDrives && h == msg::DriveHealth::kLost);
-    const bool faulted = in.haveDrives && (h == msg::DriveHealth::kFaulted || h == msg::DriveHealth::kFailed);
-    if (lostFault && in.haveDrives && healthyDrive(h)) {
+FaultResponder::WheelReading FaultResponder::readWheel(std::size_t w, const ResponderInputs& in,
+                                                       const ResponderLimits& limits) {
+    WheelReading d;
+    d.lostId = static_cast<std::uint8_t>(msg::fault::kDriveHeartbeatLost + w);
+    const bool lostFault = bit(in.activeFaults, d.lostId);
+    d.health = in.health[w];
+    const bool lost = lostFault || (in.haveDrives && d.health == msg::DriveHealth::kLost);
+    const bool faulted =
+        in.haveDrives && (d.health == msg::DriveHealth::kFaulted || d.health == msg::DriveHealth::kFailed);
+    if (lostFault && in.haveDrives && healthyDrive(d.health)) {
         // The heartbeat says lost, the drive status says operational: a fault wins.
         ++conflicts_;
         if (core::isReportableOccurrence(conflicts_)) {
@@ -221,55 +222,56 @@ void FaultResponder::stepWheel(std::size_t w, const ResponderInputs& in, const R
                            "(%u so far)", w, static_cast<unsigned>(conflicts_));
         }
     }
-    const bool trouble = lost || faulted;
-    const bool healthy = in.haveDrives && healthyDrive(h) && !lostFault;
-    const FaultClass c = lost ? FaultClass::kDriveLost : FaultClass::kDriveFaulted;
-    const FaultResponseKind kind = effectiveKind(c, limits.response[idx(c)]);
+    d.trouble = lost || faulted;
+    d.healthy = in.haveDrives && healthyDrive(d.health) && !lostFault;
+    d.faultClass = lost ? FaultClass::kDriveLost : FaultClass::kDriveFaulted;
+    d.kind = effectiveKind(d.faultClass, limits.response[idx(d.faultClass)]);
+    return d;
+}
 
-    const bool resting = r.tlm.state == ResponseState::kIdle || r.tlm.state == ResponseState::kRecovered;
-    if (resting && trouble) {
-        if (kind == FaultResponseKind::kRecoverDrive) {
-            // A drive back in trouble within attempt_memory_ms of its last
-            // recovery spends a try even when it recovers by itself again (a
-            // worn motor tripping on every turn must not loop for ever).
-            const bool again =
-                r.tlm.state == ResponseState::kRecovered && in.now - r.clearSince < limits.attemptMemory;
-            begin(r, c, lostId, ResponseState::kSettling, limits, in.now);
-            if (again && r.tlm.attemptsUsed >= limits.attempts[idx(c)]) {
-                giveUp(r, in.now, "back too soon: drive failed, deliberative decides", out, false);
-            } else if (again) {
-                ++r.tlm.attemptsUsed;
-            }
-        } else {
-            begin(r, c, lostId, ResponseState::kWaiting, limits, in.now);
+void FaultResponder::beginWheel(Response& r, const WheelReading& d, const ResponderInputs& in,
+                                const ResponderLimits& limits, ResponderActions* out) {
+    const FaultClass c = d.faultClass;
+    if (d.kind == FaultResponseKind::kRecoverDrive) {
+        // A drive back in trouble within attempt_memory_ms of its last
+        // recovery spends a try even when it recovers by itself again (a
+        // worn motor tripping on every turn must not loop for ever).
+        const bool again = r.tlm.state == ResponseState::kRecovered && in.now - r.clearSince < limits.attemptMemory;
+        begin(r, c, d.lostId, ResponseState::kSettling, limits, in.now);
+        if (again && r.tlm.attemptsUsed >= limits.attempts[idx(c)]) {
+            giveUp(r, in.now, "back too soon: drive failed, deliberative decides", out, false);
+        } else if (again) {
             ++r.tlm.attemptsUsed;
-            if (kind == FaultResponseKind::kSafeAndCallHome) {
-                giveUp(r, in.now, "call home", out, true);
-            }
         }
-    } else if (r.tlm.state == ResponseState::kRecovered && in.now - r.clearSince >= limits.attemptMemory) {
-        r.tlm.attemptsUsed = 0;
-        enter(r, ResponseState::kIdle, in.now);
+        return;
     }
-    // A response begun above is judged in the same run: a drive already
-    // failed gets its first try at once.
+    begin(r, c, d.lostId, ResponseState::kWaiting, limits, in.now);
+    ++r.tlm.attemptsUsed;
+    if (d.kind == FaultResponseKind::kSafeAndCallHome) {
+        giveUp(r, in.now, "call home", out, true);
+    }
+}
+
+void FaultResponder::judgeWheel(std::size_t w, Response& r, const WheelReading& d, const ResponderInputs& in,
+                                const ResponderLimits& limits, ResponderActions* out) {
+    const FaultClass c = d.faultClass;
     switch (r.tlm.state) {
         case ResponseState::kIdle:
         case ResponseState::kRecovered:
             break;
         case ResponseState::kSettling:
         case ResponseState::kWaiting:
-            if (healthy) {
+            if (d.healthy) {
                 if (!in.interlockTripped) {
                     recovered(r, in.now, "drive healthy");
                 }
-                break;  // the interlock reset is asked for below, once every drive is healthy
+                break;  // the interlock reset is asked for in step(), once every drive is healthy
             }
-            if (kind != FaultResponseKind::kRecoverDrive) {
-                if (!trouble) {
+            if (d.kind != FaultResponseKind::kRecoverDrive) {
+                if (!d.trouble) {
                     break;  // e.g. configuring after a reboot: wait for operational
                 }
-                if (kind == FaultResponseKind::kHoldUntilClear && in.now - r.tlm.sinceNs >= limits.maxWait[idx(c)]) {
+                if (d.kind == FaultResponseKind::kHoldUntilClear && in.now - r.tlm.sinceNs >= limits.maxWait[idx(c)]) {
                     if (r.tlm.attemptsUsed >= limits.attempts[idx(c)]) {
                         giveUp(r, in.now, "call home", out, true);
                     } else {
@@ -283,28 +285,44 @@ void FaultResponder::stepWheel(std::size_t w, const ResponderInputs& in, const R
                 // The drive's own recovery first: a lost drive may come back by
                 // itself; a faulted one is being reset by the CAN master until it
                 // reports failed.
-                const core::TimeNs settle = c == FaultClass::kDriveLost ? limits.driveLostSettle
-                                            : h == msg::DriveHealth::kFailed ? 0
-                                                                             : limits.maxWait[idx(c)];
-                if (trouble && in.now - r.tlm.sinceNs >= settle) {
+                const core::TimeNs settle = c == FaultClass::kDriveLost            ? limits.driveLostSettle
+                                            : d.health == msg::DriveHealth::kFailed ? 0
+                                                                                    : limits.maxWait[idx(c)];
+                if (d.trouble && in.now - r.tlm.sinceNs >= settle) {
                     r.tlm.faultClass = c;  // lost may have turned into faulted while settling
                     driveAct(w, r, in, limits, out);
                 }
                 break;
             }
             if (in.now - r.tlm.sinceNs >= limits.maxWait[idx(r.tlm.faultClass)]) {
-                r.tlm.faultClass = trouble ? c : r.tlm.faultClass;
+                r.tlm.faultClass = d.trouble ? c : r.tlm.faultClass;
                 driveAct(w, r, in, limits, out);
             }
             break;
         case ResponseState::kGaveUp:
-            if (healthy && !in.interlockTripped) {
+            if (d.healthy && !in.interlockTripped) {
                 recovered(r, in.now, "drive healthy after giving up");
             }
             break;
     }
+}
+
+void FaultResponder::stepWheel(std::size_t w, const ResponderInputs& in, const ResponderLimits& limits,
+                               ResponderActions* out) {
+    Response& r = wheels_[w];
+    const WheelReading d = readWheel(w, in, limits);
+    const bool resting = r.tlm.state == ResponseState::kIdle || r.tlm.state == ResponseState::kRecovered;
+    if (resting && d.trouble) {
+        beginWheel(r, d, in, limits, out);
+    } else if (r.tlm.state == ResponseState::kRecovered && in.now - r.clearSince >= limits.attemptMemory) {
+        r.tlm.attemptsUsed = 0;
+        enter(r, ResponseState::kIdle, in.now);
+    }
+    // A response begun above is judged in the same run: a drive already
+    // failed gets its first try at once.
+    judgeWheel(w, r, d, in, limits, out);
     const bool holding = (r.tlm.state == ResponseState::kSettling || r.tlm.state == ResponseState::kWaiting) &&
-                         kind != FaultResponseKind::kEventOnly;
+                         d.kind != FaultResponseKind::kEventOnly;
     if (holding) {
         out->holdReasons |= 1u << msg::hold::kDriveRecovery;
     }

@@ -111,7 +111,25 @@ private:
         core::TimeNs clearSince = 0;  // kRecovered: when the fault cleared
     };
 
+    // One wheel's inputs in one run, as its response reads them.
+    struct WheelReading {
+        std::uint8_t lostId = 0;                 // its heartbeat-lost fault id
+        msg::DriveHealth health{};               // as the drive status says
+        bool trouble = false;                    // lost or faulted
+        bool healthy = false;                    // operational and not heartbeat-lost
+        msg::FaultClass faultClass{};            // lost wins over faulted
+        msg::FaultResponseKind kind{};           // the class's response as it applies to a drive
+    };
+
+    // A wheel's response each run: read the wheel (counting conflicting
+    // reports), begin a response for a drive newly in trouble, judge the
+    // response in progress, hold while it recovers.
     void stepWheel(std::size_t w, const ResponderInputs& in, const ResponderLimits& limits, ResponderActions* out);
+    WheelReading readWheel(std::size_t w, const ResponderInputs& in, const ResponderLimits& limits);
+    void beginWheel(Response& r, const WheelReading& d, const ResponderInputs& in, const ResponderLimits& limits,
+                    ResponderActions* out);
+    void judgeWheel(std::size_t w, Response& r, const WheelReading& d, const ResponderInputs& in,
+                    const ResponderLimits& limits, ResponderActions* out);
     void driveAct(std::size_t w, Response& r, const ResponderInputs& in, const ResponderLimits& limits,
                   ResponderActions* out);
     void stepFault(std::uint8_t id, msg::FaultClass c, const ResponderInputs& in, const ResponderLimits& limits,

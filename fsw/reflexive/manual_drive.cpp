@@ -41,47 +41,49 @@ WheelSpeeds skidSteerWheelSpeeds(double speedMS, double turnRateRadS, const tabl
     return out;
 }
 
+ManualDrive::ManualDrive(const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
+                         const tables::TableService& tables)
+    : clock_(clock),
+      bus_(bus),
+      events_(events),
+      tables_(tables),
+      input_(bus, events,
+             core::InputPipeConfig{"manual_drive", kManualDrivePipeDepth, events::kManualDriveMalformed, "manual"}) {}
+
 core::Status ManualDrive::init() {
-    core::Status status = bus_.createPipe("manual_drive", 4, &pipe_);
+    core::Status status = input_.create();
     if (core::isOk(status)) {
-        status = bus_.subscribe(pipe_, msg::ids::kManualDrive);
+        status = input_.route<&ManualDrive::takeRequest>(this);
     }
     if (core::isOk(status)) {
-        status = bus_.subscribe(pipe_, msg::ids::kMode);
+        status = input_.route<&ManualDrive::takeMode>(this);
     }
     return status;
 }
 
 void ManualDrive::run(const core::FrameContext&) {
-    while (core::isOk(bus_.receive(pipe_, &inbox_))) {
-        msg::ModeMsg mode{};
-        msg::ManualDriveMsg request{};
-        if (core::isOk(inbox_.decode(&mode))) {
-            manualMode_ = mode.mode == msg::mode::kManual && mode.estop == 0;
-            if (driving_ && !manualMode_) {
-                stop(mode.estop != 0 ? "software e-stop" : "left MANUAL mode");
-            }
-        } else if (core::isOk(inbox_.decode(&request))) {
-            if (manualMode_) {
-                start(request);
-            } else {
-                // The handler checked the mode; this only happens when the mode or
-                // the e-stop changed in between. Said, not silently dropped.
-                events_.report(events::kManualDriveEnded, core::Severity::kWarning,
-                               "manual: drive request ignored (not in MANUAL mode, or e-stop set)");
-            }
-        } else {
-            ++malformed_;
-            if (core::isReportableOccurrence(malformed_)) {
-                events_.report(events::kManualDriveMalformed, core::Severity::kError,
-                               "manual: malformed bus message 0x%04x ignored (%u so far)",
-                               static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(malformed_));
-            }
-        }
-    }
+    input_.drain();
     if (driving_ && clock_.now() >= endTime_) {
         stop("duration over");
     }
+}
+
+void ManualDrive::takeMode(const msg::ModeMsg& mode) {
+    manualMode_ = mode.mode == msg::mode::kManual && mode.estop == 0;
+    if (driving_ && !manualMode_) {
+        stop(mode.estop != 0 ? "software e-stop" : "left MANUAL mode");
+    }
+}
+
+void ManualDrive::takeRequest(const msg::ManualDriveMsg& request) {
+    if (manualMode_) {
+        start(request);
+        return;
+    }
+    // The handler checked the mode; this only happens when the mode or the
+    // e-stop changed in between. Said, not silently dropped.
+    events_.report(events::kManualDriveEnded, core::Severity::kWarning,
+                   "manual: drive request ignored (not in MANUAL mode, or e-stop set)");
 }
 
 void ManualDrive::start(const msg::ManualDriveMsg& request) {

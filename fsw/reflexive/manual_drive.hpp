@@ -9,12 +9,16 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::reflexive {
+
+// A DRIVE request and the mode changes around it.
+constexpr std::uint16_t kManualDrivePipeDepth = 4;
 
 struct WheelSpeeds {
     double radS[msg::kWheelCount];
@@ -26,18 +30,21 @@ WheelSpeeds skidSteerWheelSpeeds(double speedMS, double turnRateRadS, const tabl
 class ManualDrive final : public core::Task {
 public:
     ManualDrive(const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
-                const tables::TableService& tables)
-        : clock_(clock), bus_(bus), events_(events), tables_(tables) {}
+                const tables::TableService& tables);
 
+    // Pipe "manual_drive" (kManualDrivePipeDepth): ManualDriveMsg and ModeMsg. A
+    // message that does not decode is counted and evented (605) by the pipe.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
     bool driving() const { return driving_; }
     std::uint32_t drivesStarted() const { return started_; }
     std::uint32_t drivesEnded() const { return ended_; }
-    std::uint32_t malformed() const { return malformed_; }
+    std::uint32_t malformed() const { return input_.malformed(); }
 
 private:
+    void takeRequest(const msg::ManualDriveMsg& request);
+    void takeMode(const msg::ModeMsg& mode);
     void start(const msg::ManualDriveMsg& request);
     void stop(const char* why);
 
@@ -45,14 +52,12 @@ private:
     core::SoftwareBus& bus_;
     core::EventLog& events_;
     const tables::TableService& tables_;
-    core::PipeId pipe_ = 0;
-    core::Message inbox_{};
+    core::InputPipe input_;
     bool manualMode_ = false;
     bool driving_ = false;
     core::TimeNs endTime_ = 0;
     std::uint32_t started_ = 0;
     std::uint32_t ended_ = 0;
-    std::uint32_t malformed_ = 0;
 };
 
 }  // namespace rse::reflexive

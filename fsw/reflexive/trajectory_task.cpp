@@ -32,14 +32,30 @@ const char* stateName(msg::FollowerState s) {
 
 }  // namespace
 
+TrajectoryTask::TrajectoryTask(const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
+                               const tables::TableService& tables)
+    : clock_(clock),
+      bus_(bus),
+      events_(events),
+      tables_(tables),
+      input_(bus, events,
+             core::InputPipeConfig{"follower", kTrajectoryPipeDepth, events::kFollowerInputMalformed, "follower"}) {}
+
 core::Status TrajectoryTask::init() {
-    core::Status status = bus_.createPipe("follower", kTrajectoryPipeDepth, &pipe_);
-    const core::MsgId ids[] = {msg::ids::kTrajectory, msg::ids::kPoseEstimate, msg::ids::kMode,
-                               msg::ids::kDriveStatus};
-    for (core::MsgId id : ids) {
-        if (core::isOk(status)) {
-            status = bus_.subscribe(pipe_, id);
-        }
+    // A trajectory that does not decode is a refused trajectory (event 612,
+    // kBadTrajectory in the status), not a malformed input.
+    core::Status status = input_.create();
+    if (core::isOk(status)) {
+        status = input_.route<&TrajectoryTask::takeTrajectory, &TrajectoryTask::refuseUndecodableTrajectory>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&TrajectoryTask::takePose>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&TrajectoryTask::takeMode>(this);
+    }
+    if (core::isOk(status)) {
+        status = input_.route<&TrajectoryTask::takeDriveStatus>(this);
     }
     return status;
 }
@@ -52,7 +68,9 @@ void TrajectoryTask::run(const core::FrameContext&) {
     hasRun_ = true;
     ++counters_.runs;
 
-    takeInputs(now);
+    runStart_ = now;
+    input_.drain();
+    counters_.malformedInputs = input_.malformed();
     const msg::FollowerState before = follower_.state();
     const bool released = !autonomous_ || estop_ || interlockTripped_;
     if (released) {
@@ -67,58 +85,31 @@ void TrajectoryTask::run(const core::FrameContext&) {
     publishStatus(out, now);
 }
 
-void TrajectoryTask::takeInputs(core::TimeNs now) {
-    while (core::isOk(bus_.receive(pipe_, &inbox_))) {  // bounded by the pipe depth
-        switch (inbox_.header.id) {
-            case msg::ids::kTrajectory:
-                takeTrajectory(now);
-                break;
-            case msg::ids::kPoseEstimate: {
-                msg::PoseEstimateMsg pose{};
-                if (!core::isOk(inbox_.decode(&pose))) {
-                    malformed("pose estimate that does not decode");
-                } else if (!std::isfinite(pose.xM) || !std::isfinite(pose.yM) || !std::isfinite(pose.headingRad)) {
-                    malformed("pose estimate not finite");
-                } else {
-                    pose_ = pose;
-                    havePose_ = true;
-                }
-                break;
-            }
-            case msg::ids::kMode: {
-                msg::ModeMsg mode{};
-                if (!core::isOk(inbox_.decode(&mode))) {
-                    malformed("mode message that does not decode");
-                } else if (mode.mode >= msg::mode::kCount) {
-                    malformed("mode message with an unknown mode");
-                } else {
-                    autonomous_ = mode.mode == msg::mode::kAutonomous;
-                    estop_ = mode.estop != 0;
-                }
-                break;
-            }
-            case msg::ids::kDriveStatus: {
-                msg::DriveStatusMsg drives{};
-                if (!core::isOk(inbox_.decode(&drives))) {
-                    malformed("drive status that does not decode");
-                } else {
-                    interlockTripped_ = drives.interlockTripped != 0;
-                }
-                break;
-            }
-            default:
-                malformed("message of an id not subscribed");
-                break;
-        }
+core::Status TrajectoryTask::takePose(const msg::PoseEstimateMsg& pose) {
+    if (!std::isfinite(pose.xM) || !std::isfinite(pose.yM) || !std::isfinite(pose.headingRad)) {
+        return core::Status::kInvalidArgument;
     }
+    pose_ = pose;
+    havePose_ = true;
+    return core::Status::kOk;
 }
 
-void TrajectoryTask::takeTrajectory(core::TimeNs now) {
-    msg::TrajectoryMsg t{};
-    if (!core::isOk(inbox_.decode(&t))) {
-        refuse(0, "does not decode");
-        return;
+core::Status TrajectoryTask::takeMode(const msg::ModeMsg& mode) {
+    if (mode.mode >= msg::mode::kCount) {
+        return core::Status::kInvalidArgument;
     }
+    autonomous_ = mode.mode == msg::mode::kAutonomous;
+    estop_ = mode.estop != 0;
+    return core::Status::kOk;
+}
+
+void TrajectoryTask::takeDriveStatus(const msg::DriveStatusMsg& drives) {
+    interlockTripped_ = drives.interlockTripped != 0;
+}
+
+void TrajectoryTask::refuseUndecodableTrajectory(const core::Message&) { refuse(0, "does not decode"); }
+
+void TrajectoryTask::takeTrajectory(const msg::TrajectoryMsg& t) {
     if (t.count > msg::kMaxTrajectoryPoints) {
         refuse(t.trajectoryId, "more points than kMaxTrajectoryPoints");
         return;
@@ -141,7 +132,7 @@ void TrajectoryTask::takeTrajectory(core::TimeNs now) {
     refusalPending_ = false;
     if (t.count == 0) {
         ++counters_.stopsAccepted;
-        stopStart_ = now;
+        stopStart_ = runStart_;
         stopFromSpeed_ = follower_.speedMS();
         events_.report(events::kStopAccepted, core::Severity::kInfo,
                        "follower: stop %u (leg %u): decelerating from v=%.2f m/s w=%.2f rad/s",
@@ -166,14 +157,6 @@ void TrajectoryTask::refuse(std::uint32_t trajectoryId, const char* why) {
                        "follower: trajectory %u refused: %s (%u so far); %u stays in force",
                        static_cast<unsigned>(trajectoryId), why, static_cast<unsigned>(counters_.trajectoriesRefused),
                        static_cast<unsigned>(trajectoryId_));
-    }
-}
-
-void TrajectoryTask::malformed(const char* what) {
-    ++counters_.malformedInputs;
-    if (core::isReportableOccurrence(counters_.malformedInputs)) {
-        events_.report(events::kFollowerInputMalformed, core::Severity::kError,
-                       "follower: %s ignored (%u so far)", what, static_cast<unsigned>(counters_.malformedInputs));
     }
 }
 

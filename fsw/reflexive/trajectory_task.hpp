@@ -5,7 +5,8 @@
 //
 // Each run, with now = the clock at the start of the run and dt = now - the
 // previous run (10 ms the first time; the follower caps it at 0.1 s):
-//  1. Drains its pipe (at most kTrajectoryPipeDepth messages), in arrival order:
+//  1. Drains its pipe (core::InputPipe, at most kTrajectoryPipeDepth messages),
+//     in arrival order:
 //     - TrajectoryMsg: refused whole when it does not decode, count >
 //       kMaxTrajectoryPoints, trajectoryId 0, speed not finite or negative, or a
 //       used point not finite (counted, event 612 throttled, kBadTrajectory in
@@ -16,7 +17,7 @@
 //     - PoseEstimateMsg (latest kept), ModeMsg (AUTONOMOUS = mode 2, e-stop),
 //       DriveStatusMsg (interlockTripped). One that does not decode, a pose
 //       with a non-finite x, y or heading, or a mode beyond MANUAL is counted,
-//       evented (616, throttled) and ignored.
+//       evented (616, throttled) and ignored: the pipe's malformed count.
 //  2. Wheels no longer ours, checked first: mode not AUTONOMOUS (kNotAutonomous),
 //     else the e-stop or the drive interlock (kDrivesHeld). Following gives up
 //     (kCannotFollow, event 614); any other state still moving is zeroed at
@@ -45,8 +46,11 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/reflexive/trajectory_follower.hpp"
 #include "fsw/tables/table_service.hpp"
@@ -70,7 +74,7 @@ struct TrajectoryTaskCounters {
     std::uint32_t gaveUpNotAutonomous = 0;
     std::uint32_t stopsCompleted = 0;        // kStopping -> kIdle through the deceleration
     std::uint32_t halts = 0;                 // zeroed at once outside following (event 617)
-    std::uint32_t malformedInputs = 0;       // pose, mode, drive status (not trajectories)
+    std::uint32_t malformedInputs = 0;       // pose, mode, drive status (not trajectories): the pipe's count
     std::uint32_t wheelCommandsPublished = 0;
     std::uint32_t statusPublished = 0;
 };
@@ -78,11 +82,10 @@ struct TrajectoryTaskCounters {
 class TrajectoryTask final : public core::Task {
 public:
     TrajectoryTask(const core::Clock& clock, core::SoftwareBus& bus, core::EventLog& events,
-                   const tables::TableService& tables)
-        : clock_(clock), bus_(bus), events_(events), tables_(tables) {}
+                   const tables::TableService& tables);
 
-    // Creates the pipe "follower" and subscribes TrajectoryMsg, PoseEstimateMsg,
-    // ModeMsg and DriveStatusMsg.
+    // Creates the pipe "follower" and routes TrajectoryMsg, PoseEstimateMsg,
+    // ModeMsg and DriveStatusMsg to their takers.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
@@ -94,10 +97,14 @@ public:
     bool autonomous() const { return autonomous_; }
 
 private:
-    void takeInputs(core::TimeNs now);
-    void takeTrajectory(core::TimeNs now);
+    // The pipe's takers (step 1). Pose and mode return kInvalidArgument for
+    // content they cannot use: the pipe counts it with the malformed.
+    void takeTrajectory(const msg::TrajectoryMsg& t);
+    void refuseUndecodableTrajectory(const core::Message& message);
+    core::Status takePose(const msg::PoseEstimateMsg& pose);
+    core::Status takeMode(const msg::ModeMsg& mode);
+    void takeDriveStatus(const msg::DriveStatusMsg& drives);
     void refuse(std::uint32_t trajectoryId, const char* why);
-    void malformed(const char* what);
     void releaseWheels();  // step 2
     bool poseFresh(core::TimeNs now) const;
     // Counts and events reaching, giving up and the end of a stop (not one cut
@@ -111,8 +118,8 @@ private:
     core::EventLog& events_;
     const tables::TableService& tables_;
     TrajectoryFollower follower_;
-    core::PipeId pipe_ = 0;
-    core::Message inbox_{};
+    core::InputPipe input_;
+    core::TimeNs runStart_ = 0;  // now of the current run (a stop's start)
 
     msg::PoseEstimateMsg pose_{};
     bool havePose_ = false;

@@ -56,6 +56,19 @@ struct Taker {
     void takeBig(const BigMsg& m) { bigLast = m.bytes[999]; }
 };
 
+// A task that counts a counted message that does not decode with its own
+// refusals (as the trajectory follower counts a trajectory that does not).
+struct OwnRefusals {
+    std::uint32_t taken = 0;
+    std::uint32_t undecodable = 0;
+    std::uint16_t undecodableLength = 0;
+    void takeCounted(const CountedMsg&) { ++taken; }
+    void refuseUndecodable(const Message& m) {
+        ++undecodable;
+        undecodableLength = m.header.length;
+    }
+};
+
 struct SecondTaker {
     std::uint32_t pings = 0;
     void takePing(const PingMsg&) { ++pings; }
@@ -194,4 +207,52 @@ TEST(InputPipe, RoutingIsRefusedBeforeCreateAndPastCapacity) {
 TEST(InputPipe, DrainBeforeCreateTakesNothing) {
     InputPipe fresh{*bus, events, InputPipeConfig{"fresh", 2, kMalformed, "fresh"}};
     LONGS_EQUAL(0, fresh.drain());
+}
+
+TEST(InputPipe, TheEventHasTheConfiguredSeverityErrorUnlessSaid) {
+    const std::uint8_t bytes[3] = {1, 2, 3};
+    CHECK(Status::kOk == bus->publish(PingMsg::kMsgId, bytes, sizeof bytes));
+    pipe->drain();
+    Event e;
+    CHECK(isOk(events.pop(&e)));
+    LONGS_EQUAL(kMalformed, e.id);
+    CHECK(Severity::kError == e.severity);
+
+    InputPipe warned{*bus, events, InputPipeConfig{"warned", 2, kMalformed, "warned", Severity::kWarning}};
+    CHECK(Status::kOk == warned.create());
+    CHECK(Status::kOk == (warned.route<&Taker::takePing>(&taker)));
+    CHECK(Status::kOk == bus->publish(PingMsg::kMsgId, bytes, sizeof bytes));
+    warned.drain();
+    pipe->drain();
+    bool found = false;
+    while (isOk(events.pop(&e))) {
+        if (std::strstr(e.text, "pipe warned") != nullptr) {
+            found = true;
+            CHECK(Severity::kWarning == e.severity);
+        }
+    }
+    CHECK(found);
+}
+
+TEST(InputPipe, AnOwnersUndecodableHandlerTakesWhatDoesNotDecodeAndNothingIsCounted) {
+    InputPipe own{*bus, events, InputPipeConfig{"own", 4, kMalformed, "own"}};
+    OwnRefusals owner;
+    CHECK(Status::kOk == own.create());
+    CHECK(Status::kOk == (own.route<&OwnRefusals::takeCounted, &OwnRefusals::refuseUndecodable>(&owner)));
+    LONGS_EQUAL(1, own.routeCount());
+    const std::uint8_t bytes[5] = {1, 2, 3, 4, 5};
+    CHECK(Status::kOk == bus->publish(CountedMsg::kMsgId, bytes, sizeof bytes));
+    CHECK(Status::kOk == bus->publish(CountedMsg{}));
+    LONGS_EQUAL(2, own.drain());
+    LONGS_EQUAL(1, owner.undecodable);
+    LONGS_EQUAL(5, owner.undecodableLength);
+    LONGS_EQUAL(1, owner.taken);
+    LONGS_EQUAL(0, own.malformed());
+    LONGS_EQUAL(2, own.taken());
+    // Another id nobody routed is still the pipe's to refuse.
+    CHECK(Status::kOk == bus->subscribe(own.pipe(), PingMsg::kMsgId));
+    CHECK(Status::kOk == bus->publish(PingMsg{1}));
+    own.drain();
+    LONGS_EQUAL(1, own.malformed());
+    LONGS_EQUAL(1, owner.undecodable);
 }

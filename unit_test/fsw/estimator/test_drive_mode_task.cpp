@@ -432,7 +432,7 @@ TEST(DriveModeTask, MalformedInputIsCountedAndEventedThrottled) {
     LONGS_EQUAL(estimator::events::kDriveModeMalformedInput, events[0].id);
     CHECK(core::Severity::kError == events[0].severity);
     CHECK(contains(events[0].text, "drive_modes: "));
-    CHECK(contains(events[0].text, "does not decode"));
+    CHECK(contains(events[0].text, "refused: wrong-type"));  // core::InputPipe's wording: it does not decode
 
     msg::DriveStatusMsg status = rig.drives.step();
     status.wheels[3].velocityRadS = std::numeric_limits<double>::quiet_NaN();
@@ -450,7 +450,7 @@ TEST(DriveModeTask, MalformedInputIsCountedAndEventedThrottled) {
     for (const SeenEvent& e : events) {
         malformedEvents += e.id == estimator::events::kDriveModeMalformedInput ? 1U : 0U;
         if (e.id == estimator::events::kDriveModeMalformedInput) {
-            CHECK(contains(e.text, "non-finite value or bad health"));
+            CHECK(contains(e.text, "refused: invalid-argument"));  // a non-finite value or a bad health
         }
     }
     LONGS_EQUAL(2, malformedEvents);  // the 2nd and the 4th; the 3rd only counted
