@@ -19,7 +19,9 @@ bool encodeGoto(double x, double y, double risk, MissionOptions* o, std::string*
             *ground::lookupCommand("GOTO"),
             {encoderArgument("x", x), encoderArgument("y", y), encoderArgument("risk", risk)});
     } catch (const ground::CommandError& e) {
-        *error = e.what();
+        // The reason only: the encoder's usage line after it is the ground tool's.
+        const std::string why = e.what();
+        *error = why.substr(0, why.find('\n'));
         return false;
     }
     o->goalX = x;
