@@ -14,15 +14,18 @@
 // times (core::ScaledMonotonicClock), as rse-fsw --time-scale N does its own,
 // so both keep one mission timeline on a machine too slow for real time. Prints the truth once a second (for
 // the operator and integration tests; the flight software never sees it).
-// Exit status: 0 after a clean stop, 1 if the bus or scenario cannot be used
-// (a task_stall fault included: it needs a ground link, which rse-sim has
-// not), 2 for a bad command line.
+// Exit status: 0 after a clean stop (or --help), 1 if the bus or scenario
+// cannot be used (a task_stall fault included: it needs a ground link, which
+// rse-sim has not), 2 for a bad command line (docs/operations.md, "Command
+// lines": one line on stderr says why).
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
+
+#include "sim_stub/cli/command_line.hpp"
 
 #include "fsw/core/clock.hpp"
 #include "hal/can/socketcan_bus.hpp"
@@ -33,21 +36,28 @@
 
 namespace {
 
+using rse::sim::cli::OptionScanner;
+
 volatile std::sig_atomic_t g_stop = 0;
 void onStop(int) { g_stop = 1; }
+
+constexpr double kMaxDurationS = 1e7;  // the scenario files' own limit on times
 
 void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet] [--time-scale N]\n"
                  "       rse-sim --coarse-map-source FILE\n"
+                 "       rse-sim --help\n"
                  "  --can IFACE        SocketCAN interface shared with rse-fsw (e.g. vcan0)\n"
                  "  --scenario FILE    TOML scenario (sim_stub/scenarios/README.md)\n"
-                 "  --duration SECONDS stop after this long (default: the scenario's duration_s)\n"
+                 "  --duration SECONDS stop after this long (default: the scenario's duration_s; at most 1e7)\n"
                  "  --quiet            no once-a-second truth lines\n"
                  "  --time-scale N     simulated time runs N times slower than CLOCK_MONOTONIC (1..100; the\n"
                  "                     same N as rse-fsw --time-scale); --duration and the scenario are in\n"
                  "                     simulated seconds\n"
-                 "  --coarse-map-source FILE  print the scenario's COARSE_MAP table source and exit\n");
+                 "  --coarse-map-source FILE  print the scenario's COARSE_MAP table source and exit\n"
+                 "  -h, --help         this text (on stdout, exit status 0)\n"
+                 "Exit status: 0 stopped cleanly, 1 the bus or the scenario cannot be used, 2 bad usage.\n");
 }
 
 struct Options {
@@ -59,51 +69,73 @@ struct Options {
     std::uint32_t timeScale = 1;
 };
 
-bool parse(int argc, char** argv, Options* o) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const bool hasValue = i + 1 < argc;
-        if (a == "--can" && hasValue) {
-            o->can = argv[++i];
-        } else if (a == "--scenario" && hasValue) {
-            o->scenario = argv[++i];
-        } else if (a == "--duration" && hasValue) {
-            char* end = nullptr;
-            o->duration = std::strtod(argv[++i], &end);
-            if (*end != '\0' || !(o->duration > 0.0)) {
-                std::fprintf(stderr, "rse-sim: --duration '%s' is not a positive number of seconds\n", argv[i]);
+enum : int { kOptCan = 1000, kOptScenario, kOptDuration, kOptQuiet, kOptTimeScale, kOptCoarseMapSource };
+const option kLongOptions[] = {
+    {"can", required_argument, nullptr, kOptCan},
+    {"scenario", required_argument, nullptr, kOptScenario},
+    {"duration", required_argument, nullptr, kOptDuration},
+    {"quiet", no_argument, nullptr, kOptQuiet},
+    {"time-scale", required_argument, nullptr, kOptTimeScale},
+    {"coarse-map-source", required_argument, nullptr, kOptCoarseMapSource},
+    {"help", no_argument, nullptr, 'h'},
+    {nullptr, 0, nullptr, 0},
+};
+
+// One option and its value into *o; false with the reason in *error.
+bool applyOption(int id, const char* value, Options* o, std::string* error) {
+    switch (id) {
+        case kOptCan: o->can = value; return true;
+        case kOptScenario: o->scenario = value; return true;
+        case kOptCoarseMapSource: o->mapSource = value; return true;
+        case kOptQuiet: o->quiet = true; return true;
+        case kOptDuration:
+            if (!rse::sim::cli::parseFiniteNumber(value, &o->duration) || !(o->duration > 0.0) ||
+                o->duration > kMaxDurationS) {
+                *error = std::string("--duration '") + value + "' is not a positive number of seconds (at most 1e7)";
                 return false;
             }
-        } else if (a == "--time-scale" && hasValue) {
-            char* end = nullptr;
-            const char* v = argv[++i];
-            const unsigned long n = std::strtoul(v, &end, 10);
-            if (*end != '\0' || v[0] < '0' || v[0] > '9' || n < 1 || n > rse::core::ScaledMonotonicClock::kMaxFactor) {
-                std::fprintf(stderr, "rse-sim: --time-scale '%s' is not a whole factor 1..%u\n", v,
-                             static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
+            return true;
+        case kOptTimeScale: {
+            std::uint64_t n = 0;
+            if (!rse::sim::cli::parseWholeNumber(value, rse::core::ScaledMonotonicClock::kMaxFactor, &n) || n < 1) {
+                *error = std::string("--time-scale '") + value + "' is not a whole factor 1.." +
+                         std::to_string(rse::core::ScaledMonotonicClock::kMaxFactor);
                 return false;
             }
             o->timeScale = static_cast<std::uint32_t>(n);
-        } else if (a == "--coarse-map-source" && hasValue) {
-            o->mapSource = argv[++i];
-        } else if (a == "--quiet") {
-            o->quiet = true;
-        } else if (a == "--help" || a == "-h") {
-            usage(stdout);
-            std::exit(0);
-        } else {
-            std::fprintf(stderr, "rse-sim: unknown or incomplete option '%s'\n", a.c_str());
-            return false;
+            return true;
+        }
+        default: break;
+    }
+    *error = "option " + std::to_string(id) + " is not rse-sim's";  // a table entry without a case
+    return false;
+}
+
+enum class Parsed { kRun, kHelp, kUsageError };
+
+Parsed parse(int argc, const char* const* argv, Options* o, std::string* error) {
+    OptionScanner scanner(argc, argv, "h", kLongOptions);
+    for (int id = scanner.next(); id != OptionScanner::kEnd; id = scanner.next()) {
+        if (id == OptionScanner::kBad) {
+            *error = scanner.error();
+            return Parsed::kUsageError;
+        }
+        if (id == 'h') {
+            return Parsed::kHelp;
+        }
+        if (!applyOption(id, scanner.value(), o, error)) {
+            return Parsed::kUsageError;
         }
     }
-    if (o->mapSource != nullptr) {
-        return true;
+    if (scanner.index() < argc) {
+        *error = std::string("unexpected argument '") + argv[scanner.index()] + "' (rse-sim takes options only)";
+        return Parsed::kUsageError;
     }
-    if (o->can == nullptr || o->scenario == nullptr) {
-        std::fprintf(stderr, "rse-sim: --can and --scenario are required\n");
-        return false;
+    if (o->mapSource == nullptr && (o->can == nullptr || o->scenario == nullptr)) {
+        *error = "--can and --scenario are required";
+        return Parsed::kUsageError;
     }
-    return true;
+    return Parsed::kRun;
 }
 
 bool openBus(rse::hal::SocketCanBus& bus, const char* name) {
@@ -114,35 +146,26 @@ bool openBus(rse::hal::SocketCanBus& bus, const char* name) {
     return false;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    Options o;
-    if (!parse(argc, argv, &o)) {
-        usage(stderr);
-        return 2;
-    }
+// rse-sim --coarse-map-source FILE: the scenario's COARSE_MAP table source on stdout.
+int printCoarseMapSource(const char* path) {
     rse::sim::Scenario scenario;
     std::string error;
-    if (o.mapSource != nullptr) {
-        if (!rse::sim::tryLoadScenarioFile(o.mapSource, &scenario, &error)) {
-            std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
-            return 1;
-        }
-        try {
-            std::fputs(rse::sim::coarseMapSource(scenario).c_str(), stdout);
-        } catch (const rse::sim::CoarseMapError& e) {
-            std::fprintf(stderr, "rse-sim: %s\n", e.what());
-            return 1;
-        }
-        return 0;
-    }
-    if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {
+    if (!rse::sim::tryLoadScenarioFile(path, &scenario, &error)) {
         std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
         return 1;
     }
-    // rse-sim only exchanges CAN frames: a flight task stall needs the ground
-    // link (EXEC_SET_TASK), which rse-sim does not have. Refused, not ignored.
+    try {
+        std::fputs(rse::sim::coarseMapSource(scenario).c_str(), stdout);
+    } catch (const rse::sim::CoarseMapError& e) {
+        std::fprintf(stderr, "rse-sim: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
+// rse-sim only exchanges CAN frames: a flight task stall needs the ground
+// link (EXEC_SET_TASK), which rse-sim does not have. Refused, not ignored.
+bool refuseTaskStalls(const rse::sim::Scenario& scenario, const char* path) {
     for (std::size_t i = 0; i < scenario.faults.size(); ++i) {
         const rse::sim::FaultSpec& f = scenario.faults[i];
         if (f.type == rse::sim::FaultType::kTaskStall) {
@@ -150,48 +173,52 @@ int main(int argc, char** argv) {
                          "rse-sim: %s: faults[%zu] task_stall (%s%s at %.3f s) is not applicable over CAN: rse-sim "
                          "has no ground link; send EXEC_SET_TASK with rse-ground instead, or run the scenario "
                          "in lockstep (rse-demo)\n",
-                         o.scenario, i, f.taskName.empty() ? "row " : "",
+                         path, i, f.taskName.empty() ? "row " : "",
                          f.taskName.empty() ? std::to_string(f.taskRow).c_str() : f.taskName.c_str(),
                          static_cast<double>(f.at) * 1e-9);
-            return 1;
+            return false;
         }
     }
-    using rse::sim::kWheelCount;
-    auto devicesBus = std::make_unique<rse::hal::SocketCanBus>();
-    std::array<std::unique_ptr<rse::hal::SocketCanBus>, kWheelCount> driveBuses;
-    std::array<rse::hal::CanBus*, kWheelCount> driveBusPtrs{};
-    if (!openBus(*devicesBus, o.can)) {
-        return 1;
-    }
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-        driveBuses[w] = std::make_unique<rse::hal::SocketCanBus>();
-        if (!openBus(*driveBuses[w], o.can)) {
-            return 1;
-        }
-        driveBusPtrs[w] = driveBuses[w].get();
-    }
-    auto drives = std::make_unique<rse::sim::DriveBank>(driveBusPtrs, scenario);  // node ids, noise, seed
-    rse::sim::RoverSimWiring wiring;
-    wiring.driveFaults = drives.get();  // bus faults need the in-memory bus: counted as unhandled here
-    auto rover = std::make_unique<rse::sim::RoverSim>(scenario, *devicesBus, drives->wheels(), wiring);
+    return true;
+}
 
+// The bus endpoints: one for the devices, one per drive (as six controllers would have).
+struct Buses {
+    std::unique_ptr<rse::hal::SocketCanBus> devices;
+    std::array<std::unique_ptr<rse::hal::SocketCanBus>, rse::sim::kWheelCount> drives;
+    std::array<rse::hal::CanBus*, rse::sim::kWheelCount> drivePtrs{};
+};
+
+bool openBuses(const char* can, Buses* b) {
+    b->devices = std::make_unique<rse::hal::SocketCanBus>();
+    if (!openBus(*b->devices, can)) {
+        return false;
+    }
+    for (std::size_t w = 0; w < rse::sim::kWheelCount; ++w) {
+        b->drives[w] = std::make_unique<rse::hal::SocketCanBus>();
+        if (!openBus(*b->drives[w], can)) {
+            return false;
+        }
+        b->drivePtrs[w] = b->drives[w].get();
+    }
+    return true;
+}
+
+void installStopHandlers() {
     struct sigaction action {};
     action.sa_handler = onStop;
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, nullptr);
     sigaction(SIGTERM, &action, nullptr);
+}
 
-    const double duration = o.duration > 0.0 ? o.duration : scenario.durationS;
-    std::printf("rse-sim: scenario '%s' on %s for %.1f s", scenario.name.c_str(), o.can, duration);
-    if (o.timeScale > 1) {
-        std::printf(" (time scale %u: 1 simulated second every %u s)", static_cast<unsigned>(o.timeScale),
-                    static_cast<unsigned>(o.timeScale));
-    }
-    std::printf("\n");
-    std::fflush(stdout);
+// The world at 1 kHz on the (scaled) monotonic clock with absolute deadlines,
+// the truth once a second, until the duration or a stop signal; then how late
+// its steps started.
+void runWorld(rse::sim::RoverSim& rover, rse::sim::DriveBank& drives, const Options& o, double duration) {
     rse::core::ScaledMonotonicClock clock;
-    (void)clock.start(o.timeScale);  // 1..kMaxFactor, checked above
-    drives->powerOn();
+    (void)clock.start(o.timeScale);  // 1..kMaxFactor, checked by parse()
+    drives.powerOn();
     const rse::core::TimeNs origin = clock.now();
     const rse::core::TimeNs step = rse::core::kNsPerMs;
     const auto steps = static_cast<std::int64_t>(duration * 1000.0);
@@ -207,12 +234,12 @@ int main(int argc, char** argv) {
         maxLateness = lateness > maxLateness ? lateness : maxLateness;
         lateSteps += lateness > step ? 1 : 0;
         ++stepsRun;
-        rover->step(t);
+        rover.step(t);
         if (!o.quiet && k % 1000 == 0) {
-            const auto& truth = rover->truth();
+            const auto& truth = rover.truth();
             std::printf("[%8.3f] TRUTH x=%.3f y=%.3f theta=%.4f v=%.3f soc=%.4f collisions=%u faults_fired=%zu\n",
                         static_cast<double>(t) * 1e-9, truth.pose.x, truth.pose.y, truth.pose.theta, truth.speedMS,
-                        truth.stateOfCharge, static_cast<unsigned>(truth.collisions), rover->faultSchedule().fired());
+                        truth.stateOfCharge, static_cast<unsigned>(truth.collisions), rover.faultSchedule().fired());
             std::fflush(stdout);
         }
     }
@@ -220,6 +247,52 @@ int main(int argc, char** argv) {
                 "(simulated time)\n",
                 static_cast<long long>(lateSteps), static_cast<long long>(stepsRun),
                 static_cast<double>(maxLateness) * 1e-6);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    std::string error;
+    switch (parse(argc, argv, &o, &error)) {
+        case Parsed::kHelp:
+            usage(stdout);
+            return 0;
+        case Parsed::kUsageError:
+            return rse::sim::cli::usageError(stderr, "rse-sim", error);
+        case Parsed::kRun:
+            break;
+    }
+    if (o.mapSource != nullptr) {
+        return printCoarseMapSource(o.mapSource);
+    }
+    rse::sim::Scenario scenario;
+    if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {
+        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+        return 1;
+    }
+    if (!refuseTaskStalls(scenario, o.scenario)) {
+        return 1;
+    }
+    Buses buses;
+    if (!openBuses(o.can, &buses)) {
+        return 1;
+    }
+    auto drives = std::make_unique<rse::sim::DriveBank>(buses.drivePtrs, scenario);  // node ids, noise, seed
+    rse::sim::RoverSimWiring wiring;
+    wiring.driveFaults = drives.get();  // bus faults need the in-memory bus: counted as unhandled here
+    auto rover = std::make_unique<rse::sim::RoverSim>(scenario, *buses.devices, drives->wheels(), wiring);
+    installStopHandlers();
+
+    const double duration = o.duration > 0.0 ? o.duration : scenario.durationS;
+    std::printf("rse-sim: scenario '%s' on %s for %.1f s", scenario.name.c_str(), o.can, duration);
+    if (o.timeScale > 1) {
+        std::printf(" (time scale %u: 1 simulated second every %u s)", static_cast<unsigned>(o.timeScale),
+                    static_cast<unsigned>(o.timeScale));
+    }
+    std::printf("\n");
+    std::fflush(stdout);
+    runWorld(*rover, *drives, o, duration);
     std::printf("rse-sim: stopped (%s)\n", g_stop != 0 ? "signal" : "duration reached");
     return 0;
 }

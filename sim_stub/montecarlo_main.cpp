@@ -6,10 +6,14 @@
 //   rse-montecarlo merge [--table FILE] [--out FILE] FILE|DIR...
 //   rse-montecarlo seed N [--console] [MISSION]
 //
+//   rse-montecarlo --help
+//
 // MISSION: rse-demo's --scenario FILE, --goto X,Y[,RISK], --duration S, --no-faults.
-// Exit status: 0 when every check of the table passed, 3 when one failed, 1
-// for an error (a file, a missing seed, a worker that could not start), 2 for
-// a bad command line.
+// The command line: sim_stub/montecarlo/campaign_options.hpp.
+// Exit status: 0 when every check of the table passed (or --help), 3 when one
+// failed, 1 for an error (a file, a missing seed, a worker that could not
+// start), 2 for a bad command line (one line on stderr says why, a second
+// points to --help).
 #include <dirent.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -22,7 +26,9 @@
 #include <string>
 #include <vector>
 
+#include "sim_stub/cli/command_line.hpp"
 #include "sim_stub/montecarlo/campaign.hpp"
+#include "sim_stub/montecarlo/campaign_options.hpp"
 #include "sim_stub/montecarlo/results.hpp"
 #include "sim_stub/montecarlo/worker_pool.hpp"
 
@@ -35,36 +41,7 @@ constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitCheckFailed = 3;
 
-void usage(std::FILE* out) {
-    std::fprintf(out,
-                 "usage:\n"
-                 "  rse-montecarlo run   [--seeds FIRST:COUNT] [--jobs N] [--out FILE] [--table FILE] [MISSION]\n"
-                 "      COUNT seeds (default 1:200) on N worker processes (default: every core), the result file\n"
-                 "      (default build/montecarlo/results.txt), then the table, the host timing and the wall time\n"
-                 "  rse-montecarlo block --seeds FIRST:COUNT --block-size B [--task I] [--jobs N] --out FILE|DIR [MISSION]\n"
-                 "      block I (default $SLURM_ARRAY_TASK_ID) of the campaign: seeds FIRST+I*B .. on N workers\n"
-                 "      (default $SLURM_CPUS_PER_TASK, else 1); a DIR gets block-IIIIII.txt\n"
-                 "  rse-montecarlo merge [--table FILE] [--out FILE] FILE|DIR...\n"
-                 "      the result files (a DIR: its *.txt) of one campaign merged: the table; every seed must be there\n"
-                 "  rse-montecarlo seed N [--console] [MISSION]\n"
-                 "      one seed: its R and T lines (--console: the mission's console and summary too)\n"
-                 "MISSION: rse-demo's --scenario FILE, --goto X,Y[,RISK], --duration S, --no-faults\n"
-                 "Exit status: 0 every check passed, 3 a check failed, 1 error, 2 bad usage. docs/montecarlo.md.\n");
-}
-
-bool parseU64(const std::string& text, std::uint64_t* v) {
-    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || text.size() > 19) {
-        return false;
-    }
-    *v = std::strtoull(text.c_str(), nullptr, 10);
-    return true;
-}
-
-bool parseSeeds(const std::string& text, std::uint64_t* first, std::uint64_t* count) {
-    const std::size_t colon = text.find(':');
-    return colon != std::string::npos && parseU64(text.substr(0, colon), first) &&
-           parseU64(text.substr(colon + 1), count) && *count > 0 && *first + *count > *first;
-}
+int usageError(const std::string& what) { return rse::sim::cli::usageError(stderr, "rse-montecarlo", what); }
 
 int coreCount() {
     const long n = sysconf(_SC_NPROCESSORS_ONLN);
@@ -103,73 +80,6 @@ bool writeText(const std::string& path, const std::string& text) {
     return std::fclose(f) == 0 && ok;
 }
 
-// The options every command shares; the rest go to the mission.
-struct Args {
-    std::string command;
-    std::uint64_t first = 1, count = 200, blockSize = 0, seed = 0;
-    bool seedsGiven = false, console = false;
-    long task = -1;
-    int jobs = 0;
-    std::string out, table;
-    std::vector<std::string> mission, inputs;
-};
-
-bool parseArgs(int argc, char** argv, Args* a, std::string* error) {
-    if (argc < 2) {
-        *error = "no command";
-        return false;
-    }
-    a->command = argv[1];
-    for (int i = 2; i < argc; ++i) {
-        const std::string s = argv[i];
-        const bool value = i + 1 < argc;
-        std::uint64_t u = 0;
-        if (s == "--seeds" && value) {
-            if (!parseSeeds(argv[++i], &a->first, &a->count)) {
-                *error = std::string("--seeds '") + argv[i] + "': expected FIRST:COUNT, COUNT > 0";
-                return false;
-            }
-            a->seedsGiven = true;
-        } else if (s == "--jobs" && value) {
-            if (!parseU64(argv[++i], &u) || u < 1 || u > 1024) {
-                *error = std::string("--jobs '") + argv[i] + "': 1..1024";
-                return false;
-            }
-            a->jobs = static_cast<int>(u);
-        } else if (s == "--block-size" && value) {
-            if (!parseU64(argv[++i], &a->blockSize) || a->blockSize < 1) {
-                *error = std::string("--block-size '") + argv[i] + "': a count > 0";
-                return false;
-            }
-        } else if (s == "--task" && value) {
-            if (!parseU64(argv[++i], &u) || u > 100000000) {
-                *error = std::string("--task '") + argv[i] + "': an array index";
-                return false;
-            }
-            a->task = static_cast<long>(u);
-        } else if (s == "--out" && value) {
-            a->out = argv[++i];
-        } else if (s == "--table" && value) {
-            a->table = argv[++i];
-        } else if (s == "--console") {
-            a->console = true;
-        } else if ((s == "--scenario" || s == "--goto" || s == "--duration") && value) {
-            a->mission.push_back(s);
-            a->mission.push_back(argv[++i]);
-        } else if (s == "--no-faults") {
-            a->mission.push_back(s);
-        } else if (s == "--help" || s == "-h") {
-            a->command = "help";
-        } else if (!s.empty() && s[0] != '-') {
-            a->inputs.push_back(s);
-        } else {
-            *error = "unknown or incomplete option '" + s + "'";
-            return false;
-        }
-    }
-    return true;
-}
-
 // Runs the seeds on the workers; the rows and timings in seed order.
 bool runSeeds(const CampaignSpec& spec, const std::vector<std::uint64_t>& seeds, int jobs,
               std::vector<std::pair<std::string, std::string>>* lines, std::string* error) {
@@ -195,7 +105,7 @@ bool runSeeds(const CampaignSpec& spec, const std::vector<std::uint64_t>& seeds,
 }
 
 // The table and the host timing of a set; --table FILE gets the table alone.
-int report(const ResultSet& set, const Args& a) {
+int report(const ResultSet& set, const CampaignArgs& a) {
     const std::string table = formatTable(set);
     std::fputs(table.c_str(), stdout);
     std::fputs("\n", stdout);
@@ -207,12 +117,11 @@ int report(const ResultSet& set, const Args& a) {
     return failedChecks(set) == 0 ? kExitOk : kExitCheckFailed;
 }
 
-int commandRun(const Args& a) {
+int commandRun(const CampaignArgs& a) {
     CampaignSpec spec;
     std::string error;
     if (!prepareCampaign(a.mission, &spec, &error)) {
-        std::fprintf(stderr, "rse-montecarlo: %s\n", error.c_str());
-        return kExitUsage;
+        return usageError(error);
     }
     spec.firstSeed = a.first;
     spec.seedCount = a.count;
@@ -250,41 +159,34 @@ int commandRun(const Args& a) {
     return status;
 }
 
-int commandBlock(const Args& a) {
+int commandBlock(const CampaignArgs& a) {
     CampaignSpec spec;
     std::string error;
-    if (!a.seedsGiven || a.blockSize == 0 || a.out.empty()) {
-        std::fprintf(stderr, "rse-montecarlo block: --seeds, --block-size and --out are needed\n");
-        return kExitUsage;
-    }
     if (!prepareCampaign(a.mission, &spec, &error)) {
-        std::fprintf(stderr, "rse-montecarlo: %s\n", error.c_str());
-        return kExitUsage;
+        return usageError(error);
     }
     spec.firstSeed = a.first;
     spec.seedCount = a.count;
     long task = a.task;
     const char* envTask = std::getenv("SLURM_ARRAY_TASK_ID");
     std::uint64_t u = 0;
-    if (task < 0 && envTask != nullptr && parseU64(envTask, &u)) {
+    if (task < 0 && envTask != nullptr && parseWholeCount(envTask, &u)) {
         task = static_cast<long>(u);
     }
     if (task < 0) {
-        std::fprintf(stderr, "rse-montecarlo block: no --task and no SLURM_ARRAY_TASK_ID\n");
-        return kExitUsage;
+        return usageError("block: no --task and no SLURM_ARRAY_TASK_ID");
     }
     const std::uint64_t offset = static_cast<std::uint64_t>(task) * a.blockSize;
     if (offset >= a.count) {
-        std::fprintf(stderr, "rse-montecarlo block: task %ld starts past the campaign's %llu seeds\n", task,
-                     static_cast<unsigned long long>(a.count));
-        return kExitUsage;
+        return usageError("block: task " + std::to_string(task) + " starts past the campaign's " +
+                          std::to_string(a.count) + " seeds");
     }
     const std::uint64_t first = a.first + offset;
     const std::uint64_t count = std::min(a.blockSize, a.count - offset);
     int jobs = a.jobs;
     const char* cpus = std::getenv("SLURM_CPUS_PER_TASK");
     if (jobs < 1) {
-        jobs = cpus != nullptr && parseU64(cpus, &u) && u >= 1 && u <= 1024 ? static_cast<int>(u) : 1;
+        jobs = cpus != nullptr && parseWholeCount(cpus, &u) && u >= 1 && u <= 1024 ? static_cast<int>(u) : 1;
     }
     std::string out = a.out;
     if (isDirectory(out)) {
@@ -308,7 +210,7 @@ int commandBlock(const Args& a) {
     return kExitOk;
 }
 
-int commandMerge(const Args& a) {
+int commandMerge(const CampaignArgs& a) {
     std::vector<std::string> files;
     for (const std::string& in : a.inputs) {
         if (!isDirectory(in)) {
@@ -330,8 +232,7 @@ int commandMerge(const Args& a) {
         files.insert(files.end(), names.begin(), names.end());
     }
     if (files.empty()) {
-        std::fprintf(stderr, "rse-montecarlo merge: no result files\n");
-        return kExitUsage;
+        return usageError("merge: no result files");
     }
     ResultSet set;
     std::string error;
@@ -369,17 +270,12 @@ int commandMerge(const Args& a) {
     return status;
 }
 
-int commandSeed(const Args& a) {
+int commandSeed(const CampaignArgs& a) {
     CampaignSpec spec;
     std::string error;
-    std::uint64_t seed = 0;
-    if (a.inputs.size() != 1 || !parseU64(a.inputs[0], &seed)) {
-        std::fprintf(stderr, "rse-montecarlo seed: one seed number\n");
-        return kExitUsage;
-    }
+    const std::uint64_t seed = a.seed;
     if (!prepareCampaign(a.mission, &spec, &error)) {
-        std::fprintf(stderr, "rse-montecarlo: %s\n", error.c_str());
-        return kExitUsage;
+        return usageError(error);
     }
     spec.firstSeed = seed;
     spec.seedCount = 1;
@@ -391,35 +287,22 @@ int commandSeed(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    Args a;
+    CampaignArgs a;
     std::string error;
-    if (!parseArgs(argc, argv, &a, &error)) {
-        std::fprintf(stderr, "rse-montecarlo: %s\n", error.c_str());
-        usage(stderr);
-        return kExitUsage;
+    switch (parseCampaignArgs(argc, argv, &a, &error)) {
+        case CampaignParse::kHelp:
+            printCampaignUsage(stdout);
+            return kExitOk;
+        case CampaignParse::kUsageError:
+            return usageError(error);
+        case CampaignParse::kRun:
+            break;
     }
-    if (a.command == "help") {
-        usage(stdout);
-        return kExitOk;
+    switch (a.command) {
+        case CampaignCommand::kRun: return commandRun(a);
+        case CampaignCommand::kBlock: return commandBlock(a);
+        case CampaignCommand::kMerge: return commandMerge(a);
+        case CampaignCommand::kSeed: return commandSeed(a);
     }
-    if ((a.command == "run" || a.command == "block") && !a.inputs.empty()) {
-        std::fprintf(stderr, "rse-montecarlo %s: unexpected '%s'\n", a.command.c_str(), a.inputs[0].c_str());
-        usage(stderr);
-        return kExitUsage;
-    }
-    if (a.command == "run") {
-        return commandRun(a);
-    }
-    if (a.command == "block") {
-        return commandBlock(a);
-    }
-    if (a.command == "merge") {
-        return commandMerge(a);
-    }
-    if (a.command == "seed") {
-        return commandSeed(a);
-    }
-    std::fprintf(stderr, "rse-montecarlo: unknown command '%s'\n", a.command.c_str());
-    usage(stderr);
     return kExitUsage;
 }

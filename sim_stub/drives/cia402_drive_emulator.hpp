@@ -7,6 +7,13 @@
 // frames at the same times give the same answers. Nothing is allocated after
 // construction and nothing throws.
 //
+// One class, its definitions in a file per concept: cia402_drive_emulator.cpp
+// (the node: hooks, the step, CiA 301 NMT, SYNC, PDOs, heartbeat, EMCY),
+// cia402_drive_power.cpp (the CiA 402 power state machine, faults, the
+// statusword), cia402_drive_motor.cpp (the motor and thermal models, the noisy
+// reports), cia402_drive_objects.cpp (the object dictionary); the codes they
+// share in cia402_drive_codes.hpp.
+//
 // ---- CANopen (CiA 301) ---------------------------------------------------------
 // NMT slave. powerOn()/restart() boot the node at the next step(): the frames that
 // were waiting are discarded (the controller was not listening yet), the boot-up

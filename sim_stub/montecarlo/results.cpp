@@ -499,20 +499,9 @@ CheckResult checks(const ResultSet& set) {
     return c;
 }
 
-}  // namespace
-
-std::string formatTable(const ResultSet& set) {
-    std::ostringstream t;
+// The outcomes, with the call homes (and the crashes) by reason.
+void outcomeSection(const ResultSet& set, std::ostream& t) {
     const std::size_t n = set.rows.size();
-    const std::uint64_t first = set.firstSeed;
-    const std::uint64_t last = set.seedCount == 0 ? first : first + set.seedCount - 1;
-    t << "=== rse-montecarlo: " << n << " runs of seeds " << first << ".." << last << " (" << set.seedCount
-      << " in the campaign)\n";
-    t << "campaign: scenario " << field(set, "scenario") << " (fnv " << field(set, "scenario_fnv") << "), GOTO "
-      << field(set, "goal") << " risk bound " << field(set, "risk") << ", up to " << field(set, "duration")
-      << " s, faults " << field(set, "faults") << ", variation " << field(set, "variation") << "\n";
-
-    // Outcomes, with the call homes by reason.
     std::map<std::string, std::size_t> outcomes;
     std::map<std::string, std::map<std::string, std::size_t>> reasons;
     for (const auto& [seed, r] : set.rows) {
@@ -535,8 +524,10 @@ std::string formatTable(const ResultSet& set) {
             t << "    " << padded(reason, 28) << fixed(static_cast<double>(rc), 9, 0) << percent(rc, n) << "\n";
         }
     }
+}
 
-    // Collisions, split by whether every plan was within the risk bound.
+// Collisions, split by whether every plan was within the risk bound, and the runs that collided.
+void collisionSection(const ResultSet& set, std::ostream& t) {
     std::size_t runs[2] = {0, 0}, collided[2] = {0, 0}, contacts[2] = {0, 0};
     std::vector<std::string> listed;
     for (const auto& [seed, r] : set.rows) {
@@ -565,8 +556,10 @@ std::string formatTable(const ResultSet& set) {
         }
         t << "\n";
     }
+}
 
-    // Per-run counters.
+// The per-run counters.
+void perRunSection(const ResultSet& set, std::ostream& t) {
     t << "\n" << heading("per run", {"mean", "p50", "p90", "p99", "max", "total"});
     for (const CountField& c : kCountFields) {
         if (c.label == nullptr) {
@@ -578,8 +571,10 @@ std::string formatTable(const ResultSet& set) {
         }
         t << "  " << padded(c.label, 30) << cells(v, 2, true) << "\n";
     }
+}
 
-    // To the goal, and clearance over all runs.
+// Time, energy and distance to the goal and over every run; the least clearance.
+void distanceSections(const ResultSet& set, std::ostream& t) {
     std::vector<double> time, energy, dist, clearance, allTime, allEnergy, allDist;
     for (const auto& [seed, r] : set.rows) {
         if (r.outcome == "goal_reached") {
@@ -610,8 +605,10 @@ std::string formatTable(const ResultSet& set) {
         t << "  " << padded("all runs", 30) << fixed(cl.front(), 9, 3) << fixed(percentile(cl, 0.01), 9, 3)
           << fixed(percentile(cl, 0.1), 9, 3) << fixed(percentile(cl, 0.5), 9, 3) << "\n";
     }
+}
 
-    // The planner, per plan.
+// The planner, per plan: its wait and its slices.
+void plannerSection(const ResultSet& set, std::ostream& t) {
     std::vector<double> latency, slices;
     std::size_t found = 0;
     for (const auto& [seed, r] : set.rows) {
@@ -625,12 +622,36 @@ std::string formatTable(const ResultSet& set) {
       << heading("  per plan", {"mean", "p50", "p90", "p99", "max"});
     t << "  " << padded("wait for the plan (sim. s)", 30) << cells(latency, 3, false) << "\n";
     t << "  " << padded("planner slices (runs)", 30) << cells(slices, 2, false) << "\n";
+}
 
+// The table's checks.
+void checkLines(const ResultSet& set, std::ostream& t) {
     const CheckResult c = checks(set);
     t << "\nCHECK collisions in runs whose plans were within the risk bound: " << c.withinCollided
       << " (must be 0) " << (c.withinCollided == 0 ? "PASS" : "FAIL") << "\n";
     t << "CHECK runs that crashed or could not be set up: " << c.broken << " (must be 0) "
       << (c.broken == 0 ? "PASS" : "FAIL") << "\n";
+}
+
+}  // namespace
+
+std::string formatTable(const ResultSet& set) {
+    std::ostringstream t;
+    const std::size_t n = set.rows.size();
+    const std::uint64_t first = set.firstSeed;
+    const std::uint64_t last = set.seedCount == 0 ? first : first + set.seedCount - 1;
+    t << "=== rse-montecarlo: " << n << " runs of seeds " << first << ".." << last << " (" << set.seedCount
+      << " in the campaign)\n";
+    t << "campaign: scenario " << field(set, "scenario") << " (fnv " << field(set, "scenario_fnv") << "), GOTO "
+      << field(set, "goal") << " risk bound " << field(set, "risk") << ", up to " << field(set, "duration")
+      << " s, faults " << field(set, "faults") << ", variation " << field(set, "variation") << "\n";
+
+    outcomeSection(set, t);
+    collisionSection(set, t);
+    perRunSection(set, t);
+    distanceSections(set, t);
+    plannerSection(set, t);
+    checkLines(set, t);
     return t.str();
 }
 

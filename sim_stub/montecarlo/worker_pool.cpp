@@ -136,6 +136,158 @@ void closeWorker(Worker* w) {
     w->toChild = w->fromChild = -1;
 }
 
+// The parent's side of one run: the workers, the seeds handed out and those
+// finished. run() starts the workers, gives each a seed, then reads their
+// answers (and their ends) as they come until every seed is finished.
+class Pool {
+public:
+    Pool(const std::vector<std::uint64_t>& seeds, int jobs, const std::function<SeedRun(std::uint64_t)>& work,
+         const std::function<void(std::uint64_t, const SeedRun&)>& done, std::string* error)
+        : seeds_(seeds),
+          work_(work),
+          done_(done),
+          error_(error),
+          workers_(std::min<std::size_t>(static_cast<std::size_t>(jobs < 1 ? 1 : jobs), seeds.size())) {}
+
+    bool run() {
+        bool ok = startAll();
+        while (ok && finished_ < seeds_.size()) {
+            ok = readAnswers();
+        }
+        stopAll(ok);
+        return ok;
+    }
+
+private:
+    bool startAll() {
+        for (Worker& w : workers_) {
+            if (!startWorker(&w, workers_, work_, error_)) {
+                return false;
+            }
+        }
+        for (Worker& w : workers_) {
+            give(w);
+        }
+        return true;
+    }
+
+    // The next seed to w, or (none left) its pipe closed: EOF tells it to stop.
+    void give(Worker& w) {
+        if (next_ < seeds_.size()) {
+            const std::uint64_t seed = seeds_[next_++];
+            if (writeAll(w.toChild, std::to_string(seed) + "\n")) {
+                w.busy = true;
+                w.seed = seed;
+                return;
+            }
+            // The worker is gone: its end is read later; give the seed back.
+            --next_;
+            return;
+        }
+        closeWorker(&w);
+    }
+
+    // One poll of the workers' pipes, and what the readable ones wrote.
+    bool readAnswers() {
+        std::vector<pollfd> fds;
+        std::vector<Worker*> owners;
+        for (Worker& w : workers_) {
+            if (w.fromChild >= 0) {
+                fds.push_back(pollfd{w.fromChild, POLLIN, 0});
+                owners.push_back(&w);
+            }
+        }
+        if (fds.empty()) {
+            *error_ = "no worker left with seeds still to run";
+            return false;
+        }
+        if (poll(fds.data(), fds.size(), -1) < 0) {
+            if (errno == EINTR) {
+                return true;
+            }
+            *error_ = std::string("poll: ") + std::strerror(errno);
+            return false;
+        }
+        for (std::size_t i = 0; i < fds.size(); ++i) {
+            if (fds[i].revents != 0 && !readFrom(*owners[i])) {
+                return false;
+            }
+        }
+        return true;
+    }
+
+    // What w wrote: part of an answer, an answer (the seed done, the next
+    // given), or its end.
+    bool readFrom(Worker& w) {
+        char buf[4096];
+        const ssize_t n = ::read(w.fromChild, buf, sizeof buf);
+        if (n < 0 && errno == EINTR) {
+            return true;
+        }
+        if (n <= 0) {
+            return onEnd(w);
+        }
+        w.inbox.append(buf, static_cast<std::size_t>(n));
+        // An answer is two lines: the row, then the timing.
+        std::size_t first = w.inbox.find('\n');
+        std::size_t second = first == std::string::npos ? first : w.inbox.find('\n', first + 1);
+        if (w.busy && second != std::string::npos) {
+            SeedRun r{w.inbox.substr(0, first), w.inbox.substr(first + 1, second - first - 1)};
+            w.inbox.erase(0, second + 1);
+            w.busy = false;
+            ++finished_;
+            done_(w.seed, r);
+            give(w);
+        }
+        return true;
+    }
+
+    // EOF: the worker ended; mid-seed, that seed crashed. Another takes its
+    // place while seeds are left.
+    bool onEnd(Worker& w) {
+        const bool wasBusy = w.busy;
+        const std::uint64_t seed = w.seed;
+        closeWorker(&w);
+        const std::string why = endOf(w.pid);
+        w.pid = -1;
+        w.busy = false;
+        if (wasBusy) {
+            ++finished_;
+            done_(seed, SeedRun{crashedRow(seed, why), ""});
+        }
+        if (next_ < seeds_.size()) {
+            if (!startWorker(&w, workers_, work_, error_)) {
+                return false;
+            }
+            give(w);
+        }
+        return true;
+    }
+
+    // Every worker's pipes closed and its end awaited (after a failure, each
+    // told to stop first).
+    void stopAll(bool ok) {
+        for (Worker& w : workers_) {
+            closeWorker(&w);
+            if (w.pid > 0) {
+                if (!ok) {
+                    kill(w.pid, SIGTERM);
+                }
+                (void)endOf(w.pid);
+                w.pid = -1;
+            }
+        }
+    }
+
+    const std::vector<std::uint64_t>& seeds_;
+    const std::function<SeedRun(std::uint64_t)>& work_;
+    const std::function<void(std::uint64_t, const SeedRun&)>& done_;
+    std::string* error_;
+    std::vector<Worker> workers_;
+    std::size_t next_ = 0;      // seeds_[next_] is the next to give
+    std::size_t finished_ = 0;  // answered or crashed
+};
+
 }  // namespace
 
 bool runOnWorkers(const std::vector<std::uint64_t>& seeds, int jobs,
@@ -146,114 +298,8 @@ bool runOnWorkers(const std::vector<std::uint64_t>& seeds, int jobs,
     struct sigaction previous {};
     ignore.sa_handler = SIG_IGN;
     sigaction(SIGPIPE, &ignore, &previous);
-
-    const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(jobs < 1 ? 1 : jobs), seeds.size());
-    std::vector<Worker> workers(count);
-    bool ok = true;
-    for (Worker& w : workers) {
-        if (!startWorker(&w, workers, work, error)) {
-            ok = false;
-            break;
-        }
-    }
-    std::size_t next = 0;
-    std::size_t finished = 0;
-    const auto give = [&](Worker& w) {
-        while (next < seeds.size()) {
-            const std::uint64_t seed = seeds[next++];
-            if (writeAll(w.toChild, std::to_string(seed) + "\n")) {
-                w.busy = true;
-                w.seed = seed;
-                return;
-            }
-            // The worker is gone: its end is read below; give the seed back.
-            --next;
-            return;
-        }
-        closeWorker(&w);  // no more seeds: EOF tells it to stop
-    };
-    if (ok) {
-        for (Worker& w : workers) {
-            give(w);
-        }
-    }
-    while (ok && finished < seeds.size()) {
-        std::vector<pollfd> fds;
-        std::vector<Worker*> owners;
-        for (Worker& w : workers) {
-            if (w.fromChild >= 0) {
-                fds.push_back(pollfd{w.fromChild, POLLIN, 0});
-                owners.push_back(&w);
-            }
-        }
-        if (fds.empty()) {
-            *error = "no worker left with seeds still to run";
-            ok = false;
-            break;
-        }
-        if (poll(fds.data(), fds.size(), -1) < 0) {
-            if (errno == EINTR) {
-                continue;
-            }
-            *error = std::string("poll: ") + std::strerror(errno);
-            ok = false;
-            break;
-        }
-        for (std::size_t i = 0; i < fds.size() && ok; ++i) {
-            if (fds[i].revents == 0) {
-                continue;
-            }
-            Worker& w = *owners[i];
-            char buf[4096];
-            const ssize_t n = ::read(w.fromChild, buf, sizeof buf);
-            if (n < 0 && errno == EINTR) {
-                continue;
-            }
-            if (n > 0) {
-                w.inbox.append(buf, static_cast<std::size_t>(n));
-                // An answer is two lines: the row, then the timing.
-                std::size_t first = w.inbox.find('\n');
-                std::size_t second = first == std::string::npos ? first : w.inbox.find('\n', first + 1);
-                if (w.busy && second != std::string::npos) {
-                    SeedRun r{w.inbox.substr(0, first), w.inbox.substr(first + 1, second - first - 1)};
-                    w.inbox.erase(0, second + 1);
-                    w.busy = false;
-                    ++finished;
-                    done(w.seed, r);
-                    give(w);
-                }
-                continue;
-            }
-            // EOF: the worker ended; mid-seed, that seed crashed.
-            const bool wasBusy = w.busy;
-            const std::uint64_t seed = w.seed;
-            closeWorker(&w);
-            const std::string why = endOf(w.pid);
-            w.pid = -1;
-            w.busy = false;
-            if (wasBusy) {
-                ++finished;
-                done(seed, SeedRun{crashedRow(seed, why), ""});
-            }
-            if (next < seeds.size()) {
-                if (!startWorker(&w, workers, work, error)) {
-                    ok = false;
-                    break;
-                }
-                give(w);
-            }
-        }
-    }
-    for (Worker& w : workers) {
-        closeWorker(&w);
-        if (w.pid > 0) {
-            if (!ok) {
-                kill(w.pid, SIGTERM);
-            }
-            (void)endOf(w.pid);
-            w.pid = -1;
-        }
-    }
+    Pool pool(seeds, jobs, work, done, error);
+    const bool ok = pool.run();
     sigaction(SIGPIPE, &previous, nullptr);
     return ok;
 }

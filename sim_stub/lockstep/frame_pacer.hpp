@@ -1,0 +1,40 @@
+// rse-demo --pace: the lockstep frames paced against the wall clock. Frame k
+// of the run is due at wall time start + k x period / factor, the start being
+// the first frame paced. Each frame is waited for, not each period: lateness
+// in one frame does not shift the later ones, so a machine that falls behind
+// (a planner's long frame, a factor beyond what it can run) runs the frames
+// that are due at once until it has caught up; those are counted with the
+// latest one's lateness. Factor 0: no pacing.
+//
+// Host side (sim_stub/): full language; rse-fsw never links it.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+
+namespace rse::sim {
+
+class FramePacer {
+public:
+    explicit FramePacer(double factor) : factor_(factor) {}
+    // Before `frame` runs (the executive's next frame); called again for the
+    // same frame, it does nothing.
+    void beforeFrame(std::uint64_t frame);
+
+    double factor() const { return factor_; }
+    std::uint64_t framesPaced() const { return frames_; }
+    std::uint64_t framesBehind() const { return behind_; }  // reached after their due time
+    double behindMaxMs() const { return behindMaxMs_; }      // by how much the latest was late
+
+private:
+    double factor_;
+    bool started_ = false;
+    std::uint64_t firstFrame_ = 0;
+    std::uint64_t lastFrame_ = 0;
+    std::chrono::steady_clock::time_point start_{};
+    std::uint64_t frames_ = 0;
+    std::uint64_t behind_ = 0;
+    double behindMaxMs_ = 0.0;
+};
+
+}  // namespace rse::sim
