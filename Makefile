@@ -355,6 +355,9 @@ VCAN_TEST := unit_test/integration/vcan_test/vcan_integration_test.sh
 VCAN_MISSION_TEST := unit_test/integration/vcan_test/vcan_mission_test.sh
 TSHARK_TEST := unit_test/integration/tshark/tshark_ccsds_test.sh
 WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
+# rse-ground's command line (--help, bad command lines, the offline commands):
+# rse-ground is a host tool, so host only.
+GROUND_CLI_TEST := unit_test/integration/rse_ground_cli_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
@@ -370,7 +373,7 @@ MC_DISPLAY_TEST := unit_test/ground/mission_control/web/mission_control_test.sh
 # mission its Chromium took the CPU the emulated rover needed (CI: frames 33 ms
 # late, task-stalled faults 25-30 raised, the vcan mission's check failed).
 VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST) $(MC_DISPLAY_TEST)
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(GROUND_CLI_TEST) $(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 
