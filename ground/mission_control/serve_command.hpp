@@ -1,8 +1,8 @@
 // `rse-ground serve` (docs/mission_control.md, docs/ground.md): the mission
 // control server fed by the ground link.
 //
-//   rse-ground [link options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR]
-//                                   [--tables DIR] [--seconds S]
+//   rse-ground [global options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR]
+//                                     [--tables DIR] [--seconds S]
 //
 // The link is the one of rse-ground's global options (--tlm-port, --can ...),
 // opened as `watch` and `record` open it. Every packet it receives is handed
