@@ -358,6 +358,9 @@ WATCHDOG_TEST := unit_test/integration/watchdog_test/watchdog_vm_test.sh
 # The simulator programs' command lines (rse-sim, rse-demo, rse-montecarlo:
 # --help and bad options, docs/operations.md): host tools, so host only.
 SIM_CLI_TEST := unit_test/integration/rse_sim_cli_test.sh
+# rse-ground's command line (--help, bad command lines, the offline commands):
+# rse-ground is a host tool, so host only.
+GROUND_CLI_TEST := unit_test/integration/rse_ground_cli_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
@@ -373,7 +376,7 @@ MC_DISPLAY_TEST := unit_test/ground/mission_control/web/mission_control_test.sh
 # mission its Chromium took the CPU the emulated rover needed (CI: frames 33 ms
 # late, task-stalled faults 25-30 raised, the vcan mission's check failed).
 VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST) $(MC_DISPLAY_TEST)
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(SIM_CLI_TEST) $(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(SIM_CLI_TEST) $(GROUND_CLI_TEST) $(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 

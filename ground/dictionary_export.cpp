@@ -142,13 +142,10 @@ const char* rejectReasonDescription(unsigned reason) {
     return reason < cmdtlm::kRejectReasonCount ? kReasonDescriptions[reason] : "";
 }
 
-std::string exportDictionaryMarkdown() {
-    std::ostringstream o;
-    std::size_t commandCount = 0;
-    std::size_t telemetryCount = 0;
-    const CommandDesc* cmds = commands(&commandCount);
-    const TelemetryDesc* tlm = telemetry(&telemetryCount);
+namespace {
 
+// The Markdown export, section by section (exportDictionaryMarkdown's order).
+void mdPreamble(std::ostream& o) {
     o << "# RSE command and telemetry dictionary\n\n"
       << "<!-- Generated from fsw/cmdtlm/dictionary.def by `rse-ground dict --markdown`. Do not edit:\n"
       << "     change the .def and regenerate (a unit test fails while this file is stale). -->\n\n"
@@ -171,12 +168,16 @@ std::string exportDictionaryMarkdown() {
       << "  element. `why` says where each bound comes from: most mirror the default value of the table\n"
       << "  field named (a unit test holds them to it). They colour the display only: the rover's faults\n"
       << "  use the tables in force.\n\n";
+}
 
+void mdModes(std::ostream& o) {
     o << "## Modes\n\n| Value | Mode |\n|---:|---|\n";
     for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
         o << "| " << m << " | " << cmdtlm::toString(static_cast<cmdtlm::Mode>(m)) << " |\n";
     }
+}
 
+void mdCommandIndex(std::ostream& o, const CommandDesc* cmds, std::size_t commandCount) {
     o << "\n## Commands\n\n| Command | APID | FC | Modes | Arguments | Description |\n"
       << "|---|---|---:|---|---|---|\n";
     for (std::size_t i = 0; i < commandCount; ++i) {
@@ -189,35 +190,37 @@ std::string exportDictionaryMarkdown() {
           << static_cast<unsigned>(c.functionCode) << " | " << modeNames(c.modes, ", ") << " | "
           << (args.empty() ? "-" : args) << " | " << md(c.description) << " |\n";
     }
-    for (std::size_t i = 0; i < commandCount; ++i) {
-        const CommandDesc& c = cmds[i];
-        o << "\n### " << c.name << "\n\n"
-          << md(c.description) << ".\n\n"
-          << "APID " << hex3(c.apid) << ", function code " << static_cast<unsigned>(c.functionCode)
-          << ", accepted in " << modeList(c.modes) << ". ";
-        if (c.argCount == 0) {
-            o << "No arguments.\n";
-        } else {
-            o << "Argument bytes: " << c.fixedArgBytes;
-            if (c.maxBlobBytes > 0) {
-                o << " + 1.." << c.maxBlobBytes;
-            }
-            o << ".\n\n| Argument | Type | Units | Min | Max | Description |\n|---|---|---|---:|---:|---|\n";
-            for (std::size_t a = 0; a < c.argCount; ++a) {
-                const ArgDesc& arg = c.args[a];
-                if (arg.type == FieldType::blob) {
-                    o << "| " << arg.name << " | blob | bytes | 1 | " << arg.maxBytes << " | " << md(arg.description)
-                      << " |\n";
-                } else {
-                    o << "| " << arg.name << " | " << cmdtlm::toString(arg.type) << " | " << md(arg.units) << " | "
-                      << formatNumber(arg.min) << " | " << formatNumber(arg.max) << " | " << md(arg.description)
-                      << " |\n";
-                }
+}
+
+void mdCommandSection(std::ostream& o, const CommandDesc& c) {
+    o << "\n### " << c.name << "\n\n"
+      << md(c.description) << ".\n\n"
+      << "APID " << hex3(c.apid) << ", function code " << static_cast<unsigned>(c.functionCode)
+      << ", accepted in " << modeList(c.modes) << ". ";
+    if (c.argCount == 0) {
+        o << "No arguments.\n";
+    } else {
+        o << "Argument bytes: " << c.fixedArgBytes;
+        if (c.maxBlobBytes > 0) {
+            o << " + 1.." << c.maxBlobBytes;
+        }
+        o << ".\n\n| Argument | Type | Units | Min | Max | Description |\n|---|---|---|---:|---:|---|\n";
+        for (std::size_t a = 0; a < c.argCount; ++a) {
+            const ArgDesc& arg = c.args[a];
+            if (arg.type == FieldType::blob) {
+                o << "| " << arg.name << " | blob | bytes | 1 | " << arg.maxBytes << " | " << md(arg.description)
+                  << " |\n";
+            } else {
+                o << "| " << arg.name << " | " << cmdtlm::toString(arg.type) << " | " << md(arg.units) << " | "
+                  << formatNumber(arg.min) << " | " << formatNumber(arg.max) << " | " << md(arg.description)
+                  << " |\n";
             }
         }
-        o << "\n`rse-ground send " << commandUsage(c) << "`\n";
     }
+    o << "\n`rse-ground send " << commandUsage(c) << "`\n";
+}
 
+void mdReasonCodes(std::ostream& o) {
     o << "\n## CMD_ACK reason codes\n\n"
       << "Every command received is answered by one CMD_ACK packet; `reason` is 0 when the command\n"
       << "was accepted, otherwise the first check it failed, in this order (HK.cmd_rejected_by_reason\n"
@@ -226,7 +229,9 @@ std::string exportDictionaryMarkdown() {
         o << "| " << r << " | " << cmdtlm::toString(static_cast<cmdtlm::CommandReject>(r)) << " | "
           << md(kReasonDescriptions[r]) << " |\n";
     }
+}
 
+void mdTelemetryIndex(std::ostream& o, const TelemetryDesc* tlm, std::size_t telemetryCount) {
     o << "\n## Telemetry\n\n| Packet | APID | Payload bytes | Packet bytes | Description |\n"
       << "|---|---|---:|---:|---|\n";
     for (std::size_t i = 0; i < telemetryCount; ++i) {
@@ -236,34 +241,60 @@ std::string exportDictionaryMarkdown() {
         o << "| [" << t.name << "](#" << anchor(t.name) << (clash ? "-1" : "") << ") | " << hex3(t.apid) << " | " << t.payloadSize << " | "
           << t.payloadSize + cmdtlm::kTelemetryHeaderSize << " | " << md(t.description) << " |\n";
     }
+}
+
+// The packet's display limits table, when any of its fields has limits.
+void mdTelemetryLimits(std::ostream& o, const TelemetryDesc& t) {
+    bool heading = false;
+    for (std::size_t f = 0; f < t.fieldCount; ++f) {
+        const TelemetryLimit* limit = findTelemetryLimit(t.name, t.fields[f].name);
+        if (limit == nullptr) {
+            continue;
+        }
+        if (!heading) {
+            o << "\nDisplay limits:\n\n| Field | Warn low | Warn high | Alarm low | Alarm high | Why |\n"
+              << "|---|---:|---:|---:|---:|---|\n";
+            heading = true;
+        }
+        o << "| " << limit->field << " | " << mdBound(limit->warnLow) << " | " << mdBound(limit->warnHigh)
+          << " | " << mdBound(limit->alarmLow) << " | " << mdBound(limit->alarmHigh) << " | " << md(limit->why)
+          << " |\n";
+    }
+}
+
+void mdTelemetrySection(std::ostream& o, const TelemetryDesc& t) {
+    o << "\n### " << t.name << "\n\n"
+      << md(t.description) << ". APID " << hex3(t.apid) << ", payload " << t.payloadSize << " bytes (packet "
+      << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ").\n\n"
+      << "| Offset | Field | Type | Count | Units | Description |\n|---:|---|---|---:|---|---|\n";
+    std::size_t offset = 0;
+    for (std::size_t f = 0; f < t.fieldCount; ++f) {
+        const FieldDesc& field = t.fields[f];
+        o << "| " << offset << " | " << field.name << " | " << cmdtlm::toString(field.type) << " | " << field.count
+          << " | " << md(field.units) << " | " << md(field.description) << " |\n";
+        offset += fieldSize(field);
+    }
+    mdTelemetryLimits(o, t);
+}
+
+}  // namespace
+
+std::string exportDictionaryMarkdown() {
+    std::ostringstream o;
+    std::size_t commandCount = 0;
+    std::size_t telemetryCount = 0;
+    const CommandDesc* cmds = commands(&commandCount);
+    const TelemetryDesc* tlm = telemetry(&telemetryCount);
+    mdPreamble(o);
+    mdModes(o);
+    mdCommandIndex(o, cmds, commandCount);
+    for (std::size_t i = 0; i < commandCount; ++i) {
+        mdCommandSection(o, cmds[i]);
+    }
+    mdReasonCodes(o);
+    mdTelemetryIndex(o, tlm, telemetryCount);
     for (std::size_t i = 0; i < telemetryCount; ++i) {
-        const TelemetryDesc& t = tlm[i];
-        o << "\n### " << t.name << "\n\n"
-          << md(t.description) << ". APID " << hex3(t.apid) << ", payload " << t.payloadSize << " bytes (packet "
-          << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ").\n\n"
-          << "| Offset | Field | Type | Count | Units | Description |\n|---:|---|---|---:|---|---|\n";
-        std::size_t offset = 0;
-        for (std::size_t f = 0; f < t.fieldCount; ++f) {
-            const FieldDesc& field = t.fields[f];
-            o << "| " << offset << " | " << field.name << " | " << cmdtlm::toString(field.type) << " | " << field.count
-              << " | " << md(field.units) << " | " << md(field.description) << " |\n";
-            offset += fieldSize(field);
-        }
-        bool heading = false;
-        for (std::size_t f = 0; f < t.fieldCount; ++f) {
-            const TelemetryLimit* limit = findTelemetryLimit(t.name, t.fields[f].name);
-            if (limit == nullptr) {
-                continue;
-            }
-            if (!heading) {
-                o << "\nDisplay limits:\n\n| Field | Warn low | Warn high | Alarm low | Alarm high | Why |\n"
-                  << "|---|---:|---:|---:|---:|---|\n";
-                heading = true;
-            }
-            o << "| " << limit->field << " | " << mdBound(limit->warnLow) << " | " << mdBound(limit->warnHigh)
-              << " | " << mdBound(limit->alarmLow) << " | " << mdBound(limit->alarmHigh) << " | " << md(limit->why)
-              << " |\n";
-        }
+        mdTelemetrySection(o, tlm[i]);
     }
     return o.str();
 }

@@ -1,5 +1,7 @@
 // rse-ground: the operator's command-line tool (docs/ground.md).
 //
+//   rse-ground [global options] COMMAND [its options and operands, in any order]
+//
 //   rse-ground [global options] send NAME [arg=value ...] [--auth-seq N] [--no-wait]
 //   rse-ground [global options] watch [--count N] [--seconds S] [--only NAME,...]
 //   rse-ground [global options] run SCRIPT [--verbose]
@@ -17,7 +19,8 @@
 //   rse-ground [global options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR] [--tables DIR] [--seconds S]
 //                                                      (ground/mission_control/serve_command.hpp)
 //
-// Global options (anywhere before a table build|show|check|list or plan check):
+// Global options (before the command; parsed with getopt_long, as every
+// command's own options: ground/cli_options.hpp):
 //   --udp HOST[:PORT]     commands to HOST:PORT (default 127.0.0.1:1234)
 //   --tlm-port [ADDR:]PORT  telemetry received on ADDR:PORT (default 0.0.0.0:1235)
 //   --can IFACE           ISO-TP on SocketCAN instead of UDP (tx 0x6C0, rx 0x6C1)
@@ -28,9 +31,15 @@
 //   --state-dir DIR       anti-replay sequence state (default $RSE_GROUND_STATE or ~/.rse-ground)
 //   --timeout S           acknowledgement wait (default 2)
 //
+// -h or --help anywhere (or the command `help`): the usage on stdout, exit 0.
+//
 // Exit codes: 0 success (accepted); 1 link error, no acknowledgement, failed script
-// or wait; 2 usage error, unknown command or bad argument (nothing sent); 3 the
-// rover rejected the command.
+// or wait; 2 a bad command line (unknown command or option, a missing or bad value:
+// one line saying what, then "rse-ground: see 'rse-ground --help'", on stderr) or
+// a bad argument or key file (nothing sent); 3 the rover rejected the command
+// (report: the ten points not all seen in order).
+//
+// The sub-commands are in ground/cli_*.cpp (ground/cli_subcommands.hpp).
 #pragma once
 
 #include <functional>

@@ -73,17 +73,13 @@ std::string outcomeText(const MissionTelemetry& m) {
     return "no outcome in the recording";
 }
 
-}  // namespace
-
-TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& recording, const MissionTelemetry& mission,
-                                                  const tables::CoarseMapTable& map, double footprintRadiusM,
-                                                  const std::string& name) {
-    TelemetryMissionRecord out;
-    MissionRecord& r = out.record;
-
-    std::vector<DecodedPacket> packets;
+// The recording's packets that make the mission (events, plan paths, plan
+// status, rover states, task timing), decoded into *packets, and the order to
+// replay them in: by rover time, state before events at equal times.
+std::vector<Replayed> replayOrder(const SessionRecording& recording, const MissionTelemetry& mission,
+                                  std::vector<DecodedPacket>* packets) {
     std::vector<Replayed> order;
-    packets.reserve(recording.packets.size());
+    packets->reserve(recording.packets.size());
     for (const RecordedPacket& rp : recording.packets) {
         DecodedPacket p = decodeTelemetry(rp.bytes);
         if (!p.ok) {
@@ -91,7 +87,7 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
         }
         const std::string kind = p.name();
         Replayed item;
-        item.index = packets.size();
+        item.index = packets->size();
         if (kind == "EVENT") {
             item.timeS = mission.flightTime(number(p, "event_time"));
             item.rank = 1;
@@ -103,11 +99,49 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
             continue;
         }
         order.push_back(item);
-        packets.push_back(std::move(p));
+        packets->push_back(std::move(p));
     }
     std::stable_sort(order.begin(), order.end(), [](const Replayed& a, const Replayed& b) {
         return a.timeS < b.timeS || (a.timeS == b.timeS && a.rank < b.rank);
     });
+    return order;
+}
+
+FlightEvent flightEvent(const DecodedPacket& p, double timeS) {
+    FlightEvent e;
+    e.timeS = timeS;
+    e.id = static_cast<std::uint16_t>(number(p, "event_id"));
+    e.severity = static_cast<std::uint8_t>(number(p, "severity"));
+    if (const DecodedField* f = p.field("text"); f != nullptr) {
+        e.text = f->text;
+    }
+    return e;
+}
+
+TaskTimingRow taskTimingRow(const DecodedPacket& p) {
+    TaskTimingRow row;
+    if (const DecodedField* f = p.field("task_name"); f != nullptr) {
+        row.name = f->text;
+    }
+    row.runs = static_cast<std::uint32_t>(number(p, "runs"));
+    row.overBudget = static_cast<std::uint32_t>(number(p, "over_budget"));
+    row.meanUs = number(p, "mean_us");
+    row.maxUs = number(p, "max_us");
+    row.hostMeanUs = number(p, "cpu_mean_us");
+    row.hostMaxUs = number(p, "cpu_max_us");
+    return row;
+}
+
+}  // namespace
+
+TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& recording, const MissionTelemetry& mission,
+                                                  const tables::CoarseMapTable& map, double footprintRadiusM,
+                                                  const std::string& name) {
+    TelemetryMissionRecord out;
+    MissionRecord& r = out.record;
+
+    std::vector<DecodedPacket> packets;
+    const std::vector<Replayed> order = replayOrder(recording, mission, &packets);
 
     TenPointTracker tracker(map, footprintRadiusM);
     std::map<unsigned, TaskTimingRow> timing;  // by task index
@@ -116,13 +150,7 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
         const DecodedPacket& p = packets[item.index];
         const std::string kind = p.name();
         if (kind == "EVENT") {
-            FlightEvent e;
-            e.timeS = item.timeS;
-            e.id = static_cast<std::uint16_t>(number(p, "event_id"));
-            e.severity = static_cast<std::uint8_t>(number(p, "severity"));
-            if (const DecodedField* f = p.field("text"); f != nullptr) {
-                e.text = f->text;
-            }
+            const FlightEvent e = flightEvent(p, item.timeS);
             habitualReplans += e.id == habitual::events::kMinorAnomaly ? 1U : 0U;
             tracker.onEvent(e);
         } else if (kind == "PLAN") {
@@ -136,17 +164,7 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
             r.plans.push_back(planDrawing(p, item.timeS, map));
             ++out.plansDrawn;
         } else if (kind == "TASK_TIMING") {
-            TaskTimingRow row;
-            if (const DecodedField* f = p.field("task_name"); f != nullptr) {
-                row.name = f->text;
-            }
-            row.runs = static_cast<std::uint32_t>(number(p, "runs"));
-            row.overBudget = static_cast<std::uint32_t>(number(p, "over_budget"));
-            row.meanUs = number(p, "mean_us");
-            row.maxUs = number(p, "max_us");
-            row.hostMeanUs = number(p, "cpu_mean_us");
-            row.hostMaxUs = number(p, "cpu_max_us");
-            timing[static_cast<unsigned>(number(p, "task_index"))] = row;  // the latest
+            timing[static_cast<unsigned>(number(p, "task_index"))] = taskTimingRow(p);  // the latest
         }
         for (const MissionPoint& point : tracker.takeNew()) {
             out.pointsInOrder.push_back(point);

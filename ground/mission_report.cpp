@@ -119,78 +119,99 @@ std::string renderMissionReport(const MissionRecord& r, const std::string& mapFi
     return s;
 }
 
-std::string renderMissionMap(const MissionRecord& r) {
-    constexpr double kMargin = 30.0;
-    constexpr double kTitle = 50.0;
-    constexpr double kWidth = 1400.0;
-    constexpr double kLineHeight = 17.0;
-    const tables::CoarseMapTable& map = r.map;
-    const double siteW = static_cast<double>(map.x_max_m) - static_cast<double>(map.x_min_m);
-    const double siteH = static_cast<double>(map.y_max_m) - static_cast<double>(map.y_min_m);
-    const double scale = siteW > 0.0 && std::isfinite(siteW) ? (kWidth - 2.0 * kMargin) / siteW : 1.0;
-    const double mapH = (siteH > 0.0 && std::isfinite(siteH) ? siteH : 0.0) * scale;
-    const double legendTop = kTitle + mapH + 30.0;
-    const double listTop = legendTop + 3.0 * kLineHeight + 10.0;
-    const double height = listTop + (kMissionPointCount + 2) * kLineHeight + kMargin;
-    const SvgFrame f{kMargin, kTitle, scale, static_cast<double>(map.x_min_m), static_cast<double>(map.y_max_m)};
-    const std::string w = svgNumber(kWidth);
-    const std::string h = svgNumber(height);
+namespace {
 
-    std::string s;
-    s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w + ' ' +
-         h + "\" font-family=\"sans-serif\">\n";
-    s += "<rect x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h + "\" fill=\"#fff\"/>\n";
-    s += "<text class=\"title\" x=\"" + svgNumber(kMargin) + "\" y=\"20\" font-size=\"16\" font-weight=\"bold\">" +
-         svgEscape("Mission " + r.scenario + ": goal (" + num(2, r.goalX) + ", " + num(2, r.goalY) +
-                   "), risk bound " + sci(r.riskBound)) +
-         "</text>\n";
-    s += "<text class=\"outcome\" x=\"" + svgNumber(kMargin) + "\" y=\"38\" font-size=\"13\">" +
-         svgEscape(r.outcome + " \u2014 " + r.verdict) + "</text>\n";
-    drawSite(map, f, &s);
-    drawRocks(map, f, &s);
-    if (!r.plans.empty()) {
-        drawGrownObstacles(r.plans.front().problem, f, &s);
+// Where things go on the mission map: the site scaled to the picture's width,
+// the legend and the list of points under it.
+struct MissionMapLayout {
+    static constexpr double kMargin = 30.0;
+    static constexpr double kTitle = 50.0;
+    static constexpr double kWidth = 1400.0;
+    static constexpr double kLineHeight = 17.0;
+    double scale = 1.0;
+    double legendTop = 0.0;
+    double listTop = 0.0;
+    double height = 0.0;
+    SvgFrame frame{};
+
+    explicit MissionMapLayout(const tables::CoarseMapTable& map) {
+        const double siteW = static_cast<double>(map.x_max_m) - static_cast<double>(map.x_min_m);
+        const double siteH = static_cast<double>(map.y_max_m) - static_cast<double>(map.y_min_m);
+        scale = siteW > 0.0 && std::isfinite(siteW) ? (kWidth - 2.0 * kMargin) / siteW : 1.0;
+        const double mapH = (siteH > 0.0 && std::isfinite(siteH) ? siteH : 0.0) * scale;
+        legendTop = kTitle + mapH + 30.0;
+        listTop = legendTop + 3.0 * kLineHeight + 10.0;
+        height = listTop + (kMissionPointCount + 2) * kLineHeight + kMargin;
+        frame = SvgFrame{kMargin, kTitle, scale, static_cast<double>(map.x_min_m), static_cast<double>(map.y_max_m)};
     }
+};
+
+// The document's head: size, background, title and outcome lines.
+void mapHeading(const MissionRecord& r, const MissionMapLayout& l, std::string* s) {
+    const std::string w = svgNumber(MissionMapLayout::kWidth);
+    const std::string h = svgNumber(l.height);
+    *s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    *s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + w + "\" height=\"" + h + "\" viewBox=\"0 0 " + w +
+          ' ' + h + "\" font-family=\"sans-serif\">\n";
+    *s += "<rect x=\"0\" y=\"0\" width=\"" + w + "\" height=\"" + h + "\" fill=\"#fff\"/>\n";
+    *s += "<text class=\"title\" x=\"" + svgNumber(MissionMapLayout::kMargin) +
+          "\" y=\"20\" font-size=\"16\" font-weight=\"bold\">" +
+          svgEscape("Mission " + r.scenario + ": goal (" + num(2, r.goalX) + ", " + num(2, r.goalY) +
+                    "), risk bound " + sci(r.riskBound)) +
+          "</text>\n";
+    *s += "<text class=\"outcome\" x=\"" + svgNumber(MissionMapLayout::kMargin) + "\" y=\"38\" font-size=\"13\">" +
+          svgEscape(r.outcome + " \u2014 " + r.verdict) + "</text>\n";
+}
+
+// What the rover did not know: the hidden rocks (truth) and the hazard discs it saw.
+void mapHiddenRocksAndHazards(const MissionRecord& r, const MissionMapLayout& l, std::string* s) {
+    const SvgFrame& f = l.frame;
     for (const std::vector<Point2>& rock : r.hiddenRocks) {
         if (rock.size() >= 3) {
-            s += "<polygon class=\"hidden-rock\" points=\"" + svgPoints(rock, f) +
-                 "\" fill=\"#e67e22\" fill-opacity=\"0.55\" stroke=\"#a04000\" stroke-width=\"1.2\" "
-                 "stroke-dasharray=\"3 2\"/>\n";
+            *s += "<polygon class=\"hidden-rock\" points=\"" + svgPoints(rock, f) +
+                  "\" fill=\"#e67e22\" fill-opacity=\"0.55\" stroke=\"#a04000\" stroke-width=\"1.2\" "
+                  "stroke-dasharray=\"3 2\"/>\n";
         }
     }
     for (const HazardSeen& hz : r.hazards) {
-        s += "<circle class=\"" + std::string(hz.hidden ? "hazard-hidden" : "hazard-known") + "\" cx=\"" +
-             svgNumber(f.x(hz.xM)) + "\" cy=\"" + svgNumber(f.y(hz.yM)) + "\" r=\"" + svgNumber(hz.radiusM * scale) +
-             "\" fill=\"none\" stroke=\"" + (hz.hidden ? "#d35400" : "#7f8c8d") +
-             "\" stroke-width=\"1.2\" stroke-dasharray=\"2 2\"/>\n";
+        *s += "<circle class=\"" + std::string(hz.hidden ? "hazard-hidden" : "hazard-known") + "\" cx=\"" +
+              svgNumber(f.x(hz.xM)) + "\" cy=\"" + svgNumber(f.y(hz.yM)) + "\" r=\"" +
+              svgNumber(hz.radiusM * l.scale) + "\" fill=\"none\" stroke=\"" + (hz.hidden ? "#d35400" : "#7f8c8d") +
+              "\" stroke-width=\"1.2\" stroke-dasharray=\"2 2\"/>\n";
     }
-    for (std::size_t i = 0; i < r.plans.size(); ++i) {
-        drawPlan(r.plans[i].problem, r.plans[i].plan, planColour(i), f, &s);
+}
+
+// A track's finite points as a polyline (none for fewer than two).
+void mapTrack(const std::vector<TrackPoint>& points, const char* cls, const char* style, const SvgFrame& f,
+              std::string* s) {
+    std::vector<Point2> line;
+    for (const TrackPoint& p : points) {
+        if (std::isfinite(p.xM) && std::isfinite(p.yM)) {
+            line.push_back(Point2{p.xM, p.yM});
+        }
     }
-    auto track = [&](const std::vector<TrackPoint>& points, const char* cls, const char* style) {
-        std::vector<Point2> line;
-        for (const TrackPoint& p : points) {
-            if (std::isfinite(p.xM) && std::isfinite(p.yM)) {
-                line.push_back(Point2{p.xM, p.yM});
-            }
-        }
-        if (line.size() >= 2) {
-            s += "<polyline class=\"" + std::string(cls) + "\" points=\"" + svgPoints(line, f) + "\" fill=\"none\" " +
-                 style + "/>\n";
-        }
-    };
-    track(r.truthTrack, "track-truth", "stroke=\"#111\" stroke-width=\"2.2\"");
-    track(r.estimatedTrack, "track-estimate", "stroke=\"#00a0a0\" stroke-width=\"1.4\" stroke-dasharray=\"6 3\"");
-    // The start and the goal.
+    if (line.size() >= 2) {
+        *s += "<polyline class=\"" + std::string(cls) + "\" points=\"" + svgPoints(line, f) + "\" fill=\"none\" " +
+              style + "/>\n";
+    }
+}
+
+// The driven and estimated tracks, the start and the goal.
+void mapTracks(const MissionRecord& r, const SvgFrame& f, std::string* s) {
+    mapTrack(r.truthTrack, "track-truth", "stroke=\"#111\" stroke-width=\"2.2\"", f, s);
+    mapTrack(r.estimatedTrack, "track-estimate", "stroke=\"#00a0a0\" stroke-width=\"1.4\" stroke-dasharray=\"6 3\"", f,
+             s);
     if (!r.truthTrack.empty() || !r.estimatedTrack.empty()) {
         const TrackPoint& start = r.truthTrack.empty() ? r.estimatedTrack.front() : r.truthTrack.front();
-        s += "<circle class=\"start\" cx=\"" + svgNumber(f.x(start.xM)) + "\" cy=\"" + svgNumber(f.y(start.yM)) +
-             "\" r=\"6\" fill=\"#fff\" stroke=\"#000\" stroke-width=\"1.5\"/>\n";
+        *s += "<circle class=\"start\" cx=\"" + svgNumber(f.x(start.xM)) + "\" cy=\"" + svgNumber(f.y(start.yM)) +
+              "\" r=\"6\" fill=\"#fff\" stroke=\"#000\" stroke-width=\"1.5\"/>\n";
     }
-    s += "<rect class=\"goal\" x=\"" + svgNumber(f.x(r.goalX) - 6.0) + "\" y=\"" + svgNumber(f.y(r.goalY) - 6.0) +
-         "\" width=\"12\" height=\"12\" fill=\"#000\"/>\n";
-    // The points, numbered where they happened; markers at one place stack up.
+    *s += "<rect class=\"goal\" x=\"" + svgNumber(f.x(r.goalX) - 6.0) + "\" y=\"" + svgNumber(f.y(r.goalY) - 6.0) +
+          "\" width=\"12\" height=\"12\" fill=\"#000\"/>\n";
+}
+
+// The points, numbered where they happened; markers at one place stack up.
+void mapPointMarkers(const MissionRecord& r, const SvgFrame& f, std::string* s) {
     std::vector<Point2> placed;
     for (const MissionPoint& p : r.points) {
         if (!p.seen || !p.hasPlace || !std::isfinite(p.xM) || !std::isfinite(p.yM)) {
@@ -201,22 +222,25 @@ std::string renderMissionMap(const MissionRecord& r) {
                                          [&at](Point2 q) { return geometry::distance(at, q) < 24.0; });
         const double cy = at.y - 22.0 - 22.0 * static_cast<double>(crowd);
         placed.push_back(at);
-        s += "<g class=\"point\" id=\"point-" + std::to_string(p.number) + "\">\n";
-        s += "<line x1=\"" + svgNumber(at.x) + "\" y1=\"" + svgNumber(at.y) + "\" x2=\"" + svgNumber(at.x) +
-             "\" y2=\"" + svgNumber(cy) + "\" stroke=\"#444\" stroke-width=\"0.8\"/>\n";
-        s += "<circle cx=\"" + svgNumber(at.x) + "\" cy=\"" + svgNumber(cy) +
-             "\" r=\"9.5\" fill=\"#ffd54f\" stroke=\"#333\" stroke-width=\"1\"/>\n";
-        s += "<text x=\"" + svgNumber(at.x) + "\" y=\"" + svgNumber(cy + 4.0) +
-             "\" font-size=\"11\" font-weight=\"bold\" text-anchor=\"middle\">" + std::to_string(p.number) +
-             "</text>\n</g>\n";
+        *s += "<g class=\"point\" id=\"point-" + std::to_string(p.number) + "\">\n";
+        *s += "<line x1=\"" + svgNumber(at.x) + "\" y1=\"" + svgNumber(at.y) + "\" x2=\"" + svgNumber(at.x) +
+              "\" y2=\"" + svgNumber(cy) + "\" stroke=\"#444\" stroke-width=\"0.8\"/>\n";
+        *s += "<circle cx=\"" + svgNumber(at.x) + "\" cy=\"" + svgNumber(cy) +
+              "\" r=\"9.5\" fill=\"#ffd54f\" stroke=\"#333\" stroke-width=\"1\"/>\n";
+        *s += "<text x=\"" + svgNumber(at.x) + "\" y=\"" + svgNumber(cy + 4.0) +
+              "\" font-size=\"11\" font-weight=\"bold\" text-anchor=\"middle\">" + std::to_string(p.number) +
+              "</text>\n</g>\n";
     }
-    // Legend.
-    double lx = kMargin;
-    const double ly = legendTop;
-    s += "<g class=\"legend\" font-size=\"12\">\n";
+}
+
+// The legend's swatches in one row, then a line naming each plan.
+void mapLegend(const MissionRecord& r, const MissionMapLayout& l, std::string* s) {
+    double lx = MissionMapLayout::kMargin;
+    const double ly = l.legendTop;
+    *s += "<g class=\"legend\" font-size=\"12\">\n";
     auto legend = [&](const std::string& swatch, const std::string& text, double width) {
-        s += swatch + "<text x=\"" + svgNumber(lx + 26.0) + "\" y=\"" + svgNumber(ly) + "\">" + svgEscape(text) +
-             "</text>\n";
+        *s += swatch + "<text x=\"" + svgNumber(lx + 26.0) + "\" y=\"" + svgNumber(ly) + "\">" + svgEscape(text) +
+              "</text>\n";
         lx += width;
     };
     legend("<rect x=\"" + svgNumber(lx) + "\" y=\"" + svgNumber(ly - 10.0) +
@@ -237,7 +261,7 @@ std::string renderMissionMap(const MissionRecord& r) {
     legend("<ellipse cx=\"" + svgNumber(lx + 9.0) + "\" cy=\"" + svgNumber(ly - 4.0) +
                "\" rx=\"9\" ry=\"6\" fill=\"#1f5fbf\" fill-opacity=\"0.1\" stroke=\"#1f5fbf\"/>",
            "plan: mean path, risk ellipses k = \u03a6\u207b\u00b9(1 \u2212 \u0394)", 330.0);
-    s += "</g>\n";
+    *s += "</g>\n";
     std::string plans;
     for (std::size_t i = 0; i < r.plans.size(); ++i) {
         plans += (i == 0 ? "" : "; ") + std::string("plan ") + std::to_string(i + 1) + " at " +
@@ -245,23 +269,51 @@ std::string renderMissionMap(const MissionRecord& r) {
                  (hasPath(r.plans[i].plan) ? num(2, r.plans[i].plan.euclideanLengthM) + " m" : std::string("no path")) +
                  ", \u03c3 " + num(3, r.plans[i].problem.processSigmaM) + " m/step";
     }
-    s += "<text x=\"" + svgNumber(kMargin) + "\" y=\"" + svgNumber(ly + kLineHeight + 4.0) + "\" font-size=\"12\">" +
-         svgEscape(plans.empty() ? std::string("no plan was made") : plans) + "</text>\n";
-    // The points, listed.
-    s += "<g class=\"point-list\" font-size=\"12\">\n";
-    s += "<text x=\"" + svgNumber(kMargin) + "\" y=\"" + svgNumber(listTop) + "\" font-weight=\"bold\">" +
-         svgEscape(r.verdict) + "</text>\n";
-    double y = listTop + kLineHeight;
+    *s += "<text x=\"" + svgNumber(MissionMapLayout::kMargin) + "\" y=\"" +
+          svgNumber(ly + MissionMapLayout::kLineHeight + 4.0) + "\" font-size=\"12\">" +
+          svgEscape(plans.empty() ? std::string("no plan was made") : plans) + "</text>\n";
+}
+
+// The points listed under the legend, the verdict first.
+void mapPointList(const MissionRecord& r, const MissionMapLayout& l, std::string* s) {
+    *s += "<g class=\"point-list\" font-size=\"12\">\n";
+    *s += "<text x=\"" + svgNumber(MissionMapLayout::kMargin) + "\" y=\"" + svgNumber(l.listTop) +
+          "\" font-weight=\"bold\">" + svgEscape(r.verdict) + "</text>\n";
+    double y = l.listTop + MissionMapLayout::kLineHeight;
     for (const MissionPoint& p : r.points) {
         std::string line = std::to_string(p.number) + "  ";
         line += p.seen ? num(2, p.timeS) + " s" + "  " + p.layer + ": " + p.what : std::string("not seen");
         if (line.size() > 230) {
             line = line.substr(0, 227) + "...";
         }
-        s += "<text x=\"" + svgNumber(kMargin) + "\" y=\"" + svgNumber(y) + "\">" + svgEscape(line) + "</text>\n";
-        y += kLineHeight;
+        *s += "<text x=\"" + svgNumber(MissionMapLayout::kMargin) + "\" y=\"" + svgNumber(y) + "\">" +
+              svgEscape(line) + "</text>\n";
+        y += MissionMapLayout::kLineHeight;
     }
-    s += "</g>\n</svg>\n";
+    *s += "</g>\n";
+}
+
+}  // namespace
+
+std::string renderMissionMap(const MissionRecord& r) {
+    const MissionMapLayout layout(r.map);
+    const SvgFrame& f = layout.frame;
+    std::string s;
+    mapHeading(r, layout, &s);
+    drawSite(r.map, f, &s);
+    drawRocks(r.map, f, &s);
+    if (!r.plans.empty()) {
+        drawGrownObstacles(r.plans.front().problem, f, &s);
+    }
+    mapHiddenRocksAndHazards(r, layout, &s);
+    for (std::size_t i = 0; i < r.plans.size(); ++i) {
+        drawPlan(r.plans[i].problem, r.plans[i].plan, planColour(i), f, &s);
+    }
+    mapTracks(r, f, &s);
+    mapPointMarkers(r, f, &s);
+    mapLegend(r, layout, &s);
+    mapPointList(r, layout, &s);
+    s += "</svg>\n";
     return s;
 }
 

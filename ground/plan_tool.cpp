@@ -21,12 +21,7 @@ constexpr int kExitOk = 0;
 constexpr int kExitRead = 1;
 constexpr int kExitBad = 2;
 
-constexpr const char* kPlanUsage =
-    "usage: rse-ground plan check FILE [--failed COMPONENT,...] [--degraded COMPONENT,...]\n"
-    "       rse-ground [global options] plan load FILE [--failed C,...] [--degraded C,...] [--force]\n"
-    "       rse-ground [global options] plan short TEXT [--failed C,...] [--degraded C,...] [--force]\n"
-    "       rse-ground [global options] plan abort\n"
-    "  components: drive_FL drive_ML drive_RL drive_FR drive_MR drive_RR grinder camera\n";
+constexpr const char* kPlanCheckUsage = "usage: rse-ground plan check FILE [--failed C,...] [--degraded C,...]";
 
 std::string seconds(std::int32_t ms) {
     if (ms >= kInfiniteMs) {
@@ -39,18 +34,15 @@ std::string seconds(std::int32_t ms) {
 
 }  // namespace
 
-std::optional<std::string> takeComponentStates(std::vector<std::string>* words, SelectionInput* input) {
-    for (std::size_t i = 0; i < words->size();) {
-        const std::string& option = (*words)[i];
+std::vector<CliOption> componentStateOptions() { return {{"failed", 0, true}, {"degraded", 0, true}}; }
+
+std::optional<std::string> applyComponentStates(const ParsedOptions& parsed, SelectionInput* input) {
+    for (const auto& [option, list] : parsed.given) {
         if (option != "--failed" && option != "--degraded") {
-            ++i;
             continue;
         }
-        if (i + 1 >= words->size()) {
-            return option + " needs a list of components";
-        }
         const ComponentState state = option == "--failed" ? ComponentState::kFailed : ComponentState::kDegraded;
-        std::stringstream names((*words)[i + 1]);
+        std::stringstream names(list);
         std::string name;
         while (std::getline(names, name, ',')) {
             bool found = false;
@@ -64,8 +56,6 @@ std::optional<std::string> takeComponentStates(std::vector<std::string>* words, 
                 return "unknown component '" + name + "'";
             }
         }
-        words->erase(words->begin() + static_cast<std::ptrdiff_t>(i),
-                     words->begin() + static_cast<std::ptrdiff_t>(i + 2));
     }
     return std::nullopt;
 }
@@ -148,20 +138,24 @@ bool checkPlanText(const std::string& text, const std::string& where, const Sele
 }
 
 int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-    if (args.size() < 2 || args[0] != "check") {
-        err << kPlanUsage;
-        return kExitBad;
-    }
-    const std::string path = args[1];
     SelectionInput input;
-    std::vector<std::string> options(args.begin() + 2, args.end());
-    if (const std::optional<std::string> why = takeComponentStates(&options, &input)) {
-        err << "rse-ground: plan check: " << *why << "\n" << kPlanUsage;
-        return kExitBad;
-    }
-    if (!options.empty()) {
-        err << "rse-ground: plan check: unexpected '" << options[0] << "'\n" << kPlanUsage;
-        return kExitBad;
+    std::string path;
+    try {
+        if (args.empty() || args[0] != "check") {
+            throw UsageError("plan: check, load, short or abort");
+        }
+        const ParsedOptions parsed = parseCliOptions(
+            "plan check", std::vector<std::string>(args.begin() + 1, args.end()), componentStateOptions());
+        expectOperands(parsed, 1, "plan check", kPlanCheckUsage);
+        if (const std::optional<std::string> why = applyComponentStates(parsed, &input)) {
+            throw UsageError("plan check: " + *why);
+        }
+        path = parsed.operands[0];
+    } catch (const UsageError& e) {
+        return reportUsageError(err, e.what());
+    } catch (const HelpRequested&) {
+        out << groundUsage();
+        return kExitOk;
     }
     std::ifstream file(path, std::ios::binary);
     if (!file) {

@@ -11,10 +11,11 @@
 // docs/plan_executive.md "Checking a plan on the ground".
 //
 // The same check guards `rse-ground plan load` and `plan short`
-// (ground/plan_transfer.hpp): checkPlanText() and takeComponentStates().
+// (ground/plan_transfer.hpp): checkPlanText() and applyComponentStates().
 //
-// Exit status: 0 the plan parses and has a valid selection; 1 the file cannot
-// be read; 2 bad usage, a plan the parser refuses, or no valid selection.
+// Exit status: 0 the plan parses and has a valid selection (or --help); 1 the
+// file cannot be read; 2 a bad command line (one line and "see 'rse-ground
+// --help'"), a plan the parser refuses, or no valid selection.
 #pragma once
 
 #include <iosfwd>
@@ -23,17 +24,20 @@
 #include <vector>
 
 #include "fsw/plan_executive/method_selector.hpp"
+#include "ground/cli_options.hpp"
 
 namespace rse::ground {
 
 // args: what follows "plan" ("check", FILE and options).
 int runPlanCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
-// Takes every "--failed C,..." and "--degraded C,..." (components drive_FL ..
-// drive_RR, grinder, camera) out of words into input. Returns why it could
-// not (an unknown component, a missing list), nullopt when all was well.
-std::optional<std::string> takeComponentStates(std::vector<std::string>* words,
-                                               plan_executive::SelectionInput* input);
+// The component-state options of plan check, load and short.
+std::vector<CliOption> componentStateOptions();  // --failed C,... --degraded C,...
+
+// Every --failed C,... and --degraded C,... of parsed, in the order given
+// (components drive_FL .. drive_RR, grinder, camera), into input. Returns why it
+// could not (an unknown component), nullopt when all was well.
+std::optional<std::string> applyComponentStates(const ParsedOptions& parsed, plan_executive::SelectionInput* input);
 
 // The check `plan check` makes, on plan text: the flight parser, then method
 // selection under input, then the selection's temporal network. Prints the

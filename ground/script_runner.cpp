@@ -154,37 +154,32 @@ std::string WaitCondition::observed(const DecodedPacket& decoded) const {
     return name + " = " + (f != nullptr ? conditionValueText(*this, *f) : std::string("?"));
 }
 
-WaitCondition parseCondition(const std::string& text) {
+namespace {
+
+constexpr const char* kConditionUsage = " (expected PACKET.FIELD OP VALUE, OP one of == != < <= > >=)";
+
+// The first comparison operator in text, the two-character ones first at each
+// place: its position and its operator; false when there is none.
+bool findComparison(const std::string& text, std::size_t* at, CompareOp* op, std::size_t* opLength) {
     static const char* const kOps[] = {"==", "!=", "<=", ">=", "<", ">"};
     static const CompareOp kOpCodes[] = {CompareOp::kEq, CompareOp::kNe, CompareOp::kLe,
                                          CompareOp::kGe, CompareOp::kLt, CompareOp::kGt};
-    std::size_t at = std::string::npos;
-    std::size_t opIndex = 0;
-    for (std::size_t i = 0; i < text.size() && at == std::string::npos; ++i) {
+    for (std::size_t i = 0; i < text.size(); ++i) {
         for (std::size_t k = 0; k < 6; ++k) {
             if (text.compare(i, std::char_traits<char>::length(kOps[k]), kOps[k]) == 0) {
-                at = i;
-                opIndex = k;
-                break;
+                *at = i;
+                *op = kOpCodes[k];
+                *opLength = std::char_traits<char>::length(kOps[k]);
+                return true;
             }
         }
     }
-    const std::string usage = " (expected PACKET.FIELD OP VALUE, OP one of == != < <= > >=)";
-    if (at == std::string::npos) {
-        throw ScriptError("no comparison in '" + text + "'" + usage);
-    }
-    WaitCondition c;
-    c.op = kOpCodes[opIndex];
-    const std::string left = trim(text.substr(0, at));
-    const std::string right = trim(text.substr(at + std::char_traits<char>::length(kOps[opIndex])));
-    const std::size_t dot = left.find('.');
-    if (left.empty() || dot == std::string::npos || dot == 0 || dot + 1 >= left.size()) {
-        throw ScriptError("'" + left + "' is not PACKET.FIELD" + usage);
-    }
-    const std::string packetName = toUpper(left.substr(0, dot));
-    std::string fieldName = toLower(left.substr(dot + 1));
-    c.packet = cmdtlm::findTelemetry(packetName.c_str());
-    if (c.packet == nullptr) {
+    return false;
+}
+
+const cmdtlm::TelemetryDesc* conditionPacket(const std::string& packetName) {
+    const cmdtlm::TelemetryDesc* packet = cmdtlm::findTelemetry(packetName.c_str());
+    if (packet == nullptr) {
         std::string known;
         std::size_t count = 0;
         const cmdtlm::TelemetryDesc* all = cmdtlm::telemetryDescs(&count);
@@ -193,6 +188,12 @@ WaitCondition parseCondition(const std::string& text) {
         }
         throw ScriptError("unknown telemetry packet '" + packetName + "' (known: " + known + ")");
     }
+    return packet;
+}
+
+// FIELD or FIELD[i] of c.packet (left is the whole PACKET.FIELD, for messages):
+// sets c->field and c->index; true when an element was named.
+bool conditionField(const std::string& left, std::string fieldName, WaitCondition* c) {
     bool indexed = false;
     const std::size_t bracket = fieldName.find('[');
     if (bracket != std::string::npos) {
@@ -201,59 +202,89 @@ WaitCondition parseCondition(const std::string& text) {
             !parseInteger(fieldName.substr(bracket + 1, fieldName.size() - bracket - 2), &index) || index < 0) {
             throw ScriptError("'" + left + "': an element is written FIELD[i], i a number from 0");
         }
-        c.index = static_cast<std::size_t>(index);
+        c->index = static_cast<std::size_t>(index);
         indexed = true;
         fieldName = fieldName.substr(0, bracket);
     }
-    for (std::size_t i = 0; i < c.packet->fieldCount; ++i) {
-        if (fieldName == c.packet->fields[i].name) {
-            c.field = &c.packet->fields[i];
+    for (std::size_t i = 0; i < c->packet->fieldCount; ++i) {
+        if (fieldName == c->packet->fields[i].name) {
+            c->field = &c->packet->fields[i];
         }
     }
-    if (c.field == nullptr) {
+    if (c->field == nullptr) {
         std::string known;
-        for (std::size_t i = 0; i < c.packet->fieldCount; ++i) {
-            known += std::string(i > 0 ? ", " : "") + c.packet->fields[i].name;
+        for (std::size_t i = 0; i < c->packet->fieldCount; ++i) {
+            known += std::string(i > 0 ? ", " : "") + c->packet->fields[i].name;
         }
-        throw ScriptError(std::string(c.packet->name) + " has no field '" + fieldName + "' (fields: " + known + ")");
+        throw ScriptError(std::string(c->packet->name) + " has no field '" + fieldName + "' (fields: " + known + ")");
     }
-    const std::string qualified = std::string(c.packet->name) + "." + c.field->name;
-    if (right.empty()) {
-        throw ScriptError("no value to compare " + qualified + " with" + usage);
+    return indexed;
+}
+
+// A text field: compared whole, == or != only, the value without its quotes.
+void textConditionValue(const std::string& qualified, const std::string& right, bool indexed, WaitCondition* c) {
+    if (indexed) {
+        throw ScriptError(qualified + " is a text: compare it whole, without [i]");
     }
-    if (c.field->type == cmdtlm::FieldType::chr) {
-        if (indexed) {
-            throw ScriptError(qualified + " is a text: compare it whole, without [i]");
-        }
-        if (c.op != CompareOp::kEq && c.op != CompareOp::kNe) {
-            throw ScriptError(qualified + " is a text: only == and != compare it");
-        }
-        c.isText = true;
-        c.text = right;
-        if (c.text.size() >= 2 && c.text.front() == '"' && c.text.back() == '"') {
-            c.text = c.text.substr(1, c.text.size() - 2);
-        }
-    } else {
-        if (c.field->count > 1 && !indexed) {
-            throw ScriptError(qualified + " is an array of " + std::to_string(c.field->count) + ": write " +
-                              c.field->name + "[i], i 0.." + std::to_string(c.field->count - 1));
-        }
-        if (indexed && c.index >= c.field->count) {
-            throw ScriptError(qualified + "[" + std::to_string(c.index) + "]: index beyond the " +
-                              std::to_string(c.field->count) + " elements");
-        }
-        bool symbolic = false;
-        if (std::string(c.field->name) == "mode") {
-            for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
-                if (toUpper(right) == cmdtlm::toString(static_cast<cmdtlm::Mode>(m))) {
-                    c.number = static_cast<double>(m);
-                    symbolic = true;
-                }
+    if (c->op != CompareOp::kEq && c->op != CompareOp::kNe) {
+        throw ScriptError(qualified + " is a text: only == and != compare it");
+    }
+    c->isText = true;
+    c->text = right;
+    if (c->text.size() >= 2 && c->text.front() == '"' && c->text.back() == '"') {
+        c->text = c->text.substr(1, c->text.size() - 2);
+    }
+}
+
+// A number field (one element of an array): the value a number, or a mode's name for `mode`.
+void numberConditionValue(const std::string& qualified, const std::string& right, bool indexed, WaitCondition* c) {
+    if (c->field->count > 1 && !indexed) {
+        throw ScriptError(qualified + " is an array of " + std::to_string(c->field->count) + ": write " +
+                          c->field->name + "[i], i 0.." + std::to_string(c->field->count - 1));
+    }
+    if (indexed && c->index >= c->field->count) {
+        throw ScriptError(qualified + "[" + std::to_string(c->index) + "]: index beyond the " +
+                          std::to_string(c->field->count) + " elements");
+    }
+    bool symbolic = false;
+    if (std::string(c->field->name) == "mode") {
+        for (std::size_t m = 0; m < cmdtlm::kModeCount; ++m) {
+            if (toUpper(right) == cmdtlm::toString(static_cast<cmdtlm::Mode>(m))) {
+                c->number = static_cast<double>(m);
+                symbolic = true;
             }
         }
-        if (!symbolic && (!parseDouble(right, &c.number) || std::isnan(c.number))) {
-            throw ScriptError("'" + right + "' is not a number to compare " + qualified + " with");
-        }
+    }
+    if (!symbolic && (!parseDouble(right, &c->number) || std::isnan(c->number))) {
+        throw ScriptError("'" + right + "' is not a number to compare " + qualified + " with");
+    }
+}
+
+}  // namespace
+
+WaitCondition parseCondition(const std::string& text) {
+    std::size_t at = 0;
+    std::size_t opLength = 0;
+    WaitCondition c;
+    if (!findComparison(text, &at, &c.op, &opLength)) {
+        throw ScriptError("no comparison in '" + text + "'" + kConditionUsage);
+    }
+    const std::string left = trim(text.substr(0, at));
+    const std::string right = trim(text.substr(at + opLength));
+    const std::size_t dot = left.find('.');
+    if (left.empty() || dot == std::string::npos || dot == 0 || dot + 1 >= left.size()) {
+        throw ScriptError("'" + left + "' is not PACKET.FIELD" + kConditionUsage);
+    }
+    c.packet = conditionPacket(toUpper(left.substr(0, dot)));
+    const bool indexed = conditionField(left, toLower(left.substr(dot + 1)), &c);
+    const std::string qualified = std::string(c.packet->name) + "." + c.field->name;
+    if (right.empty()) {
+        throw ScriptError("no value to compare " + qualified + " with" + kConditionUsage);
+    }
+    if (c.field->type == cmdtlm::FieldType::chr) {
+        textConditionValue(qualified, right, indexed, &c);
+    } else {
+        numberConditionValue(qualified, right, indexed, &c);
     }
     c.source = qualified + (indexed ? "[" + std::to_string(c.index) + "]" : std::string()) + " " +
                toString(c.op) + " " + right;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fsw/tables/table_image.hpp"
+#include "ground/cli_options.hpp"
 #include "ground/table_compiler.hpp"
 
 namespace rse::ground {
@@ -14,36 +15,23 @@ namespace {
 
 constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 1;
-constexpr int kExitUsage = 2;
 
-int usage(std::ostream& err, const std::string& why) {
-    err << "rse-ground table: " << why << "\n"
-        << "usage: rse-ground table build SRC.toml -o OUT.tbl\n"
-           "       rse-ground table build --cpp OUT.cpp SRC.toml...\n"
-           "       rse-ground table show IMAGE.tbl|SRC.toml\n"
-           "       rse-ground table check IMAGE.tbl\n"
-           "       rse-ground table list\n";
-    return kExitUsage;
-}
+constexpr const char* kBuildUsage =
+    "usage: rse-ground table build SRC.toml -o OUT.tbl, or table build --cpp OUT.cpp SRC.toml...";
 
 // Writes OUT only once everything compiled, so a failed build leaves no
 // half-written file for make to mistake as up to date.
 int build(const std::vector<std::string>& args, std::ostream& out) {
-    std::string output;
-    bool cpp = false;
-    std::vector<std::string> sources;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        if ((args[i] == "-o" || args[i] == "--cpp") && output.empty() && i + 1 < args.size()) {
-            cpp = args[i] == "--cpp";
-            output = args[++i];
-        } else if (!args[i].empty() && args[i][0] == '-') {
-            throw std::invalid_argument("build: unexpected option " + args[i]);
-        } else {
-            sources.push_back(args[i]);
-        }
+    const ParsedOptions parsed = parseCliOptions("table build", args, {{nullptr, 'o', true}, {"cpp", 0, true}});
+    const bool cpp = parsed.has("--cpp");
+    if (cpp && parsed.has("-o")) {
+        throw UsageError("table build: -o or --cpp, not both");
     }
+    const std::string output = parsed.value(cpp ? "--cpp" : "-o").value_or("");
+    const std::vector<std::string>& sources = parsed.operands;
     if (output.empty() || sources.empty() || (!cpp && sources.size() != 1)) {
-        throw std::invalid_argument("build: give one SRC.toml with -o OUT.tbl, or --cpp OUT.cpp and sources");
+        throw UsageError("table build: give one SRC.toml with -o OUT.tbl, or --cpp OUT.cpp and sources (" +
+                         std::string(kBuildUsage) + ")");
     }
     if (!cpp) {
         const CompiledTable c = compileTableFile(sources[0]);
@@ -113,33 +101,40 @@ void list(std::ostream& out) {
 }  // namespace
 
 int runTableCommand(int argc, char** argv, std::ostream& out, std::ostream& err) {
-    if (argc < 2) {
-        return usage(err, "missing subcommand");
-    }
-    const std::string command = argv[1];
-    const std::vector<std::string> args(argv + 2, argv + argc);
+    const std::string command = argc >= 2 ? argv[1] : "";
+    const std::vector<std::string> args(argv + (argc >= 2 ? 2 : argc), argv + argc);
     try {
         if (command == "build") {
             return build(args, out);
         }
-        if (command == "show" && args.size() == 1) {
-            return show(args[0], out);
+        // show, check and list take no option: --help is the only one they know.
+        const ParsedOptions parsed = parseCliOptions(command.empty() ? "table" : "table " + command, args, {});
+        if (command == "show") {
+            expectOperands(parsed, 1, "table show", "usage: rse-ground table show IMAGE.tbl|SRC.toml");
+            return show(parsed.operands[0], out);
         }
-        if (command == "check" && args.size() == 1) {
-            return check(args[0], out, err);
+        if (command == "check") {
+            expectOperands(parsed, 1, "table check", "usage: rse-ground table check IMAGE.tbl");
+            return check(parsed.operands[0], out, err);
         }
-        if (command == "list" && args.empty()) {
+        if (command == "list") {
+            expectOperands(parsed, 0, "table list", "usage: rse-ground table list");
             list(out);
             return kExitOk;
         }
-    } catch (const std::invalid_argument& e) {
-        return usage(err, e.what());
+        throw UsageError(command.empty() ? "table: load, dump, build, show, check or list"
+                                         : "table: unknown sub-command '" + command +
+                                               "' (load, dump, build, show, check or list)");
+    } catch (const UsageError& e) {
+        return reportUsageError(err, e.what());
+    } catch (const HelpRequested&) {
+        out << groundUsage();
+        return kExitOk;
     } catch (const std::exception& e) {
         // TableSourceError (bad source, unreadable file) and anything unexpected.
         err << e.what() << "\n";
         return kExitBadInput;
     }
-    return usage(err, "unknown subcommand or wrong arguments: " + command);
 }
 
 }  // namespace rse::ground

@@ -6,7 +6,9 @@
 //   table check IMAGE.tbl                    check only: prints one line
 //   table list                               every table and field with units and range
 //
-// Exit status: 0 ok, 1 bad input (the message on err), 2 bad usage.
+// Options are parsed with getopt_long (ground/cli_options.hpp). Exit status: 0 ok
+// (or --help: the usage on out), 1 bad input (the message on err), 2 a bad
+// command line (one line and "see 'rse-ground --help'" on err).
 #pragma once
 
 #include <iosfwd>

@@ -29,15 +29,16 @@
 // --spin-margin-us N makes real-time waits hybrid (core::MonotonicClock): sleep
 // to N us before the frame start, spin the rest (docs/performance.md, "Frame-start
 // jitter"; 0, the default, sleeps only).
-// Exit status: 0 after a clean stop,
-// 1 if initialisation failed, 2 for a bad command line.
-#include <cerrno>
+// The options are parsed in fsw/app/fsw_options.cpp (getopt_long; --help prints
+// them all). Exit status: 0 after a clean stop (or --help), 1 if initialisation
+// failed, 2 for a bad command line (one line saying what is wrong, then
+// "see 'rse-fsw --help'", on stderr).
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 
 #include "fsw/app/fsw_app.hpp"
+#include "fsw/app/fsw_options.hpp"
 #include "fsw/cmdtlm/key_loader.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/realtime_process.hpp"
@@ -55,229 +56,7 @@ volatile std::sig_atomic_t g_stopRequested = 0;
 // Only sets a flag: the executive checks it once per frame.
 void onStopSignal(int) { g_stopRequested = 1; }
 
-struct Options {
-    bool lockstep = false;
-    bool quiet = false;
-    bool realtimePosture = true;
-    double durationSec = 0.0;  // 0: until a signal
-    const char* canInterface = nullptr;
-    bool udp = false;
-    const char* udpBind = "127.0.0.1";
-    std::uint16_t commandPort = rse::hal::kDefaultCommandPort;
-    const char* telemetryHost = "127.0.0.1";
-    std::uint16_t telemetryPort = rse::hal::kDefaultTelemetryPort;
-    const char* keyFile = nullptr;
-    rse::cmdtlm::KeyLoadOptions keyOptions;  // --lab-key, --allow-weak-key, --allow-readable-key
-    bool authRequired = true;
-    const char* authStore = "rse-fsw-auth.dat";
-    bool authStoreCreate = false;
-    bool authStoreSync = false;
-    const char* watchdogDevice = nullptr;
-    int watchdogTimeoutS = 30;
-    std::uint32_t timeScale = 0;  // 0: not given (CLOCK_MONOTONIC as it is)
-    long spinMarginUs = -1;       // -1: not given (sleep only)
-};
-
-void usage(std::FILE* out) {
-    std::fprintf(out,
-                 "usage: rse-fsw [--can IFACE] [--lockstep] [--duration SECONDS] [--quiet] [--no-rt]\n"
-                 "               [--udp] [--udp-bind ADDR] [--cmd-port N] [--tlm-host ADDR] [--tlm-port N]\n"
-                 "               (--key-file FILE [--allow-readable-key] [--allow-weak-key] | --lab-key)\n"
-                 "               [--lab-no-auth] [--watchdog DEV] [--watchdog-timeout S]\n"
-                 "               [--auth-store PATH] [--auth-store-create] [--auth-store-sync]\n"
-                 "               [--time-scale N] [--spin-margin-us N]\n"
-                 "  --can IFACE         SocketCAN interface of the rover bus (default: none attached);\n"
-                 "                      the ground link runs over ISO-TP on it (rx 0x6C0, tx 0x6C1)\n"
-                 "  --lockstep          virtual clock, as fast as possible (needs --duration)\n"
-                 "  --duration SECONDS  stop after this much executive time (default: until SIGINT/SIGTERM)\n"
-                 "  --quiet             no console housekeeping or event lines\n"
-                 "  --no-rt             real time without mlockall/SCHED_FIFO\n"
-                 "  --udp               add the UDP ground link\n"
-                 "  --udp-bind ADDR     address the command port binds to (default 127.0.0.1)\n"
-                 "  --cmd-port N        UDP command port (default 1234)\n"
-                 "  --tlm-host ADDR     where UDP telemetry goes (default 127.0.0.1)\n"
-                 "  --tlm-port N        UDP telemetry port (default 1235)\n"
-                 "  --key-file FILE     command authentication keys, lines ID:64-hex-digits (chmod 600);\n"
-                 "                      rse-fsw does not start without one unless --lab-key is given\n"
-                 "  --allow-readable-key  load a key file group or others may read or write (warns)\n"
-                 "  --allow-weak-key    load weak keys (all zero, all equal, < 8 distinct bytes; warns)\n"
-                 "  --lab-key           use the PUBLIC lab key (id 1 without a key file; with one, the\n"
-                 "                      file may hold it): lab only, never flight (warns)\n"
-                 "  --lab-no-auth       lab setting: also accept unauthenticated commands\n"
-                 "  --auth-store PATH   where the anti-replay reservations persist (default rse-fsw-auth.dat);\n"
-                 "                      missing or corrupt: commands refused until AUTH_RESYNC\n"
-                 "  --auth-store-create first boot: create a missing store (floor 0) and add loaded keys it lacks;\n"
-                 "                      never touches a corrupt store or a stored reservation\n"
-                 "  --auth-store-sync   write reservations inside the command task, without the writer thread\n"
-                 "                      (emulators whose threads do not run, e.g. qemu-user 7.2 here); a write\n"
-                 "                      then takes 0.7-5 ms of that task's 2 ms budget\n"
-                 "  --watchdog DEV      arm the Linux watchdog DEV (/dev/watchdog) and feed it while every task is live;\n"
-                 "                      a hung rse-fsw then restarts the computer (a clean stop disarms it)\n"
-                 "  --watchdog-timeout S  watchdog timeout asked for, 1..3600 s (default 30)\n"
-                 "  --time-scale N      lab only: mission time runs N times slower than CLOCK_MONOTONIC (1..%u;\n"
-                 "                      1 = real time), for a machine too slow for 100 Hz (the qemu VM); give\n"
-                 "                      rse-sim the same N. Frame periods, timeouts, budgets and --duration are\n"
-                 "                      in mission time; HK.time_scale says N\n"
-                 "  --spin-margin-us N  real time: sleep to N us before each frame start and spin the rest\n"
-                 "                      (0..%lld; default 0 = sleep only): frame starts on time despite the\n"
-                 "                      kernel's timer wake-up latency, for up to N us of CPU a frame\n",
-                 static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor),
-                 static_cast<long long>(rse::core::MonotonicClock::kMaxSpinMargin / rse::core::kNsPerUs));
-}
-
-// Returns false (after printing why) on a bad command line.
-bool parseOptions(int argc, char** argv, Options* options) {
-    for (int i = 1; i < argc; ++i) {
-        const char* arg = argv[i];
-        if (std::strcmp(arg, "--lockstep") == 0) {
-            options->lockstep = true;
-        } else if (std::strcmp(arg, "--quiet") == 0) {
-            options->quiet = true;
-        } else if (std::strcmp(arg, "--no-rt") == 0) {
-            options->realtimePosture = false;
-        } else if (std::strcmp(arg, "--can") == 0) {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "rse-fsw: --can needs an interface name\n");
-                return false;
-            }
-            options->canInterface = argv[++i];
-        } else if (std::strcmp(arg, "--duration") == 0) {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "rse-fsw: --duration needs a number of seconds\n");
-                return false;
-            }
-            char* end = nullptr;
-            const double value = std::strtod(argv[++i], &end);
-            if (end == argv[i] || *end != '\0' || !(value > 0.0) || value > 1.0e7) {
-                std::fprintf(stderr, "rse-fsw: --duration '%s' is not a number of seconds in (0, 1e7]\n",
-                             argv[i]);
-                return false;
-            }
-            options->durationSec = value;
-        } else if (std::strcmp(arg, "--udp") == 0) {
-            options->udp = true;
-        } else if (std::strcmp(arg, "--lab-no-auth") == 0) {
-            options->authRequired = false;
-        } else if (std::strcmp(arg, "--auth-store-create") == 0) {
-            options->authStoreCreate = true;
-        } else if (std::strcmp(arg, "--auth-store-sync") == 0) {
-            options->authStoreSync = true;
-        } else if (std::strcmp(arg, "--lab-key") == 0) {
-            options->keyOptions.labKeyAllowed = true;
-        } else if (std::strcmp(arg, "--allow-weak-key") == 0) {
-            options->keyOptions.weakKeyAllowed = true;
-        } else if (std::strcmp(arg, "--allow-readable-key") == 0) {
-            options->keyOptions.readableFileAllowed = true;
-        } else if (std::strcmp(arg, "--udp-bind") == 0 || std::strcmp(arg, "--tlm-host") == 0 ||
-                   std::strcmp(arg, "--key-file") == 0 || std::strcmp(arg, "--watchdog") == 0 ||
-                   std::strcmp(arg, "--auth-store") == 0) {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "rse-fsw: %s needs a value\n", arg);
-                return false;
-            }
-            const char* value = argv[++i];
-            if (std::strcmp(arg, "--udp-bind") == 0) {
-                options->udpBind = value;
-            } else if (std::strcmp(arg, "--tlm-host") == 0) {
-                options->telemetryHost = value;
-            } else if (std::strcmp(arg, "--watchdog") == 0) {
-                options->watchdogDevice = value;
-            } else if (std::strcmp(arg, "--auth-store") == 0) {
-                if (value[0] == '\0' || std::strlen(value) > rse::hal::FileRecordStore::kMaxPath) {
-                    std::fprintf(stderr, "rse-fsw: --auth-store needs a path of 1..%zu characters\n",
-                                 rse::hal::FileRecordStore::kMaxPath);
-                    return false;
-                }
-                options->authStore = value;
-            } else {
-                options->keyFile = value;
-            }
-        } else if (std::strcmp(arg, "--watchdog-timeout") == 0) {
-            char* end = nullptr;
-            const long seconds = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : 0;
-            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || seconds < 1 || seconds > 3600) {
-                std::fprintf(stderr, "rse-fsw: --watchdog-timeout needs a number of seconds 1..3600\n");
-                return false;
-            }
-            ++i;
-            options->watchdogTimeoutS = static_cast<int>(seconds);
-        } else if (std::strcmp(arg, "--time-scale") == 0) {
-            char* end = nullptr;
-            const unsigned long factor = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
-            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || argv[i + 1][0] == '-' || factor < 1 ||
-                factor > rse::core::ScaledMonotonicClock::kMaxFactor) {
-                std::fprintf(stderr, "rse-fsw: --time-scale needs a whole factor 1..%u\n",
-                             static_cast<unsigned>(rse::core::ScaledMonotonicClock::kMaxFactor));
-                return false;
-            }
-            ++i;
-            options->timeScale = static_cast<std::uint32_t>(factor);
-        } else if (std::strcmp(arg, "--spin-margin-us") == 0) {
-            char* end = nullptr;
-            const long maxUs = static_cast<long>(rse::core::MonotonicClock::kMaxSpinMargin / rse::core::kNsPerUs);
-            const long us = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : -1;
-            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || us < 0 || us > maxUs) {
-                std::fprintf(stderr, "rse-fsw: --spin-margin-us needs whole microseconds 0..%ld\n", maxUs);
-                return false;
-            }
-            ++i;
-            options->spinMarginUs = us;
-        } else if (std::strcmp(arg, "--cmd-port") == 0 || std::strcmp(arg, "--tlm-port") == 0) {
-            char* end = nullptr;
-            const unsigned long port = i + 1 < argc ? std::strtoul(argv[i + 1], &end, 10) : 0;
-            if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || port == 0 || port > 65535) {
-                std::fprintf(stderr, "rse-fsw: %s needs a port number 1..65535\n", arg);
-                return false;
-            }
-            ++i;
-            (std::strcmp(arg, "--cmd-port") == 0 ? options->commandPort : options->telemetryPort) =
-                static_cast<std::uint16_t>(port);
-        } else if (std::strcmp(arg, "--help") == 0 || std::strcmp(arg, "-h") == 0) {
-            usage(stdout);
-            std::exit(0);
-        } else {
-            std::fprintf(stderr, "rse-fsw: unknown option '%s'\n", arg);
-            return false;
-        }
-    }
-    if (options->lockstep && options->canInterface != nullptr) {
-        std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock and cannot use a real CAN interface\n");
-        return false;
-    }
-    if (options->lockstep && options->watchdogDevice != nullptr) {
-        std::fprintf(stderr, "rse-fsw: --lockstep runs on a virtual clock: a watchdog would time out on real time\n");
-        return false;
-    }
-    if (options->lockstep && options->timeScale != 0) {
-        std::fprintf(stderr, "rse-fsw: --time-scale slows the real-time clock: --lockstep has none\n");
-        return false;
-    }
-    if (options->lockstep && options->spinMarginUs >= 0) {
-        std::fprintf(stderr, "rse-fsw: --spin-margin-us shapes real-time waits: --lockstep has none\n");
-        return false;
-    }
-    if (options->timeScale > 1 && options->watchdogDevice != nullptr) {
-        std::fprintf(stderr, "rse-fsw: --time-scale is for the lab: a watchdog counts real seconds and would "
-                             "time out on a slowed timeline\n");
-        return false;
-    }
-    if (options->lockstep && options->durationSec <= 0.0) {
-        std::fprintf(stderr, "rse-fsw: --lockstep needs --duration (it would never yield)\n");
-        return false;
-    }
-    if (options->keyFile == nullptr && !options->keyOptions.labKeyAllowed) {
-        std::fprintf(stderr,
-                     "rse-fsw: no command key: give --key-file FILE, or --lab-key to use the public lab key "
-                     "(lab only, never flight)\n");
-        return false;
-    }
-    if (options->keyFile == nullptr &&
-        (options->keyOptions.weakKeyAllowed || options->keyOptions.readableFileAllowed)) {
-        std::fprintf(stderr, "rse-fsw: --allow-weak-key and --allow-readable-key need --key-file\n");
-        return false;
-    }
-    return true;
-}
+using Options = rse::app::FswOptions;
 
 // Loads the key file into the app's key store (start-up only), with the checks of
 // cmdtlm::loadKeyFile; says on stderr why a file is refused, and warns.
@@ -357,57 +136,60 @@ rse::hal::FileRecordStore g_authStore;
 rse::hal::ThreadedRecordWriter g_authWriter(g_authStore);
 char g_stdoutBuffer[16384];
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    // A static stdout buffer: stdio would otherwise allocate one on first write.
-    std::setvbuf(stdout, g_stdoutBuffer, _IOLBF, sizeof g_stdoutBuffer);
-
-    Options options;
-    if (!parseOptions(argc, argv, &options)) {
-        usage(stderr);
-        return 2;
-    }
-    // Anchored before anything reads it: mission time is continuous with
-    // CLOCK_MONOTONIC at this point and runs N times slower from here.
+// Anchored before anything reads it: mission time is continuous with
+// CLOCK_MONOTONIC at this point and runs N times slower from here. False (said)
+// when the clocks refuse the factor or the margin.
+bool startClocks(const Options& options) {
     if (options.timeScale != 0 && !g_scaledClock.start(options.timeScale)) {
         std::fprintf(stderr, "rse-fsw: --time-scale %u refused\n", static_cast<unsigned>(options.timeScale));
-        return 2;
+        return false;
     }
     if (options.spinMarginUs > 0) {
         const rse::core::TimeNs margin = options.spinMarginUs * rse::core::kNsPerUs;
         if (!g_monotonicClock.setSpinMargin(margin) || !g_scaledClock.setSpinMargin(margin)) {
             std::fprintf(stderr, "rse-fsw: --spin-margin-us %ld refused\n", options.spinMarginUs);
-            return 2;
+            return false;
         }
     }
-    rse::core::Clock& clock = options.lockstep         ? static_cast<rse::core::Clock&>(g_virtualClock)
-                               : options.timeScale != 0 ? static_cast<rse::core::Clock&>(g_scaledClock)
-                                                        : static_cast<rse::core::Clock&>(g_monotonicClock);
+    return true;
+}
+
+rse::core::Clock& chosenClock(const Options& options) {
+    if (options.lockstep) {
+        return g_virtualClock;
+    }
+    if (options.timeScale != 0) {
+        return g_scaledClock;
+    }
+    return g_monotonicClock;
+}
+
+// The rover bus: the SocketCAN interface asked for, else the in-memory bus with
+// nothing attached; nullptr (said) when the interface cannot be opened.
+rse::hal::CanBus* openRoverBus(const Options& options) {
     rse::hal::CanBus* can = g_detachedBus.attach("rse-fsw");
     if (options.canInterface != nullptr) {
         if (!rse::core::isOk(g_socketCan.open(options.canInterface))) {
             std::fprintf(stderr, "rse-fsw: cannot open CAN interface '%s': %s\n", options.canInterface,
                          std::strerror(g_socketCan.lastErrno()));
-            return 1;
+            return nullptr;
         }
         can = &g_socketCan;
     }
-    static rse::app::FswApp app(clock, *can);
-    if (!loadKeys(options, app)) {
-        return 1;
-    }
-    app.setAuthRequired(options.authRequired);
-    app.setTimeScale(static_cast<std::uint8_t>(options.timeScale != 0 ? options.timeScale : 1));
-    // The anti-replay store: always a file (a restart must not reopen numbers).
+    return can;
+}
+
+// The anti-replay store (always a file: a restart must not reopen numbers) and
+// its writer thread, attached; then the AUTH_RESYNC nonce from the random source.
+bool attachAuthStore(const Options& options, rse::app::FswApp& app) {
     if (!rse::core::isOk(g_authStore.open(options.authStore))) {
         std::fprintf(stderr, "rse-fsw: cannot use '%s' as the anti-replay store\n", options.authStore);
-        return 1;
+        return false;
     }
     int writerError = 0;
     if (!options.authStoreSync && !rse::core::isOk(g_authWriter.start(&writerError))) {
         std::fprintf(stderr, "rse-fsw: cannot start the anti-replay store writer: %s\n", std::strerror(writerError));
-        return 1;
+        return false;
     }
     app.attachAuthStore(&g_authStore, options.authStoreCreate, options.authStoreSync ? nullptr : &g_authWriter);
     std::uint64_t nonce = 0;
@@ -418,44 +200,62 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "rse-fsw: no random source for the AUTH_RESYNC nonce (%s): AUTH_RESYNC refused\n",
                      std::strerror(randomError));
     }
-    static rse::hal::UdpPacketLink g_udpLink(app.events());
-    if (options.udp) {
-        if (!rse::core::isOk(g_udpLink.open(options.udpBind, options.commandPort, options.telemetryHost,
-                                            options.telemetryPort))) {
-            std::fprintf(stderr, "rse-fsw: cannot open the UDP ground link on %s:%u: %s\n", options.udpBind,
-                         static_cast<unsigned>(options.commandPort), std::strerror(g_udpLink.lastErrno()));
-            return 1;
-        }
-        (void)app.addGroundLink(&g_udpLink);
-    }
-    if (!rse::core::isOk(app.init(options.quiet ? nullptr : stdout))) {
-        std::fprintf(stderr, "rse-fsw: initialisation failed:\n");
-        rse::core::Event event;
-        while (rse::core::isOk(app.events().pop(&event))) {
-            std::fprintf(stderr, "  EVT %u %s\n", static_cast<unsigned>(event.id), event.text);
-        }
-        return 1;
-    }
-    // Armed only once the flight software is ready to feed it.
-    static rse::hal::WatchdogDevice g_watchdog(app.events());
-    if (options.watchdogDevice != nullptr) {
-        if (!rse::core::isOk(g_watchdog.open(options.watchdogDevice, options.watchdogTimeoutS))) {
-            std::fprintf(stderr, "rse-fsw: cannot open watchdog '%s': %s\n", options.watchdogDevice,
-                         std::strerror(g_watchdog.lastErrno()));
-            return 1;
-        }
-        app.attachWatchdog(&g_watchdog);
-    }
-    installStopHandlers();
-    if (!options.lockstep && options.realtimePosture) {
-        (void)rse::core::enterRealtimePosture(app.events(), 50);
-    }
+    return true;
+}
 
-    const std::uint64_t maxFrames =
-        options.durationSec > 0.0
-            ? static_cast<std::uint64_t>(options.durationSec * static_cast<double>(rse::core::kNsPerSec) /
-                                         static_cast<double>(rse::app::kMinorFramePeriod) + 0.5)
-            : 0;
+// --udp: the UDP ground link beside the ISO-TP one.
+bool addUdpLink(const Options& options, rse::app::FswApp& app, rse::hal::UdpPacketLink& link) {
+    if (!options.udp) {
+        return true;
+    }
+    if (!rse::core::isOk(
+            link.open(options.udpBind, options.commandPort, options.telemetryHost, options.telemetryPort))) {
+        std::fprintf(stderr, "rse-fsw: cannot open the UDP ground link on %s:%u: %s\n", options.udpBind,
+                     static_cast<unsigned>(options.commandPort), std::strerror(link.lastErrno()));
+        return false;
+    }
+    (void)app.addGroundLink(&link);
+    return true;
+}
+
+// FswApp::init; on failure the events that say why, on stderr.
+bool initialise(const Options& options, rse::app::FswApp& app) {
+    if (rse::core::isOk(app.init(options.quiet ? nullptr : stdout))) {
+        return true;
+    }
+    std::fprintf(stderr, "rse-fsw: initialisation failed:\n");
+    rse::core::Event event;
+    while (rse::core::isOk(app.events().pop(&event))) {
+        std::fprintf(stderr, "  EVT %u %s\n", static_cast<unsigned>(event.id), event.text);
+    }
+    return false;
+}
+
+// --watchdog: armed only once the flight software is ready to feed it.
+bool armWatchdog(const Options& options, rse::app::FswApp& app, rse::hal::WatchdogDevice& watchdog) {
+    if (options.watchdogDevice == nullptr) {
+        return true;
+    }
+    if (!rse::core::isOk(watchdog.open(options.watchdogDevice, options.watchdogTimeoutS))) {
+        std::fprintf(stderr, "rse-fsw: cannot open watchdog '%s': %s\n", options.watchdogDevice,
+                     std::strerror(watchdog.lastErrno()));
+        return false;
+    }
+    app.attachWatchdog(&watchdog);
+    return true;
+}
+
+// --duration in minor frames (0: until a signal).
+std::uint64_t frameLimit(const Options& options) {
+    return options.durationSec > 0.0
+               ? static_cast<std::uint64_t>(options.durationSec * static_cast<double>(rse::core::kNsPerSec) /
+                                                static_cast<double>(rse::app::kMinorFramePeriod) +
+                                            0.5)
+               : 0;
+}
+
+// "rse-fsw: real-time mode, until SIGINT/SIGTERM, CAN none attached" and the like.
+void printStartLine(const Options& options, std::uint64_t maxFrames) {
     char timeline[160] = "";
     if (options.timeScale != 0) {
         std::snprintf(timeline, sizeof timeline, " (time scale %u: 1 s of mission time every %u s, lab only)",
@@ -469,6 +269,55 @@ int main(int argc, char** argv) {
     std::printf("rse-fsw: %s%s mode, %s, CAN %s\n", options.lockstep ? "lockstep (virtual clock)" : "real-time", timeline,
                 maxFrames > 0 ? "fixed duration" : "until SIGINT/SIGTERM",
                 options.canInterface != nullptr ? options.canInterface : "none attached");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // A static stdout buffer: stdio would otherwise allocate one on first write.
+    std::setvbuf(stdout, g_stdoutBuffer, _IOLBF, sizeof g_stdoutBuffer);
+
+    Options options;
+    char why[320];
+    switch (rse::app::parseFswOptions(argc, argv, &options, why, sizeof why)) {
+        case rse::app::FswCommandLine::kHelp:
+            rse::app::printFswUsage(stdout);
+            return 0;
+        case rse::app::FswCommandLine::kBad:
+            std::fprintf(stderr, "rse-fsw: %s\nrse-fsw: see 'rse-fsw --help'\n", why);
+            return 2;
+        case rse::app::FswCommandLine::kRun: break;
+    }
+    if (!startClocks(options)) {
+        return 2;
+    }
+    rse::hal::CanBus* can = openRoverBus(options);
+    if (can == nullptr) {
+        return 1;
+    }
+    static rse::app::FswApp app(chosenClock(options), *can);
+    if (!loadKeys(options, app)) {
+        return 1;
+    }
+    app.setAuthRequired(options.authRequired);
+    app.setTimeScale(static_cast<std::uint8_t>(options.timeScale != 0 ? options.timeScale : 1));
+    if (!attachAuthStore(options, app)) {
+        return 1;
+    }
+    static rse::hal::UdpPacketLink g_udpLink(app.events());
+    if (!addUdpLink(options, app, g_udpLink) || !initialise(options, app)) {
+        return 1;
+    }
+    static rse::hal::WatchdogDevice g_watchdog(app.events());
+    if (!armWatchdog(options, app, g_watchdog)) {
+        return 1;
+    }
+    installStopHandlers();
+    if (!options.lockstep && options.realtimePosture) {
+        (void)rse::core::enterRealtimePosture(app.events(), 50);
+    }
+    const std::uint64_t maxFrames = frameLimit(options);
+    printStartLine(options, maxFrames);
     app.run(&g_stopRequested, maxFrames);
 
     g_watchdog.disarm();  // a clean stop must not restart the computer

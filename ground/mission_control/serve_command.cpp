@@ -5,6 +5,7 @@
 #include <optional>
 #include <ostream>
 
+#include "ground/cli_options.hpp"
 #include "ground/ground_cli.hpp"
 #include "ground/mission_control/telemetry_archive.hpp"
 #include "ground/ground_session.hpp"
@@ -50,46 +51,40 @@ std::string describeSignal(int signal) { return signal == SIGINT ? "SIGINT" : si
 }  // namespace
 
 ServeOptions parseServeOptions(const std::vector<std::string>& args) {
+    const ParsedOptions parsed = parseCliOptions("serve", args,
+                                                 {{"http", 0, true},
+                                                  {"archive", 0, true},
+                                                  {"web", 0, true},
+                                                  {"tables", 0, true},
+                                                  {"seconds", 0, true}});
+    if (!parsed.operands.empty()) {
+        throw UsageError("serve: unexpected '" + parsed.operands[0] + "'");
+    }
     ServeOptions options;
-    for (std::size_t i = 0; i < args.size(); ++i) {
-        const std::string& a = args[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= args.size()) {
-                throw ServeUsageError(a + " needs a value");
+    if (const std::optional<std::string> text = parsed.value("--http")) {
+        try {
+            HostPort where = parseHostPort(*text, options.server.httpAddress, kDefaultHttpPort);
+            // [::1]:8090: an IPv6 address in brackets.
+            if (where.host.size() > 2 && where.host.front() == '[' && where.host.back() == ']') {
+                where.host = where.host.substr(1, where.host.size() - 2);
             }
-            return args[++i];
-        };
-        if (a == "--http") {
-            const std::string text = value();
-            try {
-                HostPort where = parseHostPort(text, options.server.httpAddress, kDefaultHttpPort);
-                // [::1]:8090: an IPv6 address in brackets.
-                if (where.host.size() > 2 && where.host.front() == '[' && where.host.back() == ']') {
-                    where.host = where.host.substr(1, where.host.size() - 2);
-                }
-                options.server.httpAddress = where.host;
-                options.server.httpPort = where.port;
-            } catch (const LinkError& e) {
-                throw ServeUsageError(std::string("--http ") + e.what());
-            }
-        } else if (a == "--archive") {
-            options.server.archivePath = value();
-        } else if (a == "--web") {
-            options.server.webRoot = value();
-        } else if (a == "--tables") {
-            options.server.tablesDir = value();
-        } else if (a == "--seconds") {
-            const std::string text = value();
-            if (!parseDouble(text, &options.seconds) || !std::isfinite(options.seconds) || options.seconds <= 0.0) {
-                throw ServeUsageError("--seconds '" + text + "': expected seconds, a number > 0");
-            }
-        } else {
-            throw ServeUsageError("serve: unexpected '" + a + "'");
+            options.server.httpAddress = where.host;
+            options.server.httpPort = where.port;
+        } catch (const LinkError& e) {
+            throw UsageError(std::string("--http ") + e.what());
+        }
+    }
+    options.server.archivePath = parsed.value("--archive").value_or(options.server.archivePath);
+    options.server.webRoot = parsed.value("--web").value_or(options.server.webRoot);
+    options.server.tablesDir = parsed.value("--tables").value_or(options.server.tablesDir);
+    if (const std::optional<std::string> text = parsed.value("--seconds")) {
+        if (!parseDouble(*text, &options.seconds) || !std::isfinite(options.seconds) || options.seconds <= 0.0) {
+            throw UsageError("--seconds '" + *text + "': expected seconds, a number > 0");
         }
     }
     for (std::string* path : {&options.server.archivePath, &options.server.webRoot, &options.server.tablesDir}) {
         if (path->empty()) {
-            throw ServeUsageError("serve: --archive, --web and --tables need a non-empty path");
+            throw UsageError("serve: --archive, --web and --tables need a non-empty path");
         }
     }
     return options;
@@ -100,11 +95,8 @@ int runServe(const std::vector<std::string>& args, const std::function<std::uniq
     ServeOptions options;
     try {
         options = parseServeOptions(args);
-    } catch (const ServeUsageError& e) {
-        err << "rse-ground: " << e.what() << "\n"
-            << "usage: rse-ground [link options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR] "
-               "[--tables DIR] [--seconds S]\n";
-        return kExitUsage;
+    } catch (const UsageError& e) {
+        return reportUsageError(err, e.what());
     }
     std::unique_ptr<GroundLink> link = openLink();
     options.server.link = link->describe();

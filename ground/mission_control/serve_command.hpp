@@ -1,8 +1,8 @@
 // `rse-ground serve` (docs/mission_control.md, docs/ground.md): the mission
 // control server fed by the ground link.
 //
-//   rse-ground [link options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR]
-//                                   [--tables DIR] [--seconds S]
+//   rse-ground [global options] serve [--http [ADDR:]PORT] [--archive FILE] [--web DIR]
+//                                     [--tables DIR] [--seconds S]
 //
 // The link is the one of rse-ground's global options (--tlm-port, --can ...),
 // opened as `watch` and `record` open it. Every packet it receives is handed
@@ -14,7 +14,6 @@
 #include <functional>
 #include <iosfwd>
 #include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,21 +22,19 @@
 
 namespace rse::ground::mission_control {
 
-class ServeUsageError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
 struct ServeOptions {
     ServerOptions server;
     double seconds = 0.0;  // > 0: stop after this long
 };
 
-// Parses serve's arguments (after "serve"); throws ServeUsageError.
+// Parses serve's arguments (after "serve") with getopt_long: UsageError for a
+// bad command line, HelpRequested for -h/--help (ground/cli_options.hpp).
 ServeOptions parseServeOptions(const std::vector<std::string>& args);
 
 // Runs serve: the server, then the link from openLink, packets from the link
-// to the server until a signal or --seconds.
+// to the server until a signal or --seconds. A bad command line is reported
+// here (one line and "see 'rse-ground --help'", exit 2); --help is thrown on
+// to runGroundCli, which prints the usage.
 int runServe(const std::vector<std::string>& args, const std::function<std::unique_ptr<GroundLink>()>& openLink,
              std::ostream& out, std::ostream& err);
 

@@ -75,6 +75,39 @@ TEST(GroundCli, NoArgumentsOrUnknownCommandIsUsage) {
     CHECK_TRUE(contains(r.out, "send NAME [arg=value ...]"));
 }
 
+// docs/operations.md, "Command lines": --help anywhere is the usage on stdout
+// (exit 0); a bad command line is one line saying what is wrong and the line
+// pointing to --help, on stderr only (exit 2).
+TEST(GroundCli, HelpAndBadCommandLinesFollowTheConvention) {
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"-h"}, {"help"}, {"send", "--help"}, {"table", "build", "-h"}, {"plan", "check", "--help"},
+             {"--timeout", "1", "watch", "--help"}}) {
+        const CliResult r = cli(args);
+        CHECK_EQUAL_TEXT(0, r.rc, args[0].c_str());
+        CHECK_TRUE(contains(r.out, "global options (before the command):"));
+        CHECK_TRUE(r.err.empty());
+    }
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"--bogus", "send", "NOOP"}, {"send", "NOOP", "--bogus"}, {"watch", "--count"},
+             {"table", "build", "tables/planner.toml"}, {"plan", "check"}, {"dict", "--json", "--markdown"},
+             {"--timeout", "x", "send", "NOOP"}, {"send", "GOTO", "x=1"}, {"launch"}, {}}) {
+        const CliResult r = cli(args);
+        CHECK_EQUAL_TEXT(2, r.rc, r.err.c_str());
+        CHECK_TRUE(r.out.empty());
+        const std::size_t first = r.err.find('\n');
+        CHECK_TEXT(r.err.rfind("rse-ground: ", 0) == 0, r.err.c_str());
+        CHECK_TEXT(r.err.substr(first + 1) == "rse-ground: see 'rse-ground --help'\n", r.err.c_str());
+    }
+}
+
+// Global options come before the command: after it they are the command's
+// options, which it does not know, and it says where they go.
+TEST(GroundCli, AGlobalOptionAfterTheCommandIsNamed) {
+    const CliResult r = cli({"send", "NOOP", "--timeout", "1"});
+    CHECK_EQUAL(2, r.rc);
+    CHECK_TRUE(contains(r.err, "send: --timeout is a global option: give it before the command"));
+}
+
 TEST(GroundCli, BadCommandsAndArgumentsExitTwoBeforeAnyLinkIsOpened) {
     test::TempDir dir;
     CliResult r = cli({"--state-dir", dir.path(), "send", "WARP", "factor=9"});

@@ -480,6 +480,10 @@ TEST(McServer, ServeCommandUsage) {
     STRCMP_CONTAINS("--http", badPort.err.c_str());
     const CliRun badSeconds = runCli({"serve", "--seconds", "-1"}, mcs::runServe);
     CHECK_EQUAL(rse::ground::kExitUsage, badSeconds.rc);
+    STRCMP_CONTAINS("rse-ground: see 'rse-ground --help'", badSeconds.err.c_str());
+    const CliRun help = runCli({"serve", "--help"}, mcs::runServe);
+    CHECK_EQUAL(0, help.rc);
+    STRCMP_CONTAINS("serve [--http [ADDR:]PORT]", help.out.c_str());
     // A program built without the server says so.
     const CliRun without = runCli({"serve"}, rse::ground::ServeCommand());
     CHECK_EQUAL(rse::ground::kExitUsage, without.rc);
