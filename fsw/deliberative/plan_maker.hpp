@@ -24,7 +24,7 @@
 //   the same problem once more with the search at kWideSearchScale x Boole's
 //   budget, its plan certified within the risk in force (event 929).
 //
-// Owns the planner, the problem, the plan and the last plan (about 460 KB:
+// Owns the planner, the problem, the plan and the last plan (about 500 KB:
 // the task is static). Publishes PlanPathMsg (through the Publisher). Events
 // 901, 902, 903, 913, 914, 928, 929, 990.
 #pragma once
