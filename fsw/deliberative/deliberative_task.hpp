@@ -100,23 +100,41 @@
 //   SafeRequestMsg (the mode owner goes to SAFE), CRITICAL event 912, PLAN
 //   telemetry shows kCalledHome and the reason; the layer then waits for new goals.
 //
-// Time bound per run: at most kMaxUnitsPerRun planner units and stops after the
-// unit that takes the run's planner work past kSliceWork (one unit does at most
-// CcPlanner::kMaxUnitWork work units: docs/deliberative.md), so a run costs
-// at most kSliceWork + kMaxUnitWork work units; a whole plan is bounded
-// by PLANNER.node_budget LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs
-// thousand work units. Inputs are bounded by the pipe depths. No heap: the
-// planner, problem, plan and legs are members (about 460 KB: make it static).
+// Parts (docs/deliberative.md, "Parts of the task"): the task is the shell
+// that holds the state above (goals, mode, hold, pose) and the order of a run;
+// each part owns its state and reports its own events:
+//   deliberative_inputs  the two pipes (core::InputPipe) and each input's checks
+//   drive_health         drive modes and status: failed drives, mobility, power factor
+//   plan_maker           the map problem, the planner sliced over runs, the wide search, PLAN_PATH
+//   leg_sequencer        the legs, the leg in force, sending and re-sending, goal claims
+//   leg_end_clearance    a leg end too near a seen hazard or the coarse map
+//   mission_hold         fault protection's hold: held, released (events 920, 921)
+//   replan_policy        fail-ups: relax or replan; replan requests; risk relaxation
+//   back_up              the driven track and the back-up manoeuvre
+//   publisher            publishing with the refusals counted (event 918)
+// Inputs are bounded by the pipe depths; a run's planning by plan_maker.hpp's
+// slice. No heap: the planner, problem, plan and legs are members (about
+// 515 KB: make the task static).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
+#include "fsw/deliberative/back_up.hpp"
 #include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/deliberative_inputs.hpp"
+#include "fsw/deliberative/drive_health.hpp"
+#include "fsw/deliberative/leg_end_clearance.hpp"
+#include "fsw/deliberative/leg_sequencer.hpp"
 #include "fsw/deliberative/map_problem.hpp"
+#include "fsw/deliberative/mission_hold.hpp"
 #include "fsw/deliberative/plan_legs.hpp"
+#include "fsw/deliberative/plan_maker.hpp"
+#include "fsw/deliberative/publisher.hpp"
+#include "fsw/deliberative/replan_policy.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
@@ -130,61 +148,11 @@
 
 namespace rse::deliberative {
 
-// Planner work per run and per millisecond of PLANNER.time_budget_ms, in the
-// planner's work units (CcPlanner::work()): 0.45 - 0.9 ns per unit on the
-// development host, so 1000 thousand units is 0.45 - 0.9 ms there and a slice
-// of 2.5 M units 1.1 - 2.3 ms. Recalibrate on the flight computer.
-constexpr std::uint32_t kWorkKUnitsPerMs = 1000;
-constexpr std::uint64_t kSliceWork = 2500000;
-// Every planner unit is at most CcPlanner::kMaxUnitWork, so kSliceWork bounds
-// a run; this cap only bounds the loop when units do little (an LP slice of
-// 16 pivots at small N is ~20 k units): with 64 a plan of such units took
-// several times the runs its work needs.
-constexpr std::uint32_t kMaxUnitsPerRun = 1024;
-// Poses and drive status come at 100 Hz: 20 per run, 40 survive one skipped run.
-constexpr std::uint16_t kFastPipeDepth = 40;
-constexpr std::uint16_t kInputPipeDepth = 16;
 constexpr std::uint32_t kStatusPeriodRuns = 10;  // 1 Hz
 constexpr core::TimeNs kPoseMaxAgeNs = 500 * core::kNsPerMs;
-constexpr double kRiskRelaxStep = 10.0;          // each relaxation multiplies the risk bound by this
-// Before relaxing: the same problem once more with the planner's search at
-// this many times Boole's budget, its plan certified within the risk in force
-// (CcPlannerParams::searchRiskScale; optimised allocation only): a narrow
-// passage the even split refuses may be certified within the bound.
-constexpr double kWideSearchScale = 8.0;
-constexpr double kMaxRiskInForce = 0.49;         // the planner needs Delta < 0.5
-constexpr double kBoundRelaxHeadroom = 1.05;     // a relaxed bound: what was predicted + 5 %
-// A leg end must clear a seen hazard's disc by the footprint and this: the
-// habitual layer plans with habitual::kPlanMarginM beyond the footprint, and a
-// disc grows as more of its rock comes into view.
-constexpr double kLegEndMarginM = 0.25;
-// How far inside the planning site (the site shrunk by the footprint) the
-// re-entry point of an off-site start lies: the planner's start must be on the
-// site, and a point on its very edge would sit at the wall of the habitual
-// layer's planning margin.
-constexpr double kReentryInsetM = 0.3;
-// A replan request's position older than this when planning starts is
-// refreshed from the pose (the pose was stale at the fail-up, or the rover
-// moved while planning waited for a usable pose).
-constexpr core::TimeNs kReplanMaxAgeNs = 1000 * core::kNsPerMs;
-// The driven track kept for backing up: a point every kTrackStepM, the last kTrackPoints.
-constexpr double kTrackStepM = 0.25;
-constexpr std::size_t kTrackPoints = 64;
-// Largest hazard radius believed (the habitual layer merges no disc beyond 2 m).
-constexpr float kMaxHazardRadiusM = 10.0F;
 
-// What a replan starts from: the unfinished goals, the time and the position.
-struct ReplanRequest {
-    core::TimeNs timeNs = 0;         // when the replan was asked for
-    core::TimeNs poseTimeNs = 0;     // when the rover was at (xM, yM)
-    double xM = 0.0, yM = 0.0, headingRad = 0.0;
-    double cov[4] = {};              // (x, y) covariance at that time
-    std::uint8_t firstGoal = 0;      // goals_[firstGoal .. firstGoal + unfinished) remain
-    std::uint8_t unfinished = 0;
-    msg::LegConstraint why = msg::LegConstraint::kNone;
-    bool pending = false;            // consumed when the plan starts
-};
-
+// Assembled from the parts' counters at the end of every run (they change only
+// within a run); PLAN telemetry shows the main ones.
 struct DeliberativeCounters {
     std::uint32_t goalListsAdopted = 0;
     std::uint32_t plansStarted = 0;
@@ -224,178 +192,122 @@ struct DeliberativeCounters {
     std::uint32_t maxRunUnits = 0;
 };
 
-class DeliberativeTask final : public core::Task {
+class DeliberativeTask final : public core::Task, private DeliberativeInputs::Receiver {
 public:
     DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
 
-    // Pipes "delib_fast" (kFastPipeDepth: PoseEstimateMsg, DriveStatusMsg) and "deliberative"
-    // (kInputPipeDepth: goals (the plan executive's PlanGoalMsg only), leg reports, known hazards, drive modes, mode,
-    // mission hold, fault status, replan requests). A refusal is
-    // evented (917) and returned; run() then does nothing.
+    // Pipes "delib_fast" and "deliberative" (deliberative_inputs.hpp). A
+    // refusal is evented (917) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
 
     msg::DeliberativeState state() const { return status_.state; }
     const msg::PlanStatusMsg& status() const { return status_; }
     const DeliberativeCounters& counters() const { return counters_; }
-    const CcPlanner& planner() const { return planner_; }
-    const CcProblem& problem() const { return problem_; }
-    const CcPlan& plan() const { return plan_; }
-    const LegPlan& legs() const { return legs_; }
-    const msg::LegCommandMsg& lastLeg() const { return leg_; }
-    std::uint32_t plannerSlices() const { return slices_; }
-    bool held() const { return held_; }
-    bool backingUp() const { return backingUp_; }
-    const ReplanRequest& lastReplanRequest() const { return replanRequest_; }
+    const CcPlanner& planner() const { return maker_.planner(); }
+    const CcProblem& problem() const { return maker_.problem(); }
+    const CcPlan& plan() const { return maker_.plan(); }
+    const LegPlan& legs() const { return legs_.legs(); }
+    const msg::LegCommandMsg& lastLeg() const { return legs_.legInForce(); }
+    std::uint32_t plannerSlices() const { return maker_.slices(); }
+    bool held() const { return hold_.held(); }
+    bool backingUp() const { return backUp_.active(); }
+    const ReplanRequest& lastReplanRequest() const { return policy_.request(); }
     const msg::KnownHazardsMsg& hazards() const { return hazards_; }
 
 private:
-    void drainFast();
-    void drainInputs(core::TimeNs now);
-    void malformed(const char* what, core::MsgId id);
-    bool poseUsable(core::TimeNs now) const;
-    double meanFactor() const;
-    // Wheels the drive mode estimator declares failed (and unknown, withUnknown) (bit per wheel).
-    std::uint8_t failedDrives(bool withUnknown) const;
-    void noteFailedSince(core::TimeNs now);
-    // Drives declared failed or unknown for PLANNER.failed_drive_confirm_s or more.
-    std::uint8_t confirmedFailedDrives(core::TimeNs now) const;
-    bool mobilityLost() const;
+    // The shell's own counts (the parts keep theirs).
+    struct MissionCounters {
+        std::uint32_t goalListsAdopted = 0;
+        std::uint32_t failUps = 0;
+        std::uint32_t callHomes = 0;
+        std::uint32_t hazardMaps = 0;
+        std::uint32_t failUpsWhileHeld = 0;
+        std::uint32_t offMapReplans = 0;
+        std::uint32_t offMapIgnored = 0;
+    };
 
-    void onGoals(const msg::PlanGoalMsg& goal, core::TimeNs now);
+    // Inputs (DeliberativeInputs::Receiver), each at the run's time now_.
+    void takePose(const msg::PoseEstimateMsg& pose) override;
+    void takeDriveStatus(const msg::DriveStatusMsg& drives) override;
+    void takeGoals(const msg::PlanGoalMsg& goal) override;
+    void takeLegReport(const msg::LegReportMsg& report) override;
+    void takeDriveModes(const msg::DriveModesMsg& modes) override;
+    void takeMode(const msg::ModeMsg& mode) override;
+    void takeHazards(const msg::KnownHazardsMsg& hazards) override;
+    void takeHold(const msg::MissionHoldMsg& hold) override;
+    void takeFaults(const msg::FaultStatusMsg& faults) override;
+    void takeReplanRequest(const msg::ReplanRequestMsg& request) override;
+
+    // Executing.
+    void onFailUp(const msg::LegReportMsg& report);
+    void backedUp();
+    void lastLegReached();
+    void nextGoal();
+    void replan(msg::LegConstraint why);
+    bool startBackUp();
+    void sendLeg();
+    void sendBackUpLeg();
+    void resendFromPose();
+    void cancelLeg();
+    void callHome(msg::CallHomeReason reason, const char* detail);
+
+    // Planning.
+    void startPlan();
+    void onPlanFinished();
+
+    // What the parts are given.
+    bool active() const;
+    bool poseUsable() const;
+    bool poseUncertain() const;
+    double meanFactor() const;
+    LegParams legParams() const;
+    LegEndClearance clearance() const;
+    ReplanFrom replanFrom() const;
+    GoalArrival arrival() const;
     // The goal in hand as the operator numbers it: its index in the operator's
     // goal list (PlanGoalMsg.listIndex) plus the index in the list given.
     std::size_t goalNumber() const { return static_cast<std::size_t>(listIndex_) + goalIndex_; }
-    void onMode(const msg::ModeMsg& mode, core::TimeNs now);
-    void onLegReport(const msg::LegReportMsg& report, core::TimeNs now);
-    void onFailUp(const msg::LegReportMsg& report, core::TimeNs now);
-    void onHazards(const msg::KnownHazardsMsg& hazards, core::TimeNs now);
-    void onHold(const msg::MissionHoldMsg& hold, core::TimeNs now);
-    void onReplanRequest(const msg::ReplanRequestMsg& request, core::TimeNs now);
-    bool poseUncertain() const;
-    bool legEndTooClose(const msg::PlanLeg& leg) const;
-    // A leg end within the footprint + kLegEndMarginM of a seen hazard's disc or
-    // a coarse-map polygon.
-    // Merges such leg ends into their next leg, from legIndex_ on
-    // while they are not the last leg; true when legIndex_ moved.
-    bool skipLegEndsInHazards();
-    void goalReached();
-    // How near the goal in hand the rover must stand for it to be reached:
-    // its region (PlanGoalMsg's radius, a plan's `within R`), never less
-    // than HABITUAL.goal_tolerance_m. The goal's last leg carries the region.
-    double goalArrivalM() const;
-    void checkUnconfirmedGoal(core::TimeNs now);
-    void resendFromPose(core::TimeNs now);
-    LegParams legParams() const;
-    void captureReplanRequest(msg::LegConstraint why, core::TimeNs now);
-    void recordTrack();
-    // The point no_path_backup_m back along the track from the pose, clear of
-    // seen hazards; false when there is none.
-    // *keep: the track points older than the target.
-    bool backUpTarget(double distanceM, msg::PlanLeg* out, std::size_t* keep) const;
-    bool startBackUp(core::TimeNs now);
-    void sendBackUpLeg(core::TimeNs now);
-
-    void startPlan(core::TimeNs now);
-    // The operator's Delta x riskFactor_, below kMaxRiskInForce: what a plan uses.
-    double riskInForce() const;
-    // The planner's budgets from the planner table.
-    deliberative::CcPlannerParams plannerParams() const;
-    void stepPlanner(core::TimeNs now);
-    void onPlanFinished(core::TimeNs now);
-    void widenFirstLegFromPose(const LegParams& params);
-    void sendLeg(core::TimeNs now);
-    void replan(msg::LegConstraint why, core::TimeNs now);
-    void callHome(msg::CallHomeReason reason, const char* detail, core::TimeNs now);
-    void cancelLeg(core::TimeNs now);
+    // The goal in hand's region (0: the point, or no goal in hand).
+    double goalRadiusM() const;
 
     void setState(msg::DeliberativeState state);
-    void publishStatus(core::TimeNs now);
-    // The plan just made (plan_, problem_) as PlanPathMsg numbered
-    // counters_.plansFound: call right after counting it.
-    void publishPlanPath(core::TimeNs now);
-    void published(core::Status status, const char* what);
+    void publishStatus();
+    // counters_ from the parts' counters and the shell's.
+    void collectCounters();
 
-    core::SoftwareBus& bus_;
     core::EventLog& events_;
     const tables::TableService& tables_;
-    core::PipeId fastPipe_ = 0;
-    core::PipeId inputPipe_ = 0;
+    Publisher out_;
+    DeliberativeInputs inputs_;
     bool initialised_ = false;
-    core::Message inbox_{};
+    core::TimeNs now_ = 0;  // the run's time (frame start): what the inputs are handled at
 
     bool autonomous_ = false;
     msg::PoseEstimateMsg pose_{};
     bool poseSeen_ = false;
-    msg::DriveModesMsg modes_{};
-    bool modesSeen_ = false;
-    bool interlockTripped_ = false;
-    msg::DriveHealth driveHealth_[msg::kWheelCount] = {};  // DriveStatusMsg last seen
     msg::FaultStatusMsg faults_{};
     msg::KnownHazardsMsg hazards_{};
-    bool held_ = false;
-    std::uint32_t holdReasons_ = 0;
-    std::uint32_t resumeCount_ = 0;
-    bool goalUnconfirmed_ = false;   // the goal's last leg reached, pose uncertain: waiting
-    ReplanRequest replanRequest_{};
-    // The driven track: track_[(trackHead_ + k) % kTrackPoints], k < trackCount_, oldest first.
-    double trackX_[kTrackPoints] = {};
-    double trackY_[kTrackPoints] = {};
-    std::size_t trackHead_ = 0;
-    std::size_t trackCount_ = 0;
-    bool backingUp_ = false;         // the leg in force is a back-up
-    bool fromReentry_ = false;       // the plan being made starts at the re-entry point, not at the rover
-    msg::PlanLeg backUpLeg_{};
-    std::size_t backUpKeep_ = 0;     // track points kept when the back-up is reached
-    std::uint32_t goalBackUps_ = 0;  // back-ups of the current goal
+    MissionHold hold_;
 
     // Goals.
     msg::GoalListMsg goals_{};
     std::uint8_t listIndex_ = 0;
     bool goalsSeen_ = false;
     std::uint8_t goalIndex_ = 0;
-    double riskFactor_ = 1.0;        // risk in force = Delta x riskFactor_
-    std::uint32_t goalReplans_ = 0;  // replans of the current goal
 
-    // The plan and its legs.
-    CcProblem problem_{};
-    // The last plan found and what it was for: the seed of the next plan to
-    // the same goal among the same obstacles (CcPlanner::setSeedHint).
-    struct LastPlan {
-        bool valid = false;
-        double goalX = 0.0;
-        double goalY = 0.0;
-        std::uint8_t obstacleCount = 0;
-        std::uint8_t obstacleIds[kMaxPlanObstacles] = {};
-        CcPlan plan{};
-    };
-    LastPlan last_{};
-    double planGap_ = 1.0;  // PlanStatusMsg.planGap of plan_
-    bool seededPlan_ = false;  // the plan under way was seeded with last_
-    bool wideSearch_ = false;  // the plan under way is the wide search (kWideSearchScale)
-    CcPlan plan_{};
-    LegPlan legs_{};
-    std::size_t legIndex_ = 0;
-    double legBoundFactor_ = 1.0;    // growth of the current leg's bounds by relaxation
-    double legEnergyFactor_ = 1.0;   // ... of its energy bound alone (kept when the leg is re-sent after a hold)
-    double legLengthFactor_ = 1.0;   // ... of its length bound alone
-    // Growth of every leg's power bound by relaxation, for the rest of the
-    // plan: the drives' power is the same on every leg (reset by a new plan,
-    // whose legs are bounded at the power factors of the moment).
-    double powerRelax_ = 1.0;
-    // Drives the last plan started with took as failed (bit per wheel:
-    // declared failed or unknown by the drive mode estimator): event 990 when it changes.
-    std::uint8_t plannedFailedMask_ = 0;
-    core::TimeNs failedSinceNs_[msg::kWheelCount] = {};  // declared failed or unknown since (0: not)
-    msg::LegCommandMsg leg_{};       // the leg in force (legId 0: none)
-    std::uint32_t nextLegId_ = 1;
-    std::uint32_t slices_ = 0;       // runs the current plan has taken
-    bool changed_ = false;           // publish the status this run
+    bool changed_ = false;  // publish the status this run
     std::uint32_t runs_ = 0;
     msg::PlanStatusMsg status_{};
+    MissionCounters mission_{};
     DeliberativeCounters counters_{};
 
-    CcPlanner planner_;
+    // The parts.
+    DriveHealthView drives_;
+    ReplanPolicy policy_;
+    BackUpManoeuvre backUp_;
+    LegSequencer legs_;
+    PlanMaker maker_;
 };
 
 }  // namespace rse::deliberative
