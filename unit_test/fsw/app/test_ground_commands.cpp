@@ -301,7 +301,7 @@ TEST(GroundCommands, APlanPathOnTheBusGoesDownAsOnePlanPathPacket) {
         DOUBLES_EQUAL(0.0, field(path, "mean_x", t), 0.0);
         DOUBLES_EQUAL(0.0, field(path, "mean_y", t), 0.0);
     }
-    LONGS_EQUAL(1, fsw.telemetry().planPathsSent());
+    LONGS_EQUAL(1, fsw.planTelemetry().planPathsSent());
 
     // Not repeated: nothing new on the bus, no packet.
     runFrames(120);
@@ -314,7 +314,7 @@ TEST(GroundCommands, APlanPathOnTheBusGoesDownAsOnePlanPathPacket) {
     runFrames(1);
     LONGS_EQUAL(malformed + 1, fsw.telemetry().malformed());
     LONGS_EQUAL(1, countOf("PLAN_PATH"));
-    LONGS_EQUAL(1, fsw.telemetry().planPathsSent());
+    LONGS_EQUAL(1, fsw.planTelemetry().planPathsSent());
 }
 
 // PLAN_EXTEND: refused by mode in SAFE; in STANDBY passed to the plan
@@ -526,11 +526,11 @@ TEST(GroundCommands, NoHeapUseWithCommandsAndTelemetryFlowing) {
 
 TEST(GroundCommands, MalformedBusMessagesAreCountedNotSilentlyDropped) {
     const std::uint8_t garbage[3] = {1, 2, 3};  // the wrong size for every message type
-    const std::uint32_t refusedBefore = fsw.canIo().commandsRejected();
+    const std::uint32_t refusedBefore = fsw.canIo().malformed();
     CHECK(core::isOk(fsw.bus().publish(msg::ids::kMode, garbage, sizeof garbage)));
     CHECK(core::isOk(fsw.bus().publish(msg::ids::kManualDrive, garbage, sizeof garbage)));
     runFrames(1);
-    LONGS_EQUAL(refusedBefore + 1, fsw.canIo().commandsRejected());  // e-stop state unchanged
+    LONGS_EQUAL(refusedBefore + 1, fsw.canIo().malformed());  // e-stop state unchanged
     CHECK_FALSE(fsw.canIo().estopHeld());
     LONGS_EQUAL(1, fsw.telemetry().malformed());
     LONGS_EQUAL(2, fsw.manualDrive().malformed());  // both ids reach the manual-drive pipe
@@ -579,13 +579,13 @@ TEST(GroundCommands, ExecSetTaskDisablesARowWhichFaultProtectionThenRestarts) {
     expectAccepted("EXEC_SET_TASK");
     CHECK_FALSE(fsw.executive().taskLiveness(row)->enabled);
     LONGS_EQUAL(1, eventCount(224));
-    LONGS_EQUAL(1, fsw.commandHandler().taskCommands());
+    LONGS_EQUAL(1, fsw.executiveCommands().taskCommands());
     const std::uint32_t runsWhenDisabled = fsw.executive().taskStats(row)->runs;
     runFrames(20);  // two of its periods: it has not run
     LONGS_EQUAL(runsWhenDisabled, fsw.executive().taskStats(row)->runs);
     runFrames(200);
     LONGS_EQUAL(1, eventCount(732));  // task stalled, raised once
-    CHECK(fsw.commandHandler().taskRestarts() >= 1);
+    CHECK(fsw.executiveCommands().taskRestarts() >= 1);
     CHECK(fsw.executive().taskLiveness(row)->enabled);
     CHECK(fsw.executive().taskStats(row)->runs > runsWhenDisabled + 10);
     // Enabling a row that runs is accepted and changes nothing.
@@ -593,8 +593,8 @@ TEST(GroundCommands, ExecSetTaskDisablesARowWhichFaultProtectionThenRestarts) {
     runFrames(1);
     expectAccepted("EXEC_SET_TASK");
     CHECK(fsw.executive().taskLiveness(row)->enabled);
-    LONGS_EQUAL(2, fsw.commandHandler().taskCommands());
-    LONGS_EQUAL(0, fsw.commandHandler().taskCommandsRefused());
+    LONGS_EQUAL(2, fsw.executiveCommands().taskCommands());
+    LONGS_EQUAL(0, fsw.executiveCommands().taskCommandsRefused());
 }
 
 // A row the table does not have: the dictionary's range (0..31) lets row 16
@@ -610,8 +610,8 @@ TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
     LONGS_EQUAL(14, static_cast<long>(field(ack, "reason")));
     LONGS_EQUAL(1, static_cast<long>(field(ack, "detail")));
     LONGS_EQUAL(1, eventCount(225));
-    LONGS_EQUAL(1, fsw.commandHandler().taskCommandsRefused());
-    CHECK(app::TaskCommandRefusal::kNoSuchRow == fsw.commandHandler().lastTaskRefusal());
+    LONGS_EQUAL(1, fsw.executiveCommands().taskCommandsRefused());
+    CHECK(cmdtlm::TaskCommandRefusal::kNoSuchRow == fsw.executiveCommands().lastTaskRefusal());
     send("EXEC_SET_TASK", {32, 0});
     runFrames(1);
     LONGS_EQUAL(12, static_cast<long>(field(last("CMD_ACK"), "reason")));
@@ -624,7 +624,7 @@ TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
     runFrames(1);
     LONGS_EQUAL(1, static_cast<long>(field(last("HK"), "cmd_rejected_by_reason", 14)));
     LONGS_EQUAL(2, static_cast<long>(field(last("HK"), "cmd_rejected_by_reason", 12)));
-    LONGS_EQUAL(0, fsw.commandHandler().taskCommands());
+    LONGS_EQUAL(0, fsw.executiveCommands().taskCommands());
     for (std::size_t i = 0; i < fsw.executive().taskCount(); ++i) {
         CHECK(fsw.executive().taskLiveness(i)->enabled);
     }
@@ -639,11 +639,11 @@ TEST(GroundCommands, ExecSetTaskOnARowBeyondTheTableIsRefusedWithItsReason) {
 TEST(GroundCommands, ExecSetTaskRefusesToDisableTheRowsWhoseLossCouldNotBeUndone) {
     const struct {
         const char* name;
-        app::TaskCommandRefusal why;
-    } essential[] = {{"commands", app::TaskCommandRefusal::kCommandIngest},
-                     {"can_io", app::TaskCommandRefusal::kCanIo},
-                     {"health", app::TaskCommandRefusal::kFaultDetection},
-                     {"fault_prot", app::TaskCommandRefusal::kFaultResponse}};
+        cmdtlm::TaskCommandRefusal why;
+    } essential[] = {{"commands", cmdtlm::TaskCommandRefusal::kCommandIngest},
+                     {"can_io", cmdtlm::TaskCommandRefusal::kCanIo},
+                     {"health", cmdtlm::TaskCommandRefusal::kFaultDetection},
+                     {"fault_prot", cmdtlm::TaskCommandRefusal::kFaultResponse}};
     unsigned refused = 0;
     runFrames(50);  // the start-up events downlinked (8 a frame)
     for (const auto& e : essential) {
@@ -656,8 +656,8 @@ TEST(GroundCommands, ExecSetTaskRefusesToDisableTheRowsWhoseLossCouldNotBeUndone
         LONGS_EQUAL(static_cast<long>(e.why), static_cast<long>(field(ack, "detail")));
         CHECK_TEXT(fsw.executive().taskLiveness(row)->enabled, e.name);
         CHECK_TEXT(fsw.executive().taskStats(row)->runs >= runs + 2, e.name);
-        CHECK(e.why == fsw.commandHandler().lastTaskRefusal());
-        LONGS_EQUAL(++refused, fsw.commandHandler().taskCommandsRefused());
+        CHECK(e.why == fsw.executiveCommands().lastTaskRefusal());
+        LONGS_EQUAL(++refused, fsw.executiveCommands().taskCommandsRefused());
         LONGS_EQUAL(refused, eventCount(225));
         send("EXEC_SET_TASK", {static_cast<std::uint8_t>(row), 1});
         runFrames(1);
@@ -677,7 +677,7 @@ TEST(GroundCommands, ExecSetTaskRefusesToDisableTheRowsWhoseLossCouldNotBeUndone
             runFrames(1);
         }
     }
-    LONGS_EQUAL(refused, fsw.commandHandler().taskCommandsRefused());
+    LONGS_EQUAL(refused, fsw.executiveCommands().taskCommandsRefused());
 }
 
 // Issue 14 item 1: commands captured on the link (SET_MODE MANUAL, DRIVE) must
@@ -1093,7 +1093,7 @@ TEST(GroundCommands, HazardsGoDownEveryFiveSecondsAndWithinASecondOfANewRevision
     LONGS_EQUAL(545, static_cast<long>(hazardFrames[1]));
     LONGS_EQUAL(habitual.revision, static_cast<long>(field(last("HAZARDS"), "revision")));
     LONGS_EQUAL(0, static_cast<long>(field(last("HAZARDS"), "count")));
-    LONGS_EQUAL(2, fsw.telemetry().hazardsSent());
+    LONGS_EQUAL(2, fsw.hazardsTelemetry().hazardsSent());
 
     // Just after the habitual layer's 1 Hz publication (so none of its own
     // comes before the next frame 45), and not in a second whose frame 45 is
