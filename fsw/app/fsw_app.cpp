@@ -105,7 +105,7 @@ core::Status FswApp::init(std::FILE* console) {
         {"habitual layer init", [](FswApp& a) { return a.habitual_.init(); }},
         {"deliberative layer init", [](FswApp& a) { return a.deliberative_.init(); }},
         {"plan executive init", [](FswApp& a) { return a.planExecutive_.init(); }},
-        {"command handlers init", [](FswApp& a) { return a.initCommandOwners(); }},
+        {"command owners init", [](FswApp& a) { return a.initCommandOwners(); }},
     };
     core::Status status = initStep(console_.init(console), "console task init");
     for (const auto& s : steps) {
