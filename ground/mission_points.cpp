@@ -5,8 +5,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "fsw/app/app_events.hpp"
+#include "fsw/cmdtlm/cmdtlm_events.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/geometry/coarse_map.hpp"
@@ -268,7 +269,7 @@ void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
 void TenPointTracker::onEvent(const FlightEvent& e) {
     const std::string& t = e.text;
     switch (e.id) {
-        case app::events::kGoalsChanged: {
+        case deliberative::events::kGoalsCommanded: {
             unsigned goals = 0;
             double risk = 0.0;
             const char* s = after(t, "app: ");
@@ -504,7 +505,7 @@ void TenPointTracker::onEvent(const FlightEvent& e) {
             safedS_ = -1.0;  // the rover safed after this call home
             seePointTen();
             break;
-        case app::events::kSafedOnRequest:
+        case cmdtlm::events::kSafedOnRequest:
             decisions_.push_back(MissionDecision{e.timeS, "safed", body(t)});
             if (!callHomeEventText_.empty() && safedS_ < 0.0) {
                 safedS_ = e.timeS;

@@ -2,9 +2,9 @@
 
 #include <cstdio>
 
-#include "fsw/app/task_command_refusal.hpp"
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/task_command_refusal.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "ground/telemetry_limits.hpp"
@@ -273,8 +273,8 @@ std::string describeAck(const DecodedPacket& ack) {
                    static_cast<std::size_t>(detail) < tables::kTableRejectCount) {
             text += std::string(": table ") + tables::toString(static_cast<tables::TableReject>(detail));
         } else if (reason == static_cast<unsigned>(cmdtlm::CommandReject::kExecutionFailed) && command != nullptr &&
-                   command->code == cmdtlm::CommandCode::EXEC_SET_TASK && detail < app::kTaskCommandRefusalCount) {
-            text += std::string(": ") + app::toString(static_cast<app::TaskCommandRefusal>(detail));
+                   command->code == cmdtlm::CommandCode::EXEC_SET_TASK && detail < cmdtlm::kTaskCommandRefusalCount) {
+            text += std::string(": ") + cmdtlm::toString(static_cast<cmdtlm::TaskCommandRefusal>(detail));
         } else if (reason == static_cast<unsigned>(cmdtlm::CommandReject::kWrongMode) &&
                    static_cast<std::size_t>(detail) < cmdtlm::kModeCount) {
             text += std::string(": rover in ") + cmdtlm::toString(static_cast<cmdtlm::Mode>(detail));

@@ -32,25 +32,33 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       executive_(clock, events_),
       tables_(events_),
       telemetryOutput_(clock, events_, groundLinks_),
-      handler_(AppCommandHandler::Parts{clock, bus_, events_, executive_, tables_, telemetryOutput_}),
-      commands_(clock, events_, groundLinks_, telemetryOutput_, handler_),
+      mode_(clock, bus_, events_),
+      router_(bus_, events_, mode_),
+      commands_(clock, events_, groundLinks_, telemetryOutput_, router_),
+      housekeeping_(executive_, bus_, events_),
+      housekeepingTelemetry_(housekeeping_),
+      serviceCommands_(cmdtlm::ServiceCommands::Parts{events_, bus_, executive_, telemetryOutput_, commands_, router_,
+                                                      mode_, housekeepingTelemetry_}),
+      executiveCommands_(executive_, events_),
+      goalCommands_(clock, bus_, events_, tables_),
+      mobilityCommands_(clock, bus_, mode_),
+      tableTelemetry_(tables_),
+      tableCommands_(tables_, tableTelemetry_, telemetryOutput_),
+      planCommands_(clock, bus_),
+      planTelemetry_(telemetryOutput_),
       canIo_(can, clock, bus_, events_, tables_),
       poseEstimator_(bus_, events_, tables_),
       driveModes_(bus_, events_, tables_),
       health_(bus_, events_, tables_, executive_),
       faultProtection_(bus_, events_, tables_),
       watchdog_(bus_, events_),
-      housekeeping_(executive_, bus_, events_),
-      telemetry_(bus_, events_, telemetryOutput_,
-                 TelemetrySources{executive_, housekeeping_, commands_, tables_, can, 0.0, 1}),
+      telemetry_(bus_, events_, telemetryOutput_),
       manualDrive_(clock, bus_, events_, tables_),
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
       habitual_(bus_, events_, tables_),
       deliberative_(bus_, events_, tables_),
-      planExecutive_(bus_, events_) {
-    handler_.attach(&commands_, &telemetry_);
-}
+      planExecutive_(bus_, events_) {}
 
 core::Status FswApp::addGroundLink(hal::PacketLink* link) { return groundLinks_.add(link); }
 
@@ -62,69 +70,109 @@ core::Status FswApp::initStep(core::Status status, const char* what) {
     return status;
 }
 
+core::Status FswApp::checkKeys() const {
+    // No key, no commanding: the public lab key is never a silent default.
+    return commands_.keys().size() == 0 ? core::Status::kNotInitialized : core::Status::kOk;
+}
+
 core::Status FswApp::init(std::FILE* console) {
-    core::Status status = initStep(console_.init(console), "console task init");
-    if (core::isOk(status)) {
-        status = initStep(tables_.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount),
-                          "loading the default tables");
-    }
-    if (core::isOk(status)) {
-        status = initStep(canIo_.init(), "CAN I/O task init");
-    }
-    if (core::isOk(status)) {
+    // The start-up order: what a step needs is set up by the steps before it
+    // (the tables first; every pipe a start-up announcement reaches, before
+    // the announcements of the last step). The first failure is evented (201)
+    // and ends it.
+    const struct {
+        const char* what;
+        core::Status (*step)(FswApp&);
+    } steps[] = {
+        {"loading the default tables",
+         [](FswApp& a) { return a.tables_.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount); }},
+        {"CAN I/O task init", [](FswApp& a) { return a.canIo_.init(); }},
         // Serviced by the CAN I/O task, in the frame that moves its bus frames.
-        status = initStep(groundLinks_.add(&canIo_.groundLink(), cmdtlm::GroundLinks::Service::kByOwner),
-                          "adding the CAN ground link");
-    }
-    if (core::isOk(status) && commands_.keys().size() == 0) {
-        // No key, no commanding: the public lab key is never a silent default.
-        status = initStep(core::Status::kNotInitialized,
-                          "command keys (none: --key-file FILE, or --lab-key in the lab)");
-    }
-    if (core::isOk(status)) {
-        status = initStep(poseEstimator_.init(), "pose estimator init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(driveModes_.init(), "drive mode estimator init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(health_.init(), "health monitor init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(faultProtection_.init(), "fault protection init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(watchdog_.init(), "watchdog task init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(commands_.init(), "command service init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(telemetry_.init(), "telemetry task init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(manualDrive_.init(), "manual drive init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(follower_.init(), "trajectory follower init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(habitual_.init(), "habitual layer init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(deliberative_.init(), "deliberative layer init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(planExecutive_.init(), "plan executive init");
-    }
-    if (core::isOk(status)) {
-        status = initStep(handler_.init(), "command handlers init");
+        {"adding the CAN ground link",
+         [](FswApp& a) {
+             return a.groundLinks_.add(&a.canIo_.groundLink(), cmdtlm::GroundLinks::Service::kByOwner);
+         }},
+        {"command keys (none: --key-file FILE, or --lab-key in the lab)", [](FswApp& a) { return a.checkKeys(); }},
+        {"pose estimator init", [](FswApp& a) { return a.poseEstimator_.init(); }},
+        {"drive mode estimator init", [](FswApp& a) { return a.driveModes_.init(); }},
+        {"health monitor init", [](FswApp& a) { return a.health_.init(); }},
+        {"fault protection init", [](FswApp& a) { return a.faultProtection_.init(); }},
+        {"watchdog task init", [](FswApp& a) { return a.watchdog_.init(); }},
+        {"command service init", [](FswApp& a) { return a.commands_.init(); }},
+        {"telemetry task init", [](FswApp& a) { return a.initTelemetry(); }},
+        {"manual drive init", [](FswApp& a) { return a.manualDrive_.init(); }},
+        {"trajectory follower init", [](FswApp& a) { return a.follower_.init(); }},
+        {"habitual layer init", [](FswApp& a) { return a.habitual_.init(); }},
+        {"deliberative layer init", [](FswApp& a) { return a.deliberative_.init(); }},
+        {"plan executive init", [](FswApp& a) { return a.planExecutive_.init(); }},
+        {"command owners init", [](FswApp& a) { return a.initCommandOwners(); }},
+    };
+    core::Status status = initStep(console_.init(console), "console task init");
+    for (const auto& s : steps) {
+        if (!core::isOk(status)) {
+            return status;
+        }
+        status = initStep(s.step(*this), s.what);
     }
     if (!core::isOk(status)) {
         return status;
     }
-    telemetry_.setUtcAtMetZero(utcAtMetZero(clock_));
-    telemetry_.setTimeScale(timeScale_);
+    housekeepingTelemetry_.setUtcAtMetZero(utcAtMetZero(clock_));
+    housekeepingTelemetry_.setTimeScale(timeScale_);
+    reportTimeAndLinks();
+    status = startExecutive();
+    if (!core::isOk(status)) {
+        return status;
+    }
+    events_.report(events::kAppStarted, core::Severity::kInfo,
+                   "app: rse-fsw initialised, %zu tasks, %zu bytes reserved", executive_.taskCount(),
+                   sizeof(FswApp));
+    return core::Status::kOk;
+}
+
+core::Status FswApp::initTelemetry() {
+    // The packers in the order their packets go within a frame (after the
+    // events): HK and TASK_TIMING, DRIVES, ROVER_STATE and HEALTH,
+    // FAULT_PROTECTION, INSTRUMENTS, PLAN_EXEC, POWER, HAZARDS, PLAN.
+    cmdtlm::TelemetryPacker* const packers[] = {
+        &housekeepingTelemetry_, &drivesTelemetry_, &estimatorTelemetry_, &faultProtectionTelemetry_,
+        &instrumentsTelemetry_,  &planExecTelemetry_, &powerTelemetry_, &hazardsTelemetry_, &planTelemetry_,
+    };
+    // The owners of HK's fields.
+    const cmdtlm::HousekeepingContributor* const contributors[] = {&commands_, &mode_, &canIo_, &tableTelemetry_,
+                                                                   &telemetryOutput_};
+    core::Status status = core::Status::kOk;
+    for (cmdtlm::TelemetryPacker* packer : packers) {
+        status = core::isOk(status) ? telemetry_.add(packer) : status;
+    }
+    for (const cmdtlm::HousekeepingContributor* contributor : contributors) {
+        status = core::isOk(status) ? housekeepingTelemetry_.addContributor(contributor) : status;
+    }
+    return core::isOk(status) ? telemetry_.init() : status;
+}
+
+core::Status FswApp::initCommandOwners() {
+    core::Status status = router_.init();
+    // The onboard requests, on the router's pipe: call homes to the mode owner,
+    // task restarts to the executive's commands.
+    status = core::isOk(status) ? mode_.routeRequests(router_.requests()) : status;
+    status = core::isOk(status) ? executiveCommands_.routeRequests(router_.requests()) : status;
+    cmdtlm::AppCommands* const owners[] = {&serviceCommands_, &goalCommands_,     &mobilityCommands_,
+                                           &tableCommands_,   &executiveCommands_, &planCommands_};
+    for (cmdtlm::AppCommands* owner : owners) {
+        status = core::isOk(status) ? router_.add(owner) : status;
+    }
+    if (!core::isOk(status)) {
+        return status;
+    }
+    // Every pipe exists now: announce the boot mode and the goal list (with
+    // the planner table's default risk bound).
+    mode_.announce();
+    goalCommands_.init();
+    return core::Status::kOk;
+}
+
+void FswApp::reportTimeAndLinks() {
     if (timeScale_ > 1) {
         events_.report(events::kTimeScaled, core::Severity::kWarning,
                        "app: time scale %u: mission time runs %u times slower than real time (lab only, never flight)",
@@ -134,7 +182,9 @@ core::Status FswApp::init(std::FILE* console) {
         events_.report(events::kGroundLinkOpened, core::Severity::kInfo,
                        "app: ground link %s: commands in, telemetry out", groundLinks_.at(i)->name());
     }
+}
 
+core::Status FswApp::startExecutive() {
     // The rate-group table. Divisors count 100 Hz minor frames (10 = 10 Hz,
     // 100 = 1 Hz); offsets spread tasks of one rate over different frames; budgets
     // are the longest acceptable run. Tables come first, so an activation lands
@@ -179,7 +229,7 @@ core::Status FswApp::init(std::FILE* console) {
     };
     commands_.setRunBudget(static_cast<core::TimeNs>(kCommandBudgetUs) * core::kNsPerUs);
     const core::ExecutiveConfig config{kMinorFramePeriod, kMinorFramesPerMajor};
-    status = executive_.init(config, table, sizeof table / sizeof table[0]);
+    core::Status status = executive_.init(config, table, sizeof table / sizeof table[0]);
     if (!core::isOk(status)) {
         events_.report(events::kAppInitFailed, core::Severity::kCritical,
                        "app: rate-group table rejected (%s)", core::toString(status));
@@ -189,12 +239,8 @@ core::Status FswApp::init(std::FILE* console) {
     if (!core::isOk(status)) {
         events_.report(events::kAppInitFailed, core::Severity::kCritical,
                        "app: an essential task is not in the rate-group table (%s)", core::toString(status));
-        return status;
     }
-    events_.report(events::kAppStarted, core::Severity::kInfo,
-                   "app: rse-fsw initialised, %zu tasks, %zu bytes reserved", executive_.taskCount(),
-                   sizeof(FswApp));
-    return core::Status::kOk;
+    return status;
 }
 
 core::Status FswApp::protectEssentialRows() {
@@ -202,18 +248,18 @@ core::Status FswApp::protectEssentialRows() {
     // so reordering the table cannot unprotect one. Each must be in the table.
     const struct {
         const core::Task* task;
-        TaskCommandRefusal why;
+        cmdtlm::TaskCommandRefusal why;
     } essential[] = {
-        {&commands_, TaskCommandRefusal::kCommandIngest},
-        {&canIo_, TaskCommandRefusal::kCanIo},
-        {&health_, TaskCommandRefusal::kFaultDetection},
-        {&faultProtection_, TaskCommandRefusal::kFaultResponse},
+        {&commands_, cmdtlm::TaskCommandRefusal::kCommandIngest},
+        {&canIo_, cmdtlm::TaskCommandRefusal::kCanIo},
+        {&health_, cmdtlm::TaskCommandRefusal::kFaultDetection},
+        {&faultProtection_, cmdtlm::TaskCommandRefusal::kFaultResponse},
     };
     for (const auto& e : essential) {
         core::Status status = core::Status::kNotFound;
         for (std::size_t row = 0; row < executive_.taskCount(); ++row) {
             if (executive_.entry(row)->task == e.task) {
-                status = handler_.protectRow(row, e.why);
+                status = executiveCommands_.protectRow(row, e.why);
             }
         }
         if (!core::isOk(status)) {
@@ -279,7 +325,7 @@ void FswApp::printSummary(std::FILE* out) const {
                  "less their stalls, longest less its stalls %u us\n",
                  static_cast<unsigned>(c.stalledRuns), static_cast<long long>(cmdtlm::kIngestStallGap / core::kNsPerUs),
                  static_cast<unsigned>(c.overBudgetLessStalls), static_cast<unsigned>(c.longestRunLessStallsUs));
-    const CanGroundLink& can = canIo_.groundLink();
+    const io::CanGroundLink& can = canIo_.groundLink();
     if (can.downlinkActive()) {
         std::fprintf(out,
                      "  can-isotp downlink: %u packets completed, %u abandoned (%u without flow control), "

@@ -11,13 +11,13 @@
 #include <mbedtls/md.h>
 
 #include "fsw/cmdtlm/ccsds.hpp"
+#include "fsw/cmdtlm/command_verdict.hpp"
 #include "fsw/core/status.hpp"
 
 namespace rse::cmdtlm {
 
 constexpr std::size_t kKeySize = 32;        // HMAC-SHA-256 keys are 256 bits here
 constexpr std::size_t kMaxKeys = 4;         // key slots in the key store
-constexpr std::uint16_t kNoKey = 0;         // key id of an unauthenticated command
 constexpr std::uint32_t kReplayWindow = 64; // sequence numbers accepted out of order
 
 constexpr std::size_t kHmacSha256Size = 32; // untruncated HMAC-SHA-256

@@ -1,20 +1,15 @@
 // What the command task needs from the application: the mode (a precondition of
 // every command) and someone to carry out a command that passed every check.
-// The application implements it (fsw/app/command_handlers.*), so the command
+// The command router implements it (command_router.hpp): it hands each command
+// to the application that owns its APID (app_commands.hpp), so the command
 // service stays free of the subsystems the commands reach.
 #pragma once
 
-#include <cstdint>
-
-#include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/app_commands.hpp"
+#include "fsw/cmdtlm/command_verdict.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
 
 namespace rse::cmdtlm {
-
-struct CommandOutcome {
-    bool ok = true;
-    std::int16_t detail = -1;  // CMD_ACK.detail when !ok (e.g. the table reject code)
-};
 
 class CommandHandler {
 public:

@@ -422,6 +422,34 @@ void CommandTask::reportFlood(core::TimeNs now) {
     floodMark_ = counters_;
 }
 
+void CommandTask::fillHousekeeping(HK_Tlm& hk) const {
+    const CommandCounters& c = counters_;
+    hk.auth_required = authRequired() ? 1 : 0;
+    hk.lab_key_in_use = labKeyInUse() ? 1 : 0;
+    hk.cmd_queue_depth = c.queueDepth;
+    hk.cmd_accepted = c.accepted;
+    hk.cmd_rejected = c.rejected;
+    for (std::size_t i = 0; i < kRejectReasonCount; ++i) {
+        hk.cmd_rejected_by_reason[i] = c.byReason[i];
+    }
+    hk.last_cmd_apid = c.lastApid;
+    hk.last_cmd_fc = c.lastFunctionCode;
+    hk.last_cmd_result = static_cast<std::uint8_t>(c.lastResult);
+    const AntiReplayState& replay = antiReplay();
+    hk.auth_store_state = static_cast<std::uint8_t>(replay.state());
+    hk.auth_keys_unsynced = keysUnsynced();
+    hk.auth_challenge_high = static_cast<std::uint32_t>(replay.challenge() >> 32);
+    hk.auth_challenge_low = static_cast<std::uint32_t>(replay.challenge());
+    hk.auth_store_writes = replay.writes();
+    hk.auth_store_write_failures = replay.writeFailures();
+    hk.auth_store_wait_frames = c.storeWaitFrames;
+    hk.link_rx_packets = c.linkRxPackets;
+    hk.link_rx_dropped = c.linkRxDropped;
+    hk.link_rx_kernel_drops = c.linkRxKernelDropped;
+    hk.cmd_ingest_limited = c.ingestLimited;
+    hk.cmd_acks_suppressed = c.acksSuppressed;
+}
+
 void CommandTask::resetCounters() {
     counters_ = CommandCounters{};
     counters_.queueDepth = static_cast<std::uint8_t>(count_);

@@ -12,7 +12,9 @@
 //   2 dispatch: up to kCommandsPerFrame queued packets are checked in full
 //     (CommandValidator::check: again the MAC, then the anti-replay sequence and
 //     its persisted reservation, argument ranges, mode) and, when they pass,
-//     executed by the application's CommandHandler.
+//     executed by the application's CommandHandler (the command router,
+//     command_router.hpp, which hands each to the application owning its APID).
+// HK's cmd_*, auth_* and link_* fields are this task's (fillHousekeeping).
 // An unknown key id is acknowledged and evented as bad_mac (linkReason()).
 // Every packet yields one CMD_ACK in telemetry (accepted, or the reason), except
 // that acknowledgements of rejections that did not authenticate (reasons
@@ -33,6 +35,7 @@
 #include "fsw/cmdtlm/command_handler.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/ground_links.hpp"
+#include "fsw/cmdtlm/housekeeping_contributor.hpp"
 #include "fsw/cmdtlm/telemetry_output.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
@@ -91,7 +94,7 @@ struct CommandCounters {
     std::uint32_t longestRunLessStallsUs = 0;
 };
 
-class CommandTask final : public core::Task {
+class CommandTask final : public core::Task, public HousekeepingContributor {
 public:
     CommandTask(const core::Clock& clock, core::EventLog& events, const GroundLinks& links,
                 TelemetryOutput& telemetry, CommandHandler& handler);
@@ -125,6 +128,7 @@ public:
 
     const CommandCounters& counters() const { return counters_; }
     void resetCounters();
+    void fillHousekeeping(HK_Tlm& hk) const override;
 
 private:
     struct QueuedPacket {

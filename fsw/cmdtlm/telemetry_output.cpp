@@ -57,6 +57,11 @@ void TelemetryOutput::reportTooLarge(std::uint16_t apid, std::size_t length) {
     }
 }
 
+void TelemetryOutput::fillHousekeeping(HK_Tlm& hk) const {
+    hk.tlm_sent = sent_;
+    hk.tlm_dropped = dropped_;
+}
+
 void TelemetryOutput::resetCounters() {
     sent_ = 0;
     dropped_ = 0;

@@ -14,9 +14,10 @@
 #include <cstdint>
 
 #include "fsw/cmdtlm/ccsds.hpp"
-#include "fsw/cmdtlm/ground_links.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
-#include "fsw/core/byte_codec.hpp"
+#include "fsw/cmdtlm/ground_links.hpp"
+#include "fsw/cmdtlm/housekeeping_contributor.hpp"
+#include "fsw/cmdtlm/telemetry_sink.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "hal/link/packet_link.hpp"
@@ -29,22 +30,14 @@ constexpr hal::TxPriority telemetryPriority(std::uint16_t apid) {
                                       : hal::TxPriority::kRoutine;
 }
 
-class TelemetryOutput {
+// The sink every packer and command handler sends through (telemetry_sink.hpp),
+// and HK's tlm_* fields.
+class TelemetryOutput final : public TelemetrySink, public HousekeepingContributor {
 public:
     TelemetryOutput(const core::Clock& clock, core::EventLog& events, const GroundLinks& links)
         : clock_(clock), events_(events), links_(links) {}
 
-    template <typename T>
-    void send(const T& telemetry) {
-        core::BeWriter w(payload_, sizeof payload_);
-        encodeTelemetry(w, telemetry);
-        if (w.ok()) {
-            sendPayload(T::kApid, payload_, w.size());
-        } else {
-            reportTooLarge(T::kApid, sizeof telemetry);
-        }
-    }
-    void sendPayload(std::uint16_t apid, const std::uint8_t* payload, std::size_t length);
+    void sendPayload(std::uint16_t apid, const std::uint8_t* payload, std::size_t length) override;
     // Packets of this priority every link offered telemetry would take now
     // (the least txRoom; hal::kTxRoomUnlimited when none limits it).
     std::size_t room(hal::TxPriority priority) const;
@@ -56,15 +49,15 @@ public:
         return i < hal::kTxPriorityCount ? droppedBy_[i] : 0;
     }
     void resetCounters();
+    void fillHousekeeping(HK_Tlm& hk) const override;
 
 private:
-    void reportTooLarge(std::uint16_t apid, std::size_t length);
+    void reportTooLarge(std::uint16_t apid, std::size_t length) override;
 
     const core::Clock& clock_;
     core::EventLog& events_;
     const GroundLinks& links_;
     std::uint16_t sequence_[kMaxApid + 1] = {};
-    std::uint8_t payload_[kMaxTelemetryPacket] = {};
     std::uint8_t packet_[kMaxTelemetryPacket] = {};
     std::uint32_t sent_ = 0;
     std::uint32_t dropped_ = 0;

@@ -59,7 +59,7 @@ struct DriveRecoveryMsg {
     std::uint8_t pad[6];
 };
 
-// Fault protection -> the executive's owner (command handlers): run a stalled
+// Fault protection -> the executive's owner (cmdtlm's executive commands): run a stalled
 // rate-group row again (it was disabled, or stopped running).
 struct TaskRestartMsg {
     static constexpr core::MsgId kMsgId = ids::kTaskRestart;

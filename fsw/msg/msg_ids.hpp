@@ -40,25 +40,25 @@ constexpr core::MsgId kTrajectory = 0x0170;      // TrajectoryMsg, per plan or r
 constexpr core::MsgId kFollowerStatus = 0x0171;  // FollowerStatusMsg, on change and 10 Hz, reflexive -> habitual, telemetry
 
 // commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
-constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, command handlers -> can_io, manual_drive, layers
-constexpr core::MsgId kInterlockReset = 0x0133;  // InterlockResetMsg, per RESET_INTERLOCK, command handlers -> can_io
-constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, command handlers -> manual_drive
-constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, command handlers -> plan executive, telemetry
+constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, the mode owner (cmdtlm) -> can_io, manual_drive, layers
+constexpr core::MsgId kInterlockReset = 0x0133;  // InterlockResetMsg, per RESET_INTERLOCK, mobility commands -> can_io
+constexpr core::MsgId kManualDrive = 0x0131;   // ManualDriveMsg, per DRIVE command, mobility commands -> manual_drive
+constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, goal commands -> plan executive, telemetry
 
-// deliberative -> telemetry, command handlers (deliberative_msgs.hpp)
+// deliberative -> telemetry, the mode owner (deliberative_msgs.hpp)
 constexpr core::MsgId kPlanStatus = 0x0141;    // PlanStatusMsg, on change and 1 Hz, deliberative -> telemetry
-constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home, deliberative -> command handlers (mode owner)
+constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home, deliberative -> the mode owner (cmdtlm)
 constexpr core::MsgId kPlanPath = 0x0143;      // PlanPathMsg, per plan made (plansMade), deliberative -> telemetry (PLAN_PATH)
 
 // fault protection -> CAN I/O and the layers (fault_protection_msgs.hpp)
 constexpr core::MsgId kMissionHold = 0x0180;    // MissionHoldMsg, on change and 1 Hz, fault protection -> can_io, habitual, deliberative, telemetry
 constexpr core::MsgId kDriveRecovery = 0x0181;  // DriveRecoveryMsg, per action, fault protection -> can_io
-constexpr core::MsgId kTaskRestart = 0x0182;    // TaskRestartMsg, per action, fault protection -> command handlers (executive owner)
+constexpr core::MsgId kTaskRestart = 0x0182;    // TaskRestartMsg, per action, fault protection -> the executive's commands (cmdtlm)
 constexpr core::MsgId kFaultProtectionStatus = 0x0183;  // FaultProtectionStatusMsg, on change and 1 Hz, fault protection -> telemetry
 constexpr core::MsgId kReplanRequest = 0x0184;  // ReplanRequestMsg, per try, fault protection -> deliberative
 
-// command handlers <-> plan executive -> telemetry (plan_executive_msgs.hpp)
-constexpr core::MsgId kPlanCommand = 0x0190;         // PlanCommandMsg, per PLAN_* command, command handlers -> plan executive
+// plan commands <-> plan executive -> telemetry (plan_executive_msgs.hpp)
+constexpr core::MsgId kPlanCommand = 0x0190;         // PlanCommandMsg, per PLAN_* command, plan commands -> plan executive
 constexpr core::MsgId kPlanExecutiveStatus = 0x0191; // PlanExecutiveStatusMsg, on change and 1 Hz, plan executive -> telemetry
 constexpr core::MsgId kPlanGoal = 0x0192;            // PlanGoalMsg, per drive activity started or cancelled (GOTO and goal lists too), plan executive -> deliberative
 

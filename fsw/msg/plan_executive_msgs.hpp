@@ -1,5 +1,5 @@
 // The plan executive across the bus (docs/plan_executive.md "The task"): what
-// the command handlers send it from the ground (PLAN_LOAD chunks, PLAN_START,
+// the plan commands (plan_commands.hpp) send it from the ground (PLAN_LOAD chunks, PLAN_START,
 // PLAN_SHORT, PLAN_ABORT, PLAN_EXTEND, one message kind each) and what it says it is doing
 // (PlanExecutiveStatusMsg, the PLAN_EXEC packet).
 #pragma once
@@ -25,7 +25,7 @@ enum class PlanCommandKind : std::uint8_t {
     kExtend = 4, // PLAN_EXTEND: the running science activity named data[0 .. length) for extendMs more
 };
 
-// Published by the command handlers (one per command), taken by the plan
+// Published by the plan commands (one per command), taken by the plan
 // executive task in its next run. Hostile until checked: a kind out of range
 // or a length over kPlanChunkBytes is dropped (malformed, evented).
 struct PlanCommandMsg {
@@ -93,7 +93,7 @@ enum class PlanRegeneration : std::uint8_t {
 // `within R` or 0, priority 0, the operator's risk bound from the last
 // GoalListMsg) when the activity starts,
 // of none when it is cancelled. Revisions count from 0x80000000, apart from
-// the command handlers'; PlanStatusMsg's goalRevision says which list the
+// the goal commands'; PlanStatusMsg's goalRevision says which list the
 // deliberative layer is working on. listIndex: the goal's index in the
 // operator's goal list when the plan is one made from it (GOTO, ADD_TARGET),
 // else 0; the deliberative layer reports it as PlanStatusMsg.goalIndex.

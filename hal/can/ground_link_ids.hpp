@@ -1,5 +1,5 @@
 // CAN ids of the ISO-TP ground link (docs/icd.md §1.2 and §2), one place for
-// the rover (fsw/app/can_ground_link) and the ground (ground/ground_link,
+// the rover (fsw/io/can_ground_link) and the ground (ground/ground_link,
 // rse-ground --can). Normal addressing, 11-bit ids. They lie outside every CiA 301
 // restricted CAN-ID range (hal/canopen/canopen_ids.hpp, kCia301RestrictedIds: an
 // independent CANopen stack flags those) and outside every id the rover's nodes

@@ -1,5 +1,5 @@
 // Event ids raised by the ground-link transports (hal/link, and the ISO-TP ground
-// link fsw/app/can_ground_link): range 370-389. For docs/icd.md (events table).
+// link fsw/io/can_ground_link): range 370-389. For docs/icd.md (events table).
 //
 // Conditions a peer or a busy network can cause packet after packet (drops, full
 // queues, OS errors on send or receive, refusals) are evented on their 1st, 2nd,

@@ -14,7 +14,7 @@
 
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 
-#include "fsw/app/can_io_task.hpp"
+#include "fsw/io/can_io_task.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/executive.hpp"
 #include "hal/can/memory_can_bus.hpp"

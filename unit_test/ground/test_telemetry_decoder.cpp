@@ -217,7 +217,7 @@ TEST(GroundTelemetryDecoder, CommandAckRendersTheVerdict) {
     ack.detail = 2;
     STRCMP_EQUAL("GOTO (0x181/0, auth seq 4000000000) rejected: argument_out_of_range (detail 2: argument risk)",
                  ground::describeAck(roundTrip(ack, 5, 0)).c_str());
-    // EXEC_SET_TASK's refusals are named (fsw/app/task_command_refusal.hpp).
+    // EXEC_SET_TASK's refusals are named (fsw/cmdtlm/task_command_refusal.hpp).
     ack.apid = 0x184;
     ack.reason = static_cast<std::uint8_t>(cmdtlm::CommandReject::kExecutionFailed);
     ack.detail = 2;

@@ -95,8 +95,8 @@ TEST(FswApp, MalformedHousekeepingIsCountedNotPrinted) {
     POINTERS_EQUAL(nullptr, std::strstr(text, "HK  #0"));
 }
 
-// A call home (the deliberative layer's SafeRequestMsg) is taken by the command
-// handlers (the mode owner) on their next run and counted; from SAFE (the boot
+// A call home (the deliberative layer's SafeRequestMsg) is taken by the mode owner
+// (cmdtlm::RoverMode, through the command router) on its next run and counted; from SAFE (the boot
 // mode) no mode change is announced. AUTONOMOUS -> SAFE on a call home:
 // unit_test/system/lockstep/test_lockstep_deliberative.cpp.
 TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
@@ -109,8 +109,8 @@ TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
     request.reason = msg::CallHomeReason::kMobilityLost;
     CHECK(core::isOk(fsw.bus().publish(request)));
     fsw.run(nullptr, 2);
-    LONGS_EQUAL(1, fsw.commandHandler().safeRequests());
-    CHECK(cmdtlm::Mode::kSafe == fsw.commandHandler().mode());
+    LONGS_EQUAL(1, fsw.roverMode().safeRequests());
+    CHECK(cmdtlm::Mode::kSafe == fsw.roverMode().mode());
     // Already SAFE (the boot mode): counted and evented, no mode change announced.
     core::Message m;
     unsigned modes = 0;
@@ -122,8 +122,8 @@ TEST(FswApp, ASafeRequestIsTakenByTheModeOwnerAndCounted) {
     const std::uint8_t shortRequest[3] = {};
     CHECK(core::isOk(fsw.bus().publish(msg::ids::kSafeRequest, shortRequest, sizeof shortRequest)));
     fsw.run(nullptr, 2);
-    LONGS_EQUAL(1, fsw.commandHandler().safeRequests());
-    LONGS_EQUAL(1, fsw.commandHandler().malformedRequests());
+    LONGS_EQUAL(1, fsw.roverMode().safeRequests());
+    LONGS_EQUAL(1, fsw.commandRouter().malformedRequests());
 }
 
 // Issue 14 item 4: the public lab key is never a silent default. With no key

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "fsw/app/can_ground_link.hpp"
+#include "fsw/io/can_ground_link.hpp"
 #include "ground/ground_link.hpp"
 #include "hal/can/ground_link_ids.hpp"
 #include "hal/canopen/canopen_ids.hpp"
@@ -36,8 +36,8 @@ TEST(CanIdPlan, RestrictedRangesAreCia301s) {
 }
 
 TEST(CanIdPlan, GroundLinkIdsAreOutsideEveryRestrictedRange) {
-    const std::uint32_t ids[] = {hal::kGroundUplinkCanId, hal::kGroundDownlinkCanId, app::kGroundUplinkCobId,
-                                 app::kGroundDownlinkCobId, ground::kGroundIsoTpTxId, ground::kGroundIsoTpRxId};
+    const std::uint32_t ids[] = {hal::kGroundUplinkCanId, hal::kGroundDownlinkCanId, io::kGroundUplinkCobId,
+                                 io::kGroundDownlinkCobId, ground::kGroundIsoTpTxId, ground::kGroundIsoTpRxId};
     for (const std::uint32_t id : ids) {
         CHECK_TEXT(id <= 0x7FF, std::to_string(id).c_str());
         for (const CanIdRange& r : kCia301RestrictedIds) {
@@ -45,8 +45,8 @@ TEST(CanIdPlan, GroundLinkIdsAreOutsideEveryRestrictedRange) {
         }
     }
     // Rover and ground agree: the ground sends where the rover listens.
-    LONGS_EQUAL(app::kGroundUplinkCobId, ground::kGroundIsoTpTxId);
-    LONGS_EQUAL(app::kGroundDownlinkCobId, ground::kGroundIsoTpRxId);
+    LONGS_EQUAL(io::kGroundUplinkCobId, ground::kGroundIsoTpTxId);
+    LONGS_EQUAL(io::kGroundDownlinkCobId, ground::kGroundIsoTpRxId);
     CHECK(hal::kGroundUplinkCanId != hal::kGroundDownlinkCanId);
 }
 

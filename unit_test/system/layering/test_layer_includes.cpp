@@ -9,10 +9,16 @@
 //   fsw/rover_model. Not another layer, not fsw/cmdtlm or fsw/app, not hal/
 //   (no layer uses it), not the simulator or the ground tools;
 // - a file in a folder below the layers includes only folders below the layers
-//   (what sits below both cannot reach back up into either).
+//   (what sits below both cannot reach back up into either);
+// - the exception to both: a layer and fsw/tables may include the application
+//   interface of fsw/cmdtlm (the headers kCmdTlmInterface names, listed in
+//   fsw/cmdtlm/app_commands.hpp), through which an application owns its
+//   commands and its telemetry packets; nothing else of fsw/cmdtlm;
+// - fsw/cmdtlm (the command and telemetry service, below every layer) includes
+//   only itself, fsw/core, fsw/msg and what lies outside fsw/ (hal/): no
+//   layer, no table, no fsw/io, no fsw/app.
 //
-// fsw/app (the composition root) and fsw/cmdtlm are not checked: they may
-// include every layer.
+// fsw/app (the composition root) is not checked: it may include every layer.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -28,6 +34,10 @@ namespace {
 const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", "deliberative", "fault_protection",
                                           "plan_executive"};
 const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "tables", "rover_model"};
+const std::vector<std::string> kCmdTlmInterface = {
+    "fsw/cmdtlm/dictionary.hpp",     "fsw/cmdtlm/command_verdict.hpp",  "fsw/cmdtlm/app_commands.hpp",
+    "fsw/cmdtlm/telemetry_sink.hpp", "fsw/cmdtlm/telemetry_packer.hpp", "fsw/cmdtlm/housekeeping_contributor.hpp",
+    "fsw/cmdtlm/rover_mode.hpp"};
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
@@ -78,7 +88,9 @@ struct Scan {
     std::string violations;
 };
 
-Scan scan(const std::vector<std::string>& folders, const std::vector<std::string>& allowed) {
+// interface: single headers allowed besides the allowed folders.
+Scan scan(const std::vector<std::string>& folders, const std::vector<std::string>& allowed,
+          const std::vector<std::string>& interface = {}) {
     Scan out;
     for (const std::string& folder : folders) {
         const fs::path root = fs::path("fsw") / folder;
@@ -93,7 +105,7 @@ Scan scan(const std::vector<std::string>& folders, const std::vector<std::string
             ++out.files;
             for (const Include& inc : quotedIncludes(e.path())) {
                 const std::string target = fswFolder(inc.path);
-                if (target != folder && !contains(allowed, target)) {
+                if (target != folder && !contains(allowed, target) && !contains(interface, inc.path)) {
                     out.violations += "\n  " + e.path().generic_string() + ":" + std::to_string(inc.line) +
                                       " includes " + inc.path;
                 }
@@ -108,16 +120,27 @@ Scan scan(const std::vector<std::string>& folders, const std::vector<std::string
 TEST_GROUP(LayerIncludes){};
 
 TEST(LayerIncludes, ALayerIncludesOnlyItselfAndWhatLiesBelowEveryLayer) {
-    const Scan s = scan(kLayers, kBelowLayers);
+    const Scan s = scan(kLayers, kBelowLayers, kCmdTlmInterface);
     CHECK_TEXT(s.files > 50, "layer sources not found (run from the repository root)");
     CHECK_TEXT(s.violations.empty(),
                ("a layer includes another layer's (or a non-shared) folder:" + s.violations).c_str());
 }
 
 TEST(LayerIncludes, WhatLiesBelowTheLayersIncludesNoLayer) {
-    const Scan s = scan(kBelowLayers, kBelowLayers);
+    std::vector<std::string> belowButTables = kBelowLayers;
+    belowButTables.erase(std::find(belowButTables.begin(), belowButTables.end(), "tables"));
+    Scan s = scan(belowButTables, kBelowLayers);
+    const Scan tables = scan({"tables"}, kBelowLayers, kCmdTlmInterface);  // it owns the table commands
+    s.files += tables.files;
+    s.violations += tables.violations;
     CHECK_TEXT(s.files > 20, "shared sources not found (run from the repository root)");
     CHECK_TEXT(s.violations.empty(), ("a folder below the layers includes a layer:" + s.violations).c_str());
+}
+
+TEST(LayerIncludes, TheCommandAndTelemetryServiceIncludesNoApplication) {
+    const Scan s = scan({"cmdtlm"}, {"core", "msg", ""});  // "": outside fsw/ (hal/)
+    CHECK_TEXT(s.files > 20, "fsw/cmdtlm sources not found (run from the repository root)");
+    CHECK_TEXT(s.violations.empty(), ("fsw/cmdtlm includes an application:" + s.violations).c_str());
 }
 
 // The folder an include names: the one under fsw/, none outside fsw/ (which is

@@ -39,7 +39,7 @@ bool isTelemetryPacket(const std::uint8_t* data, std::size_t length) {
 void serviceGround(sim::LockstepRig&) {
     hal::CanFrame f;
     while (core::isOk(g_ground.can->receive(&f))) {
-        if (f.id == app::kGroundDownlinkCobId) {
+        if (f.id == io::kGroundDownlinkCobId) {
             g_ground.channel->onFrame(f);
         }
     }
@@ -53,8 +53,8 @@ void serviceGround(sim::LockstepRig&) {
 
 hal::IsoTpConfig groundConfig() {
     hal::IsoTpConfig c;
-    c.txId = app::kGroundUplinkCobId;
-    c.rxId = app::kGroundDownlinkCobId;
+    c.txId = io::kGroundUplinkCobId;
+    c.rxId = io::kGroundDownlinkCobId;
     c.blockSize = 8;  // as the rover asks of the ground: one block of 8 CFs per flow control
     return c;
 }
@@ -78,7 +78,7 @@ TEST_GROUP(LockstepGroundLink) {
         delete groundEvents;
         delete rig;
     }
-    const app::CanGroundLink& link() { return rig->fsw().canIo().groundLink(); }
+    const io::CanGroundLink& link() { return rig->fsw().canIo().groundLink(); }
 };
 
 TEST(LockstepGroundLink, TelemetryComesDownAsWholeCcsdsPacketsWhileTheRoverDrives) {
