@@ -74,22 +74,33 @@ double seconds(std::int32_t ms) { return static_cast<double>(ms) / 1000.0; }
 
 }  // namespace
 
-PlanExecutiveTask::PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events) : bus_(bus), events_(events) {}
+PlanExecutiveTask::PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& events)
+    : bus_(bus),
+      events_(events),
+      commands_(bus, events, core::InputPipeConfig{"plan_exec", kPipeDepth, events::kMalformedInput, "plan_exec"}),
+      inputs_(bus, events,
+              core::InputPipeConfig{"plan_exec_in", kStatusPipeDepth, events::kMalformedInput, "plan_exec"}) {}
 
 core::Status PlanExecutiveTask::init() {
-    core::Status status = bus_.createPipe("plan_exec", kPipeDepth, &pipe_);
+    // The status pipe's ids are routed in the order they were subscribed before.
+    core::Status status = commands_.create();
     if (core::isOk(status)) {
-        status = bus_.subscribe(pipe_, msg::ids::kPlanCommand);
+        status = commands_.route<&PlanExecutiveTask::takeCommand>(this);
     }
     if (core::isOk(status)) {
-        status = bus_.createPipe("plan_exec_in", kStatusPipeDepth, &statusPipe_);
+        status = inputs_.create();
     }
-    const core::MsgId inputs[] = {msg::ids::kInstrumentStatus, msg::ids::kDriveModes, msg::ids::kPlanStatus,
-                                  msg::ids::kGoalList};
-    for (const core::MsgId id : inputs) {
-        if (core::isOk(status)) {
-            status = bus_.subscribe(statusPipe_, id);
-        }
+    if (core::isOk(status)) {
+        status = inputs_.route<&PlanExecutiveTask::takeInstrument>(this);
+    }
+    if (core::isOk(status)) {
+        status = inputs_.route<&PlanExecutiveTask::takeDriveModes>(this);
+    }
+    if (core::isOk(status)) {
+        status = inputs_.route<&PlanExecutiveTask::takePlanStatus>(this);
+    }
+    if (core::isOk(status)) {
+        status = inputs_.route<&PlanExecutiveTask::takeGoalList>(this);
     }
     if (!core::isOk(status)) {
         events_.report(events::kInitFailed, core::Severity::kError, "plan_exec: init failed (%s)",
@@ -106,8 +117,8 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
     }
     now_ = frame.scheduledStart;
     ++runs_;
-    takeMessages();
-    takeStatus();
+    commands_.drain();
+    inputs_.drain();
     if (goalsPending_ && job_ == Job::kNone) {
         beginGoalPlan();
     }
@@ -130,84 +141,44 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
     }
 }
 
-void PlanExecutiveTask::malformedInput(const char* what) {
-    ++malformed_;
-    if (core::isReportableOccurrence(malformed_)) {
-        events_.report(events::kMalformedInput, core::Severity::kError,
-                       "plan_exec: malformed input 0x%04x dropped: %s (%u so far)",
-                       static_cast<unsigned>(inbox_.header.id), what, static_cast<unsigned>(malformed_));
+// A command whose kind or length is out of range is refused: counted and
+// evented as malformed by the pipe.
+core::Status PlanExecutiveTask::takeCommand(const msg::PlanCommandMsg& m) {
+    if (static_cast<std::uint8_t>(m.kind) > static_cast<std::uint8_t>(msg::PlanCommandKind::kExtend) ||
+        m.length > msg::kPlanChunkBytes) {
+        return core::Status::kInvalidArgument;
     }
+    handle(m);
+    return core::Status::kOk;
 }
 
-void PlanExecutiveTask::takeMessages() {
-    for (std::uint16_t i = 0; i < kPipeDepth && core::isOk(bus_.receive(pipe_, &inbox_)); ++i) {
-        if (inbox_.header.id != msg::ids::kPlanCommand || !core::isOk(inbox_.decode(&command_))) {
-            malformedInput("does not decode");
-            continue;
-        }
-        if (static_cast<std::uint8_t>(command_.kind) > static_cast<std::uint8_t>(msg::PlanCommandKind::kExtend) ||
-            command_.length > msg::kPlanChunkBytes) {
-            malformedInput("kind or length out of range");
-            continue;
-        }
-        handle(command_);
+core::Status PlanExecutiveTask::takeInstrument(const msg::InstrumentStatusMsg& m) {
+    if (static_cast<std::size_t>(m.instrument) >= msg::kInstrumentCount ||
+        static_cast<std::uint8_t>(m.state) > static_cast<std::uint8_t>(msg::InstrumentState::kFailed)) {
+        return core::Status::kInvalidArgument;
     }
+    onInstrument(m);
+    return core::Status::kOk;
 }
 
-void PlanExecutiveTask::takeStatus() {
-    for (std::uint16_t i = 0; i < kStatusPipeDepth && core::isOk(bus_.receive(statusPipe_, &inbox_)); ++i) {
-        core::Status status = core::Status::kWrongType;
-        switch (inbox_.header.id) {
-            case msg::ids::kInstrumentStatus: {
-                msg::InstrumentStatusMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status) &&
-                    (static_cast<std::size_t>(m.instrument) >= msg::kInstrumentCount ||
-                     static_cast<std::uint8_t>(m.state) > static_cast<std::uint8_t>(msg::InstrumentState::kFailed))) {
-                    status = core::Status::kInvalidArgument;
-                }
-                if (core::isOk(status)) {
-                    onInstrument(m);
-                }
-                break;
-            }
-            case msg::ids::kDriveModes: {
-                msg::DriveModesMsg m{};
-                status = inbox_.decode(&m);
-                for (std::size_t w = 0; core::isOk(status) && w < msg::kWheelCount; ++w) {
-                    if (static_cast<std::uint8_t>(m.drives[w].declared) >= msg::kDriveModeCount) {
-                        status = core::Status::kInvalidArgument;
-                    }
-                }
-                if (core::isOk(status)) {
-                    onDriveModes(m);
-                }
-                break;
-            }
-            case msg::ids::kPlanStatus: {
-                msg::PlanStatusMsg m{};
-                status = inbox_.decode(&m);
-                if (core::isOk(status)) {
-                    onPlanStatus(m);
-                }
-                break;
-            }
-            case msg::ids::kGoalList: {
-                status = inbox_.decode(&goalInbox_);
-                if (core::isOk(status) && !msg::goalListUsable(goalInbox_)) {
-                    status = core::Status::kInvalidArgument;
-                }
-                if (core::isOk(status)) {
-                    onGoalList(goalInbox_);
-                }
-                break;
-            }
-            default: break;
-        }
-        if (!core::isOk(status)) {
-            malformedInput("status does not decode or is out of range");
+core::Status PlanExecutiveTask::takeDriveModes(const msg::DriveModesMsg& m) {
+    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
+        if (static_cast<std::uint8_t>(m.drives[w].declared) >= msg::kDriveModeCount) {
+            return core::Status::kInvalidArgument;
         }
     }
+    onDriveModes(m);
+    return core::Status::kOk;
+}
+
+void PlanExecutiveTask::takePlanStatus(const msg::PlanStatusMsg& m) { onPlanStatus(m); }
+
+core::Status PlanExecutiveTask::takeGoalList(const msg::GoalListMsg& m) {
+    if (!msg::goalListUsable(m)) {
+        return core::Status::kInvalidArgument;
+    }
+    onGoalList(m);
+    return core::Status::kOk;
 }
 
 void PlanExecutiveTask::onInstrument(const msg::InstrumentStatusMsg& m) {

@@ -72,6 +72,7 @@
 
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/executive.hpp"
+#include "fsw/core/input_pipe.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/goal_msgs.hpp"
@@ -120,13 +121,18 @@ public:
     const PlanDispatcher& dispatcher() const { return dispatcher_; }
     const Selection& selection() const { return selection_; }
     std::size_t uploadLength() const { return uploadLength_; }
-    std::uint32_t malformed() const { return malformed_; }
+    // Inputs refused on either pipe (did not decode, or out of range).
+    std::uint32_t malformed() const { return commands_.malformed() + inputs_.malformed(); }
 
 private:
     enum class Job : std::uint8_t { kNone, kSelectNew, kRegenerate };
 
-    void takeMessages();
-    void takeStatus();
+    // The pipes' handlers: a message out of range is refused (malformed).
+    core::Status takeCommand(const msg::PlanCommandMsg& m);
+    core::Status takeInstrument(const msg::InstrumentStatusMsg& m);
+    core::Status takeDriveModes(const msg::DriveModesMsg& m);
+    void takePlanStatus(const msg::PlanStatusMsg& m);
+    core::Status takeGoalList(const msg::GoalListMsg& m);
     void onInstrument(const msg::InstrumentStatusMsg& m);
     void onDriveModes(const msg::DriveModesMsg& m);
     void onPlanStatus(const msg::PlanStatusMsg& m);
@@ -178,15 +184,15 @@ private:
     std::int32_t planMs() const;
     void fillStatus();
     void publishStatus();
-    void malformedInput(const char* what);
 
     core::SoftwareBus& bus_;
     core::EventLog& events_;
-    core::PipeId pipe_ = 0;
-    core::PipeId statusPipe_ = 0;
+    // The command handlers' PlanCommandMsg ("plan_exec"), and what the
+    // devices, mode estimation, the deliberative layer and the operator's goal
+    // list say ("plan_exec_in").
+    core::InputPipe commands_;
+    core::InputPipe inputs_;
     bool ready_ = false;
-    core::Message inbox_{};
-    msg::PlanCommandMsg command_{};
     core::TimeNs now_ = 0;
     std::uint32_t runs_ = 0;
     bool changed_ = true;
@@ -230,7 +236,6 @@ private:
     double riskBound_ = 1e-3;     // the operator's, from the last GoalListMsg
     msg::PlanGoalMsg goal_{};
     // The operator's goal list (GoalListMsg) and the plan made from it.
-    msg::GoalListMsg goalInbox_{};
     msg::GoalListMsg goalList_{};
     bool goalListSeen_ = false;
     bool goalsPending_ = false;    // a new revision to turn into a plan when no selection runs
@@ -275,7 +280,6 @@ private:
     std::uint32_t late_ = 0;
     std::uint32_t failed_ = 0;
     std::uint32_t operatorCalls_ = 0;
-    std::uint32_t malformed_ = 0;
     std::uint32_t publishFailures_ = 0;
     msg::PlanRefusal lastRefusal_ = msg::PlanRefusal::kNone;
     ParseResult lastParse_{};
