@@ -25,7 +25,7 @@
 
 namespace rse::test {
 
-struct ExecutiveParts : private plan_executive::RegenerationStarter {
+struct ExecutiveParts final : private plan_executive::RegenerationStarter {
     static constexpr core::TimeNs kRun = 100 * core::kNsPerMs;
 
     core::VirtualClock clock{0};
