@@ -24,12 +24,12 @@
 //   6. PlanExecutiveStatusMsg (PlanStatusReport) on any change and every
 //      kStatusPeriodRuns runs.
 //
-// States (msg::PlanExecutiveState): idle -> selecting (a first plan's
-// selection) -> dispatching -> complete; dispatching -> regenerating ->
-// dispatching (a regeneration adopted) or failed (no method left: the
-// operator called, SafeRequestMsg kPlanNoMethod; or a goal plan's drive
-// failed); any -> idle on PLAN_ABORT or an empty goal list stopping a goal
-// plan. A new plan is staged while the plan running keeps running; anything
+// States (msg::PlanExecutiveState): idle -> selecting (a plan's selection
+// with none running) -> dispatching -> complete; dispatching -> regenerating
+// -> dispatching (a regeneration adopted); dispatching or regenerating ->
+// failed (no method left: the operator called, SafeRequestMsg kPlanNoMethod;
+// or a goal plan's drive failed); any -> idle on PLAN_ABORT or an empty goal
+// list stopping a goal plan. A new plan is staged while the plan running keeps running; anything
 // refused on the way leaves the plan running as it was. Every step is an
 // event (plan_executive_events.hpp, 950-989).
 //
