@@ -270,19 +270,28 @@ private:
         double openBefore;
     };
 
-    bool validate(const Tpn& plan) const;
-    void analyse(const SelectionInput& input);
-    void buildNetwork(const SelectionInput& input);
-    void addEdge(std::size_t from, std::size_t to, std::int32_t weight, std::size_t g);
-    void sortEdgesByGroup();
-    // The tightest weight of the group's edges from -> to (kInfiniteMs: none).
-    std::int32_t tightestInGroup(std::size_t g, std::size_t from, std::size_t to) const;
-    void action();
-    void finish(SelectionStatus status);
     // Threads: group 0 the unguarded network, 1 + c kMaxOptions + o option (c, o)'s.
     static constexpr std::size_t kGroups = 1 + kMaxChoices * kMaxOptions;
     static std::size_t group(std::size_t choice, std::size_t option) { return 1 + choice * kMaxOptions + option; }
     static std::size_t groupOf(const Guard& g) { return g.guarded() ? group(g.choice, g.option) : 0; }
+    // The phases (method_selector.cpp).
+    void action();
+    void finish(SelectionStatus status);
+    // Set-up, presolve and costs (method_selector_analysis.cpp).
+    bool validate(const Tpn& plan) const;
+    void analyse(const SelectionInput& input);
+    void analyseActivities(const SelectionInput& input);
+    void analyseOptions(const SelectionInput& input);
+    void orderChoices();
+    void buildNetwork(const SelectionInput& input);
+    void addImpliedEdges();
+    void addEdge(std::size_t from, std::size_t to, std::int32_t weight, std::size_t g);
+    void sortEdgesByGroup();
+    // The tightest weight of the group's edges from -> to (kInfiniteMs: none).
+    std::int32_t tightestInGroup(std::size_t g, std::size_t from, std::size_t to) const;
+    void presolveAction();
+    void computeCosts();
+    // The incremental network (method_selector_network.cpp).
     void beginThread(std::size_t g);
     void threadAction();  // one edge on, or one repair settle
     void undoThread(std::size_t g);
@@ -291,8 +300,7 @@ private:
     std::uint16_t popMin();
     void relaxFrom(std::uint16_t x, std::int64_t cutoff);
     void endDijkstra();
-    void presolveAction();
-    void computeCosts();
+    // The search (method_selector_search.cpp).
     void searchAction();
     void nextOption();
     void descend();
