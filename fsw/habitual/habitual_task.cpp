@@ -94,10 +94,13 @@ void HabitualTask::run(const core::FrameContext& frame) {
     if (periodic || outputs_.hazardsChanged(memory_)) {
         outputs_.publishHazards(now, memory_);
     }
+    collectCounters();
 }
 
-HabitualCounters HabitualTask::counters() const {
-    HabitualCounters c = counters_;
+void HabitualTask::collectCounters() {
+    // The parts count what they do; counters() is read between runs (telemetry,
+    // tests, the mission summary), so the figures are gathered once a run.
+    HabitualCounters& c = counters_;
     const SessionCounters& session = session_.counters();
     c.planningRuns = session.planningRuns;
     c.noPathRuns = session.noPathRuns;
@@ -113,7 +116,6 @@ HabitualCounters HabitualTask::counters() const {
     c.hazardMapsSent = outputs.hazardMapsSent;
     c.mapRefused = memory_.mapRefused();
     c.malformedInputs = posePipe_.malformed() + inputPipe_.malformed() + memory_.rejectedSightings();
-    return c;
 }
 
 // ---- Inputs ---------------------------------------------------------------------

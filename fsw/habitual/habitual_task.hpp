@@ -109,9 +109,9 @@ constexpr std::uint32_t kReportPeriodRuns = 10;  // 1 Hz
 // A pose older than this cannot be planned from.
 constexpr core::TimeNs kPoseMaxAgeNs = 500 * core::kNsPerMs;
 
-// What the task has done. Assembled by counters() from the task's own figures
-// and its parts' (planning session, drive supervisor, outputs, hazard memory,
-// input pipes).
+// What the task has done: its own figures, and its parts' (planning session,
+// drive supervisor, outputs, hazard memory, input pipes) gathered at the end
+// of every run.
 struct HabitualCounters {
     std::uint32_t legsAccepted = 0;
     std::uint32_t legsRefused = 0;
@@ -153,7 +153,8 @@ public:
 
     msg::HabitualState state() const { return state_; }
     const msg::LegReportMsg& latestReport() const { return outputs_.latestReport(); }
-    HabitualCounters counters() const;
+    // As of the end of the last run.
+    const HabitualCounters& counters() const { return counters_; }
     const PlannerQueryStats& lastQuery() const { return session_.lastQuery(); }
     // The trajectory last sent (count 0 after a stop).
     const msg::TrajectoryMsg& trajectory() const { return outputs_.trajectory(); }
@@ -211,6 +212,8 @@ private:
     void setState(msg::HabitualState state, core::TimeNs now);
     void publishReport(core::TimeNs now);
     ReportCounts reportCounts() const;
+    // counters_'s fields the parts count, copied from them.
+    void collectCounters();
 
     core::EventLog& events_;
     const tables::TableService& tables_;
@@ -232,7 +235,7 @@ private:
     msg::LegCommandMsg leg_{};
     bool legActive_ = false;  // planning, repairing or driving
     std::uint32_t runs_ = 0;
-    HabitualCounters counters_{};  // the task's own; the parts count the rest
+    HabitualCounters counters_{};  // the task's own figures; the parts' copied in by collectCounters()
 
     // The parts (the planning session, about 1 MB, last).
     LegEvents legEvents_;
