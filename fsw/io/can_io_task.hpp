@@ -49,7 +49,7 @@
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/node_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
-#include "fsw/reflexive/drive_interlock.hpp"
+#include "fsw/io/drive_interlock.hpp"
 #include "fsw/tables/table_service.hpp"
 #include "hal/can/can_bus.hpp"
 #include "hal/can/can_link_monitor.hpp"
@@ -88,7 +88,7 @@ public:
     const hal::WheelDrive& drive(std::size_t wheel) const { return drives_[wheel]; }
     const hal::Instrument& instrument(std::size_t i) const { return instruments_[i < msg::kInstrumentCount ? i : 0]; }
     std::uint32_t instrumentCommandsDropped() const { return instrumentCommandsDropped_; }
-    const reflexive::DriveInterlock& interlock() const { return interlock_; }
+    const DriveInterlock& interlock() const { return interlock_; }
     const CanGroundLink& groundLink() const { return groundLink_; }
     CanGroundLink& groundLink() { return groundLink_; }  // command ingest and telemetry output use it
     void resetInterlock() { interlock_.reset(); }
@@ -140,7 +140,7 @@ private:
     hal::HazardDetector hazard_;
     hal::PositionFixSource fix_;
     hal::Instrument instruments_[msg::kInstrumentCount];  // msg::Instrument order: grinder, camera
-    reflexive::DriveInterlock interlock_;
+    DriveInterlock interlock_;
     CanGroundLink groundLink_;
     core::InputPipe input_;
     core::TimeNs now_ = 0;  // this run's frame start, for the inputs it takes

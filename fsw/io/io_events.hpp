@@ -25,4 +25,10 @@ constexpr core::EventId kNodeMapRefused = 219;        // start-up: a node id of 
 constexpr core::EventId kWatchdogWithheld = 222;      // the watchdog is no longer fed: a task stalled or health silent
 constexpr core::EventId kWatchdogFeeding = 223;       // the watchdog is fed again
 
+// The drive interlock (drive_interlock.hpp): the reflexive layer's numbers
+// (600-699), kept when it moved here beside the task that applies it.
+constexpr core::EventId kInterlockTripped = 601;       // a drive is unhealthy: all wheels held at zero
+constexpr core::EventId kInterlockReset = 602;         // RESET_INTERLOCK: every drive healthy, the hold released
+constexpr core::EventId kInterlockResetRefused = 606;  // RESET_INTERLOCK while a drive is still unhealthy: the hold stays
+
 }  // namespace rse::io::events

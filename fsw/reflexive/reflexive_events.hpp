@@ -5,9 +5,7 @@
 
 namespace rse::reflexive::events {
 
-constexpr core::EventId kInterlockTripped = 601;  // a drive is unhealthy: all wheels held at zero
-constexpr core::EventId kInterlockReset = 602;            // RESET_INTERLOCK: every drive healthy, the hold released
-constexpr core::EventId kInterlockResetRefused = 606;     // RESET_INTERLOCK while a drive is still unhealthy: the hold stays
+// 601, 602 and 606: the drive interlock's (fsw/io/io_events.hpp: it runs in the CAN I/O task).
 constexpr core::EventId kManualDriveStarted = 603;  // DRIVE accepted: speeds, duration, whether limited
 constexpr core::EventId kManualDriveEnded = 604;    // duration over, mode left, or e-stop
 constexpr core::EventId kManualDriveMalformed = 605;  // a bus message that does not decode (throttled)

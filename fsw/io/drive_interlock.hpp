@@ -1,4 +1,6 @@
-// The reflexive layer's last line of defence for the wheels: if any drive is not
+// The last line of defence for the wheels (the reflexive layer's reflex, applied
+// where the wheel commands leave for the drives: the CAN I/O task, every frame,
+// so it needs no other task to run): if any drive is not
 // healthy (faulted, failed, lost) while the rover is commanded to move, every
 // drive is commanded to zero at once, so a rover with one dead or runaway wheel
 // does not keep driving on the others. The trip latches until ground's
@@ -8,7 +10,7 @@
 #include "fsw/core/event_log.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 
-namespace rse::reflexive {
+namespace rse::io {
 
 class DriveInterlock {
 public:
@@ -30,4 +32,4 @@ private:
     std::uint32_t trips_ = 0;
 };
 
-}  // namespace rse::reflexive
+}  // namespace rse::io

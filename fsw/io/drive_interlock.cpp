@@ -1,8 +1,8 @@
-#include "fsw/reflexive/drive_interlock.hpp"
+#include "fsw/io/drive_interlock.hpp"
 
-#include "fsw/reflexive/reflexive_events.hpp"
+#include "fsw/io/io_events.hpp"
 
-namespace rse::reflexive {
+namespace rse::io {
 
 namespace {
 bool unhealthy(msg::DriveHealth h) {
@@ -50,4 +50,4 @@ void DriveInterlock::reset() {
     tripped_ = false;
 }
 
-}  // namespace rse::reflexive
+}  // namespace rse::io
