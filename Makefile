@@ -87,11 +87,13 @@ CROSS_PACKAGES := g++-aarch64-linux-gnu libcpputest-dev:arm64 libmbedtls-dev:arm
                   g++-arm-linux-gnueabihf libcpputest-dev:armhf libmbedtls-dev:armhf \
                   g++-s390x-linux-gnu libcpputest-dev:s390x libmbedtls-dev:s390x \
                   g++-powerpc-linux-gnu
+# universal-ctags: the house rules test measures every C++ function's length with it
+# (unit_test/system/layering/house_rules_test.sh).
 # Mission control (rse-ground serve, ground/mission_control/; host only): the
 # SQLite archive (C API), HTTP and WebSocket with Boost.Beast/Asio
 # (header-only), JSON with nlohmann/json (header-only).
 MC_PACKAGES := libsqlite3-dev libboost-dev nlohmann-json3-dev
-DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev \
+DEB_PACKAGES := g++ make file libcpputest-dev libeigen3-dev libtomlplusplus-dev universal-ctags \
                 qemu-user $(CROSS_PACKAGES) \
                 qemu-system-x86 busybox-static can-utils \
                 libmbedtls-dev tshark clang libclang-rt-14-dev \
@@ -361,6 +363,10 @@ SIM_CLI_TEST := unit_test/integration/rse_sim_cli_test.sh
 # rse-ground's command line (--help, bad command lines, the offline commands):
 # rse-ground is a host tool, so host only.
 GROUND_CLI_TEST := unit_test/integration/rse_ground_cli_test.sh
+# The size of the rooms (issue 30): no source file in fsw/ hal/ ground/ sim_stub/
+# over 800 lines, no C++ function there over 100 (universal-ctags reads them);
+# it prints each folder's largest file and longest function. Reads sources: host only.
+HOUSE_RULES_TEST := unit_test/system/layering/house_rules_test.sh
 # The harness's own counts (run_suites.sh, summarize.sh, run_benches.sh with fake
 # suites and benches): shell only, so host only.
 HARNESS_TEST := unit_test/integration/harness_counts_test.sh
@@ -376,7 +382,7 @@ MC_DISPLAY_TEST := unit_test/ground/mission_control/web/mission_control_test.sh
 # mission its Chromium took the CPU the emulated rover needed (CI: frames 33 ms
 # late, task-stalled faults 25-30 raised, the vcan mission's check failed).
 VM_SUITES := $(VCAN_TEST) $(VCAN_MISSION_TEST) $(WATCHDOG_TEST) $(MC_DISPLAY_TEST)
-SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(SIM_CLI_TEST) $(GROUND_CLI_TEST) $(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
+SCRIPT_SUITES := unit_test/integration/rse_fsw_cli_test.sh $(if $(CROSS_COMPILE),,$(HOUSE_RULES_TEST) $(SIM_CLI_TEST) $(GROUND_CLI_TEST) $(HARNESS_TEST) $(MC_WEB_TEST) $(MC_DISPLAY_TEST) $(VCAN_TEST) $(VCAN_MISSION_TEST) $(TSHARK_TEST) $(WATCHDOG_TEST))
 
 RESULTS := build/test-results.txt
 

@@ -16,8 +16,9 @@
 # Host only: it reads the sources, and needs universal-ctags (Debian's
 # universal-ctags, in make deps).
 set -u
-# The repository root: the first folder up from this script that holds fsw/.
-cd "$(dirname "$0")" && while [ ! -d fsw ] && [ "$PWD" != / ]; do cd ..; done
+# The repository root: the first folder up from this script with the Makefile and fsw/
+# (unit_test/ mirrors fsw/, so fsw/ alone would stop there).
+cd "$(dirname "$0")" && while { [ ! -d fsw ] || [ ! -f Makefile ]; } && [ "$PWD" != / ]; do cd ..; done
 MAX_FILE_LINES=${MAX_FILE_LINES:-800}
 MAX_FUNCTION_LINES=${MAX_FUNCTION_LINES:-100}
 ROOTS="fsw hal ground sim_stub"
