@@ -1,5 +1,8 @@
 #include "fsw/core/input_pipe.hpp"
 
+#include <cstdarg>
+#include <cstdio>
+
 namespace rse::core {
 
 Status InputPipe::create() {
@@ -44,6 +47,7 @@ std::uint16_t InputPipe::drain() {
     while (count < config_.depth && isOk(bus_.receive(pipe_, &inbox_))) {
         ++count;
         ++taken_;
+        detail_[0] = '\0';
         const Status status = dispatch();
         if (!isOk(status)) {
             refuse(status);
@@ -73,12 +77,28 @@ Status InputPipe::dispatch() {
 
 void InputPipe::refuse(Status why) {
     ++malformed_;
-    if (isReportableOccurrence(malformed_)) {
-        events_.report(config_.malformedEvent, config_.severity,
-                       "%s: bus message 0x%04x (%u B) on pipe %s refused: %s (%u so far)", config_.owner,
-                       static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(inbox_.header.length),
-                       config_.name, toString(why), static_cast<unsigned>(malformed_));
+    if (!isReportableOccurrence(malformed_)) {
+        return;
     }
+    // An event's text holds 95 characters: with a handler's explanation, the
+    // id and what is wrong come first, the size and pipe are left out.
+    if (detail_[0] != '\0') {
+        events_.report(config_.malformedEvent, config_.severity, "%s: bus message 0x%04x refused: %s (%u so far)",
+                       config_.owner, static_cast<unsigned>(inbox_.header.id), detail_,
+                       static_cast<unsigned>(malformed_));
+        return;
+    }
+    events_.report(config_.malformedEvent, config_.severity,
+                   "%s: bus message 0x%04x (%u B) on pipe %s refused: %s (%u so far)", config_.owner,
+                   static_cast<unsigned>(inbox_.header.id), static_cast<unsigned>(inbox_.header.length),
+                   config_.name, toString(why), static_cast<unsigned>(malformed_));
+}
+
+void InputPipe::explain(const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    (void)std::vsnprintf(detail_, sizeof detail_, format, args);
+    va_end(args);
 }
 
 }  // namespace rse::core

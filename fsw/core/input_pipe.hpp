@@ -38,6 +38,9 @@
 
 namespace rse::core {
 
+// The longest refusal detail a handler may give (explain()), with its NUL.
+constexpr std::size_t kRefusalDetailSize = 64;
+
 // Handlers one pipe can hold (the telemetry task's packers take 16 ids, one of them twice).
 constexpr std::size_t kMaxInputRoutes = 24;
 
@@ -128,6 +131,11 @@ public:
     // The header of the message being handled (its publish time, sequence):
     // valid inside a handler.
     const MessageHeader& current() const { return inbox_.header; }
+    // Inside a handler that refuses its message: what is wrong with it, in the
+    // refusal event's text instead of the status's name (e.g. "wheel 2 (ML)
+    // health 9 is not a drive state"), so a rejection says specifically why.
+    // At most kRefusalDetailSize - 1 characters; cleared for every message.
+    void explain(const char* format, ...) __attribute__((format(printf, 2, 3)));
     void resetCounters() { malformed_ = 0; taken_ = 0; }
 
 private:
@@ -178,6 +186,7 @@ private:
     std::uint32_t malformed_ = 0;
     std::uint32_t taken_ = 0;
     Message inbox_{};
+    char detail_[kRefusalDetailSize] = {};  // explain()'s text for the message being handled
     alignas(std::max_align_t) std::uint8_t storage_[kBusMaxPayload] = {};
 };
 

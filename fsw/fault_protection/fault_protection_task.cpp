@@ -48,6 +48,8 @@ void FaultProtectionTask::takeFaultStatus(const msg::FaultStatusMsg& f) { inputs
 core::Status FaultProtectionTask::takeDriveStatus(const msg::DriveStatusMsg& d) {
     for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
         if (!msg::isKnownDriveHealth(d.wheels[w].health)) {
+            input_.explain("wheel %zu (%s) health %u is no drive state", w, msg::wheelName(w),
+                           static_cast<unsigned>(d.wheels[w].health));
             return core::Status::kInvalidArgument;
         }
     }

@@ -87,6 +87,7 @@ void TrajectoryTask::run(const core::FrameContext&) {
 
 core::Status TrajectoryTask::takePose(const msg::PoseEstimateMsg& pose) {
     if (!std::isfinite(pose.xM) || !std::isfinite(pose.yM) || !std::isfinite(pose.headingRad)) {
+        input_.explain("pose not finite");
         return core::Status::kInvalidArgument;
     }
     pose_ = pose;
@@ -96,6 +97,7 @@ core::Status TrajectoryTask::takePose(const msg::PoseEstimateMsg& pose) {
 
 core::Status TrajectoryTask::takeMode(const msg::ModeMsg& mode) {
     if (mode.mode >= msg::mode::kCount) {
+        input_.explain("mode %u is no mode", static_cast<unsigned>(mode.mode));
         return core::Status::kInvalidArgument;
     }
     autonomous_ = mode.mode == msg::mode::kAutonomous;

@@ -36,7 +36,7 @@ struct Taker {
     std::uint32_t countedTaken = 0;
     std::uint32_t bigLast = 0;
     MsgId seenHeaderId = 0;
-    const InputPipe* pipe = nullptr;
+    InputPipe* pipe = nullptr;
 
     void takePing(const PingMsg& m) {
         ++pings;
@@ -47,6 +47,9 @@ struct Taker {
     }
     Status takeCounted(const CountedMsg& m) {
         if (m.count > 3) {
+            if (pipe != nullptr && m.count == 9) {
+                pipe->explain("count %u beyond %u", static_cast<unsigned>(m.count), 3U);
+            }
             return Status::kInvalidArgument;
         }
         counted = m;
@@ -255,4 +258,29 @@ TEST(InputPipe, AnOwnersUndecodableHandlerTakesWhatDoesNotDecodeAndNothingIsCoun
     own.drain();
     LONGS_EQUAL(1, own.malformed());
     LONGS_EQUAL(1, owner.undecodable);
+}
+
+TEST(InputPipe, AHandlersExplanationNamesWhatIsWrongForThatMessageOnly) {
+    CountedMsg explained{};
+    explained.count = 9;  // the handler explains this one
+    CountedMsg bare{};
+    bare.count = 5;       // ... not this one: the status's name
+    CHECK(Status::kOk == bus->publish(explained));
+    CHECK(Status::kOk == bus->publish(bare));
+    pipe->drain();
+    LONGS_EQUAL(2, pipe->malformed());
+    Event e;
+    int seen = 0;
+    while (isOk(events.pop(&e))) {
+        if (e.id != kMalformed) {
+            continue;
+        }
+        ++seen;
+        if (seen == 1) {
+            CHECK(std::strstr(e.text, "refused: count 9 beyond 3 (1 so far)") != nullptr);
+        } else {
+            CHECK(std::strstr(e.text, "refused: invalid-argument (2 so far)") != nullptr);
+        }
+    }
+    LONGS_EQUAL(2, seen);
 }
