@@ -4,17 +4,20 @@
 #     C++ (.cpp, .hpp), JavaScript (.js, .mjs) and shell (.sh); generated files
 #     (none are kept in these folders: they go to build/) and the dictionary and table
 #     definitions (.def: one entry a line, read by X-macros) are not code to split;
-#   - no C++ function there over MAX_FUNCTION_LINES (100) lines, from its first line
-#     to its closing brace, as universal-ctags measures it (kind f: functions and
-#     member functions defined in .cpp and .hpp files; a lambda counts in the
-#     function that holds it).
+#   - no function there over MAX_FUNCTION_LINES (100) lines, from its first line
+#     to its closing brace: C++ as universal-ctags measures it (kind f: functions
+#     and member functions defined in .cpp and .hpp files; a lambda counts in the
+#     function that holds it), JavaScript as acorn parses it
+#     (js_function_lengths.mjs: functions, methods and arrow functions; a nested
+#     one counts in its holder too).
 # It prints, for each folder, its largest file and its longest function (the
 # figures a newcomer, and the issue's closing note, wants), every breach, and
 # "N passed, N failed": one check per file and per function measured, plus one
 # that the measurement saw the code (a ctags that found nothing fails).
 #
 # Host only: it reads the sources, and needs universal-ctags (Debian's
-# universal-ctags, in make deps).
+# universal-ctags, in make deps) and, for the JavaScript, Node.js with the
+# display's npm packages (make mission-control-deps, which make test runs first).
 set -u
 # The repository root: the first folder up from this script with the Makefile and fsw/
 # (unit_test/ mirrors fsw/, so fsw/ alone would stop there).
@@ -47,11 +50,20 @@ while read -r dir lines f; do
   fi
 done <<< "$file_table"
 
-echo "functions (C++, limit $MAX_FUNCTION_LINES lines)"
+echo "functions (C++ and JavaScript, limit $MAX_FUNCTION_LINES lines)"
 cpp_files=$(printf '%s\n' $files | grep -E '\.(cpp|hpp)$')
 fn_table=$(printf '%s\n' $cpp_files | ctags --languages=C++ --kinds-C++=f --fields=+ne -x \
              --_xformat='%{end} %{line} %{input} %{scope}::%{name}' -L - 2>/dev/null |
            awk '$1 ~ /^[0-9]+$/ { n = $1 - $2 + 1; f = $3; sub(/^::/, "", $4); gsub(/__anon[0-9a-f]+::/, "(anonymous)::", $4); d = f; sub(/\/[^\/]*$/, "", d); print d, n, f ":" $2, $4 }')
+js_files=$(printf '%s\n' $files | grep -E '\.(js|mjs)$')
+if js_out=$(node unit_test/system/layering/js_function_lengths.mjs $js_files 2>&1); then
+  fn_table="$fn_table
+$(printf '%s\n' "$js_out" | awk '$1 ~ /^[0-9]+$/ { n = $1 - $2 + 1; f = $3; d = f; sub(/\/[^\/]*$/, "", d); print d, n, f ":" $2, $4 }')"
+  passed=$((passed + 1))
+else
+  echo "  FAIL: the JavaScript functions could not be measured: $js_out"
+  failed=$((failed + 1))
+fi
 fn_count=$(printf '%s\n' "$fn_table" | grep -c . )
 if [ "$fn_count" -lt 500 ]; then
   echo "  FAIL: ctags measured only $fn_count functions (the code has thousands): the measurement is broken"

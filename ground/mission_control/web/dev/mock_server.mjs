@@ -196,43 +196,36 @@ let planNumber = 0;
 let eventSequence = 0;
 let lastLap = -1;
 
-// The packets of one simulated second t (seconds since the mock's start; may be negative for backfill).
-function second(t, utcBase) {
-  const met = 1000 + t;
-  const utc = utcBase;
-  const distance = Math.max(0, t) * SPEED;
-  const lap = Math.floor(distance / (TOTAL + 10));
-  const pose = poseAt(distance);
-  const sigma = 0.08 + 0.05 * Math.abs(Math.sin(t / 17));
+// A new plan each lap of the mock's route: its PLAN_PATH.
+function publishPlanPath(lap, utc, met) {
+  const path = pathFor(lap);
+  planNumber += 1;
+  const p = blank('PLAN_PATH', utc, met);
+  Object.assign(p, {
+    plan_number: planNumber,
+    plan_time: met,
+    status: 0,
+    steps: PATH.length - 1,
+    risk_bound: 1e-2,
+    risk_used: 4.1e-3,
+    length: TOTAL,
+    process_sigma: 0.05,
+    'start_cov.0': 0.01,
+    'start_cov.1': 0.002,
+    'start_cov.2': 0.002,
+    'start_cov.3': 0.006,
+    goal_x: path[path.length - 1][0],
+    goal_y: path[path.length - 1][1]
+  });
+  path.forEach(([x, y], i) => {
+    p[`mean_x.${i}`] = x;
+    p[`mean_y.${i}`] = y;
+  });
+  publish('PLAN_PATH', p);
+}
 
-  if (lap !== lastLap) {
-    lastLap = lap;
-    const path = pathFor(lap);
-    planNumber += 1;
-    const p = blank('PLAN_PATH', utc, met);
-    Object.assign(p, {
-      plan_number: planNumber,
-      plan_time: met,
-      status: 0,
-      steps: PATH.length - 1,
-      risk_bound: 1e-2,
-      risk_used: 4.1e-3,
-      length: TOTAL,
-      process_sigma: 0.05,
-      'start_cov.0': 0.01,
-      'start_cov.1': 0.002,
-      'start_cov.2': 0.002,
-      'start_cov.3': 0.006,
-      goal_x: path[path.length - 1][0],
-      goal_y: path[path.length - 1][1]
-    });
-    path.forEach(([x, y], i) => {
-      p[`mean_x.${i}`] = x;
-      p[`mean_y.${i}`] = y;
-    });
-    publish('PLAN_PATH', p);
-  }
-
+// HK and the state estimate.
+function publishRoverState(t, pose, sigma, utc, met) {
   const hk = blank('HK', utc, met);
   Object.assign(hk, { utc_at_met_zero: (utc - met * 1000) / 1000, mode: pose.moving ? 2 : 1, task_count: TASKS.length, frames_run: met * 100 });
   publish('HK', hk);
@@ -251,10 +244,15 @@ function second(t, utcBase) {
     fixes_accepted: Math.max(0, Math.floor(t / 2))
   });
   publish('ROVER_STATE', rs);
+}
 
+// The drives, their health and fault protection: the MR drive's current spikes
+// now and then, and the estimator and fault protection answer it.
+function publishDrivesAndHealth(t, pose, utc, met) {
+  const mrSpike = t % 40 >= 30 && t % 40 < 34;
   const drives = blank('DRIVES', utc, met);
   for (let w = 0; w < 6; w++) {
-    const spike = w === 4 && t % 40 >= 30 && t % 40 < 34; // MR over-current now and then
+    const spike = w === 4 && mrSpike;
     drives[`state.${w}`] = 4;
     drives[`commanded.${w}`] = pose.moving ? 2.0 : 0;
     drives[`speed.${w}`] = pose.moving ? 1.95 + 0.05 * Math.sin(t + w) : 0;
@@ -264,7 +262,6 @@ function second(t, utcBase) {
   publish('DRIVES', drives);
 
   const health = blank('HEALTH', utc, met);
-  const mrSpike = t % 40 >= 30 && t % 40 < 34;
   health.active_faults = mrSpike ? 2 ** (11 + 4) : 0;
   for (let w = 0; w < 6; w++) {
     health[`drive_mode.${w}`] = w === 4 && mrSpike ? 1 : 0;
@@ -277,36 +274,40 @@ function second(t, utcBase) {
   const fp = blank('FAULT_PROTECTION', utc, met);
   if (mrSpike) Object.assign(fp, { hold_reasons: 1, response_count: 1, 'fault_id.0': 5, 'fault_class.0': 2, 'state.0': 1 });
   publish('FAULT_PROTECTION', fp);
+}
 
+// The plan executive, and PLAN every fifth second.
+function publishPlans(t, pose, distance, utc, met) {
   const exec = blank('PLAN_EXEC', utc, met);
   Object.assign(exec, { state: 2, plan_name: 'traverse_demo', activity_count: 6, running: 1, completed: Math.floor(distance / 5) % 6, selection_status: 1 });
   publish('PLAN_EXEC', exec);
+  if (t % 5 !== 0) return;
+  const plan = blank('PLAN', utc, met);
+  const legIndex = Math.min(PATH.length - 2, Math.floor(((distance % (TOTAL + 10)) / TOTAL) * (PATH.length - 1)));
+  Object.assign(plan, {
+    status: pose.moving ? 3 : 5,
+    plan_status: 0,
+    goal_count: 2,
+    goal_index: 0,
+    leg_count: PATH.length - 1,
+    leg_index: legIndex,
+    waypoint_count: 1,
+    risk_bound: 1e-2,
+    risk_in_force: 1e-2,
+    risk_used: 4.1e-3,
+    plan_length: TOTAL,
+    current_leg_id: 100 + legIndex,
+    'goal_x.0': 24,
+    'goal_y.0': 0,
+    'goal_x.1': 20,
+    'goal_y.1': -6,
+    'priority.1': 5
+  });
+  publish('PLAN', plan);
+}
 
-  if (t % 5 === 0) {
-    const plan = blank('PLAN', utc, met);
-    const legIndex = Math.min(PATH.length - 2, Math.floor(((distance % (TOTAL + 10)) / TOTAL) * (PATH.length - 1)));
-    Object.assign(plan, {
-      status: pose.moving ? 3 : 5,
-      plan_status: 0,
-      goal_count: 2,
-      goal_index: 0,
-      leg_count: PATH.length - 1,
-      leg_index: legIndex,
-      waypoint_count: 1,
-      risk_bound: 1e-2,
-      risk_in_force: 1e-2,
-      risk_used: 4.1e-3,
-      plan_length: TOTAL,
-      current_leg_id: 100 + legIndex,
-      'goal_x.0': 24,
-      'goal_y.0': 0,
-      'goal_x.1': 20,
-      'goal_y.1': -6,
-      'priority.1': 5
-    });
-    publish('PLAN', plan);
-  }
-
+// POWER and the hazards seen near the rover.
+function publishPowerAndHazards(t, pose, utc, met) {
   const power = blank('POWER', utc, met);
   Object.assign(power, { battery_voltage: 28.5 - 0.01 * Math.max(0, t) % 6, state_of_charge: Math.max(5, 95 - 0.02 * Math.max(0, t)), bus_current: pose.moving ? 6.5 : 0.8 });
   for (let w = 0; w < 6; w++) power[`motor_temperature.${w}`] = 35 + 5 * w + 3 * Math.sin(t / 30 + w);
@@ -317,20 +318,40 @@ function second(t, utcBase) {
   hazards.count = seen.length;
   seen.forEach(([x, y, r], i) => Object.assign(hazards, { [`x.${i}`]: x, [`y.${i}`]: y, [`radius.${i}`]: r }));
   publish('HAZARDS', hazards);
+}
 
+// TASK_TIMING of every task, and an event every third second.
+function publishTimingAndEvents(t, utc, met) {
   TASKS.forEach((name, index) => {
     const tt = blank('TASK_TIMING', utc + 100 + index * 10, met + 0.1 + index * 0.01);
     const mean = 40 + 25 * index + 15 * Math.sin(t / 7 + index);
     Object.assign(tt, { task_index: index, task_name: name, runs: Math.max(0, t) * 100, mean_us: Math.round(mean), cpu_mean_us: Math.round(mean * 1.1), max_us: Math.round(mean * 2), cpu_timed: 1 });
     publish('TASK_TIMING', tt);
   });
+  if (t % 3 !== 0) return;
+  const [severity, id, text] = EVENTS[Math.abs(t / 3) % EVENTS.length];
+  const e = blank('EVENT', utc + 500, met + 0.5);
+  Object.assign(e, { event_sequence: ++eventSequence, event_time: met + 0.5, event_id: id, severity, text });
+  publish('EVENT', e);
+}
 
-  if (t % 3 === 0) {
-    const [severity, id, text] = EVENTS[Math.abs(t / 3) % EVENTS.length];
-    const e = blank('EVENT', utc + 500, met + 0.5);
-    Object.assign(e, { event_sequence: ++eventSequence, event_time: met + 0.5, event_id: id, severity, text });
-    publish('EVENT', e);
+// The packets of one simulated second t (seconds since the mock's start; may be negative for backfill).
+function second(t, utcBase) {
+  const met = 1000 + t;
+  const utc = utcBase;
+  const distance = Math.max(0, t) * SPEED;
+  const lap = Math.floor(distance / (TOTAL + 10));
+  const pose = poseAt(distance);
+  const sigma = 0.08 + 0.05 * Math.abs(Math.sin(t / 17));
+  if (lap !== lastLap) {
+    lastLap = lap;
+    publishPlanPath(lap, utc, met);
   }
+  publishRoverState(t, pose, sigma, utc, met);
+  publishDrivesAndHealth(t, pose, utc, met);
+  publishPlans(t, pose, distance, utc, met);
+  publishPowerAndHazards(t, pose, utc, met);
+  publishTimingAndEvents(t, utc, met);
 }
 
 for (let s = -args.backfill; s < 0; s++) second(s, start + s * 1000);
