@@ -31,23 +31,14 @@ core::Status CcPlanner::start(const CcProblem& problem, const CcPlannerParams& p
         ws_.incumbent.setStatus(CcStatus::kBadProblem);
         return core::Status::kInvalidArgument;
     }
-    ws_.problem = problem;
-    ws_.params = params;
-    ws_.incumbent.setSteps(problem.steps);
-    ws_.riskBudget = problem.riskBound * (1.0 - kRiskSafety);
-    ws_.searchBudget = ws_.riskBudget * ws_.searchScale();
     noPlan_ = CcPlan{};
     noPlan_.steps = problem.steps;
-    ws_.geometryWork = 0;
-    ws_.margins.build(ws_.problem, ws_.searchBudget, &ws_.geometryWork);
-    // The LP keeps a pointer to the problem: the workspace's copy.
-    if (ws_.lp.setup(ws_.problem) != core::Status::kOk) {
+    if (ws_.begin(problem, params) != core::Status::kOk) {
         ws_.incumbent.setStatus(CcStatus::kBadProblem);
         return core::Status::kInvalidArgument;
     }
     search_.prepare(ws_.lp.variables());
     seeds_.resetOrder();
-    ws_.run.stop();
     phase_ = (params.seed && ws_.obstacles() > 0) ? Phase::kSeed : Phase::kRoot;
     return core::Status::kOk;
 }

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "fsw/core/status.hpp"
 #include "fsw/deliberative/cc_end_margins.hpp"
 #include "fsw/deliberative/cc_incumbent.hpp"
 #include "fsw/deliberative/cc_lp.hpp"
@@ -33,6 +34,12 @@ struct CcWorkspace {
     CcPlan candidate{};
     CcRiskCertifier certifier;  // the candidate's certified risk, one segment a unit
     std::uint64_t geometryWork = 0;  // the parts' own work (cc_work_units.hpp)
+
+    // A new plan of a problem that passed checkProblem() and valid
+    // parameters: no best plan, the budgets, the margins (their work
+    // counted from 0), the LP set up (kInvalidArgument when it cannot be),
+    // no LP under way, nothing being certified.
+    core::Status begin(const CcProblem& plan, const CcPlannerParams& settings);
 
     std::size_t steps() const { return problem.steps; }
     std::size_t obstacles() const { return problem.obstacleCount; }

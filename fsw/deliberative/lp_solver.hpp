@@ -208,8 +208,23 @@ private:
     void setBoundRow(std::size_t variable, bool upper);
     bool validBasisRows(const LpBasis& basis) const;
     void installBasis(const LpBasis& basis);
+    // The state of one solve() between pivots: the last x and y were
+    // recomputed from A_B^-1 (fresh), Bland's rule is on, degenerate pivots
+    // in a row.
+    struct PivotState {
+        bool fresh = false;
+        bool bland = false;
+        std::uint32_t degenerate = 0;
+    };
+
     bool coldStart();
     bool refactor();
+    void loadBasisMatrix();
+    bool factorLu();
+    void recordLuPatterns();
+    void invertFromLu();
+    void confirmVertex();
+    LpStatus optimalOrUnbounded(double cmax) const;
     void recomputePrimal();
     void recomputeDual();
     double activity(const Row& row) const;
@@ -219,6 +234,10 @@ private:
     double basisResidual() const;
     // The row to enter, or kNone when the vertex is feasible.
     std::size_t priceRow(bool bland);
+    // w = A_B^-T a_r for the entering row; returns the pivot tolerance.
+    double enteringDirection(const Row& row);
+    std::size_t leavingRow(bool bland, double pivotTol) const;
+    LpStatus pivotAndCount(std::size_t enter, std::size_t leave, double cutoff, PivotState* state);
     void pivot(std::size_t enter, std::size_t leavePos, double theta);
 
     static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
