@@ -36,14 +36,14 @@ TEST(CcFaceScores, TheScoreIsTheLeastSlackOfThePairsEnds) {
     // Segment 0: the start (fixed, scored exactly) and mu_1 (held by the LP).
     const double start = endSlack(box, kBoxBottom, mx[0], my[0], margins.margin(0, 0, kBoxBottom));
     const double first = endSlack(box, kBoxBottom, mx[1], my[1], margins.margin(1, 0, kBoxBottom)) - lp;
-    DOUBLES_EQUAL(start < first ? start : first, pairScore(p, margins, 0, 0, kBoxBottom, mx, my), 0.0);
+    DOUBLES_EQUAL(start < first ? start : first, pairScore(p, margins, 0, 0, kBoxBottom, mx, my), 1e-12);
     // Segment 1: mu_2 is closer to the box and later (a larger margin).
     const double second = endSlack(box, kBoxBottom, mx[2], my[2], margins.margin(2, 0, kBoxBottom)) - lp;
-    DOUBLES_EQUAL(second, pairScore(p, margins, 1, 0, kBoxBottom, mx, my), 0.0);
+    DOUBLES_EQUAL(second, pairScore(p, margins, 1, 0, kBoxBottom, mx, my), 1e-12);
     // Segment 3 ends at the goal: scored exactly there.
     const double goal = endSlack(box, kBoxBottom, mx[4], my[4], margins.margin(4, 0, kBoxBottom));
     const double third = endSlack(box, kBoxBottom, mx[3], my[3], margins.margin(3, 0, kBoxBottom)) - lp;
-    DOUBLES_EQUAL(goal < third ? goal : third, pairScore(p, margins, 3, 0, kBoxBottom, mx, my), 0.0);
+    DOUBLES_EQUAL(goal < third ? goal : third, pairScore(p, margins, 3, 0, kBoxBottom, mx, my), 1e-12);
     // The box's left face (x <= 3) holds only the first segment's ends.
     CHECK(pairScore(p, margins, 0, 0, kBoxLeft, mx, my) > 0.0);
     CHECK(pairScore(p, margins, 2, 0, kBoxLeft, mx, my) < 0.0);
