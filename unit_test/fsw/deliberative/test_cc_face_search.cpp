@@ -133,19 +133,21 @@ TEST(CcFaceSearch, AnAbandonedNodeLeavesTheSearchIncomplete) {
 }
 
 TEST(CcFaceSearch, TheGuidesFaceIsTriedFirst) {
-    // A box across the straight line, its bottom face 1 m below it, its top
-    // 2 m above: the least violated face (the bottom) is the first dive's;
-    // a guide over the top makes the first dive go round the long way. Both
-    // searches end at the same optimum.
+    // A box across the straight line: a guide over its top makes the first
+    // dive's plan go over, a guide under its bottom under; every search,
+    // guided either way or not, ends at the same optimum.
     CcProblem p = boxAboveTheWay(6);
     p.obstacles[0] = makeBox(0, 3.0, 5.0, -1.0, 2.0);
     CcPlannerParams params;
     params.relativeGap = 0.0;
-    double optimum[2] = {};
-    double firstHighest[2] = {};  // the first incumbent's highest mean
-    fillFaces(faces, kBoxTop);
-    for (std::size_t guided = 0; guided < 2; ++guided) {
-        const CcFaceTable* guide = guided == 1 ? &faces : nullptr;
+    double optimum[3] = {};
+    double firstHighest[3] = {};  // the first incumbent's highest and lowest means
+    double firstLowest[3] = {};
+    CcFaceTable guides[2];
+    fillFaces(guides[0], kBoxTop);
+    fillFaces(guides[1], kBoxBottom);
+    for (std::size_t run = 0; run < 3; ++run) {
+        const CcFaceTable* guide = run < 2 ? &guides[run] : nullptr;
         startSearch(p, params);
         std::uint32_t units = 0;
         while (units < 100000 && !search.rootUnit(ws, guide)) {
@@ -155,16 +157,19 @@ TEST(CcFaceSearch, TheGuidesFaceIsTriedFirst) {
             ++units;
         }
         const CcPlan& first = ws.incumbent.best();
-        firstHighest[guided] = -INFINITY;
+        firstHighest[run] = -INFINITY;
+        firstLowest[run] = INFINITY;
         for (std::size_t tau = 0; tau <= p.steps; ++tau) {
-            firstHighest[guided] = first.meanY[tau] > firstHighest[guided] ? first.meanY[tau] : firstHighest[guided];
+            firstHighest[run] = first.meanY[tau] > firstHighest[run] ? first.meanY[tau] : firstHighest[run];
+            firstLowest[run] = first.meanY[tau] < firstLowest[run] ? first.meanY[tau] : firstLowest[run];
         }
         (void)searchToEnd(guide);
         CHECK(search.exhausted());
         CHECK(search.maxDepth() > 0);
-        optimum[guided] = ws.incumbent.evenCost();
+        optimum[run] = ws.incumbent.evenCost();
     }
-    CHECK(firstHighest[0] <= 0.0);  // under the box
-    CHECK(firstHighest[1] > 2.0);   // over it
-    DOUBLES_EQUAL(optimum[0], optimum[1], 1e-9);
+    CHECK(firstHighest[0] > 2.0 && firstLowest[0] > -1.0);  // over the box
+    CHECK(firstLowest[1] < -1.0 && firstHighest[1] < 2.0);  // under it
+    DOUBLES_EQUAL(optimum[2], optimum[0], 1e-9);
+    DOUBLES_EQUAL(optimum[2], optimum[1], 1e-9);
 }
