@@ -49,13 +49,14 @@
 // lowest-index leaving row among exact ratio ties), which cannot cycle; the
 // first nondegenerate pivot switches back.
 //
-// Numerics. A_B^-1 is recomputed from scratch every kRefactorPeriod pivots:
-// LU with partial pivoting that skips zeros, then the inverse column by column
-// by sparse triangular solves; with variables ordered so that each row's
-// nonzeros are close (the planner orders them by time step) L and U stay
-// banded and this costs O(n^2 b), not O(n^3). Before optimality is declared x
-// and y are recomputed from A_B^-1, and a basis row that x misses by more than
-// kResidualTol triggers a refactorisation. A singular basis (pivot below
+// Numerics. A_B^-1 is recomputed from scratch every kRefactorPeriod pivots
+// (lp_solver_refactor.cpp): LU with partial pivoting that skips zeros, then
+// the inverse column by column by sparse triangular solves; with variables
+// ordered so that each row's nonzeros are close (the planner orders them by
+// time step) L and U stay banded and this costs O(n^2 b), not O(n^3).
+// Before optimality is declared x and y are recomputed from A_B^-1, and a
+// basis row that x misses by more than kResidualTol triggers a
+// refactorisation. A singular basis (pivot below
 // kSingularTol) falls back to the cold basis. Tolerances: a row is violated
 // when (a_r . x - b_r) / max|a_r| > kPrimalTol (1e-9); pivots need
 // w_p > kPivotTol (1e-9); y >= -kDualTol (1e-12). Callers that need a strict
