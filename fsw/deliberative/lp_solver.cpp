@@ -299,133 +299,7 @@ bool LpSolver::coldStart() {
     return true;
 }
 
-// A_B^-1 from scratch: LU with partial pivoting (P A_B = L U) that skips
-// zeros, then A_B^-1 column by column by sparse triangular solves. A_B's rows
-// have a few nonzeros each; when the variables are ordered so that each row's
-// nonzeros are near each other (the planner orders them by time step) L and U
-// stay banded and this costs O(n^2 b) for bandwidth b instead of O(n^3).
-bool LpSolver::refactor() {
-    ++refactorizations_;
-    sinceRefactor_ = 0;
-    const std::size_t n = n_;
-    work_ += 5 * n * n;  // building A_B, the pivot searches
-    for (std::size_t p = 0; p < n; ++p) {
-        for (std::size_t k = 0; k < n; ++k) {
-            lu_[p][k] = 0.0;
-        }
-        const Row& row = row_[basis_[p]];
-        for (std::size_t e = 0; e < row.count; ++e) {
-            lu_[p][row.index[e]] = row.value[e];
-        }
-        perm_[p] = static_cast<std::uint8_t>(p);
-    }
-    std::uint8_t rowNz[kLpMaxVariables];
-    for (std::size_t k = 0; k < n; ++k) {
-        std::size_t best = k;
-        double bestAbs = std::fabs(lu_[k][k]);
-        for (std::size_t i = k + 1; i < n; ++i) {
-            const double a = std::fabs(lu_[i][k]);
-            if (a > bestAbs) {
-                bestAbs = a;
-                best = i;
-            }
-        }
-        if (bestAbs < kSingularTol) {
-            basisValid_ = false;
-            return false;
-        }
-        if (best != k) {
-            for (std::size_t j = 0; j < n; ++j) {
-                const double t = lu_[k][j];
-                lu_[k][j] = lu_[best][j];
-                lu_[best][j] = t;
-            }
-            const std::uint8_t t = perm_[k];
-            perm_[k] = perm_[best];
-            perm_[best] = t;
-        }
-        // The pivot row's nonzeros right of the diagonal.
-        std::size_t nz = 0;
-        for (std::size_t j = k + 1; j < n; ++j) {
-            if (lu_[k][j] != 0.0) {
-                rowNz[nz++] = static_cast<std::uint8_t>(j);
-            }
-        }
-        const double inv = 1.0 / lu_[k][k];
-        for (std::size_t i = k + 1; i < n; ++i) {
-            if (lu_[i][k] == 0.0) {
-                continue;
-            }
-            const double f = lu_[i][k] * inv;
-            lu_[i][k] = f;
-            for (std::size_t e = 0; e < nz; ++e) {
-                lu_[i][rowNz[e]] -= f * lu_[k][rowNz[e]];
-            }
-        }
-    }
-    // Nonzero patterns: L by column (below the diagonal), U by column (above).
-    for (std::size_t k = 0; k < n; ++k) {
-        std::size_t lc = 0;
-        for (std::size_t i = k + 1; i < n; ++i) {
-            if (lu_[i][k] != 0.0) {
-                lIndex_[k][lc++] = static_cast<std::uint8_t>(i);
-            }
-        }
-        lCount_[k] = static_cast<std::uint8_t>(lc);
-        std::size_t uc = 0;
-        for (std::size_t i = 0; i < k; ++i) {
-            if (lu_[i][k] != 0.0) {
-                uIndex_[k][uc++] = static_cast<std::uint8_t>(i);
-            }
-        }
-        uCount_[k] = static_cast<std::uint8_t>(uc);
-    }
-    // Column p of A_B^-1 solves A_B z = e_p, i.e. L U z = P e_p.
-    std::size_t factorNonzeros = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-        factorNonzeros += lCount_[k] + uCount_[k];
-    }
-    work_ += 5 * n * (factorNonzeros + 2 * n) / 2;
-    double z[kLpMaxVariables];
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t p = perm_[i];  // P e_p = e_i
-        for (std::size_t k = 0; k < n; ++k) {
-            z[k] = 0.0;
-        }
-        z[i] = 1.0;
-        for (std::size_t k = i; k < n; ++k) {
-            const double zk = z[k];
-            if (zk == 0.0) {
-                continue;
-            }
-            for (std::size_t e = 0; e < lCount_[k]; ++e) {
-                z[lIndex_[k][e]] -= lu_[lIndex_[k][e]][k] * zk;
-            }
-        }
-        for (std::size_t k = n; k-- > 0;) {
-            if (z[k] == 0.0) {
-                continue;
-            }
-            const double zk = z[k] / lu_[k][k];
-            z[k] = zk;
-            for (std::size_t e = 0; e < uCount_[k]; ++e) {
-                z[uIndex_[k][e]] -= lu_[uIndex_[k][e]][k] * zk;
-            }
-        }
-        for (std::size_t k = 0; k < n; ++k) {
-            binv_[k][p] = z[k];
-        }
-    }
-    basisValid_ = true;
-    recomputePrimal();
-    recomputeDual();
-    for (std::size_t p = 0; p < n; ++p) {
-        if (y_[p] < -1e-7) {
-            return false;  // not a dual feasible basis (should not happen)
-        }
-    }
-    return true;
-}
+// refactor(): lp_solver_refactor.cpp.
 
 void LpSolver::recomputePrimal() {
     work_ += n_ * n_;
@@ -596,9 +470,9 @@ LpStatus LpSolver::solve(std::uint32_t maxIterations, double cutoff) {
     } else {
         recomputePrimal();  // right-hand sides or bounds may have changed
     }
-    bool fresh = sinceRefactor_ == 0;
-    std::uint32_t degenerate = 0;
-    bool bland = blandThreshold_ == 0;
+    PivotState state;
+    state.fresh = sinceRefactor_ == 0;
+    state.bland = blandThreshold_ == 0;
     double cmax = 0.0;
     for (std::size_t k = 0; k < n_; ++k) {
         const double a = std::fabs(c_[k]);
@@ -606,131 +480,158 @@ LpStatus LpSolver::solve(std::uint32_t maxIterations, double cutoff) {
     }
     const std::uint64_t guard = 2ULL * maxIterations + 8ULL;
     for (std::uint64_t pass = 0; pass < guard; ++pass) {
-        const std::size_t enter = priceRow(bland);
+        const std::size_t enter = priceRow(state.bland);
         if (enter == kNone) {
-            if (!fresh) {
-                // Confirm on x and y recomputed from A_B^-1 (drift of the
-                // updates); a basis row that x no longer meets means A_B^-1
-                // has drifted: refactorise.
-                recomputePrimal();
-                recomputeDual();
-                fresh = true;
-                if (basisResidual() > kResidualTol) {
-                    if (!refactor()) {
-                        (void)coldStart();
-                    }
-                }
+            if (!state.fresh) {
+                confirmVertex();
+                state.fresh = true;
                 continue;
             }
-            for (std::size_t p = 0; p < n_; ++p) {
-                if (row_[basis_[p]].artificial && y_[p] > 1e-9 * (1.0 + cmax)) {
-                    status_ = LpStatus::kUnbounded;
-                    return status_;
-                }
-            }
-            status_ = LpStatus::kOptimal;
+            status_ = optimalOrUnbounded(cmax);
             return status_;
         }
         if (lastIterations_ >= maxIterations) {
             status_ = LpStatus::kIterationLimit;
             return status_;
         }
-        // w = A_B^-T a_enter.
-        const Row& row = row_[enter];
-        const std::size_t nPad = paddedCount();
-        for (std::size_t p = 0; p < nPad; ++p) {
-            w_[p] = 0.0;
-        }
-        for (std::size_t e = 0; e < row.count; ++e) {
-            axpy(w_, -row.value[e], binv_[row.index[e]], nPad);
-        }
-        double wmax = 0.0;
-        for (std::size_t p = 0; p < n_; ++p) {
-            wmax = w_[p] > wmax ? w_[p] : wmax;
-        }
-        // Pivots below kPivotTol (or 1e-11 of the largest) are noise.
-        const double pivotTol = kPivotTol > 1e-11 * wmax ? kPivotTol : 1e-11 * wmax;
-        std::size_t leave = kNone;
-        if (bland) {
-            // Exact minimum ratio; ties to the lowest row id.
-            double bestRatio = INFINITY;
-            for (std::size_t p = 0; p < n_; ++p) {
-                if (w_[p] <= pivotTol) {
-                    continue;
-                }
-                const double ratio = y_[p] / w_[p];
-                const double tie = 1e-14 * (1.0 + std::fabs(ratio));
-                if (leave == kNone || ratio < bestRatio - tie) {
-                    bestRatio = ratio;
-                    leave = p;
-                } else if (ratio <= bestRatio + tie && basis_[p] < basis_[leave]) {
-                    bestRatio = ratio < bestRatio ? ratio : bestRatio;
-                    leave = p;
-                }
-            }
-        } else {
-            // Harris: the largest pivot among the ratios within the tolerance.
-            double thetaMax = INFINITY;
-            for (std::size_t p = 0; p < n_; ++p) {
-                if (w_[p] > pivotTol) {
-                    const double bound = (y_[p] + kDualTol) / w_[p];
-                    thetaMax = bound < thetaMax ? bound : thetaMax;
-                }
-            }
-            double bestW = 0.0;
-            for (std::size_t p = 0; p < n_; ++p) {
-                if (w_[p] > pivotTol && y_[p] / w_[p] <= thetaMax && w_[p] > bestW) {
-                    bestW = w_[p];
-                    leave = p;
-                }
-            }
-        }
+        const std::size_t leave = leavingRow(state.bland, enteringDirection(row_[enter]));
         if (leave == kNone) {
-            if (!fresh) {
+            if (!state.fresh) {
                 if (!refactor()) {
                     (void)coldStart();
                 }
-                fresh = true;
+                state.fresh = true;
                 continue;
             }
             status_ = LpStatus::kInfeasible;
             return status_;
         }
-        double theta = y_[leave] / w_[leave];
-        theta = theta > 0.0 ? theta : 0.0;
-        pivot(enter, leave, theta);
-        ++lastIterations_;
-        ++iterations_;
-        work_ += n_ * paddedCount() + row.count * paddedCount();  // A_B^-1 update, x, y, w
-        if (bland) {
-            ++blandPivots_;
-        }
-        fresh = false;
-        if (cutoff < HUGE_VAL && objectiveValue() >= cutoff) {
-            status_ = LpStatus::kCutoff;
+        const LpStatus after = pivotAndCount(enter, leave, cutoff, &state);
+        if (after != LpStatus::kNotSolved) {
+            status_ = after;
             return status_;
-        }
-        if (theta <= 1e-14) {
-            ++degenerate;
-            if (degenerate >= blandThreshold_) {
-                bland = true;
-            }
-        } else {
-            degenerate = 0;
-            bland = blandThreshold_ == 0;
-        }
-        if (++sinceRefactor_ >= kRefactorPeriod) {
-            if (!refactor()) {
-                if (!coldStart()) {
-                    status_ = LpStatus::kNumericalFailure;
-                    return status_;
-                }
-            }
-            fresh = true;
         }
     }
     status_ = LpStatus::kIterationLimit;
     return status_;
+}
+
+// No row is violated, but x and y come from the pivots' updates: recompute
+// them from A_B^-1 (drift of the updates); a basis row that x no longer
+// meets means A_B^-1 has drifted: refactorise.
+void LpSolver::confirmVertex() {
+    recomputePrimal();
+    recomputeDual();
+    if (basisResidual() > kResidualTol) {
+        if (!refactor()) {
+            (void)coldStart();
+        }
+    }
+}
+
+// A confirmed vertex: optimal, unless it leans on an artificial bound.
+LpStatus LpSolver::optimalOrUnbounded(double cmax) const {
+    for (std::size_t p = 0; p < n_; ++p) {
+        if (row_[basis_[p]].artificial && y_[p] > 1e-9 * (1.0 + cmax)) {
+            return LpStatus::kUnbounded;
+        }
+    }
+    return LpStatus::kOptimal;
+}
+
+// w = A_B^-T a_enter; returns the pivot tolerance: below kPivotTol (or 1e-11
+// of the largest w_p) a pivot is noise.
+double LpSolver::enteringDirection(const Row& row) {
+    const std::size_t nPad = paddedCount();
+    for (std::size_t p = 0; p < nPad; ++p) {
+        w_[p] = 0.0;
+    }
+    for (std::size_t e = 0; e < row.count; ++e) {
+        axpy(w_, -row.value[e], binv_[row.index[e]], nPad);
+    }
+    double wmax = 0.0;
+    for (std::size_t p = 0; p < n_; ++p) {
+        wmax = w_[p] > wmax ? w_[p] : wmax;
+    }
+    return kPivotTol > 1e-11 * wmax ? kPivotTol : 1e-11 * wmax;
+}
+
+// The ratio test: the basis position to leave, kNone when no w_p passes the
+// tolerance (a dual ray: the LP is infeasible).
+std::size_t LpSolver::leavingRow(bool bland, double pivotTol) const {
+    std::size_t leave = kNone;
+    if (bland) {
+        // Exact minimum ratio; ties to the lowest row id.
+        double bestRatio = INFINITY;
+        for (std::size_t p = 0; p < n_; ++p) {
+            if (w_[p] <= pivotTol) {
+                continue;
+            }
+            const double ratio = y_[p] / w_[p];
+            const double tie = 1e-14 * (1.0 + std::fabs(ratio));
+            if (leave == kNone || ratio < bestRatio - tie) {
+                bestRatio = ratio;
+                leave = p;
+            } else if (ratio <= bestRatio + tie && basis_[p] < basis_[leave]) {
+                bestRatio = ratio < bestRatio ? ratio : bestRatio;
+                leave = p;
+            }
+        }
+        return leave;
+    }
+    // Harris: the largest pivot among the ratios within the tolerance.
+    double thetaMax = INFINITY;
+    for (std::size_t p = 0; p < n_; ++p) {
+        if (w_[p] > pivotTol) {
+            const double bound = (y_[p] + kDualTol) / w_[p];
+            thetaMax = bound < thetaMax ? bound : thetaMax;
+        }
+    }
+    double bestW = 0.0;
+    for (std::size_t p = 0; p < n_; ++p) {
+        if (w_[p] > pivotTol && y_[p] / w_[p] <= thetaMax && w_[p] > bestW) {
+            bestW = w_[p];
+            leave = p;
+        }
+    }
+    return leave;
+}
+
+// One pivot and its accounting: the cutoff, the switch to and from Bland's
+// rule, the periodic refactorisation. kNotSolved: the solve goes on.
+LpStatus LpSolver::pivotAndCount(std::size_t enter, std::size_t leave, double cutoff, PivotState* state) {
+    const Row& row = row_[enter];
+    double theta = y_[leave] / w_[leave];
+    theta = theta > 0.0 ? theta : 0.0;
+    pivot(enter, leave, theta);
+    ++lastIterations_;
+    ++iterations_;
+    work_ += n_ * paddedCount() + row.count * paddedCount();  // A_B^-1 update, x, y, w
+    if (state->bland) {
+        ++blandPivots_;
+    }
+    state->fresh = false;
+    if (cutoff < HUGE_VAL && objectiveValue() >= cutoff) {
+        return LpStatus::kCutoff;
+    }
+    if (theta <= 1e-14) {
+        ++state->degenerate;
+        if (state->degenerate >= blandThreshold_) {
+            state->bland = true;
+        }
+    } else {
+        state->degenerate = 0;
+        state->bland = blandThreshold_ == 0;
+    }
+    if (++sinceRefactor_ >= kRefactorPeriod) {
+        if (!refactor()) {
+            if (!coldStart()) {
+                return LpStatus::kNumericalFailure;
+            }
+        }
+        state->fresh = true;
+    }
+    return LpStatus::kNotSolved;
 }
 
 double LpSolver::objectiveValue() const {

@@ -49,13 +49,14 @@
 // lowest-index leaving row among exact ratio ties), which cannot cycle; the
 // first nondegenerate pivot switches back.
 //
-// Numerics. A_B^-1 is recomputed from scratch every kRefactorPeriod pivots:
-// LU with partial pivoting that skips zeros, then the inverse column by column
-// by sparse triangular solves; with variables ordered so that each row's
-// nonzeros are close (the planner orders them by time step) L and U stay
-// banded and this costs O(n^2 b), not O(n^3). Before optimality is declared x
-// and y are recomputed from A_B^-1, and a basis row that x misses by more than
-// kResidualTol triggers a refactorisation. A singular basis (pivot below
+// Numerics. A_B^-1 is recomputed from scratch every kRefactorPeriod pivots
+// (lp_solver_refactor.cpp): LU with partial pivoting that skips zeros, then
+// the inverse column by column by sparse triangular solves; with variables
+// ordered so that each row's nonzeros are close (the planner orders them by
+// time step) L and U stay banded and this costs O(n^2 b), not O(n^3).
+// Before optimality is declared x and y are recomputed from A_B^-1, and a
+// basis row that x misses by more than kResidualTol triggers a
+// refactorisation. A singular basis (pivot below
 // kSingularTol) falls back to the cold basis. Tolerances: a row is violated
 // when (a_r . x - b_r) / max|a_r| > kPrimalTol (1e-9); pivots need
 // w_p > kPivotTol (1e-9); y >= -kDualTol (1e-12). Callers that need a strict
@@ -208,8 +209,23 @@ private:
     void setBoundRow(std::size_t variable, bool upper);
     bool validBasisRows(const LpBasis& basis) const;
     void installBasis(const LpBasis& basis);
+    // The state of one solve() between pivots: the last x and y were
+    // recomputed from A_B^-1 (fresh), Bland's rule is on, degenerate pivots
+    // in a row.
+    struct PivotState {
+        bool fresh = false;
+        bool bland = false;
+        std::uint32_t degenerate = 0;
+    };
+
     bool coldStart();
     bool refactor();
+    void loadBasisMatrix();
+    bool factorLu();
+    void recordLuPatterns();
+    void invertFromLu();
+    void confirmVertex();
+    LpStatus optimalOrUnbounded(double cmax) const;
     void recomputePrimal();
     void recomputeDual();
     double activity(const Row& row) const;
@@ -219,6 +235,10 @@ private:
     double basisResidual() const;
     // The row to enter, or kNone when the vertex is feasible.
     std::size_t priceRow(bool bland);
+    // w = A_B^-T a_r for the entering row; returns the pivot tolerance.
+    double enteringDirection(const Row& row);
+    std::size_t leavingRow(bool bland, double pivotTol) const;
+    LpStatus pivotAndCount(std::size_t enter, std::size_t leave, double cutoff, PivotState* state);
     void pivot(std::size_t enter, std::size_t leavePos, double theta);
 
     static constexpr std::size_t kNone = static_cast<std::size_t>(-1);

@@ -187,18 +187,21 @@ geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::
     return geometry::siteBox(map, rse::geometry::clearanceRadiusM(rover));
 }
 
-core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
-                             const tables::RoverGeometryTable& geometry, const PlanRequest& request,
-                             CcProblem* out, MapProblemReport* report) {
-    *report = MapProblemReport{};
-    const auto fail = [report](MapProblemError error) {
-        report->error = error;
-        return core::Status::kInvalidArgument;
-    };
-    if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5) || !(request.noiseFactor >= 1.0)) {
-        return fail(MapProblemError::kBadRequest);
-    }
-    const double radius = rse::geometry::clearanceRadiusM(geometry);
+namespace {
+
+// Every grown polygon and hazard that may enter the problem, each with its
+// rank (the squared distance to the straight line from start to goal).
+struct ObstacleCandidates {
+    static constexpr std::size_t kCapacity = kCoarseMapSlots + msg::kMaxKnownHazards;
+    PlanObstacle grown[kCapacity];
+    double rank[kCapacity] = {};
+    std::size_t count = 0;
+};
+
+// The problem but its obstacles: the plant from the tables and the request,
+// the site from the map.
+CcProblem problemFrame(const tables::PlannerTable& planner, const PlanRequest& request,
+                       const geometry::SiteBox& site) {
     CcProblem p{};
     p.steps = static_cast<std::uint8_t>(planner.horizon_steps <= kMaxPlanSteps ? planner.horizon_steps : 0);
     p.startX = request.startX;
@@ -211,27 +214,42 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     p.processSigmaM = static_cast<double>(planner.process_noise_sigma_m) * request.noiseFactor;
     p.goalX = request.goalX;
     p.goalY = request.goalY;
-    const geometry::SiteBox site = planningSite(map, geometry);
     p.xMin = site.minX;
     p.xMax = site.maxX;
     p.yMin = site.minY;
     p.yMax = site.maxY;
     p.riskBound = request.riskBound;
     p.allocation = planner.risk_allocation == 1 ? RiskAllocation::kOptimised : RiskAllocation::kEvenSplit;
-    const auto onSite = [&site](double x, double y) { return geometry::outsideBy(site, x, y) <= 0.0; };
-    if (!onSite(p.startX, p.startY)) {
-        return fail(MapProblemError::kStartOffSite);
-    }
-    if (!onSite(p.goalX, p.goalY)) {
-        return fail(MapProblemError::kGoalOffSite);
-    }
+    return p;
+}
 
-    // Grow every polygon in use and every seen hazard; rank by distance to the straight line.
-    constexpr std::size_t kCandidates = kCoarseMapSlots + msg::kMaxKnownHazards;
-    PlanObstacle grown[kCandidates];
-    double rank[kCandidates] = {};
-    std::size_t count = 0;
+// Every polygon in use grown by the footprint; kBadMap or kGoalInObstacle
+// stop the problem.
+MapProblemError addMapPolygons(const tables::CoarseMapTable& map, const CcProblem& p, double radius,
+                               ObstacleCandidates* c, MapProblemReport* report) {
     const std::size_t slots = rse::geometry::coarseMapSlotsUsed(map);
+    const Point2 s{p.startX, p.startY};
+    const Point2 g{p.goalX, p.goalY};
+    for (std::size_t slot = 0; slot < slots; ++slot) {
+        const std::size_t n = map.vertex_count[slot];
+        if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &c->grown[c->count])) {
+            return MapProblemError::kBadMap;
+        }
+        if (inside(c->grown[c->count], p.goalX, p.goalY)) {
+            return MapProblemError::kGoalInObstacle;
+        }
+        report->startInObstacle = report->startInObstacle || inside(c->grown[c->count], p.startX, p.startY);
+        c->rank[c->count] = rankDistance(map, slot, n, s, g);
+        ++c->count;
+    }
+    report->obstaclesOnMap = static_cast<std::uint8_t>(c->count);
+    return MapProblemError::kNone;
+}
+
+// Every usable seen hazard as an octagon grown by the footprint, less where
+// the start or the goal needs room (see the header).
+void addSeenHazards(const PlanRequest& request, const CcProblem& p, double radius, ObstacleCandidates* c,
+                    MapProblemReport* report) {
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
     // Room the start needs beyond an obstacle it stands close to: the end
@@ -241,33 +259,20 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
                                              static_cast<double>(kMaxPlanObstacles));
     const double startMargin =
         kHazardEndClearanceM + tighteningMargin(startDelta, p.startCov[0] + p.startCov[3]);
-    for (std::size_t slot = 0; slot < slots; ++slot) {
-        const std::size_t n = map.vertex_count[slot];
-        if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &grown[count])) {
-            return fail(MapProblemError::kBadMap);
-        }
-        if (inside(grown[count], p.goalX, p.goalY)) {
-            return fail(MapProblemError::kGoalInObstacle);
-        }
-        report->startInObstacle = report->startInObstacle || inside(grown[count], p.startX, p.startY);
-        rank[count] = rankDistance(map, slot, n, s, g);
-        ++count;
-    }
-    report->obstaclesOnMap = static_cast<std::uint8_t>(count);
     const std::size_t hazards =
         request.hazards == nullptr ? 0 : (request.hazardCount < msg::kMaxKnownHazards ? request.hazardCount : msg::kMaxKnownHazards);
     for (std::size_t h = 0; h < hazards; ++h) {
         const msg::KnownHazard& hz = request.hazards[h];
-        const Point2 c{static_cast<double>(hz.xM), static_cast<double>(hz.yM)};
+        const Point2 centre{static_cast<double>(hz.xM), static_cast<double>(hz.yM)};
         const double r = static_cast<double>(hz.radiusM);
-        if (!geometry::isFinite(c) || !std::isfinite(r) || !(r > 0.0)) {
+        if (!geometry::isFinite(centre) || !std::isfinite(r) || !(r > 0.0)) {
             ++report->hazardsLeftOut;
             continue;
         }
         ++report->hazardsSeen;
         // The growth that keeps the start and the goal outside (see the header).
         const double room =
-            std::fmin(octagonGauge(c, s) - startMargin, octagonGauge(c, g) - kHazardEndClearanceM) - r;
+            std::fmin(octagonGauge(centre, s) - startMargin, octagonGauge(centre, g) - kHazardEndClearanceM) - r;
         if (room < 0.0) {
             ++report->hazardsLeftOut;
             continue;
@@ -276,36 +281,73 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         if (growth < radius) {
             ++report->hazardsShrunk;
         }
-        hazardOctagon(c, r + growth, hz.obstacleId, &grown[count]);
-        const double gap = std::sqrt(geometry::pointSegmentDistanceSquared(c, s, g)) - r;
-        rank[count] = gap > 0.0 ? gap * gap : 0.0;
-        ++count;
+        hazardOctagon(centre, r + growth, hz.obstacleId, &c->grown[c->count]);
+        const double gap = std::sqrt(geometry::pointSegmentDistanceSquared(centre, s, g)) - r;
+        c->rank[c->count] = gap > 0.0 ? gap * gap : 0.0;
+        ++c->count;
     }
-    // Keep the kMaxPlanObstacles nearest (selection, ties to the lower slot).
-    bool taken[kCandidates] = {};
-    const std::size_t keep = count < kMaxPlanObstacles ? count : kMaxPlanObstacles;
+}
+
+// The kMaxPlanObstacles nearest into the problem (selection, ties to the
+// lower slot), in candidate order; the report's counts of them.
+void keepNearest(const ObstacleCandidates& c, CcProblem* p, MapProblemReport* report) {
+    bool taken[ObstacleCandidates::kCapacity] = {};
+    const std::size_t keep = c.count < kMaxPlanObstacles ? c.count : kMaxPlanObstacles;
     for (std::size_t k = 0; k < keep; ++k) {
-        std::size_t pick = count;
-        for (std::size_t i = 0; i < count; ++i) {
-            if (!taken[i] && (pick == count || rank[i] < rank[pick])) {
+        std::size_t pick = c.count;
+        for (std::size_t i = 0; i < c.count; ++i) {
+            if (!taken[i] && (pick == c.count || c.rank[i] < c.rank[pick])) {
                 pick = i;
             }
         }
         taken[pick] = true;
     }
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < c.count; ++i) {
         if (taken[i]) {
-            p.obstacles[p.obstacleCount++] = grown[i];
+            p->obstacles[p->obstacleCount++] = c.grown[i];
         }
     }
     const std::size_t polygons = report->obstaclesOnMap;
     std::size_t polygonsUsed = 0;
-    for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t i = 0; i < c.count; ++i) {
         polygonsUsed += (taken[i] && i < polygons) ? 1U : 0U;
     }
     report->obstaclesUsed = static_cast<std::uint8_t>(polygonsUsed);
     report->obstaclesDropped = static_cast<std::uint8_t>(polygons - polygonsUsed);
-    report->hazardsUsed = static_cast<std::uint8_t>(p.obstacleCount - polygonsUsed);
+    report->hazardsUsed = static_cast<std::uint8_t>(p->obstacleCount - polygonsUsed);
+}
+
+}  // namespace
+
+core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
+                             const tables::RoverGeometryTable& geometry, const PlanRequest& request,
+                             CcProblem* out, MapProblemReport* report) {
+    *report = MapProblemReport{};
+    const auto fail = [report](MapProblemError error) {
+        report->error = error;
+        return core::Status::kInvalidArgument;
+    };
+    if (!finite(request) || !(request.riskBound > 0.0 && request.riskBound < 0.5) || !(request.noiseFactor >= 1.0)) {
+        return fail(MapProblemError::kBadRequest);
+    }
+    const double radius = rse::geometry::clearanceRadiusM(geometry);
+    const geometry::SiteBox site = planningSite(map, geometry);
+    CcProblem p = problemFrame(planner, request, site);
+    const auto onSite = [&site](double x, double y) { return geometry::outsideBy(site, x, y) <= 0.0; };
+    if (!onSite(p.startX, p.startY)) {
+        return fail(MapProblemError::kStartOffSite);
+    }
+    if (!onSite(p.goalX, p.goalY)) {
+        return fail(MapProblemError::kGoalOffSite);
+    }
+    // Grow every polygon in use and every seen hazard; rank by distance to the straight line.
+    ObstacleCandidates candidates;
+    const MapProblemError mapError = addMapPolygons(map, p, radius, &candidates, report);
+    if (mapError != MapProblemError::kNone) {
+        return fail(mapError);
+    }
+    addSeenHazards(request, p, radius, &candidates, report);
+    keepNearest(candidates, &p, report);
     if (!core::isOk(checkProblem(p))) {
         return fail(MapProblemError::kBadProblem);
     }

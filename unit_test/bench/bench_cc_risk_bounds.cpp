@@ -23,7 +23,7 @@
 // what the tighter bound recovers. A plan without a sampled collision enters
 // at 1 / samples (its ratios are then lower bounds).
 // Also printed: the CPU cost of one bivariate orthant and one normal tail (the
-// planner charges them as work units, cc_planner.cpp kOrthantWork, kTailWork)
+// planner charges them as work units, cc_work_units.hpp kOrthantWork, kTailWork)
 // and sizeof(CcPlanner).
 // Target (bench_targets.hpp): the certified bound holds against sampling on
 // every plan (collisions <= cc::allowedCollisions(certified, samples)).
