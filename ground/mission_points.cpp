@@ -324,7 +324,8 @@ void TenPointTracker::onLegReached(const FlightEvent& e) {
 void TenPointTracker::onBoundRelaxed(const FlightEvent& e) {
     decide(e, "bound relaxed");
     evd::BOUND_RELAXED relaxed;
-    const bool power = e.read(&relaxed) && whole(relaxed.bound) == static_cast<std::uint32_t>(msg::LegConstraint::kPower);
+    const bool power =
+        e.read(&relaxed) && whole(relaxed.bound) == static_cast<std::uint32_t>(msg::LegConstraint::kPower);
     if (powerFailUpSeen_ && power && !points_[6].seen) {
         relaxedPowerW_ = relaxed.to;
         relaxPending_ = true;

@@ -290,7 +290,8 @@ std::string renderEventData(const DecodedPacket& p) {
     const auto id = static_cast<core::EventId>(p.value("event_id").value_or(0));
     const std::size_t count = static_cast<std::size_t>(p.value("value_count").value_or(0));
     const cmdtlm::EventDataDesc* layout = cmdtlm::findEventData(id);
-    std::string line = " event " + std::to_string(id) + " " + (layout != nullptr ? layout->name : "(no event data known)");
+    std::string line =
+        " event " + std::to_string(id) + " " + (layout != nullptr ? layout->name : "(no event data known)");
     for (std::size_t i = 0; i < count && i < core::kEventDataValues; ++i) {
         const bool named = layout != nullptr && i < layout->valueCount;
         line += " " + (named ? std::string(layout->values[i].name) : "value[" + std::to_string(i) + "]") + "=" +

@@ -200,7 +200,8 @@ TEST(TelemetryTask, AnEventsNumbersFollowItAndTheBudgetCountsEventsOnly) {
         const test::RecordingSink::Packet& data = got[++i];
         LONGS_EQUAL(cmdtlm::EVENT_DATA_Tlm::kApid, data.apid);
         using test::RecordingSink;
-        DOUBLES_EQUAL(RecordingSink::field(got[i - 1], "event_sequence"), RecordingSink::field(data, "event_sequence"), 0.0);
+        DOUBLES_EQUAL(RecordingSink::field(got[i - 1], "event_sequence"), RecordingSink::field(data, "event_sequence"),
+                      0.0);
         DOUBLES_EQUAL(905, RecordingSink::field(data, "event_id"), 0.0);
         DOUBLES_EQUAL(3, RecordingSink::field(data, "value_count"), 0.0);
         DOUBLES_EQUAL(static_cast<double>(event), RecordingSink::field(data, "value", 0), 0.0);
