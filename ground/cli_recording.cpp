@@ -58,6 +58,8 @@ void printReportLines(CliContext& cli, const TelemetryMissionRecord& result, con
     cli.out() << "outcome:    " << result.record.outcome << "\n";
     cli.out() << "plans:      " << result.plansDrawn << " drawn from PLAN_PATH (" << mission.plansMade
               << " made, events 902)\n";
+    cli.out() << "event data: " << result.eventDataPaired << " EVENT_DATA paired, " << result.eventsWithoutData
+              << " events without their numbers, " << result.eventDataStray << " stray\n";
     cli.out() << "points:     " << result.record.verdict << "\n";
 }
 

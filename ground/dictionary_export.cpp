@@ -6,6 +6,7 @@
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "ground/command_encoder.hpp"
 #include "ground/telemetry_limits.hpp"
 #include "ground/text_format.hpp"
@@ -167,7 +168,10 @@ void mdPreamble(std::ostream& o) {
       << "  equal to a bound is inside it, \"-\" is no bound, and an array field's limits hold for every\n"
       << "  element. `why` says where each bound comes from: most mirror the default value of the table\n"
       << "  field named (a unit test holds them to it). They colour the display only: the rover's faults\n"
-      << "  use the tables in force.\n\n";
+      << "  use the tables in force.\n"
+      << "- Event data: the numbers some events carry beside their text (section Event data below),\n"
+      << "  sent in an EVENT_DATA packet right after the event's EVENT packet (same event_sequence).\n"
+      << "  Decide on these; the event text is for people and may be reworded.\n\n";
 }
 
 void mdModes(std::ostream& o) {
@@ -277,6 +281,90 @@ void mdTelemetrySection(std::ostream& o, const TelemetryDesc& t) {
     mdTelemetryLimits(o, t);
 }
 
+// "905", or "760..763" for a layout shared by a range of event ids.
+std::string eventIds(const cmdtlm::EventDataDesc& d) {
+    return d.firstId == d.lastId ? std::to_string(d.firstId)
+                                 : std::to_string(d.firstId) + ".." + std::to_string(d.lastId);
+}
+
+void mdEventData(std::ostream& o) {
+    std::size_t count = 0;
+    const cmdtlm::EventDataDesc* layouts = cmdtlm::eventDataDescs(&count);
+    o << "\n## Event data\n\n"
+      << "The numbers an event carries (F'-style event arguments), in this order in EVENT_DATA.value\n"
+      << "(value_count of them; f64, integers exact). Every report of an event listed carries all its\n"
+      << "values; an event not listed carries none. Codes are the numbers of the enumeration named.\n\n"
+      << "| Event data | Events | Values | Description |\n|---|---|---|---|\n";
+    for (std::size_t i = 0; i < count; ++i) {
+        std::string names;
+        for (std::size_t v = 0; v < layouts[i].valueCount; ++v) {
+            names += std::string(v > 0 ? ", " : "") + layouts[i].values[v].name;
+        }
+        o << "| [" << layouts[i].name << "](#" << anchor(layouts[i].name) << ") | " << eventIds(layouts[i]) << " | "
+          << names << " | " << md(layouts[i].description) << " |\n";
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        const cmdtlm::EventDataDesc& d = layouts[i];
+        o << "\n### " << d.name << "\n\n"
+          << md(d.description) << ". Event" << (d.firstId == d.lastId ? " " : "s ") << eventIds(d) << ", "
+          << static_cast<unsigned>(d.valueCount) << " values.\n\n"
+          << "| Value | Name | Units | Description |\n|---:|---|---|---|\n";
+        for (std::size_t v = 0; v < d.valueCount; ++v) {
+            o << "| " << v << " | " << d.values[v].name << " | " << md(d.values[v].units) << " | "
+              << md(d.values[v].description) << " |\n";
+        }
+    }
+}
+
+void jsonEventData(std::ostream& o) {
+    std::size_t count = 0;
+    const cmdtlm::EventDataDesc* layouts = cmdtlm::eventDataDescs(&count);
+    o << "  \"event_data\": [\n";
+    for (std::size_t i = 0; i < count; ++i) {
+        const cmdtlm::EventDataDesc& d = layouts[i];
+        o << "    {\n"
+          << "      \"name\": " << json(d.name) << ",\n"
+          << "      \"first_event_id\": " << d.firstId << ",\n"
+          << "      \"last_event_id\": " << d.lastId << ",\n"
+          << "      \"description\": " << json(d.description) << ",\n"
+          << "      \"values\": [";
+        for (std::size_t v = 0; v < d.valueCount; ++v) {
+            o << (v > 0 ? "," : "") << "\n        {\"index\": " << v << ", \"name\": " << json(d.values[v].name)
+              << ", \"units\": " << json(d.values[v].units) << ", \"description\": " << json(d.values[v].description)
+              << "}";
+        }
+        o << "\n      ]\n    }" << (i + 1 < count ? "," : "") << "\n";
+    }
+    o << "  ]\n";
+}
+
+void jsonTelemetry(std::ostream& o, const TelemetryDesc* tlm, std::size_t telemetryCount) {
+    o << "  \"telemetry\": [\n";
+    for (std::size_t i = 0; i < telemetryCount; ++i) {
+        const TelemetryDesc& t = tlm[i];
+        o << "    {\n"
+          << "      \"name\": " << json(t.name) << ",\n"
+          << "      \"apid\": " << t.apid << ",\n"
+          << "      \"description\": " << json(t.description) << ",\n"
+          << "      \"payload_bytes\": " << t.payloadSize << ",\n"
+          << "      \"packet_bytes\": " << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ",\n"
+          << "      \"fields\": [";
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < t.fieldCount; ++f) {
+            const FieldDesc& field = t.fields[f];
+            o << (f > 0 ? "," : "") << "\n        {\"name\": " << json(field.name) << ", \"type\": "
+              << json(cmdtlm::toString(field.type)) << ", \"count\": " << field.count << ", \"offset\": " << offset
+              << ", \"units\": " << json(field.units) << ", \"description\": " << json(field.description);
+            if (const TelemetryLimit* limit = findTelemetryLimit(t.name, field.name)) {
+                o << ", \"limits\": " << jsonLimits(*limit);
+            }
+            o << "}";
+            offset += fieldSize(field);
+        }
+        o << "\n      ]\n    }" << (i + 1 < telemetryCount ? "," : "") << "\n";
+    }
+}
+
 }  // namespace
 
 std::string exportDictionaryMarkdown() {
@@ -296,6 +384,7 @@ std::string exportDictionaryMarkdown() {
     for (std::size_t i = 0; i < telemetryCount; ++i) {
         mdTelemetrySection(o, tlm[i]);
     }
+    mdEventData(o);
     return o.str();
 }
 
@@ -368,31 +457,10 @@ std::string exportDictionaryJson() {
     }
     o << "  ],\n";
 
-    o << "  \"telemetry\": [\n";
-    for (std::size_t i = 0; i < telemetryCount; ++i) {
-        const TelemetryDesc& t = tlm[i];
-        o << "    {\n"
-          << "      \"name\": " << json(t.name) << ",\n"
-          << "      \"apid\": " << t.apid << ",\n"
-          << "      \"description\": " << json(t.description) << ",\n"
-          << "      \"payload_bytes\": " << t.payloadSize << ",\n"
-          << "      \"packet_bytes\": " << t.payloadSize + cmdtlm::kTelemetryHeaderSize << ",\n"
-          << "      \"fields\": [";
-        std::size_t offset = 0;
-        for (std::size_t f = 0; f < t.fieldCount; ++f) {
-            const FieldDesc& field = t.fields[f];
-            o << (f > 0 ? "," : "") << "\n        {\"name\": " << json(field.name) << ", \"type\": "
-              << json(cmdtlm::toString(field.type)) << ", \"count\": " << field.count << ", \"offset\": " << offset
-              << ", \"units\": " << json(field.units) << ", \"description\": " << json(field.description);
-            if (const TelemetryLimit* limit = findTelemetryLimit(t.name, field.name)) {
-                o << ", \"limits\": " << jsonLimits(*limit);
-            }
-            o << "}";
-            offset += fieldSize(field);
-        }
-        o << "\n      ]\n    }" << (i + 1 < telemetryCount ? "," : "") << "\n";
-    }
-    o << "  ]\n}\n";
+    jsonTelemetry(o, tlm, telemetryCount);
+    o << "  ],\n";
+    jsonEventData(o);
+    o << "}\n";
     return o.str();
 }
 

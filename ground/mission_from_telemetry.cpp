@@ -5,6 +5,7 @@
 #include <map>
 
 #include "fsw/habitual/habitual_events.hpp"
+#include "ground/event_data_pairing.hpp"
 #include "ground/mission_points.hpp"
 #include "ground/telemetry_decoder.hpp"
 
@@ -74,11 +75,19 @@ std::string outcomeText(const MissionTelemetry& m) {
 }
 
 // The recording's packets that make the mission (events, plan paths, plan
-// status, rover states, task timing), decoded into *packets, and the order to
-// replay them in: by rover time, state before events at equal times.
-std::vector<Replayed> replayOrder(const SessionRecording& recording, const MissionTelemetry& mission,
-                                  std::vector<DecodedPacket>* packets) {
+// status, rover states, task timing) decoded, the order to replay them in (by
+// rover time, state before events at equal times) and each event's numbers:
+// its EVENT_DATA, paired in the order received (before the replay's sorting).
+struct Replay {
+    std::vector<DecodedPacket> packets;
     std::vector<Replayed> order;
+    std::map<std::size_t, core::EventData> data;  // by the EVENT's index in packets
+    EventDataPairing pairing;
+};
+
+void replayOrder(const SessionRecording& recording, const MissionTelemetry& mission, Replay* replay) {
+    std::vector<DecodedPacket>* packets = &replay->packets;
+    std::vector<Replayed>& order = replay->order;
     packets->reserve(recording.packets.size());
     for (const RecordedPacket& rp : recording.packets) {
         DecodedPacket p = decodeTelemetry(rp.bytes);
@@ -88,9 +97,18 @@ std::vector<Replayed> replayOrder(const SessionRecording& recording, const Missi
         const std::string kind = p.name();
         Replayed item;
         item.index = packets->size();
+        EventDataPacket data;
+        if (readEventData(p, &data)) {
+            if (const std::optional<std::size_t> event = replay->pairing.onData(data)) {
+                replay->data[*event] = data.data;
+            }
+            continue;
+        }
         if (kind == "EVENT") {
             item.timeS = mission.flightTime(number(p, "event_time"));
             item.rank = 1;
+            replay->pairing.onEvent(static_cast<std::uint32_t>(number(p, "event_sequence")),
+                                    static_cast<std::uint16_t>(number(p, "event_id")), item.index);
         } else if (kind == "PLAN_PATH") {
             item.timeS = mission.flightTime(number(p, "plan_time"));
         } else if (kind == "PLAN" || kind == "ROVER_STATE" || kind == "TASK_TIMING") {
@@ -104,11 +122,13 @@ std::vector<Replayed> replayOrder(const SessionRecording& recording, const Missi
     std::stable_sort(order.begin(), order.end(), [](const Replayed& a, const Replayed& b) {
         return a.timeS < b.timeS || (a.timeS == b.timeS && a.rank < b.rank);
     });
-    return order;
 }
 
-FlightEvent flightEvent(const DecodedPacket& p, double timeS) {
+FlightEvent flightEvent(const DecodedPacket& p, double timeS, const core::EventData* data) {
     FlightEvent e;
+    if (data != nullptr) {
+        e.data = *data;
+    }
     e.timeS = timeS;
     e.id = static_cast<std::uint16_t>(number(p, "event_id"));
     e.severity = static_cast<std::uint8_t>(number(p, "severity"));
@@ -140,17 +160,19 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
     TelemetryMissionRecord out;
     MissionRecord& r = out.record;
 
-    std::vector<DecodedPacket> packets;
-    const std::vector<Replayed> order = replayOrder(recording, mission, &packets);
+    Replay replay;
+    replayOrder(recording, mission, &replay);
+    const std::vector<DecodedPacket>& packets = replay.packets;
 
     TenPointTracker tracker(map, footprintRadiusM);
     std::map<unsigned, TaskTimingRow> timing;  // by task index
     std::uint32_t habitualReplans = 0;
-    for (const Replayed& item : order) {
+    for (const Replayed& item : replay.order) {
         const DecodedPacket& p = packets[item.index];
         const std::string kind = p.name();
         if (kind == "EVENT") {
-            const FlightEvent e = flightEvent(p, item.timeS);
+            const auto data = replay.data.find(item.index);
+            const FlightEvent e = flightEvent(p, item.timeS, data == replay.data.end() ? nullptr : &data->second);
             habitualReplans += e.id == habitual::events::kMinorAnomaly ? 1U : 0U;
             tracker.onEvent(e);
         } else if (kind == "PLAN") {
@@ -188,6 +210,9 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
     r.riskRelaxations = mission.riskRelaxations;
     r.callHomes = mission.callHomes;
     r.habitualReplans = habitualReplans;
+    out.eventDataPaired = replay.pairing.paired();
+    out.eventsWithoutData = replay.pairing.missing();
+    out.eventDataStray = replay.pairing.stray();
     for (const auto& [index, row] : timing) {
         (void)index;
         r.timing.push_back(row);

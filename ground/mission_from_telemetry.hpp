@@ -1,7 +1,9 @@
 // The mission record (ground/mission_record.hpp) a ground station builds from
 // the telemetry it received (a session recording): the ten points read by the
 // same tracker rse-demo uses (ground/mission_points.hpp), from the recorded
-// EVENT, PLAN and ROVER_STATE packets; every plan the rover made with its risk
+// EVENT (with its EVENT_DATA: the event's numbers, paired by event_sequence in
+// the order received; ground/event_data_pairing.hpp), PLAN and ROVER_STATE
+// packets; every plan the rover made with its risk
 // ellipses from PLAN_PATH; the estimated track; the counts and the per-task
 // timing (TASK_TIMING). `rse-ground report` writes it with the same report and
 // map writers as rse-demo (ground/mission_report.hpp), so an operator on a real
@@ -36,6 +38,11 @@ struct TelemetryMissionRecord {
     MissionRecord record;
     std::vector<MissionPoint> pointsInOrder;  // as the tracker saw them
     std::size_t plansDrawn = 0;               // PLAN_PATH packets received
+    // The events' numbers (EVENT_DATA, paired by event_sequence): paired, events
+    // read without them (lost or withheld: such an event shows no point), stray.
+    std::uint32_t eventDataPaired = 0;
+    std::uint32_t eventsWithoutData = 0;
+    std::uint32_t eventDataStray = 0;
 };
 
 // map: the coarse map the rover flew (the COARSE_MAP uploaded, or its default):

@@ -1,19 +1,20 @@
 #include "ground/mission_points.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
-#include "fsw/geometry/coarse_map.hpp"
+#include "fsw/habitual/candidate_evaluator.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/habitual_msgs.hpp"
+#include "fsw/msg/health_msgs.hpp"
 
 namespace rse::ground {
 
@@ -21,29 +22,13 @@ namespace {
 
 namespace dev = deliberative::events;
 namespace hev = habitual::events;
+namespace evd = cmdtlm::event_data;
 
-// The text after "layer: " (the flight event's own words, without its prefix).
+// The text after "layer: " (the flight event's own words, without its prefix),
+// to quote to people.
 std::string body(const std::string& text) {
     const std::size_t colon = text.find(": ");
     return colon == std::string::npos ? text : text.substr(colon + 2);
-}
-
-// Where `marker` starts in text, or nullptr.
-const char* after(const std::string& text, const char* marker) {
-    const std::size_t at = text.find(marker);
-    return at == std::string::npos ? nullptr : text.c_str() + at;
-}
-
-// The wheel index of a drive name at the start of s ("ML ..."), or -1.
-int wheelNamed(const char* s) {
-    for (std::size_t w = 0; w < msg::kWheelCount; ++w) {
-        const char* name = msg::wheelName(w);
-        const std::size_t n = std::strlen(name);
-        if (std::strncmp(s, name, n) == 0 && s[n] == ' ') {
-            return static_cast<int>(w);
-        }
-    }
-    return -1;
 }
 
 std::string seconds(double t) {
@@ -52,7 +37,36 @@ std::string seconds(double t) {
     return text;
 }
 
+// An id or a count as the event's numbers carry it (a double holding an integer).
+std::uint32_t whole(double value) { return value >= 0.0 ? static_cast<std::uint32_t>(value) : 0U; }
+
 }  // namespace
+
+// The table onEvent looks ids up in: every event the ten points, the legs,
+// the hazards or the decisions list read.
+const TenPointTracker::Route TenPointTracker::kRoutes[] = {
+    {deliberative::events::kGoalsCommanded, deliberative::events::kGoalsCommanded, &TenPointTracker::onGoalsCommanded},
+    {dev::kPlanFound, dev::kPlanFound, &TenPointTracker::onPlanFound},
+    {dev::kLegSent, dev::kLegSent, &TenPointTracker::onLegSent},
+    {hev::kPlanSent, hev::kPlanSent, &TenPointTracker::onPlanSent},
+    {hev::kPathBlocked, hev::kPathBlocked, &TenPointTracker::onPathBlocked},
+    {hev::kMinorAnomaly, hev::kMinorAnomaly, &TenPointTracker::onMinorAnomaly},
+    {hev::kFailUp, hev::kFailUp, &TenPointTracker::onHabitualFailUp},
+    {hev::kLegAchieved, hev::kLegAchieved, &TenPointTracker::onHabitualLegAchieved},
+    {hev::kHazardRemembered, hev::kHazardRemembered, &TenPointTracker::onHazardRemembered},
+    {dev::kLegAchieved, dev::kLegAchieved, &TenPointTracker::onLegReached},
+    {dev::kBoundRelaxed, dev::kBoundRelaxed, &TenPointTracker::onBoundRelaxed},
+    {dev::kRiskRelaxed, dev::kRiskRelaxed, &TenPointTracker::onRiskRelaxed},
+    {dev::kReplan, dev::kReplan, &TenPointTracker::onReplan},
+    {dev::kLegEndSkipped, dev::kLegEndSkipped, &TenPointTracker::onLegEndSkipped},
+    {dev::kNoPlan, dev::kNoPlan, &TenPointTracker::onNoPlan},
+    {dev::kFailedDriveModel, dev::kFailedDriveModel, &TenPointTracker::onFailedDriveModel},
+    {dev::kCallHome, dev::kCallHome, &TenPointTracker::onCallHome},
+    {cmdtlm::events::kSafedOnRequest, cmdtlm::events::kSafedOnRequest, &TenPointTracker::onSafed},
+    {fault_protection::events::kGaveUp, fault_protection::events::kGaveUp, &TenPointTracker::onGaveUp},
+    {estimator::events::kDriveModeDeclaredNominal, estimator::events::kDriveModeDeclaredUnknown,
+     &TenPointTracker::onDriveMode},
+};
 
 std::string callHomeWords(const std::string& eventText) {
     std::string t = eventText;
@@ -76,6 +90,15 @@ TenPointTracker::TenPointTracker(const tables::CoarseMapTable& map, double footp
     : map_(map), footprintRadiusM_(footprintRadiusM) {
     for (int i = 0; i < kMissionPointCount; ++i) {
         points_[static_cast<std::size_t>(i)].number = i + 1;
+    }
+}
+
+void TenPointTracker::onEvent(const FlightEvent& e) {
+    for (const Route& r : kRoutes) {
+        if (e.id >= r.firstId && e.id <= r.lastId) {
+            (this->*r.handler)(e);
+            return;
+        }
     }
 }
 
@@ -104,7 +127,7 @@ void TenPointTracker::onCallHomeReason(std::uint8_t reason) {
 // On the bus the reason comes before the event; on a downlink PLAN is routine
 // telemetry and may come after both events, so whichever comes last decides.
 void TenPointTracker::seePointTen() {
-    if (callHomeEventText_.empty() || safedS_ < 0.0 || points_[9].seen) {
+    if (!callHomeSeen_ || safedS_ < 0.0 || points_[9].seen) {
         return;
     }
     setFact(10, "call home reason", callHomeReason_);
@@ -137,6 +160,10 @@ void TenPointTracker::setFact(int number, const std::string& name, double value)
     points_[static_cast<std::size_t>(number - 1)].facts[name] = value;
 }
 
+void TenPointTracker::decide(const FlightEvent& e, const char* kind) {
+    decisions_.push_back(MissionDecision{e.timeS, kind, body(e.text)});
+}
+
 double TenPointTracker::fact(int number, const std::string& name) const {
     if (number < 1 || number > kMissionPointCount) {
         return std::nan("");
@@ -144,14 +171,6 @@ double TenPointTracker::fact(int number, const std::string& name) const {
     const MissionPoint& p = points_[static_cast<std::size_t>(number - 1)];
     const auto f = p.facts.find(name);
     return f == p.facts.end() ? std::nan("") : f->second;
-}
-
-// Within the rover's footprint of the straight line from where the current
-// leg was sent to its end.
-bool TenPointTracker::onLegWay(const HazardSeen& h) const {
-    const double reach = h.radiusM + footprintRadiusM_;
-    return geometry::pointSegmentDistanceSquared(geometry::Point2{h.xM, h.yM}, geometry::Point2{legFromX_, legFromY_},
-                                                 geometry::Point2{legToX_, legToY_}) < reach * reach;
 }
 
 LegRecord* TenPointTracker::leg(std::uint32_t id) {
@@ -163,86 +182,101 @@ LegRecord* TenPointTracker::leg(std::uint32_t id) {
     return nullptr;
 }
 
-void TenPointTracker::onHazardBlocked(const FlightEvent& e) {
-    unsigned legId = 0, hazard = 0;
-    double x = 0.0, y = 0.0, r = 0.0;
-    const char* s = after(e.text, "leg ");
-    if (s == nullptr || std::sscanf(s, "leg %u: hazard %u at (%lf, %lf) r %lf m", &legId, &hazard, &x, &y, &r) != 5) {
-        return;  // "path ... blocked": no disc named
-    }
-    // Hidden: the disc meets no polygon of the coarse map (a known rock seen
-    // by the detector is the map's, not a surprise).
-    const bool hidden = geometry::distanceToCoarseMap(map_, geometry::Point2{x, y}) > r;
-    if (hidden && !hidden_.active) {
-        hidden_ = HiddenBlock{};
-        hidden_.active = true;
-        hidden_.legId = legId;
-        hidden_.hazardId = hazard;
-        hidden_.seenS = e.timeS;
-        hiddenTried_.push_back(hazard);
+void TenPointTracker::onGoalsCommanded(const FlightEvent& e) {
+    evd::GOALS_COMMANDED goals;
+    if (e.read(&goals) && goals.goal_count > 0.0) {
+        setFact(1, "risk bound", goals.risk_bound);
+        see(1, e.timeS, "operator",
+            "authenticated GOTO taken by the flight software: " + body(e.text) + " (its only source of goals is an "
+            "accepted command)");
     }
 }
 
-// The hidden obstacle's leg ended: point 5 when the leg's plan went round the
-// obstacle within its bounds and no fail-up came between.
-void TenPointTracker::completePointFive(double timeS, const std::string& ending) {
-    hidden_.active = false;
-    if (hidden_.replannedS < 0.0 || hidden_.failUps != 0) {
+void TenPointTracker::onPlanFound(const FlightEvent& e) {
+    if (firstPlan_.empty()) {
+        firstPlan_ = body(e.text);
+    }
+    planPending_ = true;
+    decide(e, "plan");
+}
+
+void TenPointTracker::onLegSent(const FlightEvent& e) {
+    evd::LEG_SENT sent;
+    if (!e.read(&sent)) {
+        // A leg whose numbers were lost: it is the leg points 2 and 4 waited
+        // for, so they cannot be shown from it (nor from a later one).
+        planPending_ = false;
+        legReachedPending_ = false;
         return;
     }
-    const std::string legId = std::to_string(hidden_.legId);
-    setFact(5, "fail-ups", 0.0);
-    setFact(5, "hazard", hidden_.hazardId);
-    setFact(5, "leg", hidden_.legId);
-    setFact(5, "seen s", hidden_.seenS);
-    setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
-    const std::string how =
-        hidden_.mergedFromLeg != 0
-            ? " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(hidden_.mergedFromLeg) +
-                  " replanned locally within its bounds at " + seconds(hidden_.firstReplanS) +
-                  ", logged as a minor anomaly; the leg's end inside it, merged into leg " + legId +
-                  ", planned round it at " + seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
-        : hidden_.whilePlanning
-            ? " seen on the leg's way at " + seconds(hidden_.seenS) + (hidden_.beforeLeg ? " before leg " : " while leg ") +
-                  legId + (hidden_.beforeLeg ? " was sent" : " was being planned") +
-                  "; planned round it locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
-                  hidden_.plan + ")"
-            : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + legId +
-                  " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" + hidden_.plan +
-                  "), logged as a minor anomaly";
-    see(5, timeS, "habitual", "hidden obstacle " + std::to_string(hidden_.hazardId) + how + "; " + ending);
-    // Placed where it happened: where the rover replanned.
-    points_[4].xM = hidden_.replanX;
-    points_[4].yM = hidden_.replanY;
+    LegRecord l;
+    l.sentS = e.timeS;
+    l.legId = whole(sent.leg_id);
+    l.xM = sent.x;
+    l.yM = sent.y;
+    l.lengthBoundM = sent.length_bound;
+    l.energyBoundJ = sent.energy_bound;
+    l.powerBoundW = sent.power_bound;
+    if (LegRecord* previous = leg(currentLeg_); previous != nullptr && previous->outcome.empty()) {
+        previous->outcome = "superseded";
+    }
+    hiddenObstacleLegReplaced(e, l.legId);
+    currentLeg_ = l.legId;
+    currentLegPlanned_ = false;
+    legFromX_ = poseX_;
+    legFromY_ = poseY_;
+    legToX_ = l.xM;
+    legToY_ = l.yM;
+    legs_.push_back(l);
+    hiddenObstacleBeforeLeg();
+    if (planPending_) {
+        planPending_ = false;
+        setFact(2, "power bound W", l.powerBoundW);
+        setFact(2, "energy bound J", l.energyBoundJ);
+        char bounds[160];
+        std::snprintf(bounds, sizeof bounds, "; leg %u of %u to (%.2f, %.2f) within <= %.2f m, <= %.0f J, <= %.0f W",
+                      static_cast<unsigned>(whole(sent.index)), static_cast<unsigned>(whole(sent.count)), l.xM, l.yM,
+                      l.lengthBoundM, l.energyBoundJ, l.powerBoundW);
+        see(2, e.timeS, "deliberative", "plan on the coarse map: " + firstPlan_ + bounds);
+    }
+    if (legReachedPending_) {
+        legReachedPending_ = false;
+        char next[96];
+        std::snprintf(next, sizeof next, "; next issued: leg %u to (%.2f, %.2f)", static_cast<unsigned>(l.legId), l.xM,
+                      l.yM);
+        see(4, e.timeS, "habitual + deliberative", legReachedText_ + next);
+    }
+    if (relaxPending_ && relaxedPowerW_ <= 0.0) {
+        relaxedPowerW_ = l.powerBoundW;
+    }
+}
+
+void TenPointTracker::onPlanSent(const FlightEvent& e) {
+    lastPlanSent_ = body(e.text);
+    hiddenObstaclePlanned(e);
+    currentLegPlanned_ = true;
+    if (!points_[2].seen) {
+        see(3, e.timeS, "habitual", "local plan on the fine map within the leg's bounds, driving: " + body(e.text));
+    }
+    if (relaxPending_) {
+        relaxPending_ = false;
+        setFact(7, "power bound before W", powerBoundBeforeW_);
+        setFact(7, "power bound after W", relaxedPowerW_);
+        see(7, e.timeS, "deliberative + habitual", relaxText_ + "; driving resumed: " + body(e.text));
+    }
 }
 
 void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
-    unsigned legId = 0;
-    const char* s = after(e.text, "leg ");
-    if (s != nullptr) {
-        (void)std::sscanf(s, "leg %u", &legId);
-    }
+    evd::HABITUAL_FAIL_UP failUp;
+    const bool known = e.read(&failUp);
+    const std::uint32_t legId = known ? whole(failUp.leg_id) : 0U;
+    const auto constraint = static_cast<msg::LegConstraint>(known ? whole(failUp.constraint) : 0U);
     if (LegRecord* l = leg(legId)) {
-        const char* what = after(e.text, "fail-up: ");
-        l->outcome = std::string("failed up: ") + (what != nullptr ? what + 9 : "?");
+        l->outcome = std::string("failed up: ") + habitual::constraintName(constraint);
     }
-    decisions_.push_back(MissionDecision{e.timeS, "fail-up", body(e.text)});
-    const bool power = e.text.find("fail-up: power") != std::string::npos;
-    if (hidden_.active && hidden_.legId == legId && power && degraded_ != 0U && failed_ == 0U &&
-        hidden_.replannedS >= 0.0) {
-        // The leg was driven on round the obstacle until a worn motor broke its
-        // power bound (point 6's fail-up): the detour held; the leg ends here
-        // for a reason of its own.
-        completePointFive(e.timeS, "driven on round it with no fail-up until a worn motor broke the leg's power bound");
-    }
-    if (hidden_.active && hidden_.legId == legId) {
-        ++hidden_.failUps;
-        decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
-                                             "hazard " + std::to_string(hidden_.hazardId) + " seen at " +
-                                                 seconds(hidden_.seenS) + " on leg " + std::to_string(legId) +
-                                                 ": the leg failed up (no local replan within its bounds)"});
-        hidden_.active = false;
-    }
+    decide(e, "fail-up");
+    const bool power = known && constraint == msg::LegConstraint::kPower;
+    hiddenObstacleFailedUp(e, legId, power);
     if (power && failed_ == 0U) {
         // 6: a worn motor's extra draw broke the leg's power bound.
         const LegRecord* l = leg(legId);
@@ -266,284 +300,112 @@ void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
     }
 }
 
-void TenPointTracker::onEvent(const FlightEvent& e) {
-    const std::string& t = e.text;
-    switch (e.id) {
-        case deliberative::events::kGoalsCommanded: {
-            unsigned goals = 0;
-            double risk = 0.0;
-            const char* s = after(t, "app: ");
-            if (s != nullptr && std::sscanf(s, "app: %u goal(s), risk bound %lf", &goals, &risk) == 2 && goals > 0) {
-                setFact(1, "risk bound", risk);
-                see(1, e.timeS, "operator",
-                    "authenticated GOTO taken by the flight software: " + body(t) + " (its only source of goals is an "
-                    "accepted command)");
-            }
-            break;
-        }
-        case dev::kPlanFound:
-            if (firstPlan_.empty()) {
-                firstPlan_ = body(t);
-            }
-            planPending_ = true;
-            decisions_.push_back(MissionDecision{e.timeS, "plan", body(t)});
-            break;
-        case dev::kLegSent: {
-            LegRecord l;
-            l.sentS = e.timeS;
-            unsigned id = 0, k = 0, n = 0;
-            const char* s = after(t, "leg ");
-            if (s != nullptr && std::sscanf(s, "leg %u (%u of %u) to (%lf, %lf): <= %lf m, <= %lf J, <= %lf W", &id, &k,
-                                            &n, &l.xM, &l.yM, &l.lengthBoundM, &l.energyBoundJ, &l.powerBoundW) == 8) {
-                l.legId = id;
-            } else if (s != nullptr && std::sscanf(s, "leg %u (back-up) to (%lf, %lf): <= %lf m, <= %lf J", &id, &l.xM,
-                                                   &l.yM, &l.lengthBoundM, &l.energyBoundJ) == 5) {
-                l.legId = id;
-            } else {
-                break;
-            }
-            if (LegRecord* previous = leg(currentLeg_); previous != nullptr && previous->outcome.empty()) {
-                previous->outcome = "superseded";
-            }
-            if (hidden_.active && hidden_.legId == currentLeg_ && legEndSkippedS_ == e.timeS &&
-                hidden_.replannedS >= 0.0 && hidden_.failUps == 0) {
-                // The leg's end lay inside the obstacle as it grew: the
-                // deliberative layer merged the leg into the next (919) and
-                // re-sent it; the local detour goes on as that leg's.
-                decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
-                                                     "hazard " + std::to_string(hidden_.hazardId) + ": leg " +
-                                                         std::to_string(currentLeg_) + "'s end inside it, merged into leg " +
-                                                         std::to_string(l.legId)});
-                hidden_.mergedFromLeg = hidden_.legId;
-                hidden_.firstReplanS = hidden_.replannedS;
-                hidden_.legId = l.legId;
-                hidden_.replannedS = -1.0;  // the merged leg's own plan must go round it too
-                hidden_.whilePlanning = true;
-            } else if (hidden_.active && hidden_.legId == currentLeg_) {
-                // A new leg before the hidden obstacle's leg was achieved: the
-                // deliberative layer stepped in (merged, re-sent or replanned).
-                decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
-                                                     "hazard " + std::to_string(hidden_.hazardId) + " seen at " +
-                                                         seconds(hidden_.seenS) + ": leg " +
-                                                         std::to_string(currentLeg_) + " superseded by leg " +
-                                                         std::to_string(l.legId)});
-                hidden_.active = false;
-            }
-            currentLeg_ = l.legId;
-            currentLegPlanned_ = false;
-            legFromX_ = poseX_;
-            legFromY_ = poseY_;
-            legToX_ = l.xM;
-            legToY_ = l.yM;
-            legs_.push_back(l);
-            // A hidden obstacle seen before this leg was sent, on its way: the
-            // deliberative layer's leg (coarse map) runs through it, so the
-            // leg's plan must go round it (as when it is seen while planning).
-            if (!hidden_.active && !points_[4].seen) {
-                for (const HazardSeen& h : hazards_) {
-                    const bool tried = std::find(hiddenTried_.begin(), hiddenTried_.end(), h.id) != hiddenTried_.end();
-                    if (h.hidden && !tried && onLegWay(h)) {
-                        hidden_ = HiddenBlock{};
-                        hidden_.active = true;
-                        hidden_.legId = currentLeg_;
-                        hidden_.hazardId = h.id;
-                        hidden_.seenS = h.timeS;
-                        hiddenTried_.push_back(h.id);
-                        hidden_.whilePlanning = true;
-                        hidden_.beforeLeg = true;
-                        break;
-                    }
-                }
-            }
-            if (planPending_) {
-                planPending_ = false;
-                setFact(2, "power bound W", l.powerBoundW);
-                setFact(2, "energy bound J", l.energyBoundJ);
-                char bounds[160];
-                std::snprintf(bounds, sizeof bounds, "; leg %u of %u to (%.2f, %.2f) within <= %.2f m, <= %.0f J, "
-                              "<= %.0f W", k, n, l.xM, l.yM, l.lengthBoundM, l.energyBoundJ, l.powerBoundW);
-                see(2, e.timeS, "deliberative", "plan on the coarse map: " + firstPlan_ + bounds);
-            }
-            if (legReachedPending_) {
-                legReachedPending_ = false;
-                char next[96];
-                std::snprintf(next, sizeof next, "; next issued: leg %u to (%.2f, %.2f)", l.legId, l.xM, l.yM);
-                see(4, e.timeS, "habitual + deliberative", legReachedText_ + next);
-            }
-            if (relaxPending_ && relaxedPowerW_ <= 0.0) {
-                relaxedPowerW_ = l.powerBoundW;
-            }
-            break;
-        }
-        case hev::kPlanSent:
-            lastPlanSent_ = body(t);
-            if (hidden_.active && hidden_.whilePlanning && hidden_.legId == currentLeg_ && hidden_.replannedS < 0.0) {
-                // The leg's plan, made with the obstacle on the map: round it.
-                hidden_.replannedS = e.timeS;
-                hidden_.plan = body(t);
-                hidden_.replanX = poseX_;
-                hidden_.replanY = poseY_;
-            }
-            currentLegPlanned_ = true;
-            if (!points_[2].seen) {
-                see(3, e.timeS, "habitual", "local plan on the fine map within the leg's bounds, driving: " + body(t));
-            }
-            if (relaxPending_) {
-                relaxPending_ = false;
-                setFact(7, "power bound before W", powerBoundBeforeW_);
-                setFact(7, "power bound after W", relaxedPowerW_);
-                see(7, e.timeS, "deliberative + habitual", relaxText_ + "; driving resumed: " + body(t));
-            }
-            break;
-        case hev::kPathBlocked:
-            onHazardBlocked(e);
-            break;
-        case hev::kMinorAnomaly: {
-            unsigned legId = 0;
-            const char* s = after(t, "leg ");
-            if (s != nullptr && std::sscanf(s, "leg %u", &legId) == 1 && hidden_.active && hidden_.legId == legId &&
-                hidden_.replannedS < 0.0) {
-                hidden_.replannedS = e.timeS;
-                hidden_.plan = lastPlanSent_;
-                hidden_.replanX = poseX_;
-                hidden_.replanY = poseY_;
-            }
-            break;
-        }
-        case hev::kFailUp:
-            onHabitualFailUp(e);
-            break;
-        case hev::kLegAchieved: {
-            unsigned legId = 0;
-            double x = 0.0, y = 0.0, m = 0.0, j = 0.0;
-            const char* s = after(t, "leg ");
-            if (s == nullptr || std::sscanf(s, "leg %u achieved at (%lf, %lf): %lf m, %lf J", &legId, &x, &y, &m, &j) < 1) {
-                break;
-            }
-            if (LegRecord* l = leg(legId)) {
-                l->outcome = "achieved";
-                l->drivenM = m;
-                l->drivenJ = j;
-            }
-            if (hidden_.active && hidden_.legId == legId) {
-                completePointFive(e.timeS, "leg achieved, no fail-up");
-            }
-            break;
-        }
-        case hev::kHazardRemembered: {
-            HazardSeen h;
-            unsigned id = 0;
-            const char* s = after(t, "hazard ");
-            if (s != nullptr && std::sscanf(s, "hazard %u seen at (%lf, %lf), radius %lf m", &id, &h.xM, &h.yM,
-                                            &h.radiusM) == 4) {
-                h.id = static_cast<std::uint8_t>(id);
-                h.timeS = e.timeS;
-                h.hidden = geometry::distanceToCoarseMap(map_, geometry::Point2{h.xM, h.yM}) > h.radiusM;
-                hazards_.push_back(h);
-                // Seen while the leg in force was being planned, on its way:
-                // its plan must go round it (else it is seen on the path, 804).
-                if (h.hidden && !hidden_.active && currentLeg_ != 0 && !currentLegPlanned_ && onLegWay(h)) {
-                    hidden_ = HiddenBlock{};
-                    hidden_.active = true;
-                    hidden_.legId = currentLeg_;
-                    hidden_.hazardId = id;
-                    hidden_.seenS = e.timeS;
-                    hiddenTried_.push_back(id);
-                    hidden_.whilePlanning = true;
-                }
-            }
-            break;
-        }
-        case dev::kLegAchieved:
-            legReachedPending_ = true;
-            legReachedText_ = body(t);
-            break;
-        case dev::kBoundRelaxed:
-            decisions_.push_back(MissionDecision{e.timeS, "bound relaxed", body(t)});
-            if (powerFailUpSeen_ && t.find("power bound relaxed") != std::string::npos && !points_[6].seen) {
-                double factor = 0.0, to = 0.0;
-                const char* s = after(t, "relaxed x");
-                if (s != nullptr && std::sscanf(s, "relaxed x%lf to %lf W", &factor, &to) == 2) {
-                    relaxedPowerW_ = to;
-                }
-                relaxPending_ = true;
-                char text[160];
-                std::snprintf(text, sizeof text, "power bound relaxed from %.0f W to %.0f W (x%.3f), leg re-sent",
-                              powerBoundBeforeW_, relaxedPowerW_, factor);
-                relaxText_ = text;
-            }
-            break;
-        case dev::kRiskRelaxed:
-            riskRelaxText_ = body(t);
-            decisions_.push_back(MissionDecision{e.timeS, "risk relaxed", body(t)});
-            break;
-        case dev::kReplan:
-            replanText_ = body(t);
-            decisions_.push_back(MissionDecision{e.timeS, "replan", body(t)});
-            break;
-        case dev::kLegEndSkipped:
-            legEndSkippedS_ = e.timeS;
-            decisions_.push_back(MissionDecision{e.timeS, "leg end merged", body(t)});
-            break;
-        case dev::kNoPlan:
-            decisions_.push_back(MissionDecision{e.timeS, "no plan", body(t)});
-            break;
-        case dev::kFailedDriveModel:
-            decisions_.push_back(MissionDecision{e.timeS, "drive model", body(t)});
-            if (t.find(" failed:") != std::string::npos) {
-                std::string what = body(t);
-                if (!replanText_.empty()) {
-                    what = replanText_ + "; " + what;
-                }
-                see(9, e.timeS, "deliberative", what);
-            }
-            break;
-        case dev::kCallHome:
-            decisions_.push_back(MissionDecision{e.timeS, "call home", body(t)});
-            callHomeEventText_ = t;
-            callHomeRiskRelaxText_ = riskRelaxText_;
-            safedS_ = -1.0;  // the rover safed after this call home
-            seePointTen();
-            break;
-        case cmdtlm::events::kSafedOnRequest:
-            decisions_.push_back(MissionDecision{e.timeS, "safed", body(t)});
-            if (!callHomeEventText_.empty() && safedS_ < 0.0) {
-                safedS_ = e.timeS;
-                safedText_ = body(t);
-                seePointTen();
-            }
-            break;
-        case fault_protection::events::kGaveUp:
-            gaveUpText_ = "fault protection gave it up at " + seconds(e.timeS);
-            decisions_.push_back(MissionDecision{e.timeS, "fault protection", body(t)});
-            break;
-        case estimator::events::kDriveModeDeclaredNominal:
-        case estimator::events::kDriveModeDeclaredDegraded:
-        case estimator::events::kDriveModeDeclaredFailed:
-        case estimator::events::kDriveModeDeclaredUnknown: {
-            const char* s = after(t, "drive_modes: ");
-            const int w = s != nullptr ? wheelNamed(s + 13) : -1;
-            if (w < 0) {
-                break;
-            }
-            const unsigned bit = 1U << static_cast<unsigned>(w);
-            degraded_ &= ~bit;
-            failed_ &= ~bit;
-            if (e.id == estimator::events::kDriveModeDeclaredDegraded) {
-                degraded_ |= bit;
-                degradedText_ = body(t) + " at " + seconds(e.timeS);
-            } else if (e.id == estimator::events::kDriveModeDeclaredFailed ||
-                       e.id == estimator::events::kDriveModeDeclaredUnknown) {
-                failed_ |= bit;
-                failedText_ = body(t);
-                failedS_ = e.timeS;
-            }
-            decisions_.push_back(MissionDecision{e.timeS, "drive mode", body(t)});
-            break;
-        }
-        default:
-            break;
+void TenPointTracker::onHabitualLegAchieved(const FlightEvent& e) {
+    evd::LEG_ACHIEVED achieved;
+    if (!e.read(&achieved)) {
+        return;
     }
+    const std::uint32_t legId = whole(achieved.leg_id);
+    if (LegRecord* l = leg(legId)) {
+        l->outcome = "achieved";
+        l->drivenM = achieved.driven_length;
+        l->drivenJ = achieved.driven_energy;
+    }
+    if (hidden_.active && hidden_.legId == legId) {
+        completePointFive(e.timeS, "leg achieved, no fail-up");
+    }
+}
+
+void TenPointTracker::onLegReached(const FlightEvent& e) {
+    legReachedPending_ = true;
+    legReachedText_ = body(e.text);
+}
+
+void TenPointTracker::onBoundRelaxed(const FlightEvent& e) {
+    decide(e, "bound relaxed");
+    evd::BOUND_RELAXED relaxed;
+    const bool power =
+        e.read(&relaxed) && whole(relaxed.bound) == static_cast<std::uint32_t>(msg::LegConstraint::kPower);
+    if (powerFailUpSeen_ && power && !points_[6].seen) {
+        relaxedPowerW_ = relaxed.to;
+        relaxPending_ = true;
+        char text[160];
+        std::snprintf(text, sizeof text, "power bound relaxed from %.0f W to %.0f W (x%.3f), leg re-sent",
+                      powerBoundBeforeW_, relaxedPowerW_, relaxed.factor);
+        relaxText_ = text;
+    }
+}
+
+void TenPointTracker::onRiskRelaxed(const FlightEvent& e) {
+    riskRelaxText_ = body(e.text);
+    decide(e, "risk relaxed");
+}
+
+void TenPointTracker::onReplan(const FlightEvent& e) {
+    replanText_ = body(e.text);
+    decide(e, "replan");
+}
+
+void TenPointTracker::onLegEndSkipped(const FlightEvent& e) {
+    legEndSkippedS_ = e.timeS;
+    decide(e, "leg end merged");
+}
+
+void TenPointTracker::onNoPlan(const FlightEvent& e) { decide(e, "no plan"); }
+
+void TenPointTracker::onFailedDriveModel(const FlightEvent& e) {
+    decide(e, "drive model");
+    evd::FAILED_DRIVE_MODEL model;
+    if (e.read(&model) && whole(model.failed_drives) != 0U) {
+        std::string what = body(e.text);
+        if (!replanText_.empty()) {
+            what = replanText_ + "; " + what;
+        }
+        see(9, e.timeS, "deliberative", what);
+    }
+}
+
+void TenPointTracker::onCallHome(const FlightEvent& e) {
+    decide(e, "call home");
+    callHomeSeen_ = true;
+    callHomeEventText_ = e.text;
+    callHomeRiskRelaxText_ = riskRelaxText_;
+    safedS_ = -1.0;  // the rover safed after this call home
+    seePointTen();
+}
+
+void TenPointTracker::onSafed(const FlightEvent& e) {
+    decide(e, "safed");
+    if (callHomeSeen_ && safedS_ < 0.0) {
+        safedS_ = e.timeS;
+        safedText_ = body(e.text);
+        seePointTen();
+    }
+}
+
+void TenPointTracker::onGaveUp(const FlightEvent& e) {
+    gaveUpText_ = "fault protection gave it up at " + seconds(e.timeS);
+    decide(e, "fault protection");
+}
+
+void TenPointTracker::onDriveMode(const FlightEvent& e) {
+    evd::DRIVE_MODE_DECLARED declared;
+    if (!e.read(&declared) || declared.wheel < 0.0 || declared.wheel >= static_cast<double>(msg::kWheelCount)) {
+        return;
+    }
+    const unsigned bit = 1U << whole(declared.wheel);
+    const auto to = static_cast<msg::DriveMode>(whole(declared.to));
+    degraded_ &= ~bit;
+    failed_ &= ~bit;
+    if (to == msg::DriveMode::kDegraded) {
+        degraded_ |= bit;
+        degradedText_ = body(e.text) + " at " + seconds(e.timeS);
+    } else if (to == msg::DriveMode::kFailed || to == msg::DriveMode::kUnknown) {
+        failed_ |= bit;
+        failedText_ = body(e.text);
+        failedS_ = e.timeS;
+    }
+    decide(e, "drive mode");
 }
 
 std::vector<MissionPoint> TenPointTracker::takeNew() {

@@ -1,9 +1,19 @@
 // The ten points of the RSE demonstration (issue 17; docs/mission.md), found
-// in what the flight software publishes: its events (the EVENT stream) and
+// in what the flight software publishes: its events (the EVENT stream, each
+// with its numbers: EVENT_DATA, fsw/cmdtlm/dictionary.def "Event data") and
 // its plan status (PLAN: the call-home reason), with the estimated pose
 // (ROVER_STATE) to place each point on the map. The flight software knows
 // nothing of points; this is the ground's reading of its output, so a mission
 // that misbehaves shows a point missing or out of order.
+//
+// Every number and every decision comes from an event's id, order, time and
+// numbers (FlightEvent::read), never from its text: the text is only quoted to
+// people (a point's "what", the decisions list), so rewording an event changes
+// no point. An event whose numbers were lost on the way is taken as one that
+// does not show its point (as a missing event would). onEvent looks the
+// event's id up in a table of handlers, one small member function each;
+// mission_points.cpp holds them and points 1-4 and 6-10, mission_point_five.cpp
+// the hidden obstacle's (point 5) and the hazards.
 //
 //   1 operator      the goal list the flight software took from an authenticated GOTO (event 208, >= 1 goal)
 //   2 deliberative  the first plan (902) and its first leg with length, energy and power bounds (905)
@@ -32,6 +42,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -41,7 +52,8 @@ namespace rse::ground {
 
 // The call home in the flight software's words (event 912's text): from
 // after "CALL HOME: " to before the goal counts that follow the reason, also
-// when the event's 95 characters cut those short.
+// when the event's 95 characters cut those short. Words for people (POINT 10's
+// text, rse-demo's outcome line): nothing decides on them.
 std::string callHomeWords(const std::string& eventText);
 
 class TenPointTracker {
@@ -77,12 +89,54 @@ public:
     double fact(int number, const std::string& name) const;
 
 private:
+    // One event id's reading (the handler table, mission_points.cpp).
+    using Handler = void (TenPointTracker::*)(const FlightEvent&);
+    struct Route {
+        std::uint16_t firstId;
+        std::uint16_t lastId;
+        Handler handler;
+    };
+    static const Route kRoutes[];
+
     void see(int number, double timeS, const std::string& layer, const std::string& what, bool atPose = true);
     void setFact(int number, const std::string& name, double value);
+    void decide(const FlightEvent& e, const char* kind);  // the event's words in the decisions list
     LegRecord* leg(std::uint32_t id);
-    void onHazardBlocked(const FlightEvent& e);
-    void onHabitualFailUp(const FlightEvent& e);
     void seePointTen();
+
+    // Handlers, one per event id (or id range); each reads the event's numbers.
+    void onGoalsCommanded(const FlightEvent& e);     // 208: point 1
+    void onPlanFound(const FlightEvent& e);          // 902
+    void onLegSent(const FlightEvent& e);            // 905: points 2 and 4, the leg's record
+    void onPlanSent(const FlightEvent& e);           // 803: points 3 and 7
+    void onHabitualFailUp(const FlightEvent& e);     // 807: points 6 and 8
+    void onHabitualLegAchieved(const FlightEvent& e);  // 808
+    void onLegReached(const FlightEvent& e);         // 906
+    void onBoundRelaxed(const FlightEvent& e);       // 910: point 7's relaxation
+    void onRiskRelaxed(const FlightEvent& e);        // 904
+    void onReplan(const FlightEvent& e);             // 911
+    void onLegEndSkipped(const FlightEvent& e);      // 919
+    void onNoPlan(const FlightEvent& e);             // 903
+    void onFailedDriveModel(const FlightEvent& e);   // 990: point 9
+    void onCallHome(const FlightEvent& e);           // 912: point 10
+    void onSafed(const FlightEvent& e);              // 215: point 10
+    void onGaveUp(const FlightEvent& e);             // 933
+    void onDriveMode(const FlightEvent& e);          // 760-763
+    // Point 5 and the hazards (mission_point_five.cpp).
+    void onPathBlocked(const FlightEvent& e);        // 804
+    void onMinorAnomaly(const FlightEvent& e);       // 805
+    void onHazardRemembered(const FlightEvent& e);   // 816
+    // A new leg (905) before it is the current one: the hidden obstacle's leg
+    // merged into it (919 in the same frame) or superseded by it.
+    void hiddenObstacleLegReplaced(const FlightEvent& e, std::uint32_t newLegId);
+    // ... and once it is: a hidden obstacle seen before it was sent, on its way.
+    void hiddenObstacleBeforeLeg();
+    // The leg's plan (803) with the obstacle seen while it was planned: round it.
+    void hiddenObstaclePlanned(const FlightEvent& e);
+    // A fail-up (807) of the hidden obstacle's leg: a power fail-up on the
+    // detour ends it as point 5; any fail-up spoils it.
+    void hiddenObstacleFailedUp(const FlightEvent& e, std::uint32_t legId, bool power);
+    void startHiddenBlock(std::uint32_t legId, unsigned hazardId, double seenS, bool whilePlanning, bool beforeLeg);
     bool onLegWay(const HazardSeen& h) const;
     void completePointFive(double timeS, const std::string& ending);
 
@@ -136,7 +190,8 @@ private:
     std::string replanText_;               // last 911
     std::string riskRelaxText_;            // last 904
     // Point 10: the last call home (912) and the safing (215) after it.
-    std::string callHomeEventText_;        // the 912's text ("" none yet)
+    bool callHomeSeen_ = false;            // a 912 came
+    std::string callHomeEventText_;        // its text, quoted
     std::string callHomeRiskRelaxText_;    // the risk relaxation before it
     double safedS_ = -1.0;                 // the 215 after it (-1 not yet)
     std::string safedText_;

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "fsw/cmdtlm/event_data.hpp"
+#include "fsw/core/event_log.hpp"
 #include "fsw/deliberative/cc_problem.hpp"
 #include "fsw/geometry/geometry2d.hpp"
 #include "fsw/tables/table_types.hpp"
@@ -30,12 +32,24 @@ namespace rse::ground {
 
 constexpr int kMissionPointCount = 10;
 
-// One flight event as the ground sees it (an EVENT packet, or the event log).
+// One flight event as the ground sees it (an EVENT packet with its EVENT_DATA,
+// or the event log). Decisions read its numbers, by name; its text is quoted
+// to people, never parsed (rewording an event changes no reading of it).
 struct FlightEvent {
     double timeS = 0.0;
     std::uint16_t id = 0;
     std::uint8_t severity = 0;  // core::Severity
     std::string text;
+    // Its numbers in the dictionary's order (fsw/cmdtlm/dictionary.def, Event
+    // data); count 0: the event carries none, or they were lost on the way.
+    core::EventData data;
+
+    // The numbers by name, e.g. cmdtlm::event_data::LEG_SENT: false when this
+    // event is not of that layout or its numbers did not come.
+    template <typename Layout>
+    bool read(Layout* out) const {
+        return out->unpack(id, data);
+    }
 };
 
 // One of the ten points, when the flight software's own output showed it.

@@ -72,6 +72,8 @@ void MissionTelemetryReader::add(double receivedS, const DecodedPacket& p) {
     const std::string name = p.name();
     if (name == "EVENT") {
         onEvent(receivedS, p);
+    } else if (name == "EVENT_DATA") {
+        onEventData(p);
     } else if (name == "PLAN") {
         onPlan(p);
     } else if (name == "HK") {
@@ -139,6 +141,8 @@ void MissionTelemetryReader::onEvent(double receivedS, const DecodedPacket& p) {
     } else if (e.id == plan_executive::events::kOperatorCalled) {
         lastPlanExecEvent_ = eventLine(e);
     }
+    pairing_.onEvent(e.sequence, e.id, m.events.size());
+    m.eventsWithoutData = pairing_.missing();
     m.events.push_back(e);
     // The status that decided the outcome can come down before the event that
     // says why (both from one frame): the event completes it when it comes.
@@ -150,6 +154,21 @@ void MissionTelemetryReader::onEvent(double receivedS, const DecodedPacket& p) {
         decide(TelemetryOutcome::kCalledHome, e.metS, static_cast<std::uint8_t>(msg::CallHomeReason::kFaultUnrecovered),
                "fault protection");
     }
+}
+
+void MissionTelemetryReader::onEventData(const DecodedPacket& p) {
+    MissionTelemetry& m = mission_;
+    EventDataPacket data;
+    if (!readEventData(p, &data)) {
+        return;
+    }
+    if (const std::optional<std::size_t> event = pairing_.onData(data); event.has_value() && *event < m.events.size()) {
+        m.events[*event].data = data.data;
+    }
+    m.eventDataPaired = pairing_.paired();
+    m.eventDataStray = pairing_.stray();
+    m.eventsWithoutData = pairing_.missing();
+    m.eventDataWithheld = pairing_.withheld();
 }
 
 void MissionTelemetryReader::onPlan(const DecodedPacket& p) {
@@ -295,6 +314,9 @@ void printMissionTelemetry(const MissionTelemetry& m, std::ostream& out, bool ev
         << " packets (HK.tlm_dropped, since its start) and its event log overwrote " << m.eventLogLost
         << " events unsent (HK.events_lost); " << m.commandsAccepted << " commands acknowledged accepted, "
         << m.commandsRejected << " rejected\n";
+    out << "event data: " << m.eventDataPaired << " EVENT_DATA paired with their events, " << m.eventsWithoutData
+        << " events without their numbers (" << m.eventDataWithheld << " withheld by the rover), " << m.eventDataStray
+        << " stray (their event never came)\n";
     if (eventsToo) {
         out << "events:\n";
         for (const TelemetryEvent& e : m.events) {
@@ -350,6 +372,10 @@ void printMissionFacts(const MissionTelemetry& m, std::ostream& out) {
     num("events_lost", m.eventsLost);
     num("tlm_dropped", m.telemetryDropped);
     num("event_log_lost", m.eventLogLost);
+    num("event_data_paired", m.eventDataPaired);
+    num("events_without_data", m.eventsWithoutData);
+    num("event_data_stray", m.eventDataStray);
+    num("event_data_withheld", m.eventDataWithheld);
     num("commands_accepted", m.commandsAccepted);
     num("commands_rejected", m.commandsRejected);
     num("track_points", static_cast<double>(m.track.size()));

@@ -25,6 +25,8 @@
 //                start lateness and busy time; time_scale (rse-fsw --time-scale);
 //                tlm_dropped (what a link refused) and events_lost (events the
 //                rover's event log overwrote while they waited for the CAN link).
+//   event data   each EVENT_DATA paired with its EVENT (event_sequence): the
+//                event's numbers; those paired, stray and missing are counted.
 //   flight start the MET at which the rover's executive started: an HK's MET less
 //                (frames_run + frames_skipped) minor frames; mission times are also
 //                given from there ("flight time"), the timeline rse-demo prints.
@@ -38,12 +40,15 @@
 #include <string>
 #include <vector>
 
+#include "fsw/core/event_log.hpp"
+#include "ground/event_data_pairing.hpp"
 #include "ground/session_recording.hpp"
 #include "ground/telemetry_decoder.hpp"
 
 namespace rse::ground {
 
-// One EVENT packet.
+// One EVENT packet, with its numbers when its EVENT_DATA came (paired by
+// event_sequence: ground/event_data_pairing.hpp).
 struct TelemetryEvent {
     double metS = 0.0;        // the event's own time (EVENT.event_time)
     double receivedS = 0.0;   // when the ground received it (since the recording started)
@@ -51,6 +56,7 @@ struct TelemetryEvent {
     std::uint16_t id = 0;
     std::uint8_t severity = 0;  // 0 DEBUG .. 4 CRIT
     std::string text;
+    core::EventData data;     // count 0: none (the event carries none, or they were lost)
 };
 
 // One ROVER_STATE packet with an estimate.
@@ -131,6 +137,10 @@ struct MissionTelemetry {
     // The link.
     std::uint32_t eventsReceived = 0;
     std::uint32_t eventsLost = 0;       // gaps in event_sequence after the first event received
+    std::uint32_t eventDataPaired = 0;  // EVENT_DATA packets paired with their EVENT
+    std::uint32_t eventDataStray = 0;   // ... whose EVENT never came (their numbers dropped)
+    std::uint32_t eventsWithoutData = 0;  // events whose id carries numbers that never came
+    std::uint32_t eventDataWithheld = 0;  // EVENT_DATA.data_withheld: the rover's own count, as last received
     std::uint32_t commandsAccepted = 0; // CMD_ACKs received
     std::uint32_t commandsRejected = 0;
 
@@ -154,12 +164,14 @@ public:
 
 private:
     void onEvent(double receivedS, const DecodedPacket& p);
+    void onEventData(const DecodedPacket& p);
     void onPlan(const DecodedPacket& p);
     void onHousekeeping(const DecodedPacket& p);
     void decide(TelemetryOutcome outcome, double metS, std::uint8_t reason, const char* by);
     const std::string& callHomeWords(const std::string& by) const;
 
     MissionTelemetry mission_;
+    EventDataPairing pairing_;         // handles: indices into mission_.events
     double firstReceivedS_ = 0.0;
     bool sawGoal_ = false;             // a PLAN with status 1..3 (the rover had a goal) during the recording
     bool haveEventSequence_ = false;

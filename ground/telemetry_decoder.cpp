@@ -4,6 +4,7 @@
 
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/cmdtlm/task_command_refusal.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
@@ -284,6 +285,22 @@ std::string describeAck(const DecodedPacket& ack) {
     return text;
 }
 
+// EVENT_DATA: the event's numbers by the dictionary's names for that event id.
+std::string renderEventData(const DecodedPacket& p) {
+    const auto id = static_cast<core::EventId>(p.value("event_id").value_or(0));
+    const std::size_t count = static_cast<std::size_t>(p.value("value_count").value_or(0));
+    const cmdtlm::EventDataDesc* layout = cmdtlm::findEventData(id);
+    std::string line =
+        " event " + std::to_string(id) + " " + (layout != nullptr ? layout->name : "(no event data known)");
+    for (std::size_t i = 0; i < count && i < core::kEventDataValues; ++i) {
+        const bool named = layout != nullptr && i < layout->valueCount;
+        line += " " + (named ? std::string(layout->values[i].name) : "value[" + std::to_string(i) + "]") + "=" +
+                formatNumber(p.value("value", i).value_or(0));
+    }
+    return line + "  [event_sequence=" + formatNumber(p.value("event_sequence").value_or(0)) +
+           " data_withheld=" + formatNumber(p.value("data_withheld").value_or(0)) + "]";
+}
+
 std::string renderPacket(const DecodedPacket& p) {
     if (!p.ok) {
         if (p.desc == nullptr && p.error.rfind("unknown APID", 0) == 0) {
@@ -306,6 +323,9 @@ std::string renderPacket(const DecodedPacket& p) {
     }
     if (p.desc->apid == cmdtlm::HAZARDS_Tlm::kApid) {
         return line + renderHazards(p);
+    }
+    if (p.desc->apid == cmdtlm::EVENT_DATA_Tlm::kApid) {
+        return line + renderEventData(p);
     }
     for (const DecodedField& f : p.fields) {
         line += " " + renderField(f, p.desc->name);

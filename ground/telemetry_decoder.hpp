@@ -53,6 +53,8 @@ inline DecodedPacket decodeTelemetry(const std::vector<std::uint8_t>& packet) {
 // One line, no newline:
 //   HK       apid=0x001 seq=12 met=1234.500 utc_at_met_zero=1.7e9 mode=1 ... cmd_rejected_by_reason=[0,1,...]
 //   EVENT    apid=0x003 seq=4 met=12.000 EVT 42 WARN some text (event_sequence=7 event_time=11.98)
+//   EVENT_DATA apid=0x005 ... event 905 LEG_SENT leg_id=3 index=2 ...  [event_sequence=7 data_withheld=0]
+//            (the values by the names fsw/cmdtlm/dictionary.def gives that event's numbers)
 //   CMD_ACK  apid=0x002 ... GOTO accepted / rejected: wrong_mode (detail 1)
 //   POWER    apid=0x018 ... battery_voltage=23.9!ALARM ...   (a value outside the field's display
 //            limits, ground/telemetry_limits.hpp, marked !WARN or !ALARM)

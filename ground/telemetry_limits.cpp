@@ -24,10 +24,19 @@ constexpr double kNoLimit = std::numeric_limits<double>::quiet_NaN();
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)          \
     static_assert(sizeof(cmdtlm::PACKET##_Tlm::field) > 0, "RSE_LIMIT " #PACKET "." #field \
                                                            ": no such telemetry field");
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why) \
     {#PACKET, #field, warn_low, warn_high, alarm_low, alarm_high, why},
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 constexpr TelemetryLimit kLimits[] = {
 #include "fsw/cmdtlm/dictionary.def"
 };
@@ -39,6 +48,9 @@ constexpr TelemetryLimit kLimits[] = {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 #undef RSE_NO_LIMIT
 
 constexpr std::size_t kLimitCount = sizeof kLimits / sizeof kLimits[0];

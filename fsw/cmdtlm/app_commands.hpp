@@ -16,6 +16,7 @@
 //   telemetry_packer.hpp         TelemetryPacker: own a packet family, scheduled by the telemetry task
 //   housekeeping_contributor.hpp HousekeepingContributor: fill an application's own HK fields
 //   rover_mode.hpp               RoverMode: the mode owner (the mobility commands set the e-stop)
+//   event_data.hpp               generated event data: the numbers an event carries, set by name
 // fsw/io also includes ccsds.hpp (packet sizes: its CAN ground link carries packets).
 #pragma once
 

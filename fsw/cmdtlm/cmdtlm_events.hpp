@@ -36,6 +36,7 @@ constexpr core::EventId kTelemetryDropped = 507;     // a link refused a telemet
 constexpr core::EventId kTelemetryTooLarge = 508;    // a telemetry packet did not fit (a dictionary bug)
 constexpr core::EventId kAppRegistrationRefused = 509;  // start-up: an APID owned twice, a table full (command router, telemetry task)
 constexpr core::EventId kCommandWithoutOwner = 510;  // an accepted command whose APID no application owns (execution_failed)
+constexpr core::EventId kEventDataWithheld = 511;    // an event's EVENT_DATA withheld to keep the frame's EVENTs' place (throttled 1,2,4,8..)
 // Start-up key loading (fsw/cmdtlm/key_loader.hpp).
 constexpr core::EventId kKeyFileRefused = 515;       // the key file was refused (why in the text); rse-fsw exits
 constexpr core::EventId kWeakKeyAccepted = 516;      // a weak key loaded because --allow-weak-key said so (warning)

@@ -54,6 +54,9 @@ using namespace mode_mask;
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -99,6 +102,9 @@ constexpr CommandDesc kCommands[] = {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one descriptor per command code");
 
 #define RSE_CMD(NAME, apid, fc, modes, text)
@@ -109,11 +115,17 @@ static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one desc
 #define RSE_FIELD(type, name, count, units, text) {#name, FieldType::type, count, units, text},
 #define RSE_TLM_END(NAME) };
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 #define RSE_TLM(NAME, apid, text)                                                              \
     {#NAME, apid, text, k##NAME##_FieldDescs,                                                  \
@@ -122,6 +134,9 @@ static_assert(sizeof kCommands / sizeof kCommands[0] == kCommandCount, "one desc
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 constexpr TelemetryDesc kTelemetry[] = {
 #include "fsw/cmdtlm/dictionary.def"
 };
@@ -133,6 +148,9 @@ constexpr TelemetryDesc kTelemetry[] = {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 constexpr std::size_t kTelemetryCount = sizeof kTelemetry / sizeof kTelemetry[0];
 

@@ -76,6 +76,9 @@ enum class CommandCode : std::uint8_t {
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -85,6 +88,9 @@ enum class CommandCode : std::uint8_t {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
     kCount
 };
 constexpr std::size_t kCommandCount = static_cast<std::size_t>(CommandCode::kCount);
@@ -98,6 +104,9 @@ constexpr std::size_t kCommandCount = static_cast<std::size_t>(CommandCode::kCou
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -159,6 +168,9 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 // ---- Telemetry -----------------------------------------------------------------
 #define RSE_CMD(NAME, apid, fc, modes, text)
@@ -169,27 +181,42 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #define RSE_FIELD(T, name, count, units, text) typename wire::Storage<wire::T, count>::type name;
 #define RSE_TLM_END(NAME) };
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 #define RSE_TLM(NAME, apid_, text) inline void encodeTelemetry(core::BeWriter& w, const NAME##_Tlm& t) {
 #define RSE_FIELD(type, name, count, units, text) writeValue(w, t.name);
 #define RSE_TLM_END(NAME) }
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_TLM
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 // Payload sizes on the wire (after the telemetry header).
 #define RSE_TLM(NAME, apid_, text) constexpr std::size_t k##NAME##_TlmSize = 0
 #define RSE_FIELD(type, name, count, units, text) +wireSize(FieldType::type) * (count)
 #define RSE_TLM_END(NAME) ;
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -199,6 +226,9 @@ void writeValue(core::BeWriter& w, const T (&v)[N]) {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 // ---- Descriptors (generic access by name or id) --------------------------------
 struct ArgDesc {

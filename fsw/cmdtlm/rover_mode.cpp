@@ -1,6 +1,7 @@
 #include "fsw/cmdtlm/rover_mode.hpp"
 
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 
 namespace rse::cmdtlm {
@@ -26,7 +27,10 @@ void RoverMode::setEstop(bool set) {
 
 void RoverMode::takeSafeRequest(const msg::SafeRequestMsg& request) {
     ++safeRequests_;
-    events_.report(events::kSafedOnRequest, core::Severity::kWarning,
+    event_data::SAFED_ON_REQUEST data;
+    data.reason = static_cast<double>(request.reason);
+    data.mode_before = static_cast<double>(mode_);
+    events_.report(events::kSafedOnRequest, core::Severity::kWarning, data.pack(),
                    "app: onboard call home (reason %u): mode %s -> SAFE", static_cast<unsigned>(request.reason),
                    toString(mode_));
     if (mode_ != Mode::kSafe) {

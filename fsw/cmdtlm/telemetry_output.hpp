@@ -3,7 +3,8 @@
 // Single-threaded like everything in the executive: any task may send.
 //
 // Each packet goes with a downlink priority (hal::TxPriority, telemetryPriority()):
-// CMD_ACK first, EVENT next, everything else routine. A link that queues (ISO-TP
+// CMD_ACK first, EVENT and EVENT_DATA (an event's numbers, which follow it) next,
+// everything else routine. A link that queues (ISO-TP
 // on CAN) keeps them apart, so a congested downlink refuses routine telemetry
 // before it refuses an event, and never because of routine telemetry refuses an
 // acknowledgement. A refusal is counted (dropped(), per priority, and in HK
@@ -26,7 +27,7 @@ namespace rse::cmdtlm {
 
 constexpr hal::TxPriority telemetryPriority(std::uint16_t apid) {
     return apid == CMD_ACK_Tlm::kApid ? hal::TxPriority::kAck
-           : apid == EVENT_Tlm::kApid ? hal::TxPriority::kEvent
+           : apid == EVENT_Tlm::kApid || apid == EVENT_DATA_Tlm::kApid ? hal::TxPriority::kEvent
                                       : hal::TxPriority::kRoutine;
 }
 

@@ -8,7 +8,8 @@
 //               id, in arrival order (a packer that sends on receipt, PLAN_PATH,
 //               sends here); a message that does not decode, or that a
 //               packer refuses, is counted (malformed()) and evented (211)
-//             2 EVENT packets (event_downlink.hpp)
+//             2 EVENT packets, each followed by its EVENT_DATA when it
+//               carries numbers (event_downlink.hpp)
 //             3 each packer's pack(), in registration order
 // Which packets go when: docs/icd.md "Telemetry", and each packer's header.
 // The order fsw/app registers them in (HK and TASK_TIMING, DRIVES, ROVER_STATE
@@ -55,6 +56,8 @@ public:
 
     std::size_t packerCount() const { return count_; }
     std::uint32_t eventsSent() const { return events_.eventsSent(); }
+    std::uint32_t eventDataSent() const { return events_.dataSent(); }
+    std::uint32_t eventDataWithheld() const { return events_.dataWithheld(); }
     std::uint32_t malformed() const { return input_.malformed(); }  // inputs refused by the pipe or a packer
 
 private:

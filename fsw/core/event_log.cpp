@@ -17,17 +17,35 @@ const char* toString(Severity severity) {
 }
 
 void EventLog::report(EventId id, Severity severity, const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    record(id, severity, nullptr, format, args);
+    va_end(args);
+}
+
+void EventLog::report(EventId id, Severity severity, const EventData& data, const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    record(id, severity, &data, format, args);
+    va_end(args);
+}
+
+void EventLog::record(EventId id, Severity severity, const EventData* data, const char* format, va_list args) {
     Event event;
     event.time = clock_.now();
     event.sequence = written_;
     event.id = id;
     event.severity = severity;
-    va_list args;
-    va_start(args, format);
     // Truncates to the fixed text size; never allocates for the formats we use
     // (integers, short strings, fixed-precision floats).
     std::vsnprintf(event.text, sizeof event.text, format, args);
-    va_end(args);
+    if (data != nullptr) {
+        const std::size_t count = data->count < kEventDataValues ? data->count : kEventDataValues;
+        event.data.count = static_cast<std::uint8_t>(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            event.data.values[i] = data->values[i];
+        }
+    }
 
     ++total_;
     const auto index = static_cast<std::size_t>(severity);

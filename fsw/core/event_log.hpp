@@ -1,5 +1,10 @@
 // Events: enumerated ids, a severity and a short formatted text, kept in a fixed
-// ring of the newest kEventRingDepth reports.
+// ring of the newest kEventRingDepth reports. An event may also carry typed
+// numbers (EventData, F'-style event arguments): what a reader decides on, so
+// the text stays words for people and may be reworded freely. The dictionary
+// names each event's numbers (fsw/cmdtlm/dictionary.def, RSE_EVENT_DATA; call
+// sites fill them by name through fsw/cmdtlm/event_data.hpp) and the ground
+// gets them in an EVENT_DATA packet right after the event's EVENT packet.
 //
 // The primary reader (telemetry output) takes events with pop(); an unread event
 // overwritten by a newer one is counted in lost() at once, so housekeeping shows
@@ -8,6 +13,7 @@
 // cursor. Every report is counted per severity whether or not anyone reads it.
 #pragma once
 
+#include <cstdarg>
 #include <cstddef>
 #include <cstdint>
 
@@ -25,6 +31,19 @@ const char* toString(Severity severity);
 
 constexpr std::size_t kEventTextSize = 96;  // including the terminating NUL
 constexpr std::size_t kEventRingDepth = 128;
+// The most numbers one event carries (the EVENT_DATA packet's value[]; every
+// RSE_EVENT_DATA of the dictionary is held to it at compile time). Each ring
+// slot keeps them: 72 bytes a slot, 9216 bytes for the ring (docs/architecture.md,
+// "Events"); one more value is 8 bytes a slot and 8 in the packet.
+constexpr std::size_t kEventDataValues = 8;
+
+// An event's numbers, in the order its RSE_EVENT_DATA lists them; count 0: the
+// event carries none. Doubles hold every integer up to 2^53 exactly (ids,
+// counts, codes, masks) and the figures at full precision.
+struct EventData {
+    std::uint8_t count = 0;
+    double values[kEventDataValues] = {};
+};
 
 struct Event {
     TimeNs time = 0;
@@ -32,6 +51,7 @@ struct Event {
     EventId id = 0;
     Severity severity = Severity::kDebug;
     char text[kEventTextSize] = {};
+    EventData data;              // the event's numbers (data.count 0: none)
 };
 
 // A repeated condition (e.g. a queue overflowing every frame) is evented on its
@@ -46,6 +66,9 @@ public:
 
     void report(EventId id, Severity severity, const char* format, ...)
         __attribute__((format(printf, 4, 5)));
+    // The same with the event's numbers (at most kEventDataValues are kept).
+    void report(EventId id, Severity severity, const EventData& data, const char* format, ...)
+        __attribute__((format(printf, 5, 6)));
 
     // The primary reader's oldest unread event; Status::kEmpty when there is none.
     Status pop(Event* out);
@@ -67,6 +90,9 @@ private:
     static constexpr std::uint32_t kDepth = static_cast<std::uint32_t>(kEventRingDepth);
     static_assert((kEventRingDepth & (kEventRingDepth - 1)) == 0,
                   "sequence % depth must stay continuous when the 32-bit sequence wraps");
+
+    void record(EventId id, Severity severity, const EventData* data, const char* format, va_list args)
+        __attribute__((format(printf, 5, 0)));
 
     const Clock& clock_;
     Event history_[kEventRingDepth];

@@ -1,5 +1,6 @@
 #include "fsw/deliberative/deliberative_task.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/geometry/rover_footprint.hpp"
 #include "fsw/rover_model/power_model.hpp"
@@ -360,7 +361,11 @@ void DeliberativeTask::callHome(msg::CallHomeReason reason, const char* detail) 
     ++mission_.callHomes;
     status_.callHome = reason;
     setState(msg::DeliberativeState::kCalledHome);
-    events_.report(events::kCallHome, core::Severity::kCritical,
+    cmdtlm::event_data::CALL_HOME data;
+    data.reason = static_cast<double>(reason);
+    data.goal = static_cast<double>(goalNumber());
+    data.risk_bound = goals_.riskBound;
+    events_.report(events::kCallHome, core::Severity::kCritical, data.pack(),
                    "deliberative: CALL HOME: %s (%s), goal %u, risk bound %.3g: rover safed, waiting for goals",
                    callHomeReasonName(reason), detail, static_cast<unsigned>(goalNumber()), goals_.riskBound);
 }

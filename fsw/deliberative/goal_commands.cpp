@@ -1,5 +1,7 @@
 #include "fsw/deliberative/goal_commands.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
+
 namespace rse::deliberative {
 
 using cmdtlm::CommandCode;
@@ -44,7 +46,10 @@ void GoalCommands::publish() {
     msg::GoalListMsg m = goals_.message();
     m.timeNs = clock_.now();
     (void)bus_.publish(m);  // a refusal is counted and evented by the bus
-    events_.report(events::kGoalsCommanded, core::Severity::kInfo, "app: %u goal(s), risk bound %.3g",
+    cmdtlm::event_data::GOALS_COMMANDED data;
+    data.goal_count = m.count;
+    data.risk_bound = m.riskBound;
+    events_.report(events::kGoalsCommanded, core::Severity::kInfo, data.pack(), "app: %u goal(s), risk bound %.3g",
                    static_cast<unsigned>(m.count), m.riskBound);
 }
 

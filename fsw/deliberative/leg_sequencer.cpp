@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 
 namespace rse::deliberative {
@@ -60,7 +61,16 @@ void LegSequencer::send(core::TimeNs now, bool held, double goalRadiusM, const L
     leg_.arriveWithinM = leg_.finalLeg != 0 ? goalRadiusM : 0.0;
     out_.publish(leg_, "leg");
     ++counters_.legsSent;
-    events_.report(events::kLegSent, core::Severity::kInfo,
+    cmdtlm::event_data::LEG_SENT data;
+    data.leg_id = leg_.legId;
+    data.index = static_cast<double>(index_ + 1);
+    data.count = static_cast<double>(legs_.count);
+    data.x = leg.xM;
+    data.y = leg.yM;
+    data.length_bound = leg.lengthM;
+    data.energy_bound = leg.energyJ;
+    data.power_bound = leg_.maxPowerW;
+    events_.report(events::kLegSent, core::Severity::kInfo, data.pack(),
                    "deliberative: leg %u (%u of %u) to (%.2f, %.2f): <= %.2f m, <= %.0f J, <= %.0f W, risk %.3g",
                    static_cast<unsigned>(leg_.legId), static_cast<unsigned>(index_ + 1),
                    static_cast<unsigned>(legs_.count), leg.xM, leg.yM, leg.lengthM, leg.energyJ, leg_.maxPowerW,
@@ -102,14 +112,25 @@ void LegSequencer::sendBackUp(core::TimeNs now, bool held, msg::PlanLeg* target,
     leg_.maxPowerW = legs_.count > 0 ? legs_.legs[index_ < legs_.count ? index_ : 0].powerW * powerGrowth_ : 0.0;
     out_.publish(leg_, "back-up leg");
     ++counters_.legsSent;
-    events_.report(events::kLegSent, core::Severity::kInfo,
+    cmdtlm::event_data::LEG_SENT data;  // index and count 0: a back-up leg, no leg of the plan
+    data.leg_id = leg_.legId;
+    data.x = target->xM;
+    data.y = target->yM;
+    data.length_bound = target->lengthM;
+    data.energy_bound = target->energyJ;
+    data.power_bound = leg_.maxPowerW;
+    events_.report(events::kLegSent, core::Severity::kInfo, data.pack(),
                    "deliberative: leg %u (back-up) to (%.2f, %.2f): <= %.2f m, <= %.0f J",
                    static_cast<unsigned>(leg_.legId), target->xM, target->yM, target->lengthM, target->energyJ);
 }
 
 bool LegSequencer::achieved() {
     ++counters_.legsAchieved;
-    events_.report(events::kLegAchieved, core::Severity::kInfo, "deliberative: leg %u reached (%u of %u)",
+    cmdtlm::event_data::LEG_REACHED data;
+    data.leg_id = leg_.legId;
+    data.index = static_cast<double>(index_ + 1);
+    data.count = static_cast<double>(legs_.count);
+    events_.report(events::kLegAchieved, core::Severity::kInfo, data.pack(), "deliberative: leg %u reached (%u of %u)",
                    static_cast<unsigned>(leg_.legId), static_cast<unsigned>(index_ + 1),
                    static_cast<unsigned>(legs_.count));
     leg_.legId = 0;
@@ -151,9 +172,18 @@ bool LegSequencer::mergeLegEnds(const LegEndClearance& clear) {
 }
 
 void LegSequencer::relax(const FailUpAnswer& answer, msg::LegConstraint which) {
+    cmdtlm::event_data::BOUND_RELAXED data;
+    data.leg_id = leg_.legId;
+    data.bound = static_cast<double>(answer.action == FailUpAnswer::Action::kRelaxPower ? msg::LegConstraint::kPower
+                                                                                         : which);
+    data.factor = answer.needed;
+    data.of_planned = answer.grown;
+    data.limit = answer.limit;
     if (answer.action == FailUpAnswer::Action::kRelaxPower) {
+        data.from = legs_.legs[index_].powerW * powerGrowth_;
         powerGrowth_ = answer.grown;
-        events_.report(events::kBoundRelaxed, core::Severity::kWarning,
+        data.to = legs_.legs[index_].powerW * powerGrowth_;
+        events_.report(events::kBoundRelaxed, core::Severity::kWarning, data.pack(),
                        "deliberative: leg %u power bound relaxed x%.3f to %.0f W (x%.3f of planned, limit x%.2f): "
                        "resent",
                        static_cast<unsigned>(leg_.legId), answer.needed, legs_.legs[index_].powerW * powerGrowth_,
@@ -165,10 +195,12 @@ void LegSequencer::relax(const FailUpAnswer& answer, msg::LegConstraint which) {
     }
     const bool energy = which == msg::LegConstraint::kEnergy;
     msg::PlanLeg& leg = legs_.legs[index_];
+    data.from = energy ? leg.energyJ : leg.lengthM;
     (energy ? leg.energyJ : leg.lengthM) *= answer.needed;
     (energy ? energyGrowth_ : lengthGrowth_) *= answer.needed;
     legGrowth_ = answer.grown;
-    events_.report(events::kBoundRelaxed, core::Severity::kWarning,
+    data.to = energy ? leg.energyJ : leg.lengthM;
+    events_.report(events::kBoundRelaxed, core::Severity::kWarning, data.pack(),
                    "deliberative: leg %u %s bound relaxed x%.3f (x%.3f of planned, limit x%.2f): resent",
                    static_cast<unsigned>(leg_.legId), constraintName(which), answer.needed, answer.grown,
                    answer.limit);

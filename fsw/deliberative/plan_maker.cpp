@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/deliberative/drive_health.hpp"
 #include "fsw/geometry/rover_footprint.hpp"
@@ -124,7 +125,11 @@ void PlanMaker::noteFailedDrives(const PlanStart& s) {
     ++counters_.failedDriveModels;
     char names[32];
     wheelNames(s.failedDrives, names, sizeof names);
-    events_.report(events::kFailedDriveModel, core::Severity::kWarning,
+    cmdtlm::event_data::FAILED_DRIVE_MODEL data;
+    data.failed_drives = s.failedDrives;
+    data.power_factor = s.meanPowerFactor;
+    data.noise = problem_.processSigmaM;
+    events_.report(events::kFailedDriveModel, core::Severity::kWarning, data.pack(),
                    "deliberative: drive estimate: %s%s: plans at power factor %.2f, noise %.3f m/step",
                    s.failedDrives != 0U ? names : "every drive", s.failedDrives != 0U ? " failed" : " back",
                    s.meanPowerFactor, problem_.processSigmaM);

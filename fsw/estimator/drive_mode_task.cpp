@@ -1,5 +1,6 @@
 #include "fsw/estimator/drive_mode_task.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 
 namespace rse::estimator {
@@ -85,7 +86,13 @@ void DriveModeTask::update(const core::FrameContext& frame, const DriveHealthMod
             continue;
         }
         ++modeChanges_;
-        events_.report(events::declaredModeEventId(c.to), severityOf(c.to),
+        cmdtlm::event_data::DRIVE_MODE_DECLARED data;
+        data.wheel = static_cast<double>(w);
+        data.from = static_cast<double>(c.from);
+        data.to = static_cast<double>(c.to);
+        data.probability = c.probability;
+        data.power_factor = estimator_.drive(w).powerFactor();
+        events_.report(events::declaredModeEventId(c.to), severityOf(c.to), data.pack(),
                        "drive_modes: %s %s -> %s (p=%.3f, power x%.2f)", msg::wheelName(w), driveModeName(c.from),
                        driveModeName(c.to), c.probability, estimator_.drive(w).powerFactor());
     }

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
@@ -120,7 +121,9 @@ void FaultProtectionTask::run(const core::FrameContext& frame) {
     }
     if (actions.callHome) {
         ++callHomes_;
-        events_.report(events::kCallHome, core::Severity::kCritical,
+        cmdtlm::event_data::FAULT_CALL_HOME data;
+        data.reason = static_cast<double>(msg::CallHomeReason::kFaultUnrecovered);
+        events_.report(events::kCallHome, core::Severity::kCritical, data.pack(),
                        "fault protection: CALL HOME: a fault response used every attempt: rover to SAFE");
         msg::SafeRequestMsg safe{};
         safe.timeNs = now;

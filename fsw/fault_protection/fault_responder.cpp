@@ -1,5 +1,6 @@
 #include "fsw/fault_protection/fault_responder.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 
 namespace rse::fault_protection {
@@ -45,6 +46,18 @@ FaultResponseKind effectiveKind(FaultClass c, FaultResponseKind k) {
 }
 
 bool healthyDrive(msg::DriveHealth h) { return h == msg::DriveHealth::kOperational; }
+
+// The drive a fault id is about (its place in a per-wheel range: heartbeat lost,
+// over-current, over-temperature), -1 for a fault of no drive: event 933's wheel.
+double wheelOfFault(std::uint8_t id) {
+    namespace f = msg::fault;
+    for (const std::uint8_t first : {f::kDriveHeartbeatLost, f::kDriveOvercurrent, f::kDriveOvertemp}) {
+        if (id >= first && id < first + msg::kWheelCount) {
+            return static_cast<double>(id - first);
+        }
+    }
+    return -1.0;
+}
 
 }  // namespace
 
@@ -152,9 +165,15 @@ void FaultResponder::recovered(Response& r, core::TimeNs now, const char* what) 
 
 void FaultResponder::giveUp(Response& r, core::TimeNs now, const char* what, ResponderActions* out, bool callHome) {
     ++gaveUp_;
-    events_.report(events::kGaveUp, core::Severity::kCritical, "fault protection: %s (fault %u): %u tries used: %s",
-                   toString(r.tlm.faultClass), static_cast<unsigned>(r.tlm.faultId),
-                   static_cast<unsigned>(r.tlm.attemptsUsed), what);
+    cmdtlm::event_data::FAULT_GAVE_UP data;
+    data.fault_class = static_cast<double>(r.tlm.faultClass);
+    data.fault_id = r.tlm.faultId;
+    data.wheel = wheelOfFault(r.tlm.faultId);
+    data.attempts = r.tlm.attemptsUsed;
+    data.call_home = callHome ? 1.0 : 0.0;
+    events_.report(events::kGaveUp, core::Severity::kCritical, data.pack(),
+                   "fault protection: %s (fault %u): %u tries used: %s", toString(r.tlm.faultClass),
+                   static_cast<unsigned>(r.tlm.faultId), static_cast<unsigned>(r.tlm.attemptsUsed), what);
     out->callHome = out->callHome || callHome;
     enter(r, ResponseState::kGaveUp, now);
 }

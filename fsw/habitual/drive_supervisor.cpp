@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/rover_model/power_model.hpp"
 
@@ -120,13 +121,21 @@ bool DriveSupervisor::pathBlocked(const msg::TrajectoryMsg& t, Point2 here, cons
                 blocker = &h;
             }
         }
+        cmdtlm::event_data::PATH_BLOCKED data;
+        data.leg_id = legId;
         if (blocker != nullptr) {
-            events_.report(events::kPathBlocked, core::Severity::kWarning,
+            data.hazard = blocker->obstacleId;
+            data.x = blocker->centre.x;
+            data.y = blocker->centre.y;
+            data.radius = blocker->radiusM;
+            events_.report(events::kPathBlocked, core::Severity::kWarning, data.pack(),
                            "habitual: leg %u: hazard %u at (%.2f, %.2f) r %.2f m on the path: stop, replan",
                            static_cast<unsigned>(legId), static_cast<unsigned>(blocker->obstacleId),
                            blocker->centre.x, blocker->centre.y, blocker->radiusM);
         } else {
-            events_.report(events::kPathBlocked, core::Severity::kWarning,
+            data.x = remaining_[i + 1].x;  // no disc named (hazard 0): the point it cannot reach
+            data.y = remaining_[i + 1].y;
+            events_.report(events::kPathBlocked, core::Severity::kWarning, data.pack(),
                            "habitual: leg %u: path to (%.2f, %.2f) blocked: stop and replan",
                            static_cast<unsigned>(legId), remaining_[i + 1].x, remaining_[i + 1].y);
         }

@@ -1,5 +1,6 @@
 #include "fsw/habitual/hazard_memory.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 
 namespace rse::habitual {
@@ -54,7 +55,12 @@ void HazardMemory::reportAdded(std::uint8_t obstacleId) {
         }
     }
     if (h != nullptr) {
-        events_.report(events::kHazardRemembered, core::Severity::kInfo,
+        cmdtlm::event_data::HAZARD_REMEMBERED data;
+        data.hazard = obstacleId;
+        data.x = h->centre.x;
+        data.y = h->centre.y;
+        data.radius = h->radiusM;
+        events_.report(events::kHazardRemembered, core::Severity::kInfo, data.pack(),
                        "habitual: hazard %u seen at (%.2f, %.2f), radius %.2f m: on the map",
                        static_cast<unsigned>(obstacleId), h->centre.x, h->centre.y, h->radiusM);
     }

@@ -1,5 +1,6 @@
 #include "fsw/habitual/leg_events.hpp"
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 
 namespace rse::habitual {
@@ -58,13 +59,23 @@ void LegEvents::poseNotReady(std::uint32_t legId, std::uint32_t waits) {
 }
 
 void LegEvents::achieved(const msg::LegCommandMsg& leg, Point2 at, double drivenLengthM, double drivenEnergyJ) {
-    events_.report(events::kLegAchieved, core::Severity::kInfo,
+    cmdtlm::event_data::LEG_ACHIEVED data;
+    data.leg_id = leg.legId;
+    data.x = at.x;
+    data.y = at.y;
+    data.driven_length = drivenLengthM;
+    data.driven_energy = drivenEnergyJ;
+    events_.report(events::kLegAchieved, core::Severity::kInfo, data.pack(),
                    "habitual: leg %u achieved at (%.2f, %.2f): %.1f m, %.0f J driven", static_cast<unsigned>(leg.legId),
                    at.x, at.y, drivenLengthM, drivenEnergyJ);
 }
 
 void LegEvents::achievedInside(const msg::LegCommandMsg& leg, Point2 at, double arrivalM) {
-    events_.report(events::kLegAchieved, core::Severity::kInfo,
+    cmdtlm::event_data::LEG_ACHIEVED data;  // nothing driven on the leg
+    data.leg_id = leg.legId;
+    data.x = at.x;
+    data.y = at.y;
+    events_.report(events::kLegAchieved, core::Severity::kInfo, data.pack(),
                    "habitual: leg %u achieved at (%.2f, %.2f): already within %.2f m of (%.2f, %.2f)",
                    static_cast<unsigned>(leg.legId), at.x, at.y, arrivalM, leg.goalXM, leg.goalYM);
 }
@@ -78,7 +89,11 @@ void LegEvents::planSent(std::uint32_t legId, std::uint32_t trajectoryId, std::s
 }
 
 void LegEvents::minorAnomaly(std::uint32_t legId, PlanTrigger trigger, std::uint8_t attempt) {
-    events_.report(events::kMinorAnomaly, core::Severity::kWarning,
+    cmdtlm::event_data::MINOR_ANOMALY data;
+    data.leg_id = legId;
+    data.trigger = static_cast<double>(trigger);
+    data.run = attempt;
+    events_.report(events::kMinorAnomaly, core::Severity::kWarning, data.pack(),
                    "habitual: leg %u replanned (%s, run %u): constraints hold: minor anomaly",
                    static_cast<unsigned>(legId), triggerName(trigger), static_cast<unsigned>(attempt));
 }
@@ -113,31 +128,45 @@ void LegEvents::escape(std::uint32_t legId, bool offSite, Point2 from, Point2 to
 void LegEvents::failUp(const msg::LegCommandMsg& leg, msg::LegConstraint reason, const Evaluation& figures,
                        unsigned noPathRuns, double powerFactor) {
     const unsigned legId = static_cast<unsigned>(leg.legId);
+    cmdtlm::event_data::HABITUAL_FAIL_UP data;
+    data.leg_id = legId;
+    data.constraint = static_cast<double>(reason);
     switch (reason) {
         case msg::LegConstraint::kPathLength:
-            events_.report(events::kFailUp, core::Severity::kError,
+            data.predicted = figures.lengthM;
+            data.allowed = figures.allowedLengthM;
+            data.excess = figures.excess;
+            events_.report(events::kFailUp, core::Severity::kError, data.pack(),
                            "habitual: leg %u fail-up: path length %.1f m > allowed %.1f m by %.1f m", legId,
                            figures.lengthM, figures.allowedLengthM, figures.excess);
             break;
         case msg::LegConstraint::kEnergy:
-            events_.report(events::kFailUp, core::Severity::kError,
+            data.predicted = figures.energyJ;
+            data.allowed = figures.allowedEnergyJ;
+            data.excess = figures.excess;
+            events_.report(events::kFailUp, core::Severity::kError, data.pack(),
                            "habitual: leg %u fail-up: energy %.0f J > allowed %.0f J by %.0f J", legId, figures.energyJ,
                            figures.allowedEnergyJ, figures.excess);
             break;
         case msg::LegConstraint::kNoPath:
-            events_.report(events::kFailUp, core::Severity::kError,
+            data.predicted = noPathRuns;
+            events_.report(events::kFailUp, core::Severity::kError, data.pack(),
                            "habitual: leg %u fail-up: no path to (%.2f, %.2f) in %u planning runs", legId, leg.goalXM,
                            leg.goalYM, noPathRuns);
             break;
         case msg::LegConstraint::kPower:
-            events_.report(events::kFailUp, core::Severity::kError,
+            data.predicted = figures.powerW;
+            data.allowed = figures.allowedPowerW;
+            data.excess = figures.excess;
+            data.power_factor = powerFactor;
+            events_.report(events::kFailUp, core::Severity::kError, data.pack(),
                            "habitual: leg %u fail-up: power %.1f W > allowed %.1f W by %.1f W (power factor %.3f)",
                            legId, figures.powerW, figures.allowedPowerW, figures.excess, powerFactor);
             break;
         case msg::LegConstraint::kNone:
         case msg::LegConstraint::kCannotFollow:
         case msg::LegConstraint::kBadLeg:
-            events_.report(events::kFailUp, core::Severity::kError, "habitual: leg %u fail-up: %s", legId,
+            events_.report(events::kFailUp, core::Severity::kError, data.pack(), "habitual: leg %u fail-up: %s", legId,
                            constraintName(reason));
             break;
     }

@@ -2,8 +2,9 @@
 // machine raises (habitual_events.hpp), their texts, severities and
 // throttling in one place, so the task's logic reads as decisions. The parts
 // raise their own (the hazard memory 813-817, the planning session 818, the
-// drive supervisor 804, 809, 810). The texts are what the ground, the tests and
-// the recorded missions read: change them only on purpose.
+// drive supervisor 804, 809, 810). The texts are what people (and the recorded
+// missions' consoles) read: change them only on purpose. The ground decides on
+// the numbers 805, 807 and 808 carry (event data, dictionary.def), set here by name.
 // No bus, no state: every figure comes from the caller.
 #pragma once
 

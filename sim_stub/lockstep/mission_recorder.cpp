@@ -53,7 +53,8 @@ void MissionRecorder::frame() {
     tracker_.setMap(fsw.tables().coarseMap());  // the one in force (the runner uplinks the scenario's)
     core::Event e;
     while (core::isOk(fsw.events().read(&cursor_, &e))) {
-        tracker_.onEvent(ground::FlightEvent{seconds(e.time), e.id, static_cast<std::uint8_t>(e.severity), e.text});
+        tracker_.onEvent(
+            ground::FlightEvent{seconds(e.time), e.id, static_cast<std::uint8_t>(e.severity), e.text, e.data});
     }
     const double now = seconds(rig_.clock().now());
     if (now >= nextTruthS_) {

@@ -1,12 +1,20 @@
 // docs/dictionary.md and docs/dictionary.json are exactly what the exporter
 // makes from the dictionary now (tests run from the repository root), and the
-// exports carry every command, argument, packet, field and reason code.
+// exports carry every command, argument, packet, field, reason code and event
+// data layout (each naming its flight events).
 #include <fstream>
 #include <iterator>
 #include <string>
 
+#include "fsw/cmdtlm/cmdtlm_events.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
+#include "fsw/deliberative/deliberative_events.hpp"
+#include "fsw/deliberative/goal_commands.hpp"
+#include "fsw/estimator/drive_mode_events.hpp"
+#include "fsw/fault_protection/fault_protection_events.hpp"
+#include "fsw/habitual/habitual_events.hpp"
 #include "ground/dictionary_export.hpp"
 #include "ground/telemetry_limits.hpp"
 #include "ground/text_format.hpp"
@@ -169,4 +177,59 @@ TEST(GroundDictionaryExport, JsonIsBalancedAndHasNoTrailingCommas) {
     }
     CHECK_EQUAL(0, depth);
     CHECK_FALSE(inString);
+}
+
+// Every event data layout of the dictionary names the flight constants of its
+// events (the owners' suites check their own at compile time; this one keeps
+// the list whole: a layout added without its events here fails), and both
+// exports list every layout with every value.
+TEST(GroundDictionaryExport, EveryEventDataNamesItsFlightEventsAndIsExported) {
+    struct Expected {
+        const char* name;
+        core::EventId first;
+        core::EventId last;
+    };
+    namespace dev = deliberative::events;
+    namespace hev = habitual::events;
+    namespace eev = estimator::events;
+    namespace fev = fault_protection::events;
+    const Expected expected[] = {
+        {"GOALS_COMMANDED", deliberative::events::kGoalsCommanded, deliberative::events::kGoalsCommanded},
+        {"SAFED_ON_REQUEST", cmdtlm::events::kSafedOnRequest, cmdtlm::events::kSafedOnRequest},
+        {"DRIVE_MODE_DECLARED", eev::kDriveModeDeclaredNominal, eev::kDriveModeDeclaredUnknown},
+        {"PATH_BLOCKED", hev::kPathBlocked, hev::kPathBlocked},
+        {"MINOR_ANOMALY", hev::kMinorAnomaly, hev::kMinorAnomaly},
+        {"HABITUAL_FAIL_UP", hev::kFailUp, hev::kFailUp},
+        {"LEG_ACHIEVED", hev::kLegAchieved, hev::kLegAchieved},
+        {"HAZARD_REMEMBERED", hev::kHazardRemembered, hev::kHazardRemembered},
+        {"LEG_SENT", dev::kLegSent, dev::kLegSent},
+        {"LEG_REACHED", dev::kLegAchieved, dev::kLegAchieved},
+        {"BOUND_RELAXED", dev::kBoundRelaxed, dev::kBoundRelaxed},
+        {"CALL_HOME", dev::kCallHome, dev::kCallHome},
+        {"FAULT_GAVE_UP", fev::kGaveUp, fev::kGaveUp},
+        {"FAULT_CALL_HOME", fev::kCallHome, fev::kCallHome},
+        {"FAILED_DRIVE_MODEL", dev::kFailedDriveModel, dev::kFailedDriveModel},
+    };
+    std::size_t count = 0;
+    const cmdtlm::EventDataDesc* layouts = cmdtlm::eventDataDescs(&count);
+    LONGS_EQUAL(sizeof expected / sizeof expected[0], count);
+    const std::string md = ground::exportDictionaryMarkdown();
+    const std::string json = ground::exportDictionaryJson();
+    for (std::size_t i = 0; i < count; ++i) {
+        STRCMP_EQUAL(expected[i].name, layouts[i].name);
+        LONGS_EQUAL(expected[i].first, layouts[i].firstId);
+        LONGS_EQUAL(expected[i].last, layouts[i].lastId);
+        CHECK(layouts[i].valueCount >= 1 && layouts[i].valueCount <= core::kEventDataValues);
+        CHECK_TRUE(cmdtlm::findEventData(layouts[i].firstId) == &layouts[i]);
+        CHECK_TRUE(md.find("### " + std::string(layouts[i].name) + "\n") != std::string::npos);
+        CHECK_TRUE(json.find("\"name\": \"" + std::string(layouts[i].name) + "\"") != std::string::npos);
+        for (std::size_t v = 0; v < layouts[i].valueCount; ++v) {
+            CHECK_TRUE(md.find("| " + std::to_string(v) + " | " + layouts[i].values[v].name + " |") != std::string::npos);
+        }
+    }
+    CHECK_TRUE(cmdtlm::findEventData(dev::kPlanFound) == nullptr);  // an event without numbers
+    CHECK_TRUE(json.find("\"event_data\": [") != std::string::npos);
+    const cmdtlm::TelemetryDesc* packet = cmdtlm::findTelemetry("EVENT_DATA");
+    CHECK_TRUE(packet != nullptr);
+    LONGS_EQUAL(0x005, packet->apid);
 }

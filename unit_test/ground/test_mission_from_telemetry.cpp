@@ -1,16 +1,21 @@
 // The mission read from a recording (ground/mission_from_telemetry.hpp,
-// `rse-ground report`): the demo's events as EVENT packets, in the order a CAN
-// downlink delivers them (events ahead of routine telemetry: PLAN's call-home
-// reason after the call home's and the safing's events), poses, and a
-// PLAN_PATH for the plan; the ten points come out all in order at the events'
-// flight times, the plan with its means and covariance, and the report and map
-// files say so.
+// `rse-ground report`): the demo's events as EVENT packets, each followed by
+// its EVENT_DATA (the event's numbers), in the order a CAN downlink delivers
+// them (events ahead of routine telemetry: PLAN's call-home reason after the
+// call home's and the safing's events), poses, and a PLAN_PATH for the plan;
+// the ten points come out all in order at the events' flight times, the plan
+// with its means and covariance, and the report and map files say so. The
+// pairing of EVENT_DATA with its EVENT by event_sequence: in order, data lost
+// (the event read without numbers, counted), stray data (its event lost:
+// counted, dropped), a late pair after other events.
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "ground/mission_from_telemetry.hpp"
@@ -39,6 +44,17 @@ std::vector<std::uint8_t> event(std::uint32_t sequence, double metS, std::uint16
     e.severity = 1;
     std::strncpy(e.text, text, sizeof e.text - 1);
     return test::telemetryPacket(e, static_cast<std::uint16_t>(sequence), at(metS));
+}
+
+std::vector<std::uint8_t> eventData(std::uint32_t sequence, double metS, std::uint16_t id, const core::EventData& data) {
+    cmdtlm::EVENT_DATA_Tlm d{};
+    d.event_sequence = sequence;
+    d.event_id = id;
+    d.value_count = data.count;
+    for (std::size_t i = 0; i < data.count; ++i) {
+        d.value[i] = data.values[i];
+    }
+    return test::telemetryPacket(d, static_cast<std::uint16_t>(sequence), at(metS));
 }
 
 std::vector<std::uint8_t> plan(double metS, std::uint8_t callHome) {
@@ -92,9 +108,17 @@ std::vector<std::uint8_t> planPath(double metS) {
     return test::telemetryPacket(p, 0, at(metS));
 }
 
-// The recording as a CAN ground receives it: every event first, the routine
-// packets of a frame after them, and PLAN's call-home reason last of all.
-std::string demoRecording() {
+// What to do to the EVENT_DATA of the demo's events (by their place in kDemo).
+struct DataFate {
+    std::size_t lose = SIZE_MAX;       // this event's EVENT_DATA is lost
+    std::size_t loseEvent = SIZE_MAX;  // this event's EVENT is lost (its EVENT_DATA comes: stray)
+    std::size_t delay = SIZE_MAX;      // this event's EVENT_DATA comes after the next event's pair
+};
+
+// The recording as a CAN ground receives it: every event first (each with its
+// numbers right after it), the routine packets of a frame after them, and
+// PLAN's call-home reason last of all.
+std::string demoRecording(const DataFate& fate = {}) {
     std::ostringstream file;
     ground::SessionRecorder recorder(file, "ISO-TP vcan0 tx 0x6C0 rx 0x6C1", 1733157000.0);
     double received = 0.0;
@@ -102,9 +126,23 @@ std::string demoRecording() {
     record(housekeeping(kStartMetS + 0.2));
     record(plan(kStartMetS + 0.3, 0));
     std::uint32_t sequence = 1;
-    for (const test::Step& s : test::kDemo) {
+    std::vector<std::uint8_t> delayed;
+    for (std::size_t i = 0; i < test::kDemo.size(); ++i) {
+        const test::Step& s = test::kDemo[i];
         const double met = kStartMetS + s.t;
-        record(event(sequence++, met, s.id, s.text));
+        if (i != fate.loseEvent) {
+            record(event(sequence, met, s.id, s.text));
+        }
+        if (s.data.count > 0 && i == fate.delay) {
+            delayed = eventData(sequence, met, s.id, s.data);
+        } else if (s.data.count > 0 && i != fate.lose) {
+            record(eventData(sequence, met, s.id, s.data));
+        }
+        if (!delayed.empty() && i == fate.delay + 1) {
+            record(delayed);
+            delayed.clear();
+        }
+        ++sequence;
         if (s.id == 902) {
             record(planPath(met));
         }
@@ -149,6 +187,79 @@ TEST(MissionFromTelemetry, TheTenPointsThePlanAndTheTrackComeFromTheRecording) {
     CHECK_TRUE(contains(r.outcome, "called home at 104.7 s, reason 1"));
 }
 
+// Every EVENT_DATA paired with its EVENT; one arriving after the next event's
+// pair is still paired (by event_sequence, not by position).
+TEST(MissionFromTelemetry, EachEventDataIsPairedWithItsEventBySequence) {
+    std::size_t withData = 0;
+    for (const test::Step& s : test::kDemo) {
+        withData += s.data.count > 0 ? 1U : 0U;
+    }
+    DataFate late;
+    late.delay = 4;  // leg 1 achieved (808): its numbers after 906's EVENT and EVENT_DATA
+    for (const DataFate& fate : {DataFate{}, late}) {
+        std::istringstream in(demoRecording(fate));
+        const ground::SessionRecording recording = ground::readSessionRecording(in);
+        const ground::MissionTelemetry mission = ground::readMissionTelemetry(recording);
+        const ground::TelemetryMissionRecord result =
+            ground::missionRecordFromTelemetry(recording, mission, test::oneRock(), 0.6, "demo");
+        LONGS_EQUAL(withData, result.eventDataPaired);
+        LONGS_EQUAL(0, result.eventsWithoutData);
+        LONGS_EQUAL(0, result.eventDataStray);
+        CHECK_TRUE(result.record.allInOrder);
+        LONGS_EQUAL(withData, mission.eventDataPaired);
+        LONGS_EQUAL(0, mission.eventsWithoutData);
+        // The summary's events carry their numbers too.
+        cmdtlm::event_data::LEG_SENT sent;
+        bool legOne = false;
+        for (const ground::TelemetryEvent& e : mission.events) {
+            legOne = legOne || (sent.unpack(e.id, e.data) && sent.leg_id == 1.0 && sent.power_bound == 308.0);
+        }
+        CHECK_TRUE(legOne);
+    }
+}
+
+// The first leg's EVENT_DATA lost: its event is read without numbers (counted),
+// so the points that needed them (2: the plan's first leg) are missing, not
+// guessed from the words; the rest are read as before.
+TEST(MissionFromTelemetry, AnEventWhoseDataWasLostIsCountedAndShowsNoPoint) {
+    DataFate fate;
+    fate.lose = 2;  // 905, leg 1
+    std::istringstream in(demoRecording(fate));
+    const ground::SessionRecording recording = ground::readSessionRecording(in);
+    const ground::MissionTelemetry mission = ground::readMissionTelemetry(recording);
+    const ground::TelemetryMissionRecord result =
+        ground::missionRecordFromTelemetry(recording, mission, test::oneRock(), 0.6, "demo");
+    LONGS_EQUAL(1, result.eventsWithoutData);
+    LONGS_EQUAL(0, result.eventDataStray);
+    LONGS_EQUAL(1, mission.eventsWithoutData);
+    CHECK_FALSE(result.record.points[1].seen);
+    CHECK_TRUE(result.record.points[0].seen);
+    CHECK_TRUE(result.record.points[9].seen);
+    CHECK_TRUE(contains(result.record.verdict, "missing 2"));
+}
+
+// An EVENT lost on the way with its EVENT_DATA received: the numbers are stray
+// (counted, dropped); nothing else is paired wrongly.
+TEST(MissionFromTelemetry, EventDataWhoseEventNeverCameIsCountedStray) {
+    std::size_t withData = 0;
+    for (const test::Step& s : test::kDemo) {
+        withData += s.data.count > 0 ? 1U : 0U;
+    }
+    DataFate fate;
+    fate.loseEvent = 7;  // 816, hazard 3 remembered
+    std::istringstream in(demoRecording(fate));
+    const ground::SessionRecording recording = ground::readSessionRecording(in);
+    const ground::MissionTelemetry mission = ground::readMissionTelemetry(recording);
+    const ground::TelemetryMissionRecord result =
+        ground::missionRecordFromTelemetry(recording, mission, test::oneRock(), 0.6, "demo");
+    LONGS_EQUAL(1, result.eventDataStray);
+    LONGS_EQUAL(withData - 1, result.eventDataPaired);
+    LONGS_EQUAL(0, result.eventsWithoutData);
+    LONGS_EQUAL(1, mission.eventDataStray);
+    CHECK_TRUE(result.record.hazards.empty());  // only 816 tells a hazard
+    CHECK_TRUE(result.record.allInOrder);        // 804 names the disc: point 5 still seen
+}
+
 TEST(MissionFromTelemetry, ReportWritesTheFilesAndExitsByTheVerdict) {
     test::CliRig rig;
     const std::string file = rig.dir.file("session.rec");
@@ -168,6 +279,7 @@ TEST(MissionFromTelemetry, ReportWritesTheFilesAndExitsByTheVerdict) {
     CHECK_TRUE(contains(r.out, "] POINT 10 deliberative + mode owner: "));
     CHECK_TRUE(contains(r.out, "points:     ten points: all in order\n"));
     CHECK_TRUE(contains(r.out, "plans:      1 drawn from PLAN_PATH (1 made, events 902)\n"));
+    CHECK_TRUE(contains(r.out, "event data: 22 EVENT_DATA paired, 0 events without their numbers, 0 stray\n"));
     std::ifstream report(outDir + "/report.md");
     const std::string md((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
     CHECK_TRUE(contains(md, "**ten points: all in order**"));

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
@@ -284,6 +285,40 @@ TEST(MissionTelemetry, PrintedForPeopleAndAsFacts) {
     CHECK_TRUE(contains(f, "frames_skipped=2\n"));
     CHECK_TRUE(contains(f, "events_lost=1\n"));
     CHECK_TRUE(contains(f, "tlm_dropped=62\n"));
+    // The recording has no EVENT_DATA: the four events that carry numbers came without.
+    CHECK_TRUE(contains(p, "event data: 0 EVENT_DATA paired with their events, 4 events without their numbers"));
+    CHECK_TRUE(contains(f, "events_without_data=4\n"));
+    CHECK_TRUE(contains(f, "event_data_paired=0\n"));
+}
+
+// The summary's events carry their numbers: each EVENT_DATA paired with its
+// EVENT by event_sequence; one whose event never came is stray.
+TEST(MissionTelemetry, EachEventsNumbersArePairedByItsSequence) {
+    namespace dev = deliberative::events;
+    cmdtlm::event_data::LEG_SENT sent;
+    sent.leg_id = 2;
+    sent.power_bound = 308.4;
+    const core::EventData values = sent.pack();
+    auto numbers = [&](std::uint32_t sequence) {
+        cmdtlm::EVENT_DATA_Tlm d{};
+        d.event_sequence = sequence;
+        d.event_id = dev::kLegSent;
+        d.value_count = values.count;
+        for (std::size_t i = 0; i < values.count; ++i) {
+            d.value[i] = values.values[i];
+        }
+        return test::telemetryPacket(d, 0, at(18.0));
+    };
+    const ground::MissionTelemetry m = read({event(12, 18.0, dev::kLegSent, 1, "deliberative: leg 2 (2 of 6)"),
+                                              numbers(12), numbers(99)});
+    LONGS_EQUAL(1, m.eventDataPaired);
+    LONGS_EQUAL(1, m.eventDataStray);
+    LONGS_EQUAL(0, m.eventsWithoutData);
+    LONGS_EQUAL(1, m.events.size());
+    cmdtlm::event_data::LEG_SENT got;
+    CHECK_TRUE(got.unpack(m.events[0].id, m.events[0].data));
+    DOUBLES_EQUAL(308.4, got.power_bound, 0.0);
+    LONGS_EQUAL(3, m.packets);
 }
 
 TEST_GROUP(GroundCliRecord){};

@@ -12,6 +12,7 @@
 #include "fsw/cmdtlm/ccsds.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "unit_test/ground/ground_test_support.hpp"
@@ -122,6 +123,9 @@ TEST_GROUP(GroundDictionaryDrift){};
     ++g_packetsChecked;                  \
     }
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -131,6 +135,9 @@ TEST_GROUP(GroundDictionaryDrift){};
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
 
 TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
     std::size_t expanded = 0;
@@ -144,6 +151,9 @@ TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -153,6 +163,9 @@ TEST(GroundDictionaryDrift, EveryDescriptorHasAPacketTestAndAGeneratedStruct) {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
     std::size_t count = 0;
     (void)cmdtlm::telemetryDescs(&count);
     CHECK_EQUAL(count, expanded);
@@ -248,6 +261,34 @@ TEST(GroundTelemetryDecoder, EventRendersAsEvtIdSeverityText) {
     CHECK_TRUE(line.find("event_sequence=99") != std::string::npos);
     STRCMP_EQUAL("CRIT", ground::severityName(4).c_str());
     STRCMP_EQUAL("SEV9", ground::severityName(9).c_str());
+}
+
+// EVENT_DATA: the event's numbers by the names the dictionary gives that
+// event id's values; an id with no event data known still shows them by index.
+TEST(GroundTelemetryDecoder, EventDataRendersTheValuesByName) {
+    cmdtlm::event_data::LEG_SENT sent;
+    sent.leg_id = 4;
+    sent.index = 3;
+    sent.count = 6;
+    sent.x = 17.625;
+    sent.power_bound = 324.25;
+    const core::EventData data = sent.pack();
+    cmdtlm::EVENT_DATA_Tlm d{};
+    d.event_sequence = 147;
+    d.event_id = 905;
+    d.value_count = data.count;
+    for (std::size_t i = 0; i < data.count; ++i) {
+        d.value[i] = data.values[i];
+    }
+    const std::string line = ground::renderPacket(roundTrip(d, 3, 0));
+    CHECK_TRUE(line.rfind("EVENT_DATA", 0) == 0);
+    CHECK_TRUE(line.find(" event 905 LEG_SENT leg_id=4 index=3 count=6 x=17.625 ") != std::string::npos);
+    CHECK_TRUE(line.find(" power_bound=324.25") != std::string::npos);
+    CHECK_TRUE(line.find("event_sequence=147") != std::string::npos);
+    d.event_id = 1;  // no event data of that id
+    d.value_count = 1;
+    const std::string unknown = ground::renderPacket(roundTrip(d, 4, 0));
+    CHECK_TRUE(unknown.find(" event 1 (no event data known) value[0]=4 ") != std::string::npos);
 }
 
 TEST(GroundTelemetryDecoder, NonPrintableTextIsEscaped) {

@@ -32,6 +32,9 @@ inline bool decodesInRange(const cmdtlm::CommandVerdict& v) {
 #define RSE_FIELD(type, name, count, units, text)
 #define RSE_TLM_END(NAME)
 #define RSE_LIMIT(PACKET, field, warn_low, warn_high, alarm_low, alarm_high, why)
+#define RSE_EVENT_DATA(first_id, last_id, NAME, text)
+#define RSE_EVENT_VALUE(name, units, text)
+#define RSE_EVENT_DATA_END(NAME)
 #include "fsw/cmdtlm/dictionary.def"
 #undef RSE_CMD
 #undef RSE_ARG
@@ -41,6 +44,9 @@ inline bool decodesInRange(const cmdtlm::CommandVerdict& v) {
 #undef RSE_FIELD
 #undef RSE_TLM_END
 #undef RSE_LIMIT
+#undef RSE_EVENT_DATA
+#undef RSE_EVENT_VALUE
+#undef RSE_EVENT_DATA_END
         case CommandCode::kCount:
             break;
     }

@@ -1,4 +1,5 @@
-// Test helper: how many events with one id are waiting in a log (drains it).
+// Test helpers: how many events with one id are waiting in a log, and the
+// numbers (event data) of the last of them (each drains the log).
 #pragma once
 
 #include "fsw/core/event_log.hpp"
@@ -12,6 +13,22 @@ inline unsigned drainEventsWithId(core::EventLog& log, core::EventId id) {
         n += (e.id == id) ? 1U : 0U;
     }
     return n;
+}
+
+// The numbers of the last event with this id, by name (Layout: a
+// cmdtlm::event_data struct); false when none came or it carried none of that layout.
+template <typename Layout>
+bool lastEventData(core::EventLog& log, core::EventId id, Layout* out) {
+    core::EventData last{};
+    bool seen = false;
+    core::Event e;
+    while (core::isOk(log.pop(&e))) {
+        if (e.id == id) {
+            last = e.data;
+            seen = true;
+        }
+    }
+    return seen && out->unpack(id, last);
 }
 
 }  // namespace rse::test

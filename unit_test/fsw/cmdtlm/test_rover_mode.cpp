@@ -2,6 +2,7 @@
 // announced on every change (ModeMsg) and at start-up; a call home puts the
 // rover in SAFE; HK shows both.
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/cmdtlm/rover_mode.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "unit_test/support/app_test_support.hpp"
@@ -74,6 +75,25 @@ TEST(RoverMode, ACallHomePutsTheRoverInSafeOnceAndIsCounted) {
     LONGS_EQUAL(2, mode.safeRequests());
     LONGS_EQUAL(1, modes.drain());  // the second found it SAFE: no change announced
     LONGS_EQUAL(2, test::drainEventsWithId(events, cmdtlm::events::kSafedOnRequest));
+}
+
+// The safing's numbers (what the ground reads; dictionary.def names the event).
+static_assert(cmdtlm::event_data::SAFED_ON_REQUEST::kFirstId == cmdtlm::events::kSafedOnRequest &&
+                  cmdtlm::event_data::SAFED_ON_REQUEST::kLastId == cmdtlm::events::kSafedOnRequest,
+              "215");
+
+TEST(RoverMode, ASafingOnRequestCarriesTheReasonAndTheModeItLeft) {
+    CHECK(core::isOk(requests.create()));
+    CHECK(core::isOk(mode.routeRequests(requests)));
+    mode.setMode(cmdtlm::Mode::kAutonomous);
+    msg::SafeRequestMsg call{};
+    call.reason = msg::CallHomeReason::kNoPlanWithinRisk;
+    CHECK(core::isOk(bus.publish(call)));
+    (void)requests.drain();
+    cmdtlm::event_data::SAFED_ON_REQUEST safed;
+    CHECK_TRUE(test::lastEventData(events, cmdtlm::events::kSafedOnRequest, &safed));
+    DOUBLES_EQUAL(1.0, safed.reason, 0.0);
+    DOUBLES_EQUAL(static_cast<double>(cmdtlm::Mode::kAutonomous), safed.mode_before, 0.0);
 }
 
 TEST(RoverMode, HousekeepingShowsTheModeAndTheEstop) {

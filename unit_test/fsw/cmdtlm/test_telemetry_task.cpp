@@ -1,6 +1,8 @@
 // The telemetry task, a scheduler that knows no packet: each run drains its one
 // pipe into the packers that routed each id, sends the events, then has each
-// packer pack in registration order. And the event downlink it runs.
+// packer pack in registration order. And the event downlink it runs: an
+// event's numbers in an EVENT_DATA right after its EVENT, never in an EVENT's
+// place.
 #include <string>
 #include <vector>
 
@@ -63,12 +65,29 @@ TEST_GROUP(TelemetryTask) {
     // The APIDs the ground received, in order.
     std::vector<std::uint16_t> downlink() {
         std::vector<std::uint16_t> apids;
+        for (const test::RecordingSink::Packet& p : received()) {
+            apids.push_back(p.apid);
+        }
+        return apids;
+    }
+    // The packets the ground received, in order.
+    std::vector<test::RecordingSink::Packet> received() {
+        std::vector<test::RecordingSink::Packet> out;
         std::uint8_t bytes[hal::kMemoryLinkMaxPacket];
         std::size_t length = 0;
         while (core::isOk(link.groundReceive(bytes, sizeof bytes, &length))) {
-            apids.push_back(cmdtlm::decodePrimaryHeader(bytes).apid);
+            out.push_back(test::RecordingSink::Packet{cmdtlm::decodePrimaryHeader(bytes).apid,
+                                                      {bytes + cmdtlm::kTelemetryHeaderSize, bytes + length}});
         }
-        return apids;
+        return out;
+    }
+    static core::EventData numbers(double first) {
+        core::EventData d;
+        d.count = 3;
+        d.values[0] = first;
+        d.values[1] = -0.5;
+        d.values[2] = 1e-9;
+        return d;
     }
 };
 
@@ -152,4 +171,70 @@ TEST(TelemetryTask, EventsGoAtMostEightAFrameAndNoFasterThanTheLinksTakeThem) {
     LONGS_EQUAL(40, task.eventsSent());
     LONGS_EQUAL(0, events.lost());
     LONGS_EQUAL(0, output.dropped());
+}
+
+// Each event that carries numbers is followed at once by its EVENT_DATA (the
+// same event_sequence, id and values); the frame's budget counts EVENT packets
+// only, as before: eight events a frame with their numbers is sixteen packets.
+TEST(TelemetryTask, AnEventsNumbersFollowItAndTheBudgetCountsEventsOnly) {
+    CHECK(core::isOk(task.init()));
+    (void)downlink();
+    (void)test::drainEventsWithId(events, 0);
+    for (int i = 0; i < 10; ++i) {
+        if (i % 2 == 0) {
+            events.report(905, core::Severity::kInfo, numbers(i), "with numbers %d", i);
+        } else {
+            events.report(803, core::Severity::kInfo, "without %d", i);
+        }
+    }
+    task.run(test::frameAt(1));
+    const std::vector<test::RecordingSink::Packet> got = received();
+    LONGS_EQUAL(8 + 4, got.size());  // 8 EVENTs (the budget), the 4 of them with numbers followed by theirs
+    LONGS_EQUAL(8, task.eventsSent());
+    LONGS_EQUAL(4, task.eventDataSent());
+    for (std::size_t i = 0, event = 0; i < got.size(); ++i, ++event) {
+        LONGS_EQUAL(cmdtlm::EVENT_Tlm::kApid, got[i].apid);
+        if (event % 2 != 0) {
+            continue;
+        }
+        const test::RecordingSink::Packet& data = got[++i];
+        LONGS_EQUAL(cmdtlm::EVENT_DATA_Tlm::kApid, data.apid);
+        using test::RecordingSink;
+        DOUBLES_EQUAL(RecordingSink::field(got[i - 1], "event_sequence"), RecordingSink::field(data, "event_sequence"),
+                      0.0);
+        DOUBLES_EQUAL(905, RecordingSink::field(data, "event_id"), 0.0);
+        DOUBLES_EQUAL(3, RecordingSink::field(data, "value_count"), 0.0);
+        DOUBLES_EQUAL(static_cast<double>(event), RecordingSink::field(data, "value", 0), 0.0);
+        DOUBLES_EQUAL(1e-9, RecordingSink::field(data, "value", 2), 0.0);
+        DOUBLES_EQUAL(0, RecordingSink::field(data, "value", 3), 0.0);
+    }
+    CHECK(hal::TxPriority::kEvent == cmdtlm::telemetryPriority(cmdtlm::EVENT_DATA_Tlm::kApid));
+}
+
+// A link whose event queue has room for ten packets: the eight EVENTs of the
+// frame go out as they would without numbers; only the numbers that would take
+// an EVENT's place are withheld (counted, evented 511 on the 1st, 2nd, 4th
+// time), none refused by the link.
+TEST(TelemetryTask, NumbersNeverTakeAnEventsPlaceOnAFullQueue) {
+    CHECK(core::isOk(task.init()));
+    (void)downlink();
+    (void)test::drainEventsWithId(events, 0);
+    for (int i = 0; i < 22; ++i) {
+        output.send(cmdtlm::POWER_Tlm{});  // the queue keeps 10 places
+    }
+    for (int i = 0; i < 8; ++i) {
+        events.report(905, core::Severity::kInfo, numbers(i), "burst %d", i);
+    }
+    task.run(test::frameAt(1));
+    LONGS_EQUAL(hal::kMemoryLinkDownlinkDepth, link.downlinkQueued());
+    LONGS_EQUAL(8, task.eventsSent());
+    LONGS_EQUAL(2, task.eventDataSent());
+    LONGS_EQUAL(6, task.eventDataWithheld());
+    LONGS_EQUAL(0, output.dropped());
+    std::size_t eventPackets = 0;
+    for (std::uint16_t apid : downlink()) {
+        eventPackets += apid == cmdtlm::EVENT_Tlm::kApid ? 1U : 0U;
+    }
+    LONGS_EQUAL(8, eventPackets);
+    LONGS_EQUAL(3, test::drainEventsWithId(events, cmdtlm::events::kEventDataWithheld));
 }

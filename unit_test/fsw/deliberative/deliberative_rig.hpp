@@ -209,6 +209,12 @@ public:
         pumpEvents();
         return texts[id % 1000];
     }
+    // The latest event's numbers by name (false: none of that layout).
+    template <typename Layout>
+    bool seenData(core::EventId id, Layout* out) {
+        pumpEvents();
+        return out->unpack(id, data[id % 1000]);
+    }
     void clearSeen() {
         pumpEvents();
         std::memset(seen, 0, sizeof seen);
@@ -244,6 +250,7 @@ public:
     unsigned planPaths = 0;
     unsigned seen[1000] = {};
     char texts[1000][core::kEventTextSize] = {};
+    core::EventData data[1000] = {};
 
 private:
     void pumpEvents() {
@@ -251,6 +258,7 @@ private:
         while (core::isOk(events.pop(&e))) {
             seen[e.id % 1000] += 1;
             std::memcpy(texts[e.id % 1000], e.text, sizeof e.text);
+            data[e.id % 1000] = e.data;
         }
     }
     void drainProbe() {

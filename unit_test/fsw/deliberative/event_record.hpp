@@ -1,5 +1,6 @@
-// Test-only: what a log holds, by event id: how many and the latest text
-// (pump() drains the log into the record). For the deliberative parts' tests.
+// Test-only: what a log holds, by event id: how many, the latest text and the
+// latest numbers (pump() drains the log into the record). For the deliberative
+// parts' tests.
 #pragma once
 
 #include <cstring>
@@ -31,6 +32,12 @@ public:
         total_ = 0;
     }
     bool textHas(core::EventId id, const char* what) { return std::strstr(text(id), what) != nullptr; }
+    // The latest event's numbers, by name: false when it carried none of that layout.
+    template <typename Layout>
+    bool data(core::EventId id, Layout* out) {
+        pump();
+        return out->unpack(id, data_[id % 1000]);
+    }
 
 private:
     void pump() {
@@ -39,6 +46,7 @@ private:
             seen_[e.id % 1000] += 1;
             ++total_;
             std::memcpy(texts_[e.id % 1000], e.text, sizeof e.text);
+            data_[e.id % 1000] = e.data;
         }
     }
 
@@ -46,6 +54,7 @@ private:
     unsigned seen_[1000] = {};
     unsigned total_ = 0;
     char texts_[1000][core::kEventTextSize] = {};
+    core::EventData data_[1000] = {};
 };
 
 }  // namespace rse::test

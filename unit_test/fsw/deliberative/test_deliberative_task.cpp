@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/cc_lp.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "unit_test/fsw/deliberative/deliberative_rig.hpp"
@@ -308,6 +309,10 @@ TEST(DeliberativeTask, NoPathFailUpsReplanFromTheCurrentEstimateUntilTheLimitThe
     CHECK(CallHomeReason::kReplansExhausted == rig->lastSafe.reason);
     CHECK(rig->cancels >= 1);
     LONGS_EQUAL(1, rig->seenCount(deliberative::events::kCallHome));
+    cmdtlm::event_data::CALL_HOME callHome;  // the reason by number, as PLAN.call_home
+    CHECK_TRUE(rig->seenData(deliberative::events::kCallHome, &callHome));
+    DOUBLES_EQUAL(static_cast<double>(CallHomeReason::kReplansExhausted), callHome.reason, 0.0);
+    DOUBLES_EQUAL(kRisk, callHome.risk_bound, 0.0);
     rig->run();
     CHECK(CallHomeReason::kReplansExhausted == rig->lastStatus.callHome);
     CHECK(DeliberativeState::kCalledHome == rig->lastStatus.state);
@@ -483,6 +488,10 @@ TEST(DeliberativeTask, AFailedDriveInTheEstimateCanLeaveNoPlanWithinTheRiskBound
     LONGS_EQUAL(1, rig->task.counters().failedDriveModels);
     CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "ML failed") != nullptr);
     CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "noise 0.250 m/step") != nullptr);
+    cmdtlm::event_data::FAILED_DRIVE_MODEL model;  // the numbers the ground decides on
+    CHECK_TRUE(rig->seenData(deliberative::events::kFailedDriveModel, &model));
+    DOUBLES_EQUAL(1U << 1, model.failed_drives, 0.0);
+    DOUBLES_EQUAL(rig->task.problem().processSigmaM, model.noise, 0.0);
 
     // The drive back to nominal: the same goal plans with the table's noise.
     rig->sendDriveModes(msg::DriveMode::kNominal);
@@ -491,6 +500,8 @@ TEST(DeliberativeTask, AFailedDriveInTheEstimateCanLeaveNoPlanWithinTheRiskBound
     DOUBLES_EQUAL(static_cast<double>(planner.process_noise_sigma_m), rig->task.problem().processSigmaM, 1e-12);
     LONGS_EQUAL(2, rig->seenCount(deliberative::events::kFailedDriveModel));
     CHECK(std::strstr(rig->seenText(deliberative::events::kFailedDriveModel), "every drive back") != nullptr);
+    CHECK_TRUE(rig->seenData(deliberative::events::kFailedDriveModel, &model));
+    DOUBLES_EQUAL(0.0, model.failed_drives, 0.0);
 }
 
 // A drive declared failed for less than PLANNER.failed_drive_confirm_s (a

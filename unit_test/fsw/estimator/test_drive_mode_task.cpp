@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 #include "fsw/estimator/drive_mode_task.hpp"
 #include "fsw/tables/table_image.hpp"
@@ -36,13 +37,14 @@ struct SeenEvent {
     core::EventId id;
     core::Severity severity;
     std::string text;
+    core::EventData data;
 };
 
 std::vector<SeenEvent> drain(core::EventLog& log) {
     std::vector<SeenEvent> out;
     core::Event e;
     while (core::isOk(log.pop(&e))) {
-        out.push_back({e.id, e.severity, e.text});
+        out.push_back({e.id, e.severity, e.text, e.data});
     }
     return out;
 }
@@ -249,6 +251,16 @@ TEST(DriveModeTask, DegradationThenFailureIsDeclaredDegradedFirstThenFailed) {
     LONGS_EQUAL(estimator::events::kDriveModeDeclaredDegraded, events[0].id);
     LONGS_EQUAL(estimator::events::kDriveModeDeclaredFailed, events[1].id);
     CHECK(contains(events[1].text, "RL degraded -> failed"));
+    // The numbers the ground reads: the wheel, the modes, the estimate.
+    cmdtlm::event_data::DRIVE_MODE_DECLARED declared;
+    CHECK_TRUE(declared.unpack(events[1].id, events[1].data));
+    DOUBLES_EQUAL(2.0, declared.wheel, 0.0);
+    DOUBLES_EQUAL(static_cast<double>(DriveMode::kDegraded), declared.from, 0.0);
+    DOUBLES_EQUAL(static_cast<double>(DriveMode::kFailed), declared.to, 0.0);
+    CHECK(declared.probability > 0.5 && declared.probability <= 1.0);
+    CHECK(declared.power_factor > 1.0);
+    CHECK_TRUE(declared.unpack(events[0].id, events[0].data));
+    DOUBLES_EQUAL(static_cast<double>(DriveMode::kDegraded), declared.to, 0.0);
     LONGS_EQUAL(2, rig.task.modeChanges());
 }
 
@@ -419,6 +431,9 @@ TEST(DriveModeTask, EveryDeclaredChangeIsEventedWithItsIdAndSeverity) {
     CHECK(contains(events[1].text, "drive_modes: FL degraded -> nominal"));
     LONGS_EQUAL(762, estimator::events::declaredModeEventId(DriveMode::kFailed));
     LONGS_EQUAL(763, estimator::events::declaredModeEventId(DriveMode::kUnknown));
+    // One event data layout for the four (dictionary.def: DRIVE_MODE_DECLARED).
+    LONGS_EQUAL(estimator::events::kDriveModeDeclaredNominal, cmdtlm::event_data::DRIVE_MODE_DECLARED::kFirstId);
+    LONGS_EQUAL(estimator::events::kDriveModeDeclaredUnknown, cmdtlm::event_data::DRIVE_MODE_DECLARED::kLastId);
 }
 
 TEST(DriveModeTask, MalformedInputIsCountedAndEventedThrottled) {

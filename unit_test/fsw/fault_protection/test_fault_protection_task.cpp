@@ -5,6 +5,7 @@
 // read at every run, and nothing is allocated.
 #include <cstdint>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/software_bus.hpp"
@@ -137,7 +138,9 @@ TEST(FaultProtectionTask, AStalledTaskIsRestartedAndAGiveUpCallsHome) {
     }
     LONGS_EQUAL(1, safes);
     LONGS_EQUAL(1, rig.task.callHomes());
-    LONGS_EQUAL(1, test::drainEventsWithId(rig.events, fault_protection::events::kCallHome));
+    cmdtlm::event_data::FAULT_CALL_HOME callHome;  // the reason by number, as the safe request's
+    CHECK_TRUE(test::lastEventData(rig.events, fault_protection::events::kCallHome, &callHome));
+    DOUBLES_EQUAL(static_cast<double>(msg::CallHomeReason::kFaultUnrecovered), callHome.reason, 0.0);
 }
 
 TEST(FaultProtectionTask, TheTableIsReadAtEveryRun) {

@@ -3,6 +3,7 @@
 // FAULT_PROTECTION and FAULT_RESPONSE fields change what it does.
 #include <cstdint>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
@@ -146,8 +147,21 @@ TEST(FaultResponder, AFaultedDriveGetsAFaultResetThenNodeResetsThenIsDeclaredFai
     LONGS_EQUAL(3, rig.responder.wheel(4)->attemptsUsed);
     LONGS_EQUAL(0, callHomes);  // the deliberative layer decides (replan or call home)
     LONGS_EQUAL(0, rig.out.holdReasons);
-    LONGS_EQUAL(1, rig.drain(fault_protection::events::kGaveUp));
+    cmdtlm::event_data::FAULT_GAVE_UP gaveUp;  // what the ground reads
+    CHECK_TRUE(test::lastEventData(rig.events, fault_protection::events::kGaveUp, &gaveUp));
+    DOUBLES_EQUAL(static_cast<double>(FaultClass::kDriveFaulted), gaveUp.fault_class, 0.0);
+    DOUBLES_EQUAL(msg::fault::kDriveHeartbeatLost + 4, gaveUp.fault_id, 0.0);
+    DOUBLES_EQUAL(4.0, gaveUp.wheel, 0.0);
+    DOUBLES_EQUAL(3.0, gaveUp.attempts, 0.0);
+    DOUBLES_EQUAL(0.0, gaveUp.call_home, 0.0);
 }
+
+static_assert(cmdtlm::event_data::FAULT_GAVE_UP::kFirstId == fault_protection::events::kGaveUp &&
+                  cmdtlm::event_data::FAULT_GAVE_UP::kLastId == fault_protection::events::kGaveUp,
+              "933");
+static_assert(cmdtlm::event_data::FAULT_CALL_HOME::kFirstId == fault_protection::events::kCallHome &&
+                  cmdtlm::event_data::FAULT_CALL_HOME::kLastId == fault_protection::events::kCallHome,
+              "941");
 
 TEST(FaultResponder, DriveRestartAttemptsComeFromTheTable) {
     Rig rig;

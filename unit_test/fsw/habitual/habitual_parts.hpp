@@ -39,7 +39,8 @@ inline msg::HazardSightingTlm sighting(std::uint8_t id, double rangeM, double be
     return s;
 }
 
-// The events raised since the last take(): how many of an id, and the latest text of each.
+// The events raised since the last take(): how many of an id, and the latest
+// text, severity and numbers of each.
 class EventReader {
 public:
     explicit EventReader(core::EventLog& log) : log_(log) {}
@@ -51,7 +52,13 @@ public:
             ++count_[slot];
             std::memcpy(text_[slot], e.text, sizeof e.text);
             severity_[slot] = e.severity;
+            data_[slot] = e.data;
         }
+    }
+    // The latest event's numbers by name (false: none of that layout).
+    template <typename Layout>
+    bool data(core::EventId id, Layout* out) const {
+        return out->unpack(id, data_[id % kSlots]);
     }
     unsigned count(core::EventId id) const { return count_[id % kSlots]; }
     const char* text(core::EventId id) const { return text_[id % kSlots]; }
@@ -66,6 +73,7 @@ private:
     unsigned count_[kSlots] = {};
     char text_[kSlots][core::kEventTextSize] = {};
     core::Severity severity_[kSlots] = {};
+    core::EventData data_[kSlots] = {};
 };
 
 }  // namespace rse::test

@@ -5,6 +5,7 @@
 // e_r = 40 J/rad, margin 20 %.
 #include <cmath>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/drive_supervisor.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/rover_model/power_model.hpp"
@@ -123,6 +124,13 @@ TEST(DriveSupervisor, ARememberedHazardOnTheRemainingPathBlocksItAndIsNamed) {
     LONGS_EQUAL(1, supervisor.counters().pathBlocked);
     seen.take();
     CHECK_TRUE(seen.says(ev::kPathBlocked, "habitual: leg 7: hazard 3 at (15.00, 0.00) r 0.89 m on the path: stop, replan"));
+    cmdtlm::event_data::PATH_BLOCKED blocked;  // what the ground reads
+    CHECK_TRUE(seen.data(ev::kPathBlocked, &blocked));
+    DOUBLES_EQUAL(7.0, blocked.leg_id, 0.0);
+    DOUBLES_EQUAL(3.0, blocked.hazard, 0.0);
+    DOUBLES_EQUAL(15.0, blocked.x, 1e-9);
+    DOUBLES_EQUAL(0.0, blocked.y, 1e-9);
+    CHECK(blocked.radius > 0.88 && blocked.radius < 0.90);
     // Past it the rest is free.
     CHECK_FALSE(supervisor.pathBlocked(t, Point2{17.0, 0.0}, memory, 7));
     LONGS_EQUAL(1, supervisor.counters().pathBlocked);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/hazard_memory.hpp"
 #include "unit_test/fsw/habitual/habitual_parts.hpp"
@@ -45,6 +46,12 @@ TEST(HazardMemory, AFirstSightingIsRememberedAndEventedOnce) {
     seen.take();
     LONGS_EQUAL(1, seen.count(ev::kHazardRemembered));
     STRCMP_EQUAL("habitual: hazard 7 seen at (20.00, -6.00), radius 0.89 m: on the map", seen.text(ev::kHazardRemembered));
+    cmdtlm::event_data::HAZARD_REMEMBERED disc;  // what the ground reads
+    CHECK_TRUE(seen.data(ev::kHazardRemembered, &disc));
+    DOUBLES_EQUAL(7.0, disc.hazard, 0.0);
+    DOUBLES_EQUAL(20.0, disc.x, 1e-9);
+    DOUBLES_EQUAL(-6.0, disc.y, 1e-9);
+    DOUBLES_EQUAL(memory.builder().slot(0).radiusM, disc.radius, 0.0);
     memory.remember(hazards({test::sighting(7, 1.6, 0.0, 0.4)}), Point2{18.0, -6.0}, 0.0);
     seen.take();
     LONGS_EQUAL(0, seen.count(ev::kHazardRemembered));

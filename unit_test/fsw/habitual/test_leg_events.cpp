@@ -1,6 +1,7 @@
 // The events the habitual task's state machine raises about its legs
-// (fsw/habitual/leg_events.hpp): ids, severities, the texts the ground and the
-// recorded missions read, and the throttled ones.
+// (fsw/habitual/leg_events.hpp): ids, severities, the texts people read, the
+// numbers the ground decides on (event data, by name), and the throttled ones.
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/leg_events.hpp"
 #include "unit_test/fsw/habitual/habitual_parts.hpp"
@@ -13,6 +14,18 @@ using habitual::Evaluation;
 using habitual::LegEvents;
 using msg::LegConstraint;
 namespace ev = habitual::events;
+namespace evd = cmdtlm::event_data;
+
+// Each RSE_EVENT_DATA of the habitual layer's events names that event's flight constant.
+template <typename Layout>
+constexpr bool isTheEvent(core::EventId id) {
+    return Layout::kFirstId == id && Layout::kLastId == id;
+}
+static_assert(isTheEvent<evd::PATH_BLOCKED>(ev::kPathBlocked), "804");
+static_assert(isTheEvent<evd::MINOR_ANOMALY>(ev::kMinorAnomaly), "805");
+static_assert(isTheEvent<evd::HABITUAL_FAIL_UP>(ev::kFailUp), "807");
+static_assert(isTheEvent<evd::LEG_ACHIEVED>(ev::kLegAchieved), "808");
+static_assert(isTheEvent<evd::HAZARD_REMEMBERED>(ev::kHazardRemembered), "816");
 
 namespace {
 
@@ -84,9 +97,20 @@ TEST(LegEvents, StopsOfTheLegSayWhetherTheRoverWasMoving) {
 TEST(LegEvents, AchievementSaysWhereAndWhatWasDriven) {
     say.achieved(leg(), Point2{12.4, -1.3}, 13.04, 15012.4);
     STRCMP_EQUAL("habitual: leg 3 achieved at (12.40, -1.30): 13.0 m, 15012 J driven", only(ev::kLegAchieved));
+    evd::LEG_ACHIEVED achieved;
+    CHECK_TRUE(seen.data(ev::kLegAchieved, &achieved));
+    DOUBLES_EQUAL(3.0, achieved.leg_id, 0.0);
+    DOUBLES_EQUAL(12.4, achieved.x, 0.0);
+    DOUBLES_EQUAL(-1.3, achieved.y, 0.0);
+    DOUBLES_EQUAL(13.04, achieved.driven_length, 0.0);
+    DOUBLES_EQUAL(15012.4, achieved.driven_energy, 0.0);
     say.achievedInside(leg(), Point2{11.0, -1.0}, 2.5);
     STRCMP_EQUAL("habitual: leg 3 achieved at (11.00, -1.00): already within 2.50 m of (12.50, -1.25)",
                  only(ev::kLegAchieved));
+    CHECK_TRUE(seen.data(ev::kLegAchieved, &achieved));
+    DOUBLES_EQUAL(11.0, achieved.x, 0.0);
+    DOUBLES_EQUAL(0.0, achieved.driven_length, 0.0);  // nothing driven
+
 }
 
 TEST(LegEvents, PlansRepairsAndBackOuts) {
@@ -97,6 +121,11 @@ TEST(LegEvents, PlansRepairsAndBackOuts) {
     say.minorAnomaly(3, habitual::PlanTrigger::kPathBlocked, 0);
     STRCMP_EQUAL("habitual: leg 3 replanned (path blocked, run 0): constraints hold: minor anomaly",
                  only(ev::kMinorAnomaly));
+    evd::MINOR_ANOMALY replanned;
+    CHECK_TRUE(seen.data(ev::kMinorAnomaly, &replanned));
+    DOUBLES_EQUAL(3.0, replanned.leg_id, 0.0);
+    DOUBLES_EQUAL(static_cast<double>(habitual::PlanTrigger::kPathBlocked), replanned.trigger, 0.0);
+    DOUBLES_EQUAL(0.0, replanned.run, 0.0);
     Evaluation over = kFigures;
     over.violated = LegConstraint::kPathLength;
     over.excess = 0.56;
@@ -135,6 +164,22 @@ TEST(LegEvents, AFailUpGivesTheFiguresOfItsReason) {
     say.failUp(leg(), LegConstraint::kPower, e, 1, 1.2);
     STRCMP_EQUAL("habitual: leg 3 fail-up: power 18.0 W > allowed 16.0 W by 2.0 W (power factor 1.200)",
                  only(ev::kFailUp));
+    evd::HABITUAL_FAIL_UP failUp;
+    CHECK_TRUE(seen.data(ev::kFailUp, &failUp));
+    DOUBLES_EQUAL(3.0, failUp.leg_id, 0.0);
+    DOUBLES_EQUAL(static_cast<double>(LegConstraint::kPower), failUp.constraint, 0.0);
+    DOUBLES_EQUAL(18.0, failUp.predicted, 0.0);
+    DOUBLES_EQUAL(16.0, failUp.allowed, 0.0);
+    DOUBLES_EQUAL(2.0, failUp.excess, 0.0);
+    DOUBLES_EQUAL(1.2, failUp.power_factor, 0.0);
+    say.failUp(leg(), LegConstraint::kNoPath, kFigures, 3, 1.0);
+    (void)only(ev::kFailUp);
+    CHECK_TRUE(seen.data(ev::kFailUp, &failUp));
+    DOUBLES_EQUAL(static_cast<double>(LegConstraint::kNoPath), failUp.constraint, 0.0);
+    DOUBLES_EQUAL(3.0, failUp.predicted, 0.0);  // planning runs
     say.failUp(leg(), LegConstraint::kCannotFollow, kFigures, 1, 1.0);
     STRCMP_EQUAL("habitual: leg 3 fail-up: cannot follow", only(ev::kFailUp));
+    CHECK_TRUE(seen.data(ev::kFailUp, &failUp));
+    DOUBLES_EQUAL(static_cast<double>(LegConstraint::kCannotFollow), failUp.constraint, 0.0);
+    DOUBLES_EQUAL(0.0, failUp.predicted, 0.0);
 }

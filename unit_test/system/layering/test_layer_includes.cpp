@@ -13,7 +13,8 @@
 // - the exception to both: a layer and fsw/tables may include the application
 //   interface of fsw/cmdtlm (the headers kCmdTlmInterface names, listed in
 //   fsw/cmdtlm/app_commands.hpp), through which an application owns its
-//   commands and its telemetry packets; nothing else of fsw/cmdtlm;
+//   commands and its telemetry packets and names its events' numbers
+//   (event_data.hpp); nothing else of fsw/cmdtlm;
 // - fsw/cmdtlm (the command and telemetry service, below every layer) includes
 //   only itself, fsw/core, fsw/msg and what lies outside fsw/ (hal/): no
 //   layer, no table, no fsw/io, no fsw/app.
@@ -37,7 +38,7 @@ const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "table
 const std::vector<std::string> kCmdTlmInterface = {
     "fsw/cmdtlm/dictionary.hpp",     "fsw/cmdtlm/command_verdict.hpp",  "fsw/cmdtlm/app_commands.hpp",
     "fsw/cmdtlm/telemetry_sink.hpp", "fsw/cmdtlm/telemetry_packer.hpp", "fsw/cmdtlm/housekeeping_contributor.hpp",
-    "fsw/cmdtlm/rover_mode.hpp"};
+    "fsw/cmdtlm/rover_mode.hpp",     "fsw/cmdtlm/event_data.hpp"};
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();

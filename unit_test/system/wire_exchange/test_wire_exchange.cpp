@@ -1,6 +1,6 @@
 // Wire formats across machines: every target encodes the same reference
-// samples (telemetry, an authenticated command, a table image, a CANopen PDO
-// payload) with its own build of the flight and ground code and writes them to
+// samples (telemetry, an event's numbers, an authenticated command, a table
+// image, a CANopen PDO payload) with its own build of the flight and ground code and writes them to
 // RSE_WIRE_DIR/<target>.txt (default build/wire); then each target reads the
 // files the other targets wrote (RSE_WIRE_PEERS, names separated by spaces) and
 // requires the same bytes and the same decoded values. make test runs the suite
@@ -27,9 +27,11 @@
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/command_validator.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "ground/command_encoder.hpp"
+#include "ground/event_data_pairing.hpp"
 #include "ground/table_compiler.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "hal/canopen/le_codec.hpp"
@@ -73,6 +75,9 @@ constexpr double kEventTime = 1234.5678;
 constexpr std::uint16_t kEventId = 0xBEEF;
 constexpr std::uint8_t kSeverity = 2;
 constexpr char kEventText[] = "wire exchange: big-endian on the wire, any byte order at home";
+// The event's numbers (EVENT_DATA): a LEG_SENT, every value exact in f64 but
+// none an integer in f32, one negative, one tiny.
+constexpr double kLegX = 17.625, kLegY = -0.46875, kLegPowerW = 324.2431640625, kTiny = 3.0517578125e-05;
 constexpr double kGotoX = 12.5, kGotoY = -3.25, kGotoRisk = 1e-3;
 constexpr std::uint32_t kGotoAuthSequence = 0x00ABCDEF;
 constexpr std::uint16_t kControlword = 0x000F;
@@ -116,6 +121,24 @@ Samples encodeSamples() {
     event.severity = kSeverity;
     std::strncpy(event.text, kEventText, sizeof event.text - 1);
     s["tlm_event"] = telemetryPacketOf(event);
+    cmdtlm::event_data::LEG_SENT sent;
+    sent.leg_id = 4;
+    sent.index = 3;
+    sent.count = 6;
+    sent.x = kLegX;
+    sent.y = kLegY;
+    sent.length_bound = kTiny;
+    sent.power_bound = kLegPowerW;
+    const core::EventData values = sent.pack();
+    cmdtlm::EVENT_DATA_Tlm data{};
+    data.event_sequence = kEventSequence;
+    data.event_id = cmdtlm::event_data::LEG_SENT::kFirstId;
+    data.value_count = values.count;
+    for (std::size_t i = 0; i < values.count; ++i) {
+        data.value[i] = values.values[i];
+    }
+    data.data_withheld = 0x0A0B0C0DU;
+    s["tlm_event_data"] = telemetryPacketOf(data);
     s["tlm_plan_path"] = telemetryPacketOf(referencePlan());
     s["cmd_goto"] = ground::encodeCommand("GOTO", {"x=12.5", "y=-3.25", "risk=1e-3"}, ground::labKeyAuth(),
                                           kGotoAuthSequence);
@@ -203,6 +226,21 @@ void checkDecodes(const Samples& s, const std::string& from) {
     DOUBLES_EQUAL_TEXT(kEventId, *event.value("event_id"), 0.0, where.c_str());
     DOUBLES_EQUAL_TEXT(kSeverity, *event.value("severity"), 0.0, where.c_str());
     STRCMP_EQUAL_TEXT(kEventText, event.field("text")->text.c_str(), where.c_str());
+
+    // The event's numbers, by the names of its layout, paired by event_sequence.
+    const ground::DecodedPacket numbers = ground::decodeTelemetry(s.at("tlm_event_data"));
+    CHECK_TEXT(numbers.ok, (where + ": EVENT_DATA " + numbers.error).c_str());
+    ground::EventDataPacket read;
+    CHECK_TEXT(ground::readEventData(numbers, &read), where.c_str());
+    CHECK_EQUAL_TEXT(kEventSequence, read.sequence, where.c_str());
+    CHECK_EQUAL_TEXT(0x0A0B0C0DU, read.withheld, where.c_str());
+    cmdtlm::event_data::LEG_SENT sent;
+    CHECK_TEXT(sent.unpack(read.id, read.data), where.c_str());
+    DOUBLES_EQUAL_TEXT(4.0, sent.leg_id, 0.0, where.c_str());
+    DOUBLES_EQUAL_TEXT(kLegX, sent.x, 0.0, where.c_str());
+    DOUBLES_EQUAL_TEXT(kLegY, sent.y, 0.0, where.c_str());
+    DOUBLES_EQUAL_TEXT(kTiny, sent.length_bound, 0.0, where.c_str());
+    DOUBLES_EQUAL_TEXT(kLegPowerW, sent.power_bound, 0.0, where.c_str());
 
     const ground::DecodedPacket plan = ground::decodeTelemetry(s.at("tlm_plan_path"));
     CHECK_TEXT(plan.ok, (where + ": PLAN_PATH " + plan.error).c_str());
