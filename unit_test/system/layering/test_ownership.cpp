@@ -48,6 +48,7 @@ const std::map<std::uint16_t, std::string> kCommandOwners = {
 // The folder under fsw/ that packs each telemetry packet.
 const std::map<std::string, std::string> kPacketOwners = {
     {"HK", "cmdtlm"},           {"CMD_ACK", "cmdtlm"},          {"EVENT", "cmdtlm"},
+    {"EVENT_DATA", "cmdtlm"},
     {"TASK_TIMING", "cmdtlm"},  {"ROVER_STATE", "estimator"},   {"HEALTH", "estimator"},
     {"DRIVES", "io"},           {"POWER", "io"},                {"INSTRUMENTS", "io"},
     {"PLAN", "deliberative"},   {"PLAN_PATH", "deliberative"},  {"HAZARDS", "habitual"},
