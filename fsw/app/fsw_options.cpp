@@ -279,6 +279,24 @@ void sayRefused(const Parse& p, char** argv) {
     }
 }
 
+// The options that weaken command authentication (the public lab key, no
+// authentication, a weak or readable key file, a new anti-replay store) are
+// taken only when written in full: getopt_long would take an abbreviation
+// ("--lab-n"), and a typo must not switch security off.
+bool weakensSecurity(int key) {
+    return key == kLabKey || key == kLabNoAuth || key == kAllowWeakKey || key == kAllowReadableKey ||
+           key == kAuthStoreCreate;
+}
+
+bool writtenInFull(const Parse& p, int key, char** argv) {
+    const char* written = optind > 0 ? argv[optind - 1] : "";
+    const char* name = optionName(key);
+    if (std::strncmp(written, "--", 2) == 0 && std::strcmp(written + 2, name) == 0) {
+        return true;
+    }
+    return say(p, "'%s' must be written in full as '--%s' (it weakens command authentication)", written, name);
+}
+
 }  // namespace
 
 FswCommandLine parseFswOptions(int argc, char** argv, FswOptions* options, char* why, std::size_t whySize) {
@@ -301,6 +319,9 @@ FswCommandLine parseFswOptions(int argc, char** argv, FswOptions* options, char*
         }
         if (key == '?' || key == ':') {
             sayRefused(p, argv);
+            return FswCommandLine::kBad;
+        }
+        if (weakensSecurity(key) && !writtenInFull(p, key, argv)) {
             return FswCommandLine::kBad;
         }
         if (!applyFlag(key, options) && !applyValue(p, key, optarg)) {

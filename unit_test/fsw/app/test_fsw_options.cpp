@@ -120,6 +120,21 @@ TEST(FswOptions, UnknownOptionsAndArgumentsAreNamed) {
     CHECK_TRUE(contains(refused({"--lab-key", "run"}).c_str(), "unexpected argument 'run'"));
 }
 
+// getopt_long takes a unique abbreviation of a long option (--dur 5), but not of
+// one that weakens command authentication: a typo must not switch it off.
+TEST(FswOptions, OptionsThatWeakenAuthenticationMustBeWrittenInFull) {
+    STRCMP_EQUAL("'--lab-n' must be written in full as '--lab-no-auth' (it weakens command authentication)",
+                 refused({"--lab-key", "--lab-n"}).c_str());
+    CHECK_TRUE(contains(refused({"--lab-k"}).c_str(), "as '--lab-key'"));
+    CHECK_TRUE(contains(refused({"--key-file", "k", "--allow-r"}).c_str(), "as '--allow-readable-key'"));
+    CHECK_TRUE(contains(refused({"--key-file", "k", "--allow-w"}).c_str(), "as '--allow-weak-key'"));
+    CHECK_TRUE(contains(refused({"--lab-key", "--auth-store-c"}).c_str(), "as '--auth-store-create'"));
+    CommandLine full({"--lab-key", "--lab-no-auth", "--auth-store-create", "--dur", "5"});
+    CHECK_TRUE(full.parse() == FswCommandLine::kRun);
+    CHECK_TRUE(full.options.keyOptions.labKeyAllowed);
+    DOUBLES_EQUAL(5.0, full.options.durationSec, 0.0);
+}
+
 TEST(FswOptions, MissingValuesSayWhatIsNeeded) {
     STRCMP_EQUAL("--can needs an interface name", refused({"--lab-key", "--can"}).c_str());
     STRCMP_EQUAL("--duration needs a number of seconds in (0, 1e7]", refused({"--duration"}).c_str());
