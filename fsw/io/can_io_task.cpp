@@ -258,7 +258,8 @@ void CanIoTask::takeInstrumentCommand(const msg::InstrumentCommandMsg& c) {
         ++instrumentCommandsDropped_;
         if (core::isReportableOccurrence(instrumentCommandsDropped_)) {
             events_.report(events::kBusMessageMalformed, core::Severity::kError,
-                           "app: CAN I/O dropped an instrument command: no such instrument %u (%u so far)", static_cast<unsigned>(which),
+                           "app: CAN I/O dropped an instrument command: no such instrument %u (%u so far)",
+                           static_cast<unsigned>(which),
                            static_cast<unsigned>(instrumentCommandsDropped_));
         }
         return;
