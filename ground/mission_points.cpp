@@ -15,6 +15,7 @@
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
+#include "ground/mission_text.hpp"
 
 namespace rse::ground {
 
@@ -23,19 +24,6 @@ namespace {
 namespace dev = deliberative::events;
 namespace hev = habitual::events;
 namespace evd = cmdtlm::event_data;
-
-// The text after "layer: " (the flight event's own words, without its prefix),
-// to quote to people.
-std::string body(const std::string& text) {
-    const std::size_t colon = text.find(": ");
-    return colon == std::string::npos ? text : text.substr(colon + 2);
-}
-
-std::string seconds(double t) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.2f s", t);
-    return text;
-}
 
 // An id or a count as the event's numbers carry it (a double holding an integer).
 std::uint32_t whole(double value) { return value >= 0.0 ? static_cast<std::uint32_t>(value) : 0U; }
@@ -161,7 +149,7 @@ void TenPointTracker::setFact(int number, const std::string& name, double value)
 }
 
 void TenPointTracker::decide(const FlightEvent& e, const char* kind) {
-    decisions_.push_back(MissionDecision{e.timeS, kind, body(e.text)});
+    decisions_.push_back(MissionDecision{e.timeS, kind, eventWords(e.text)});
 }
 
 double TenPointTracker::fact(int number, const std::string& name) const {
@@ -187,14 +175,14 @@ void TenPointTracker::onGoalsCommanded(const FlightEvent& e) {
     if (e.read(&goals) && goals.goal_count > 0.0) {
         setFact(1, "risk bound", goals.risk_bound);
         see(1, e.timeS, "operator",
-            "authenticated GOTO taken by the flight software: " + body(e.text) + " (its only source of goals is an "
+            "authenticated GOTO taken by the flight software: " + eventWords(e.text) + " (its only source of goals is an "
             "accepted command)");
     }
 }
 
 void TenPointTracker::onPlanFound(const FlightEvent& e) {
     if (firstPlan_.empty()) {
-        firstPlan_ = body(e.text);
+        firstPlan_ = eventWords(e.text);
     }
     planPending_ = true;
     decide(e, "plan");
@@ -252,17 +240,17 @@ void TenPointTracker::onLegSent(const FlightEvent& e) {
 }
 
 void TenPointTracker::onPlanSent(const FlightEvent& e) {
-    lastPlanSent_ = body(e.text);
+    lastPlanSent_ = eventWords(e.text);
     hiddenObstaclePlanned(e);
     currentLegPlanned_ = true;
     if (!points_[2].seen) {
-        see(3, e.timeS, "habitual", "local plan on the fine map within the leg's bounds, driving: " + body(e.text));
+        see(3, e.timeS, "habitual", "local plan on the fine map within the leg's bounds, driving: " + eventWords(e.text));
     }
     if (relaxPending_) {
         relaxPending_ = false;
         setFact(7, "power bound before W", powerBoundBeforeW_);
         setFact(7, "power bound after W", relaxedPowerW_);
-        see(7, e.timeS, "deliberative + habitual", relaxText_ + "; driving resumed: " + body(e.text));
+        see(7, e.timeS, "deliberative + habitual", relaxText_ + "; driving resumed: " + eventWords(e.text));
     }
 }
 
@@ -287,15 +275,15 @@ void TenPointTracker::onHabitualFailUp(const FlightEvent& e) {
         if (degraded_ != 0U) {
             what = "drive " + degradedText_ + "; ";
         }
-        what += "leg " + std::to_string(legId) + "'s power bound no longer met: " + body(e.text);
+        what += "leg " + std::to_string(legId) + "'s power bound no longer met: " + eventWords(e.text);
         see(6, e.timeS, "estimator + habitual", what);
     } else if (failed_ != 0U) {
         // 8: the motor failed; the habitual layer fails up again.
-        std::string what = "drive " + failedText_ + " at " + seconds(failedS_);
+        std::string what = "drive " + failedText_ + " at " + secondsText(failedS_);
         if (!gaveUpText_.empty()) {
             what += " (" + gaveUpText_ + ")";
         }
-        what += "; " + body(e.text);
+        what += "; " + eventWords(e.text);
         see(8, e.timeS, "estimator + habitual", what);
     }
 }
@@ -318,7 +306,7 @@ void TenPointTracker::onHabitualLegAchieved(const FlightEvent& e) {
 
 void TenPointTracker::onLegReached(const FlightEvent& e) {
     legReachedPending_ = true;
-    legReachedText_ = body(e.text);
+    legReachedText_ = eventWords(e.text);
 }
 
 void TenPointTracker::onBoundRelaxed(const FlightEvent& e) {
@@ -337,12 +325,12 @@ void TenPointTracker::onBoundRelaxed(const FlightEvent& e) {
 }
 
 void TenPointTracker::onRiskRelaxed(const FlightEvent& e) {
-    riskRelaxText_ = body(e.text);
+    riskRelaxText_ = eventWords(e.text);
     decide(e, "risk relaxed");
 }
 
 void TenPointTracker::onReplan(const FlightEvent& e) {
-    replanText_ = body(e.text);
+    replanText_ = eventWords(e.text);
     decide(e, "replan");
 }
 
@@ -357,7 +345,7 @@ void TenPointTracker::onFailedDriveModel(const FlightEvent& e) {
     decide(e, "drive model");
     evd::FAILED_DRIVE_MODEL model;
     if (e.read(&model) && whole(model.failed_drives) != 0U) {
-        std::string what = body(e.text);
+        std::string what = eventWords(e.text);
         if (!replanText_.empty()) {
             what = replanText_ + "; " + what;
         }
@@ -378,13 +366,13 @@ void TenPointTracker::onSafed(const FlightEvent& e) {
     decide(e, "safed");
     if (callHomeSeen_ && safedS_ < 0.0) {
         safedS_ = e.timeS;
-        safedText_ = body(e.text);
+        safedText_ = eventWords(e.text);
         seePointTen();
     }
 }
 
 void TenPointTracker::onGaveUp(const FlightEvent& e) {
-    gaveUpText_ = "fault protection gave it up at " + seconds(e.timeS);
+    gaveUpText_ = "fault protection gave it up at " + secondsText(e.timeS);
     decide(e, "fault protection");
 }
 
@@ -399,10 +387,10 @@ void TenPointTracker::onDriveMode(const FlightEvent& e) {
     failed_ &= ~bit;
     if (to == msg::DriveMode::kDegraded) {
         degraded_ |= bit;
-        degradedText_ = body(e.text) + " at " + seconds(e.timeS);
+        degradedText_ = eventWords(e.text) + " at " + secondsText(e.timeS);
     } else if (to == msg::DriveMode::kFailed || to == msg::DriveMode::kUnknown) {
         failed_ |= bit;
-        failedText_ = body(e.text);
+        failedText_ = eventWords(e.text);
         failedS_ = e.timeS;
     }
     decide(e, "drive mode");

@@ -12,7 +12,7 @@
 // no point. An event whose numbers were lost on the way is taken as one that
 // does not show its point (as a missing event would). onEvent looks the
 // event's id up in a table of handlers, one small member function each;
-// mission_points.cpp holds them and points 1-4 and 6-10, mission_point_five.cpp
+// mission_points.cpp holds them and points 1-4 and 6-10, mission_hidden_obstacle.cpp
 // the hidden obstacle's (point 5) and the hazards.
 //
 //   1 operator      the goal list the flight software took from an authenticated GOTO (event 208, >= 1 goal)
@@ -122,7 +122,7 @@ private:
     void onSafed(const FlightEvent& e);              // 215: point 10
     void onGaveUp(const FlightEvent& e);             // 933
     void onDriveMode(const FlightEvent& e);          // 760-763
-    // Point 5 and the hazards (mission_point_five.cpp).
+    // Point 5 and the hazards (mission_hidden_obstacle.cpp).
     void onPathBlocked(const FlightEvent& e);        // 804
     void onMinorAnomaly(const FlightEvent& e);       // 805
     void onHazardRemembered(const FlightEvent& e);   // 816

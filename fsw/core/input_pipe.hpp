@@ -41,7 +41,7 @@ namespace rse::core {
 // The longest refusal detail a handler may give (explain()), with its NUL.
 constexpr std::size_t kRefusalDetailSize = 64;
 
-// Handlers one pipe can hold (the telemetry task's packers take 16 ids, one of them twice).
+// Handlers one pipe can hold (the telemetry task's packers take 15 ids in 16 routes: DriveStatusMsg twice).
 constexpr std::size_t kMaxInputRoutes = 24;
 
 namespace input_pipe_detail {

@@ -2,12 +2,13 @@
 // goals into chance-constrained plans and hands them to the habitual layer one
 // leg at a time, taking exactly the risk the operator allows.
 //
-//   in:  GoalListMsg (goals and the risk bound: GOTO, ADD_TARGET, CLEAR_GOALS,
-//        SET_RISK_BOUND), PoseEstimateMsg (start mean and covariance),
+//   in:  PlanGoalMsg (the plan executive's drive activities: a goal, its region
+//        and the risk bound), PoseEstimateMsg (start mean and covariance),
 //        LegReportMsg, KnownHazardsMsg (hazards the habitual layer has seen),
 //        DriveModesMsg (power factors, failed drives), DriveStatusMsg (the
 //        drive interlock), ModeMsg, MissionHoldMsg (fault protection),
-//        FaultStatusMsg (pose uncertainty)
+//        FaultStatusMsg (pose uncertainty), ReplanRequestMsg (fault protection:
+//        off the map)
 //   out: LegCommandMsg, PlanStatusMsg (PLAN telemetry), SafeRequestMsg (call home)
 //
 // States (DeliberativeState, deliberative_msgs.hpp):

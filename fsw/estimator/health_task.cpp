@@ -10,7 +10,6 @@ namespace rse::estimator {
 HealthTask::HealthTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
                        const core::Executive& executive)
     : bus_(bus),
-      events_(events),
       tables_(tables),
       executive_(executive),
       monitor_(events),

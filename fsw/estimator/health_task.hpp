@@ -69,7 +69,6 @@ private:
     void publishStatus(core::TimeNs now);
 
     core::SoftwareBus& bus_;
-    core::EventLog& events_;
     const tables::TableService& tables_;
     const core::Executive& executive_;
     HealthMonitor monitor_;

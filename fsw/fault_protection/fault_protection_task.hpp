@@ -11,7 +11,7 @@
 //   out: MissionHoldMsg on every change and at 1 Hz (CAN I/O holds the wheels,
 //        the habitual and deliberative layers hold the mission);
 //        DriveRecoveryMsg (CAN I/O: fault reset, NMT reset node, interlock reset);
-//        TaskRestartMsg (command handlers: run a stalled row again);
+//        TaskRestartMsg (the executive's commands, fsw/cmdtlm: run a stalled row again);
 //        SafeRequestMsg (call home: mode SAFE) when a response gives up;
 //        FaultProtectionStatusMsg on every change and at 1 Hz (telemetry).
 // Running in the same frame as the health task, a fault's first response (the

@@ -4,14 +4,6 @@
 
 namespace rse::plan_executive {
 
-namespace {
-
-bool isScience(ActivityKind k) {
-    return k == ActivityKind::kSample || k == ActivityKind::kDig || k == ActivityKind::kImage;
-}
-
-}  // namespace
-
 void ActivityDevices::start(std::uint16_t a) {
     switch (ctx_.plan().activities[a].kind) {
         case ActivityKind::kDrive:

@@ -22,10 +22,6 @@ constexpr double kMinRadiusM = 0.001;
 constexpr double kMaxRadiusM = static_cast<double>(msg::kMaxGoalRadiusM);
 static_assert(kMaxRadiusM * 1000.0 <= 65535.0, "Activity::radiusMm holds the largest radius in mm");
 
-bool isScience(ActivityKind k) {
-    return k == ActivityKind::kSample || k == ActivityKind::kImage || k == ActivityKind::kDig;
-}
-
 bool isFieldKeyword(const Token& t) {
     return equals(t, "cost") || equals(t, "at") || equals(t, "target") || equals(t, "ask") || equals(t, "tell") ||
            equals(t, "when");

@@ -9,10 +9,6 @@ namespace rse::plan_executive {
 
 namespace {
 
-bool isScience(ActivityKind k) {
-    return k == ActivityKind::kSample || k == ActivityKind::kImage || k == ActivityKind::kDig;
-}
-
 double seconds(std::int32_t ms) { return static_cast<double>(ms) / 1000.0; }
 
 const char* refusalName(msg::PlanExtensionRefusal r) {

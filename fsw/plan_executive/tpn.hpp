@@ -56,6 +56,12 @@ enum class ActivityKind : std::uint8_t {
 };
 constexpr std::size_t kActivityKindCount = 6;
 
+// A science activity: one an instrument carries out on a target (a sample, an
+// image, a dig), which may be extended (PLAN_EXTEND) and must name its target.
+constexpr bool isScience(ActivityKind k) {
+    return k == ActivityKind::kSample || k == ActivityKind::kImage || k == ActivityKind::kDig;
+}
+
 // Components whose state mode estimation or the device reports.
 enum class Component : std::uint8_t {
     kDriveFL = 0,

@@ -1,7 +1,7 @@
 // Test-only: the deliberative task on a real software bus with the default
 // tables, one 10 Hz run at a time. The rig stands in for what surrounds it: the
 // estimator (a PoseEstimateMsg per run from a synthetic pose and covariance),
-// the plan executive (PlanGoalMsg) and the command handlers (ModeMsg), the drive-mode estimator
+// the plan executive (PlanGoalMsg) and the mode owner (ModeMsg), the drive-mode estimator
 // (DriveModesMsg) and the habitual layer (LegReportMsg, written by each test).
 // It records what the task publishes (legs, plan status, plan paths, safe requests) and
 // the events it raises, without allocating.

@@ -12,7 +12,7 @@
 //   failure   torque off at once (the wheel coasts to 0 with the lag, current 0),
 //             health kFaulted one frame later, kFailed 300 ms after that
 //   interlock two frames after any drive first reports a fault every target is 0
-//             (latched), as fsw/reflexive/drive_interlock does
+//             (latched), as fsw/io/drive_interlock does
 //   jam       (a failure the model does not describe) the wheel is held at 0 while
 //             the motor pushes: extra load torque, no fault report
 #pragma once

@@ -106,7 +106,7 @@ TEST(LockstepDrive, MotorFailureIsReportedAndEveryOtherWheelIsStopped) {
     // after it), so the "still faulted" report may come more than once.
     CHECK(rig->consoleCount("EVT 434 CRIT  drive ML (node 2): still faulted after 3 resets (EMCY 0x5000)") >= 1);
     LONGS_EQUAL(1, rig->consoleCount("EVT 406 ERROR drive ML (node 2): EMCY 0x5000"));
-    // RESET_INTERLOCK (its bus message, as the command handlers publish it) is
+    // RESET_INTERLOCK (its bus message, as the mobility commands publish it) is
     // refused while the failed drive stays unhealthy: the hold stays.
     msg::InterlockResetMsg reset{};
     CHECK(core::isOk(rig->fsw().bus().publish(reset)));

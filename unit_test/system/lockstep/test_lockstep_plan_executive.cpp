@@ -288,7 +288,7 @@ TEST(LockstepPlanExecutive, WhenNoMethodRemainsTheOperatorIsCalled) {
     LONGS_EQUAL(1, rig->consoleCount("EVT 963 WARN  plan_exec: plan two_targets regenerated"));  // image2, at 240 s
     LONGS_EQUAL(1, rig->consoleCount("EVT 972 WARN  plan_exec: camera now failed"));
     LONGS_EQUAL(1, rig->consoleCount("EVT 966 CRIT  plan_exec: plan two_targets: no method remains"));
-    LONGS_EQUAL(1, rig->consoleCount("EVT 215 "));  // the command handlers: SAFE on the call home
+    LONGS_EQUAL(1, rig->consoleCount("EVT 215 "));  // the mode owner: SAFE on the call home
     CHECK(rig->fsw().roverMode().mode() == cmdtlm::Mode::kSafe);
     DOUBLES_EQUAL(5.0, field("state"), 0.0);
     DOUBLES_EQUAL(1.0, field("operator_calls"), 0.0);

@@ -3,8 +3,8 @@
 // acknowledgement, PLAN_START with the length and CRC-32, the wait for the
 // executive's verdict) on an in-memory link to the flight software, in
 // lockstep with the simulator: the packets rse-ground builds go through
-// command ingest, authentication and the command handlers to the plan
-// executive, which must accept the plan (event 950) and start dispatching.
+// command ingest, authentication and the plan executive's commands to the
+// plan executive, which must accept the plan (event 950) and start dispatching.
 // A full 16 KiB upload (82 chunks) must arrive whole: the acknowledgements
 // pace it under the executive's pipe of 12 a run.
 #include <cstdio>

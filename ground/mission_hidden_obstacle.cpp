@@ -11,24 +11,13 @@
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/geometry/coarse_map.hpp"
 #include "ground/mission_points.hpp"
+#include "ground/mission_text.hpp"
 
 namespace rse::ground {
 
 namespace {
 
 namespace evd = cmdtlm::event_data;
-
-std::string seconds(double t) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.2f s", t);
-    return text;
-}
-
-// The words after "layer: ", quoted.
-std::string body(const std::string& text) {
-    const std::size_t colon = text.find(": ");
-    return colon == std::string::npos ? text : text.substr(colon + 2);
-}
 
 // Hidden: the disc meets no polygon of the coarse map (a known rock seen by
 // the detector is the map's, not a surprise).
@@ -121,7 +110,7 @@ void TenPointTracker::hiddenObstacleLegReplaced(const FlightEvent& e, std::uint3
         // deliberative layer stepped in (merged, re-sent or replanned).
         decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
                                              "hazard " + std::to_string(hidden_.hazardId) + " seen at " +
-                                                 seconds(hidden_.seenS) + ": leg " + std::to_string(currentLeg_) +
+                                                 secondsText(hidden_.seenS) + ": leg " + std::to_string(currentLeg_) +
                                                  " superseded by leg " + std::to_string(newLegId)});
         hidden_.active = false;
     }
@@ -147,7 +136,7 @@ void TenPointTracker::hiddenObstaclePlanned(const FlightEvent& e) {
     if (hidden_.active && hidden_.whilePlanning && hidden_.legId == currentLeg_ && hidden_.replannedS < 0.0) {
         // The leg's plan, made with the obstacle on the map: round it.
         hidden_.replannedS = e.timeS;
-        hidden_.plan = body(e.text);
+        hidden_.plan = eventWords(e.text);
         hidden_.replanX = poseX_;
         hidden_.replanY = poseY_;
     }
@@ -165,7 +154,7 @@ void TenPointTracker::hiddenObstacleFailedUp(const FlightEvent& e, std::uint32_t
         ++hidden_.failUps;
         decisions_.push_back(MissionDecision{e.timeS, "hidden obstacle",
                                              "hazard " + std::to_string(hidden_.hazardId) + " seen at " +
-                                                 seconds(hidden_.seenS) + " on leg " + std::to_string(legId) +
+                                                 secondsText(hidden_.seenS) + " on leg " + std::to_string(legId) +
                                                  ": the leg failed up (no local replan within its bounds)"});
         hidden_.active = false;
     }
@@ -186,17 +175,17 @@ void TenPointTracker::completePointFive(double timeS, const std::string& ending)
     setFact(5, "while planning", hidden_.whilePlanning ? 1.0 : 0.0);
     const std::string how =
         hidden_.mergedFromLeg != 0
-            ? " seen on the path at " + seconds(hidden_.seenS) + ", leg " + std::to_string(hidden_.mergedFromLeg) +
-                  " replanned locally within its bounds at " + seconds(hidden_.firstReplanS) +
+            ? " seen on the path at " + secondsText(hidden_.seenS) + ", leg " + std::to_string(hidden_.mergedFromLeg) +
+                  " replanned locally within its bounds at " + secondsText(hidden_.firstReplanS) +
                   ", logged as a minor anomaly; the leg's end inside it, merged into leg " + legId +
-                  ", planned round it at " + seconds(hidden_.replannedS) + " (" + hidden_.plan + ")"
+                  ", planned round it at " + secondsText(hidden_.replannedS) + " (" + hidden_.plan + ")"
         : hidden_.whilePlanning
-            ? " seen on the leg's way at " + seconds(hidden_.seenS) + (hidden_.beforeLeg ? " before leg " : " while leg ") +
+            ? " seen on the leg's way at " + secondsText(hidden_.seenS) + (hidden_.beforeLeg ? " before leg " : " while leg ") +
                   legId + (hidden_.beforeLeg ? " was sent" : " was being planned") +
-                  "; planned round it locally within its bounds at " + seconds(hidden_.replannedS) + " (" +
+                  "; planned round it locally within its bounds at " + secondsText(hidden_.replannedS) + " (" +
                   hidden_.plan + ")"
-            : " seen on the path at " + seconds(hidden_.seenS) + ", leg " + legId +
-                  " replanned locally within its bounds at " + seconds(hidden_.replannedS) + " (" + hidden_.plan +
+            : " seen on the path at " + secondsText(hidden_.seenS) + ", leg " + legId +
+                  " replanned locally within its bounds at " + secondsText(hidden_.replannedS) + " (" + hidden_.plan +
                   "), logged as a minor anomaly";
     see(5, timeS, "habitual", "hidden obstacle " + std::to_string(hidden_.hazardId) + how + "; " + ending);
     // Placed where it happened: where the rover replanned.
