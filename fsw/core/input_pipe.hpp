@@ -153,8 +153,11 @@ private:
         using Traits = input_pipe_detail::HandlerTraits<decltype(Handler)>;
         using M = typename Traits::Msg;
         auto* o = static_cast<typename Traits::Owner*>(owner);
-        // Placement new only constructs in the pipe's own storage: no allocation.
-        M* decoded = ::new (storage) M{};
+        // Placement new only constructs in the pipe's own storage: no
+        // allocation. Default-initialised, not zeroed: decode() copies every
+        // byte of M (its length is checked to be sizeof(M)) before a handler
+        // sees it, and a message that does not decode is never read.
+        M* decoded = ::new (storage) M;
         const Status status = message.decode(decoded);
         if (!isOk(status)) {
             if constexpr (std::is_null_pointer<decltype(OnUndecodable)>::value) {
