@@ -16,7 +16,16 @@ namespace rse::sim {
 
 class FramePacer {
 public:
-    explicit FramePacer(double factor) : factor_(factor) {}
+    using Clock = std::chrono::steady_clock;
+    // The wall clock read and waited on: steady_clock and sleep_until, or a
+    // test's own (so its schedule and lateness can be checked exactly).
+    using NowFn = Clock::time_point (*)();
+    using SleepUntilFn = void (*)(Clock::time_point);
+    static Clock::time_point wallNow();
+    static void wallSleepUntil(Clock::time_point due);
+
+    explicit FramePacer(double factor, NowFn now = &wallNow, SleepUntilFn sleepUntil = &wallSleepUntil)
+        : factor_(factor), now_(now), sleepUntil_(sleepUntil) {}
     // Before `frame` runs (the executive's next frame); called again for the
     // same frame, it does nothing.
     void beforeFrame(std::uint64_t frame);
@@ -28,10 +37,12 @@ public:
 
 private:
     double factor_;
+    NowFn now_;
+    SleepUntilFn sleepUntil_;
     bool started_ = false;
     std::uint64_t firstFrame_ = 0;
     std::uint64_t lastFrame_ = 0;
-    std::chrono::steady_clock::time_point start_{};
+    Clock::time_point start_{};
     std::uint64_t frames_ = 0;
     std::uint64_t behind_ = 0;
     double behindMaxMs_ = 0.0;
