@@ -3,8 +3,8 @@
 // the first frame paced. Each frame is waited for, not each period: lateness
 // in one frame does not shift the later ones, so a machine that falls behind
 // (a planner's long frame, a factor beyond what it can run) runs the frames
-// that are due at once until it has caught up; those are counted with the
-// latest one's lateness. Factor 0: no pacing.
+// that are due at once until it has caught up; those are counted, with the
+// most any of them was late. Factor 0: no pacing.
 //
 // Host side (sim_stub/): full language; rse-fsw never links it.
 #pragma once
@@ -33,7 +33,7 @@ public:
     double factor() const { return factor_; }
     std::uint64_t framesPaced() const { return frames_; }
     std::uint64_t framesBehind() const { return behind_; }  // reached after their due time
-    double behindMaxMs() const { return behindMaxMs_; }      // by how much the latest was late
+    double behindMaxMs() const { return behindMaxMs_; }      // the most a frame was late
 
 private:
     double factor_;
