@@ -7,12 +7,15 @@
 
 namespace rse::sim {
 
+FramePacer::Clock::time_point FramePacer::wallNow() { return Clock::now(); }
+
+void FramePacer::wallSleepUntil(Clock::time_point due) { std::this_thread::sleep_until(due); }
+
 void FramePacer::beforeFrame(std::uint64_t frame) {
-    using Clock = std::chrono::steady_clock;
     if (!(factor_ > 0.0) || (started_ && frame == lastFrame_)) {
         return;
     }
-    const Clock::time_point now = Clock::now();
+    const Clock::time_point now = now_();
     if (!started_) {
         started_ = true;
         firstFrame_ = frame;
@@ -25,7 +28,7 @@ void FramePacer::beforeFrame(std::uint64_t frame) {
     const Clock::time_point due =
         start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dueS));
     if (now < due) {
-        std::this_thread::sleep_until(due);
+        sleepUntil_(due);
     } else if (now > due) {
         ++behind_;
         behindMaxMs_ = std::max(behindMaxMs_, std::chrono::duration<double, std::milli>(now - due).count());

@@ -72,7 +72,7 @@ struct MissionSummary {
     double endTimeS = 0.0;      // simulated time when the run stopped
     double wallTimeS = 0.0;
     // --pace: the factor, the frames paced, those reached after their due
-    // wall time (run at once, without sleeping) and by how much the latest was late.
+    // wall time (run at once, without sleeping) and the most one was late.
     double pace = 0.0;
     std::uint64_t pacedFrames = 0;
     std::uint64_t framesBehind = 0;

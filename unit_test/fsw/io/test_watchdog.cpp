@@ -1,17 +1,11 @@
-// The watchdog: fed only while every task is live (the health task's fault
-// status fresh, no task stalled); the Linux device fed by writes and disarmed
-// by the magic close. In the real FswApp: unit_test/fsw/app/test_watchdog_in_the_app.cpp.
-#include <cstdio>
-#include <fstream>
-#include <iterator>
-#include <string>
-#include <unistd.h>
-
+// The watchdog task: it feeds the watchdog only while every task is live (the
+// health task's fault status fresh, no task stalled). In the real FswApp:
+// unit_test/fsw/app/test_watchdog_in_the_app.cpp; the Linux device it feeds:
+// unit_test/hal/watchdog/test_watchdog_device.cpp.
 #include "fsw/io/io_events.hpp"
 #include "fsw/io/watchdog_task.hpp"
 #include "fsw/msg/health_msgs.hpp"
-#include "hal/watchdog/watchdog_device.hpp"
-#include "hal/watchdog/watchdog_events.hpp"
+#include "hal/watchdog/watchdog.hpp"
 #include "unit_test/support/event_probe.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -100,40 +94,4 @@ TEST(WatchdogTask, AFaultStatusThatDoesNotDecodeIsCountedAndVouchesForNothing) {
     LONGS_EQUAL(1, test::drainEventsWithId(events, io::events::kBusMessageMalformed));
     CHECK_FALSE(task.feeding());
     LONGS_EQUAL(0, dog.feeds);
-}
-
-TEST_GROUP(WatchdogDevice){};
-
-TEST(WatchdogDevice, FeedsAreWritesAndAStopIsTheMagicClose) {
-    core::VirtualClock clock;
-    core::EventLog events(clock);
-    char path[] = "/tmp/rse_watchdog_XXXXXX";
-    const int fd = mkstemp(path);
-    CHECK(fd >= 0);
-    close(fd);
-    {
-        hal::WatchdogDevice dog(events);
-        CHECK(core::isOk(dog.open(path, 20)));  // a plain file refuses the timeout ioctl: evented, kept open
-        CHECK(core::isOk(dog.feed()));
-        CHECK(core::isOk(dog.feed()));
-        LONGS_EQUAL(2, dog.feeds());
-        dog.disarm();
-        CHECK_FALSE(dog.isOpen());
-        CHECK(core::Status::kUnavailable == dog.feed());
-    }
-    std::ifstream in(path, std::ios::binary);
-    const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::remove(path);
-    LONGS_EQUAL(3, written.size());
-    LONGS_EQUAL('V', written[2]);
-    LONGS_EQUAL(1, test::drainEventsWithId(events, hal::events::kWatchdogDisarmed));
-}
-
-TEST(WatchdogDevice, AMissingDeviceIsRefusedAndEvented) {
-    core::VirtualClock clock;
-    core::EventLog events(clock);
-    hal::WatchdogDevice dog(events);
-    CHECK(core::Status::kUnavailable == dog.open("/nonexistent/watchdog", 10));
-    CHECK_FALSE(dog.isOpen());
-    LONGS_EQUAL(1, test::drainEventsWithId(events, hal::events::kWatchdogOpenFailed));
 }

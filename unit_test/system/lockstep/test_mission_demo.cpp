@@ -1,12 +1,14 @@
 // rse-demo's logic (sim_stub/lockstep/mission_runner.hpp): its command line
-// (the goal checked against the dictionary's GOTO ranges), its exit codes, the
-// summary's wording, short lockstep missions judged against the truth the
-// summary reports, and the demo itself: the ten points of the RSE
+// as rse-demo's main and the runner take it (exit codes, setup failures), short
+// lockstep missions judged against the truth the summary reports, and the demo itself: the ten points of the RSE
 // demonstration in order, each with its substance, the report and the map
 // written; a run that cannot show them all saying so and exiting 3; a run
 // paced against the wall clock sending its telemetry over UDP (--pace,
 // --udp-telemetry). (The hidden rock whose detour does not fit, point 5's
-// other side, is in the scenario suite, test_scenario_suite.cpp.)
+// other side, is in the scenario suite, test_scenario_suite.cpp. The parts
+// alone - the options parser and the scenario's [mission], the summary's
+// lines, the frame pacer, the flight watch, the plan uplink - are in
+// unit_test/sim_stub/lockstep/.)
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -23,7 +25,6 @@
 #include <string>
 #include <vector>
 
-#include "fsw/core/byte_codec.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "sim_stub/lockstep/mission_runner.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
@@ -75,15 +76,6 @@ unsigned countOf(const std::string& text, const char* what) {
     return n;
 }
 
-// The GOTO argument bytes as flight decodes them: x, y, risk (f64, big-endian).
-void checkGotoArgs(const MissionOptions& o, double x, double y, double risk) {
-    LONGS_EQUAL(24, o.gotoArgs.size());
-    core::BeReader r(o.gotoArgs.data(), o.gotoArgs.size());
-    DOUBLES_EQUAL(x, r.f64(), 0.0);
-    DOUBLES_EQUAL(y, r.f64(), 0.0);
-    DOUBLES_EQUAL(risk, r.f64(), 0.0);
-}
-
 // A UDP socket bound to 127.0.0.1 on a port the kernel picks: a ground's
 // telemetry port, or a port taken.
 class LoopbackSocket {
@@ -127,61 +119,6 @@ TEST_GROUP(MissionDemoOptions) {
     std::string error;
 };
 
-// Without --goto and --duration the mission is the scenario's own: the demo
-// scenario's [mission] is GOTO (20, 0) at 10^-3 for 180 s.
-TEST(MissionDemoOptions, NoArgumentsIsTheDemoMissionToTwentyMetres) {
-    CHECK(ParseOutcome::kRun == parse({}, &o, &error));
-    STRCMP_EQUAL("sim_stub/scenarios/demo_mission.toml", o.scenarioPath.c_str());
-    CHECK_FALSE(o.anyOutcome);
-    CHECK_FALSE(o.clearFaults);
-    CHECK_FALSE(o.quiet);
-    DOUBLES_EQUAL(0.0, o.durationS, 0.0);  // the scenario's
-    CHECK_TRUE(o.gotoArgs.empty());        // the scenario's
-    CHECK_TRUE(sim::applyScenarioMission(sim::loadScenarioFile(o.scenarioPath), &o, &error));
-    DOUBLES_EQUAL(180.0, o.durationS, 0.0);
-    checkGotoArgs(o, 20.0, 0.0, 1e-3);
-    CHECK_TRUE(o.planText.empty());
-}
-
-// The scenario's [mission] where the command line says nothing, never over it;
-// a scenario without one gets the demo's goal and 180 s; a plan mission its
-// plan's text and the bound for SET_RISK_BOUND.
-TEST(MissionDemoOptions, TheScenariosMissionFillsOnlyWhatTheCommandLineLeftOpen) {
-    sim::Scenario s = sim::parseScenario(
-        "seed = 1\nduration_s = 75\n[map]\nx_min_m = -5\nx_max_m = 30\ny_min_m = -10\ny_max_m = 10\n"
-        "[start]\nx_m = 0\ny_m = 0\n[mission]\ngoal_x_m = 12.5\ngoal_y_m = -3\nrisk_bound = 1e-5\n",
-        "own.toml");
-    MissionOptions own;
-    CHECK_TRUE(sim::applyScenarioMission(s, &own, &error));
-    checkGotoArgs(own, 12.5, -3.0, 1e-5);
-    DOUBLES_EQUAL(75.0, own.durationS, 0.0);
-    CHECK_TRUE(sim::applyScenarioMission(s, &own, &error));  // again: nothing changes
-    checkGotoArgs(own, 12.5, -3.0, 1e-5);
-    // --goto and --duration win.
-    CHECK(ParseOutcome::kRun == parse({"--goto", "4,1,0.01", "--duration", "30"}, &o, &error));
-    CHECK_TRUE(sim::applyScenarioMission(s, &o, &error));
-    checkGotoArgs(o, 4.0, 1.0, 0.01);
-    DOUBLES_EQUAL(30.0, o.durationS, 0.0);
-    // No [mission]: the demo's goal and duration.
-    s.mission = sim::MissionSpec{};
-    MissionOptions none;
-    CHECK_TRUE(sim::applyScenarioMission(s, &none, &error));
-    checkGotoArgs(none, 20.0, 0.0, 1e-3);
-    DOUBLES_EQUAL(180.0, none.durationS, 0.0);
-    // A plan: its text and its bound; no GOTO.
-    s.mission.present = true;
-    s.mission.planFile = "p.plan";
-    s.mission.planText = "plan p\nend\n";
-    s.mission.riskBound = 1e-4;
-    MissionOptions plan;
-    CHECK_TRUE(sim::applyScenarioMission(s, &plan, &error));
-    CHECK_TRUE(plan.gotoArgs.empty());
-    STRCMP_EQUAL("plan p\nend\n", plan.planText.c_str());
-    STRCMP_EQUAL("p.plan", plan.planFile.c_str());
-    DOUBLES_EQUAL(1e-4, plan.risk, 0.0);
-    DOUBLES_EQUAL(75.0, plan.durationS, 0.0);
-}
-
 // A plan the ground's check refuses is never sent: the setup fails before the
 // rover boots and says why (the runner checks it as `rse-ground plan load` does).
 TEST(MissionDemoOptions, APlanTheGroundCheckRefusesIsNotSent) {
@@ -202,174 +139,6 @@ TEST(MissionDemoOptions, APlanTheGroundCheckRefusesIsNotSent) {
     const MissionSummary s = sim::runMission(o, nullptr);
     CHECK(MissionOutcome::kSetupFailed == s.outcome);
     CHECK_TEXT(contains(s.setupError, "bad.plan: the plan did not pass the ground check"), s.setupError.c_str());
-}
-
-TEST(MissionDemoOptions, EveryOptionIsTaken) {
-    const char* args[] = {"rse-demo", "--report", "some/where", "--any-outcome"};
-    MissionOptions withReport;
-    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(4, args, &withReport, &error));
-    STRCMP_EQUAL("some/where", withReport.reportDir.c_str());
-    CHECK_TRUE(withReport.anyOutcome);
-    const char* none[] = {"rse-demo", "--no-report"};
-    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(2, none, &withReport, &error));
-    CHECK_TRUE(withReport.reportDir.empty());
-    CHECK_TRUE(withReport.noReport);
-    // Without either, runMission writes nothing; rse-demo's main writes to build/mission.
-    MissionOptions defaults;
-    const char* bare[] = {"rse-demo"};
-    CHECK(ParseOutcome::kRun == sim::parseMissionArgs(1, bare, &defaults, &error));
-    CHECK_TRUE(defaults.reportDir.empty());
-    CHECK_FALSE(defaults.noReport);
-    STRCMP_EQUAL("build/mission", sim::kDefaultReportDir);
-    CHECK(ParseOutcome::kRun == parse({"--scenario", "other.toml", "--no-faults", "--goto", "4,-1.5,0.01", "--duration",
-                                       "30", "--quiet"},
-                                      &o, &error));
-    STRCMP_EQUAL("other.toml", o.scenarioPath.c_str());
-    CHECK_TRUE(o.clearFaults);
-    CHECK_TRUE(o.quiet);
-    DOUBLES_EQUAL(30.0, o.durationS, 0.0);
-    DOUBLES_EQUAL(4.0, o.goalX, 0.0);
-    DOUBLES_EQUAL(-1.5, o.goalY, 0.0);
-    DOUBLES_EQUAL(0.01, o.risk, 0.0);
-    checkGotoArgs(o, 4.0, -1.5, 0.01);
-}
-
-TEST(MissionDemoOptions, AGotoWithoutRiskTakesTheDefaultBound) {
-    CHECK(ParseOutcome::kRun == parse({"--goto", "4,0"}, &o, &error));
-    checkGotoArgs(o, 4.0, 0.0, 1e-3);
-}
-
-TEST(MissionDemoOptions, ABadGotoIsAUsageError) {
-    const char* const bad[] = {"4", "4,", ",0", "4,0,1e-3,7", "a,0", "4,0,x", "4,0,0.9", "4,0,0", "1e5,0", "4,nan"};
-    for (const char* g : bad) {
-        MissionOptions fresh;
-        error.clear();
-        const ParseOutcome r = parse({"--goto", g}, &fresh, &error);
-        if (r != ParseOutcome::kUsageError) {
-            FAIL(("--goto " + std::string(g) + " was accepted").c_str());
-        }
-        CHECK_TRUE(contains(error, "--goto"));
-    }
-    // Out of the dictionary's range: the ground encoder's reason is shown.
-    CHECK(ParseOutcome::kUsageError == parse({"--goto", "4,0,0.9"}, &o, &error));
-    CHECK_TRUE(contains(error, "risk"));
-}
-
-TEST(MissionDemoOptions, UnknownFlagsMissingValuesAndBadDurationsAreUsageErrors) {
-    CHECK(ParseOutcome::kUsageError == parse({"--fast"}, &o, &error));
-    CHECK_TRUE(contains(error, "'--fast'"));
-    CHECK(ParseOutcome::kUsageError == parse({"--goto"}, &o, &error));
-    CHECK(ParseOutcome::kUsageError == parse({"--scenario"}, &o, &error));
-    CHECK(ParseOutcome::kUsageError == parse({"--duration", "-3"}, &o, &error));
-    CHECK(ParseOutcome::kUsageError == parse({"--duration", "3s"}, &o, &error));
-    CHECK(ParseOutcome::kUsageError == parse({"--command-at", "-1"}, &o, &error));
-    CHECK_TRUE(contains(error, "--command-at"));
-    CHECK(ParseOutcome::kUsageError == parse({"--command-at", "soon"}, &o, &error));
-    CHECK(ParseOutcome::kRun == parse({"--command-at", "2.5"}, &o, &error));
-    DOUBLES_EQUAL(2.5, o.commandAtS, 0.0);
-    CHECK(ParseOutcome::kHelp == parse({"--help"}, &o, &error));
-}
-
-// getopt_long (docs/operations.md, "Command lines"): "--option=value" too, -h
-// for --help, a missing value and a stray argument named in the error.
-TEST(MissionDemoOptions, TheCommandLineIsGetoptLongs) {
-    CHECK(ParseOutcome::kRun == parse({"--duration=30", "--goto=4,1"}, &o, &error));
-    DOUBLES_EQUAL(30.0, o.durationS, 0.0);
-    DOUBLES_EQUAL(4.0, o.goalX, 0.0);
-    CHECK(ParseOutcome::kHelp == parse({"-h"}, &o, &error));
-    CHECK(ParseOutcome::kUsageError == parse({"--quiet", "--goto"}, &o, &error));
-    STRCMP_EQUAL("option '--goto' needs a value", error.c_str());
-    CHECK(ParseOutcome::kUsageError == parse({"--quiet", "extra"}, &o, &error));
-    CHECK_TEXT(contains(error, "unexpected argument 'extra'"), error.c_str());
-    CHECK(ParseOutcome::kUsageError == parse({"--quiet=1"}, &o, &error));
-    STRCMP_EQUAL("option '--quiet' takes no value", error.c_str());
-    CHECK(ParseOutcome::kUsageError == parse({"--duration", "1e7"}, &o, &error));
-    STRCMP_EQUAL("--duration '1e7' is not a number of seconds in (0, 1e6]", error.c_str());
-}
-
-// --pace F: a factor over real time in [0.1, 1000]; without it, no pacing.
-TEST(MissionDemoOptions, ThePaceIsAFactorOverRealTimeWithinItsRange) {
-    DOUBLES_EQUAL(0.0, o.pace, 0.0);  // as fast as the CPU allows
-    CHECK(ParseOutcome::kRun == parse({"--pace", "10"}, &o, &error));
-    DOUBLES_EQUAL(10.0, o.pace, 0.0);
-    CHECK(ParseOutcome::kRun == parse({"--pace", "0.1"}, &o, &error));
-    DOUBLES_EQUAL(sim::kMinPace, o.pace, 0.0);
-    CHECK(ParseOutcome::kRun == parse({"--pace", "1000"}, &o, &error));
-    DOUBLES_EQUAL(sim::kMaxPace, o.pace, 0.0);
-    for (const char* bad : {"0.09", "1000.5", "0", "-1", "fast", "10x", "nan", "inf", ""}) {
-        MissionOptions fresh;
-        error.clear();
-        if (parse({"--pace", bad}, &fresh, &error) != ParseOutcome::kUsageError) {
-            FAIL(("--pace '" + std::string(bad) + "' was accepted").c_str());
-        }
-        CHECK_TEXT(contains(error, ("--pace '" + std::string(bad) + "' is not a factor over real time in [0.1, 1000]")
-                                       .c_str()),
-                   error.c_str());
-    }
-    CHECK(ParseOutcome::kUsageError == parse({"--pace"}, &o, &error));
-    CHECK_TRUE(contains(error, "'--pace'"));
-}
-
-// --udp-telemetry HOST:PORT (numeric IPv4, the UDP link looks up no names) and
-// --udp-commands [ADDR:]PORT, which needs it; without them, no UDP link.
-TEST(MissionDemoOptions, TheUdpLinksAddressesAreCheckedAndItsCommandPortWantsItsTelemetry) {
-    CHECK_TRUE(o.udpTelemetryHost.empty());
-    LONGS_EQUAL(0, o.udpCommandPort);
-    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "127.0.0.1:1235"}, &o, &error));
-    STRCMP_EQUAL("127.0.0.1", o.udpTelemetryHost.c_str());
-    LONGS_EQUAL(1235, o.udpTelemetryPort);
-    LONGS_EQUAL(0, o.udpCommandPort);  // a port the kernel picks
-    STRCMP_EQUAL("127.0.0.1", o.udpCommandHost.c_str());
-    MissionOptions both;
-    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "10.1.2.3:65535", "--udp-commands", "1234"}, &both, &error));
-    STRCMP_EQUAL("10.1.2.3", both.udpTelemetryHost.c_str());
-    LONGS_EQUAL(65535, both.udpTelemetryPort);
-    STRCMP_EQUAL("127.0.0.1", both.udpCommandHost.c_str());
-    LONGS_EQUAL(1234, both.udpCommandPort);
-    CHECK(ParseOutcome::kRun == parse({"--udp-commands", "0.0.0.0:1240", "--udp-telemetry", "127.0.0.1:1235"}, &both,
-                                      &error));
-    STRCMP_EQUAL("0.0.0.0", both.udpCommandHost.c_str());
-    LONGS_EQUAL(1240, both.udpCommandPort);
-
-    const struct {
-        const char* option;
-        const char* value;
-        const char* why;
-    } bad[] = {
-        {"--udp-telemetry", "localhost:1235", "'localhost' is not a numeric IPv4 address"},
-        {"--udp-telemetry", ":1235", "'' is not a numeric IPv4 address"},
-        {"--udp-telemetry", "1.2.3:1235", "'1.2.3' is not a numeric IPv4 address"},
-        {"--udp-telemetry", "127.0.0.1", "expected HOST:PORT"},
-        {"--udp-telemetry", "1235", "expected HOST:PORT"},
-        {"--udp-telemetry", "127.0.0.1:0", "'0' is not a port in 1..65535"},
-        {"--udp-telemetry", "127.0.0.1:65536", "'65536' is not a port in 1..65535"},
-        {"--udp-telemetry", "127.0.0.1:-5", "'-5' is not a port"},
-        {"--udp-telemetry", "127.0.0.1:12x", "'12x' is not a port"},
-        {"--udp-commands", "host:1234", "'host' is not a numeric IPv4 address"},
-        {"--udp-commands", "0", "'0' is not a port in 1..65535"},
-    };
-    for (const auto& b : bad) {
-        MissionOptions fresh;
-        error.clear();
-        if (parse({"--udp-telemetry", "127.0.0.1:1235", b.option, b.value}, &fresh, &error) !=
-            ParseOutcome::kUsageError) {
-            FAIL((std::string(b.option) + " " + b.value + " was accepted").c_str());
-        }
-        CHECK_TEXT(contains(error, b.option) && contains(error, b.why), error.c_str());
-    }
-    // A command port with nowhere to send telemetry, or on the telemetry's own address.
-    MissionOptions alone;
-    CHECK(ParseOutcome::kUsageError == parse({"--udp-commands", "1234"}, &alone, &error));
-    CHECK_TEXT(contains(error, "--udp-commands is the UDP link's command port: it wants --udp-telemetry"),
-               error.c_str());
-    for (const char* commands : {"1235", "127.0.0.1:1235", "0.0.0.0:1235"}) {
-        MissionOptions loop;
-        CHECK(ParseOutcome::kUsageError ==
-              parse({"--udp-telemetry", "127.0.0.1:1235", "--udp-commands", commands}, &loop, &error));
-        CHECK_TEXT(contains(error, "telemetry would come back as commands"), error.c_str());
-    }
-    MissionOptions elsewhere;
-    CHECK(ParseOutcome::kRun == parse({"--udp-telemetry", "10.0.0.9:1235", "--udp-commands", "1235"}, &elsewhere, &error));
 }
 
 // rse-demo itself: a refused pace or address exits 2 with the reason on one
@@ -426,36 +195,6 @@ TEST(MissionDemoOptions, ExitCodesAreTwoForUsageOneForSetupZeroForHelp) {
     CHECK_TRUE(contains(readAll(out), "usage: rse-demo"));
     std::fclose(out);
     std::fclose(err);
-}
-
-TEST(MissionDemoOptions, TheSummarySaysWhyTheRoverCalledHome) {
-    MissionSummary s;
-    s.outcome = MissionOutcome::kCalledHome;
-    s.callHome = msg::CallHomeReason::kMobilityLost;
-    s.callHomeText = "mobility lost (the drive interlock holds every drive)";
-    s.outcomeTimeS = 45.6;
-    s.finalMode = 0;
-    s.interlockTripped = true;
-    std::FILE* out = std::tmpfile();
-    CHECK(out != nullptr);
-    sim::printMissionSummary(s, out);
-    const std::string text = readAll(out);
-    std::fclose(out);
-    CHECK_TRUE(contains(text, "called home at 45.6 s, reason 5: mobility lost (the drive interlock holds every drive) "
-                              "(mode SAFE, drive interlock tripped)"));
-    CHECK_TRUE(contains(text, "truth:"));
-}
-
-TEST(MissionDemoOptions, ASetupFailureSummaryGivesTheReasonAndNoFigures) {
-    MissionSummary s;
-    s.setupError = "the drives did not become operational";
-    std::FILE* out = std::tmpfile();
-    CHECK(out != nullptr);
-    sim::printMissionSummary(s, out);
-    const std::string text = readAll(out);
-    std::fclose(out);
-    CHECK_TRUE(contains(text, "setup failed: the drives did not become operational"));
-    CHECK_FALSE(contains(text, "truth:"));
 }
 
 TEST_GROUP(MissionDemoRun) {
