@@ -149,7 +149,7 @@ void LegEvents::failUp(const msg::LegCommandMsg& leg, msg::LegConstraint reason,
                            figures.allowedEnergyJ, figures.excess);
             break;
         case msg::LegConstraint::kNoPath:
-            data.predicted = noPathRuns;
+            data.planning_runs = noPathRuns;
             events_.report(events::kFailUp, core::Severity::kError, data.pack(),
                            "habitual: leg %u fail-up: no path to (%.2f, %.2f) in %u planning runs", legId, leg.goalXM,
                            leg.goalYM, noPathRuns);

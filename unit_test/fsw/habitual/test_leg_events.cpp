@@ -176,7 +176,8 @@ TEST(LegEvents, AFailUpGivesTheFiguresOfItsReason) {
     (void)only(ev::kFailUp);
     CHECK_TRUE(seen.data(ev::kFailUp, &failUp));
     DOUBLES_EQUAL(static_cast<double>(LegConstraint::kNoPath), failUp.constraint, 0.0);
-    DOUBLES_EQUAL(3.0, failUp.predicted, 0.0);  // planning runs
+    DOUBLES_EQUAL(3.0, failUp.planning_runs, 0.0);  // a count, apart from the bound figures
+    DOUBLES_EQUAL(0.0, failUp.predicted, 0.0);
     say.failUp(leg(), LegConstraint::kCannotFollow, kFigures, 1, 1.0);
     STRCMP_EQUAL("habitual: leg 3 fail-up: cannot follow", only(ev::kFailUp));
     CHECK_TRUE(seen.data(ev::kFailUp, &failUp));
