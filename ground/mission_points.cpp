@@ -6,7 +6,6 @@
 #include "fsw/cmdtlm/cmdtlm_events.hpp"
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
-#include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/habitual/candidate_evaluator.hpp"
@@ -15,6 +14,7 @@
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/health_msgs.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
 #include "ground/mission_text.hpp"
 
 namespace rse::ground {
@@ -23,6 +23,7 @@ namespace {
 
 namespace dev = deliberative::events;
 namespace hev = habitual::events;
+namespace pev = plan_executive::events;
 namespace evd = cmdtlm::event_data;
 
 // An id or a count as the event's numbers carry it (a double holding an integer).
@@ -33,7 +34,7 @@ std::uint32_t whole(double value) { return value >= 0.0 ? static_cast<std::uint3
 // The table onEvent looks ids up in: every event the ten points, the legs,
 // the hazards or the decisions list read.
 const TenPointTracker::Route TenPointTracker::kRoutes[] = {
-    {deliberative::events::kGoalsCommanded, deliberative::events::kGoalsCommanded, &TenPointTracker::onGoalsCommanded},
+    {pev::kGoalsCommanded, pev::kGoalsCommanded, &TenPointTracker::onGoalsCommanded},
     {dev::kPlanFound, dev::kPlanFound, &TenPointTracker::onPlanFound},
     {dev::kLegSent, dev::kLegSent, &TenPointTracker::onLegSent},
     {hev::kPlanSent, hev::kPlanSent, &TenPointTracker::onPlanSent},

@@ -2,7 +2,8 @@
 // Documented in docs/architecture.md. The rest of the range went with the code
 // that raises it and keeps its numbers: 204, 209, 211-214, 216-219, 222-223 to
 // fsw/io (io_events.hpp); 205-207, 211, 215, 220-221, 224-225 to fsw/cmdtlm
-// (cmdtlm_events.hpp); 208 to fsw/deliberative (goal_commands.hpp, kGoalsCommanded).
+// (cmdtlm_events.hpp); 208 to fsw/plan_executive (the goal commands;
+// plan_executive_events.hpp, kGoalsCommanded).
 #pragma once
 
 #include "fsw/core/event_log.hpp"

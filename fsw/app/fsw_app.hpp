@@ -27,7 +27,6 @@
 #include "fsw/core/executive.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/deliberative/deliberative_task.hpp"
-#include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/deliberative/plan_telemetry.hpp"
 #include "fsw/estimator/drive_mode_task.hpp"
 #include "fsw/estimator/estimator_telemetry.hpp"
@@ -40,6 +39,7 @@
 #include "fsw/io/can_io_task.hpp"
 #include "fsw/io/io_telemetry.hpp"
 #include "fsw/io/watchdog_task.hpp"
+#include "fsw/plan_executive/goal_commands.hpp"
 #include "fsw/plan_executive/plan_commands.hpp"
 #include "fsw/plan_executive/plan_exec_telemetry.hpp"
 #include "fsw/plan_executive/plan_executive_task.hpp"
@@ -109,7 +109,6 @@ public:
     const cmdtlm::CommandRouter& commandRouter() const { return router_; }
     const cmdtlm::RoverMode& roverMode() const { return mode_; }
     const cmdtlm::ExecutiveCommands& executiveCommands() const { return executiveCommands_; }
-    const deliberative::GoalCommands& goalCommands() const { return goalCommands_; }
     const cmdtlm::TelemetryOutput& telemetryOutput() const { return telemetryOutput_; }
     const cmdtlm::TelemetryTask& telemetry() const { return telemetry_; }
     const deliberative::PlanTelemetry& planTelemetry() const { return planTelemetry_; }
@@ -150,7 +149,7 @@ private:
     cmdtlm::HousekeepingTelemetry housekeepingTelemetry_;
     cmdtlm::ServiceCommands serviceCommands_;
     cmdtlm::ExecutiveCommands executiveCommands_;
-    deliberative::GoalCommands goalCommands_;
+    plan_executive::GoalCommands goalCommands_;
     reflexive::MobilityCommands mobilityCommands_;
     tables::TableTelemetry tableTelemetry_;
     tables::TableCommands tableCommands_;

@@ -8,14 +8,17 @@
 //
 // The application interface of fsw/cmdtlm: the only headers of this folder an
 // application outside it may include (a layer, fsw/tables, fsw/io), so the
-// command service's checks, crypto, links and tasks stay inside it:
+// command service's checks, crypto, links and tasks, and the mode owner
+// (rover_mode.hpp: no application sets the mode by a call), stay inside it.
+// unit_test/system/layering/test_layer_includes.cpp holds the layers and
+// fsw/tables to this list (kCmdTlmInterface, checked against these lines):
 //   dictionary.hpp               generated command arguments and telemetry packets
 //   command_verdict.hpp          CommandVerdict: the accepted command and its argument bytes
 //   app_commands.hpp             this: AppCommands, CommandOutcome, decodedArgs
 //   telemetry_sink.hpp           TelemetrySink: send one telemetry packet
 //   telemetry_packer.hpp         TelemetryPacker: own a packet family, scheduled by the telemetry task
 //   housekeeping_contributor.hpp HousekeepingContributor: fill an application's own HK fields
-//   rover_mode.hpp               RoverMode: the mode owner (the mobility commands set the e-stop)
+//   estop_switch.hpp             EstopSwitch: set, clear and read the software e-stop (mobility)
 //   event_data.hpp               generated event data: the numbers an event carries, set by name
 // fsw/io also includes ccsds.hpp (packet sizes: its CAN ground link carries packets).
 #pragma once

@@ -1,5 +1,6 @@
 // The deliberative layer's packets (docs/icd.md §5.5), packed from what it and
-// the goal commands publish (a telemetry packer, cmdtlm/telemetry_packer.hpp):
+// the plan executive's goal commands publish (a telemetry packer,
+// cmdtlm/telemetry_packer.hpp):
 //   PLAN       the goal list (GoalListMsg) and the plan in force
 //              (PlanStatusMsg): in the run after either changed (a goal list
 //              announced; a plan status whose state, leg, plans made, call

@@ -1,5 +1,5 @@
 // Mission goals from ground (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
-// The goal commands (fsw/deliberative/goal_commands.hpp) publish the operator's goal list; the plan executive
+// The goal commands (fsw/plan_executive/goal_commands.hpp) publish the operator's goal list; the plan executive
 // turns it into a plan of drive activities, one per goal, and gives the
 // deliberative layer one goal at a time (PlanGoalMsg, plan_executive_msgs.hpp):
 // the same executive runs GOTO, the goal list and mission plans

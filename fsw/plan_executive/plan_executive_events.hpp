@@ -1,10 +1,17 @@
-// Event ids raised by the plan executive task (range 950-989). Texts start
-// with "plan_exec: ". Documented in docs/plan_executive.md ("Events").
+// Event ids raised by the plan executive: its task's (range 950-989, texts
+// start with "plan_exec: ") and its goal commands' 208, which keeps the number
+// and the "app: " text it had when the goal commands lived in fsw/app (the
+// golden console and the ground read it as before). Documented in
+// docs/plan_executive.md ("Events").
 #pragma once
 
 #include "fsw/core/event_log.hpp"
 
 namespace rse::plan_executive::events {
+
+// The goal commands (goal_commands.hpp). A goal command, or start-up, left the
+// goal list thus (count, risk bound; event data GOALS_COMMANDED). Text "app: ...".
+constexpr core::EventId kGoalsCommanded = 208;     // INFO
 
 constexpr core::EventId kPlanAccepted = 950;       // INFO: plan name, text size, events / activities / choices, cost: dispatch begins
 constexpr core::EventId kChunkAccepted = 951;      // DEBUG: a PLAN_LOAD chunk written (offset, length, text so far)

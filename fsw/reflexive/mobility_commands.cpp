@@ -10,10 +10,10 @@ using cmdtlm::CommandOutcome;
 CommandOutcome MobilityCommands::execute(const cmdtlm::CommandVerdict& verdict) {
     switch (verdict.command->code) {
         case CommandCode::ESTOP_SET:
-            mode_.setEstop(true);
+            estop_.setEstop(true);
             return {};
         case CommandCode::ESTOP_CLEAR:
-            mode_.setEstop(false);
+            estop_.setEstop(false);
             return {};
         case CommandCode::RESET_INTERLOCK: {
             msg::InterlockResetMsg request{};
@@ -29,7 +29,7 @@ CommandOutcome MobilityCommands::execute(const cmdtlm::CommandVerdict& verdict) 
 }
 
 CommandOutcome MobilityCommands::drive(const cmdtlm::DRIVE_Args& args) {
-    if (mode_.estop()) {
+    if (estop_.estop()) {
         return cmdtlm::commandFailed(0);  // the e-stop holds: clear it first
     }
     msg::ManualDriveMsg request{};

@@ -1,8 +1,9 @@
 // The mobility commands (APID 0x182), owned by the reflexive layer that turns
 // them into wheel motion:
-//   ESTOP_SET / ESTOP_CLEAR  the software e-stop, kept by the mode owner
-//                            (cmdtlm::RoverMode: evented, announced in ModeMsg,
-//                            which CAN I/O holds the drives on)
+//   ESTOP_SET / ESTOP_CLEAR  the software e-stop, through its switch
+//                            (cmdtlm::EstopSwitch, kept by the mode owner:
+//                            evented, announced in ModeMsg, which CAN I/O holds
+//                            the drives on); the rover mode is not theirs
 //   DRIVE                    a manual drive (ManualDriveMsg to the manual-drive
 //                            task); refused while the e-stop holds (detail 0:
 //                            clear it first), or when the bus refuses it (detail 1)
@@ -11,7 +12,7 @@
 #pragma once
 
 #include "fsw/cmdtlm/app_commands.hpp"
-#include "fsw/cmdtlm/rover_mode.hpp"
+#include "fsw/cmdtlm/estop_switch.hpp"
 #include "fsw/core/clock.hpp"
 #include "fsw/core/software_bus.hpp"
 
@@ -19,8 +20,8 @@ namespace rse::reflexive {
 
 class MobilityCommands final : public cmdtlm::AppCommands {
 public:
-    MobilityCommands(const core::Clock& clock, core::SoftwareBus& bus, cmdtlm::RoverMode& mode)
-        : clock_(clock), bus_(bus), mode_(mode) {}
+    MobilityCommands(const core::Clock& clock, core::SoftwareBus& bus, cmdtlm::EstopSwitch& estop)
+        : clock_(clock), bus_(bus), estop_(estop) {}
 
     std::uint16_t apid() const override { return cmdtlm::describe(cmdtlm::CommandCode::DRIVE).apid; }
     cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
@@ -30,7 +31,7 @@ private:
 
     const core::Clock& clock_;
     core::SoftwareBus& bus_;
-    cmdtlm::RoverMode& mode_;
+    cmdtlm::EstopSwitch& estop_;
 };
 
 }  // namespace rse::reflexive

@@ -11,10 +11,10 @@
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
-#include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/estimator/drive_mode_events.hpp"
 #include "fsw/fault_protection/fault_protection_events.hpp"
 #include "fsw/habitual/habitual_events.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
 #include "ground/dictionary_export.hpp"
 #include "ground/telemetry_limits.hpp"
 #include "ground/text_format.hpp"
@@ -194,7 +194,7 @@ TEST(GroundDictionaryExport, EveryEventDataNamesItsFlightEventsAndIsExported) {
     namespace eev = estimator::events;
     namespace fev = fault_protection::events;
     const Expected expected[] = {
-        {"GOALS_COMMANDED", deliberative::events::kGoalsCommanded, deliberative::events::kGoalsCommanded},
+        {"GOALS_COMMANDED", plan_executive::events::kGoalsCommanded, plan_executive::events::kGoalsCommanded},
         {"SAFED_ON_REQUEST", cmdtlm::events::kSafedOnRequest, cmdtlm::events::kSafedOnRequest},
         {"DRIVE_MODE_DECLARED", eev::kDriveModeDeclaredNominal, eev::kDriveModeDeclaredUnknown},
         {"PATH_BLOCKED", hev::kPathBlocked, hev::kPathBlocked},

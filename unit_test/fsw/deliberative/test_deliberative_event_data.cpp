@@ -7,11 +7,8 @@
 #include "fsw/core/clock.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
-#include "fsw/deliberative/goal_commands.hpp"
 #include "fsw/deliberative/leg_sequencer.hpp"
-#include "fsw/tables/default_tables.hpp"
 #include "unit_test/fsw/deliberative/event_record.hpp"
-#include "unit_test/support/app_test_support.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -23,7 +20,6 @@ template <typename Layout>
 constexpr bool isTheEvent(core::EventId id) {
     return Layout::kFirstId == id && Layout::kLastId == id;
 }
-static_assert(isTheEvent<evd::GOALS_COMMANDED>(deliberative::events::kGoalsCommanded), "208");
 static_assert(isTheEvent<evd::LEG_SENT>(ev::kLegSent), "905");
 static_assert(isTheEvent<evd::LEG_REACHED>(ev::kLegAchieved), "906");
 static_assert(isTheEvent<evd::BOUND_RELAXED>(ev::kBoundRelaxed), "910");
@@ -141,17 +137,4 @@ TEST(DeliberativeEventData, ABackUpLegIsNoLegOfThePlan) {
     DOUBLES_EQUAL(-2.0, sent.x, 0.0);
     DOUBLES_EQUAL(target.lengthM, sent.length_bound, 0.0);
     DOUBLES_EQUAL(legs.legs().legs[0].powerW, sent.power_bound, 0.0);  // the plan's, as sent
-}
-
-TEST(DeliberativeEventData, TheGoalListTakenCarriesItsCountAndRiskBound) {
-    tables::TableService tables{events};
-    CHECK(core::isOk(tables.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount)));
-    deliberative::GoalCommands commands{clock, bus, events, tables};
-    const test::AcceptedCommand go(cmdtlm::CommandCode::GOTO, cmdtlm::GOTO_Args{20.0, -3.0, 0.01});
-    CHECK_TRUE(commands.execute(go.verdict()).ok);
-    evd::GOALS_COMMANDED goals;
-    CHECK_TRUE(seen.data(deliberative::events::kGoalsCommanded, &goals));
-    DOUBLES_EQUAL(1.0, goals.goal_count, 0.0);
-    DOUBLES_EQUAL(0.01, goals.risk_bound, 0.0);
-    STRCMP_EQUAL("app: 1 goal(s), risk bound 0.01", seen.text(deliberative::events::kGoalsCommanded));
 }

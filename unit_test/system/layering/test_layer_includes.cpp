@@ -14,7 +14,10 @@
 //   interface of fsw/cmdtlm (the headers kCmdTlmInterface names, listed in
 //   fsw/cmdtlm/app_commands.hpp), through which an application owns its
 //   commands and its telemetry packets and names its events' numbers
-//   (event_data.hpp); nothing else of fsw/cmdtlm;
+//   (event_data.hpp); nothing else of fsw/cmdtlm. Not the mode owner
+//   (rover_mode.hpp): a layer that holds the e-stop sees only its switch
+//   (estop_switch.hpp), so none can change the rover's mode by a call. The list
+//   here is the one app_commands.hpp gives, and this test checks they agree;
 // - fsw/cmdtlm (the command and telemetry service, below every layer) includes
 //   only itself, fsw/core, fsw/msg and what lies outside fsw/ (hal/): no
 //   layer, no table, no fsw/io, no fsw/app.
@@ -38,7 +41,7 @@ const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "table
 const std::vector<std::string> kCmdTlmInterface = {
     "fsw/cmdtlm/dictionary.hpp",     "fsw/cmdtlm/command_verdict.hpp",  "fsw/cmdtlm/app_commands.hpp",
     "fsw/cmdtlm/telemetry_sink.hpp", "fsw/cmdtlm/telemetry_packer.hpp", "fsw/cmdtlm/housekeeping_contributor.hpp",
-    "fsw/cmdtlm/rover_mode.hpp",     "fsw/cmdtlm/event_data.hpp"};
+    "fsw/cmdtlm/estop_switch.hpp",   "fsw/cmdtlm/event_data.hpp"};
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
     return std::find(names.begin(), names.end(), name) != names.end();
@@ -89,6 +92,30 @@ struct Scan {
     std::string violations;
 };
 
+// Whether a file in folder may include path: its own folder, an allowed one,
+// or one of the interface's single headers.
+bool mayInclude(const std::string& folder, const std::string& path, const std::vector<std::string>& allowed,
+                const std::vector<std::string>& interface) {
+    const std::string target = fswFolder(path);
+    return target == folder || contains(allowed, target) || contains(interface, path);
+}
+
+// The headers fsw/cmdtlm/app_commands.hpp lists as the application interface:
+// its comment lines "//   name.hpp   what it is", as "fsw/cmdtlm/name.hpp".
+std::vector<std::string> documentedInterface() {
+    std::vector<std::string> out;
+    std::ifstream in("fsw/cmdtlm/app_commands.hpp");
+    std::string line;
+    const std::string lead = "//   ";
+    while (std::getline(in, line)) {
+        const std::size_t end = line.find(".hpp ");
+        if (line.rfind(lead, 0) == 0 && end != std::string::npos && line.find(' ', lead.size()) > end) {
+            out.push_back("fsw/cmdtlm/" + line.substr(lead.size(), end + 4 - lead.size()));
+        }
+    }
+    return out;
+}
+
 // interface: single headers allowed besides the allowed folders.
 Scan scan(const std::vector<std::string>& folders, const std::vector<std::string>& allowed,
           const std::vector<std::string>& interface = {}) {
@@ -105,8 +132,7 @@ Scan scan(const std::vector<std::string>& folders, const std::vector<std::string
             }
             ++out.files;
             for (const Include& inc : quotedIncludes(e.path())) {
-                const std::string target = fswFolder(inc.path);
-                if (target != folder && !contains(allowed, target) && !contains(interface, inc.path)) {
+                if (!mayInclude(folder, inc.path, allowed, interface)) {
                     out.violations += "\n  " + e.path().generic_string() + ":" + std::to_string(inc.line) +
                                       " includes " + inc.path;
                 }
@@ -152,4 +178,31 @@ TEST(LayerIncludes, TheFolderOfAnIncludeIsReadFromItsPath) {
     STRCMP_EQUAL("", fswFolder("hal/can/can_bus.hpp").c_str());
     STRCMP_EQUAL("", fswFolder("sim_stub/world/world.hpp").c_str());
     STRCMP_EQUAL("", fswFolder("local.hpp").c_str());
+}
+
+// The interface this test holds the layers to is the one app_commands.hpp
+// documents, header for header.
+TEST(LayerIncludes, TheInterfaceIsTheOneAppCommandsLists) {
+    std::vector<std::string> documented = documentedInterface();
+    std::vector<std::string> held = kCmdTlmInterface;
+    std::sort(documented.begin(), documented.end());
+    std::sort(held.begin(), held.end());
+    CHECK_TEXT(documented.size() >= 5, "fsw/cmdtlm/app_commands.hpp's list not found (run from the repository root)");
+    std::string shown;
+    for (const std::string& h : documented) {
+        shown += "\n  " + h;
+    }
+    CHECK_TEXT(documented == held, ("app_commands.hpp lists another interface:" + shown).c_str());
+}
+
+// The mode owner is not part of the interface: a layer (or fsw/tables) that
+// includes rover_mode.hpp fails; the e-stop's switch is what it may hold.
+TEST(LayerIncludes, ALayerMayHoldTheEstopSwitchButNotTheModeOwner) {
+    for (const char* folder : {"reflexive", "deliberative", "plan_executive", "tables"}) {
+        CHECK_FALSE(mayInclude(folder, "fsw/cmdtlm/rover_mode.hpp", kBelowLayers, kCmdTlmInterface));
+        CHECK_TRUE(mayInclude(folder, "fsw/cmdtlm/estop_switch.hpp", kBelowLayers, kCmdTlmInterface));
+    }
+    CHECK_FALSE(mayInclude("reflexive", "fsw/cmdtlm/command_router.hpp", kBelowLayers, kCmdTlmInterface));
+    CHECK_FALSE(mayInclude("reflexive", "fsw/plan_executive/goal_list.hpp", kBelowLayers, kCmdTlmInterface));
+    CHECK_TRUE(mayInclude("plan_executive", "fsw/plan_executive/goal_list.hpp", kBelowLayers, kCmdTlmInterface));
 }

@@ -12,7 +12,10 @@
 //   cmdtlm::HousekeepingContributor (its own fields);
 // - fsw/app only composes: it defines no task, no command handler and no
 //   packer, names no command and packs no packet;
-// - fsw/io (the tasks that drive the hardware through hal/) includes no layer.
+// - fsw/io (the tasks that drive the hardware through hal/) includes no layer;
+// - the rover mode has one owner (cmdtlm::RoverMode): only fsw/cmdtlm (SET_MODE,
+//   call homes) and fsw/app (which composes it) name it; an application that
+//   holds the e-stop does so through cmdtlm::EstopSwitch.
 //
 // The owners are the table below; a new APID or packet must be given one here
 // and in docs/architecture.md, or this test fails.
@@ -38,7 +41,7 @@ namespace {
 // The folder under fsw/ that owns each command APID.
 const std::map<std::uint16_t, std::string> kCommandOwners = {
     {0x180, "cmdtlm"},          // command and telemetry service: NOOP, RESET_COUNTERS, REQUEST_HK, SET_MODE, AUTH_RESYNC
-    {0x181, "deliberative"},    // mission goals
+    {0x181, "plan_executive"},  // mission goals: the plan executive owns the mission (goals and plans)
     {0x182, "reflexive"},       // mobility: e-stop, manual drive, interlock reset
     {0x183, "tables"},          // the table service
     {0x184, "cmdtlm"},          // the executive's commands (its face in the command service)
@@ -63,8 +66,8 @@ const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", 
                                           "plan_executive"};
 
 struct Source {
-    std::string path;    // "fsw/deliberative/goal_commands.cpp"
-    std::string folder;  // "deliberative"
+    std::string path;    // "fsw/plan_executive/goal_commands.cpp"
+    std::string folder;  // "plan_executive"
     std::string text;    // comments stripped
 };
 
@@ -285,6 +288,19 @@ TEST(Ownership, TheHardwareTasksIncludeNoLayer) {
     CHECK_TEXT(filesIn(sources, "io") >= 6, "fsw/io sources not found (run from the repository root)");
     const std::string wrong = hardwareTaskBreaches(sources);
     CHECK_TEXT(wrong.empty(), ("fsw/io includes a layer:" + wrong).c_str());
+}
+
+TEST(Ownership, OnlyTheCommandServiceNamesTheModeOwner) {
+    std::string wrong;
+    std::size_t holders = 0;
+    for (const Source& s : sources) {
+        if (s.folder != "cmdtlm" && s.folder != "app" && namesWord(s.text, "RoverMode")) {
+            wrong += "\n  " + s.path + " names RoverMode (the mode is the command service's; hold cmdtlm::EstopSwitch)";
+        }
+        holders += s.folder != "cmdtlm" && s.folder != "app" && namesWord(s.text, "EstopSwitch") ? 1U : 0U;
+    }
+    CHECK_TEXT(holders >= 1, "no application holds the e-stop switch (the mobility commands should)");
+    CHECK_TEXT(wrong.empty(), ("the mode owner named outside fsw/cmdtlm:" + wrong).c_str());
 }
 
 // The checks see a breach: each planted into the real sources is named.

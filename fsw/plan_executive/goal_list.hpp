@@ -1,12 +1,13 @@
 // The operator's goals and the risk bound they are to be reached within: what
-// GOTO, ADD_TARGET, CLEAR_GOALS and SET_RISK_BOUND change. Fixed capacity;
-// the deliberative planner (a later layer) reads it as a GoalListMsg.
+// GOTO, ADD_TARGET, CLEAR_GOALS and SET_RISK_BOUND change. Fixed capacity.
+// Announced as a GoalListMsg, which the plan executive task makes a plan of
+// drives (goal_plan.hpp) and PLAN telemetry shows.
 #pragma once
 
 #include "fsw/core/status.hpp"
 #include "fsw/msg/goal_msgs.hpp"
 
-namespace rse::deliberative {
+namespace rse::plan_executive {
 
 class GoalList {
 public:
@@ -28,4 +29,4 @@ private:
     msg::GoalListMsg list_{};
 };
 
-}  // namespace rse::deliberative
+}  // namespace rse::plan_executive

@@ -1,6 +1,9 @@
-// The mission-goal commands (APID 0x181): each changes the goal list, which is
-// announced (GoalListMsg) and evented; ADD_TARGET on a full list fails.
-#include "fsw/deliberative/goal_commands.hpp"
+// The mission-goal commands (APID 0x181), owned by the plan executive: each
+// changes the goal list, which is announced (GoalListMsg) and evented (208,
+// with its numbers: GOALS_COMMANDED); ADD_TARGET on a full list fails.
+#include "fsw/cmdtlm/event_data.hpp"
+#include "fsw/plan_executive/goal_commands.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
 #include "fsw/tables/default_tables.hpp"
 #include "unit_test/support/app_test_support.hpp"
 #include "unit_test/support/event_probe.hpp"
@@ -9,6 +12,12 @@
 
 using namespace rse;
 using cmdtlm::CommandCode;
+namespace evd = rse::cmdtlm::event_data;
+
+// The dictionary's event data for 208 names the plan executive's constant.
+static_assert(evd::GOALS_COMMANDED::kFirstId == plan_executive::events::kGoalsCommanded &&
+                  evd::GOALS_COMMANDED::kLastId == plan_executive::events::kGoalsCommanded,
+              "208");
 
 TEST_GROUP(GoalCommands) {
     core::VirtualClock clock;
@@ -16,7 +25,7 @@ TEST_GROUP(GoalCommands) {
     core::SoftwareBus bus{clock, events};
     tables::TableService tables{events};
     test::BusProbe<msg::GoalListMsg> announced{bus, "goals"};
-    deliberative::GoalCommands commands{clock, bus, events, tables};
+    plan_executive::GoalCommands commands{clock, bus, events, tables};
     void setup() override {
         CHECK(core::isOk(tables.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount)));
         (void)test::drainEventsWithId(events, 0);
@@ -37,7 +46,7 @@ TEST(GoalCommands, StartUpAnnouncesTheEmptyListAtThePlannerTablesRiskBound) {
     DOUBLES_EQUAL(tables.planner().default_risk_bound, m.riskBound, 0.0);
     core::Event e;
     CHECK(core::isOk(events.pop(&e)));
-    LONGS_EQUAL(deliberative::events::kGoalsCommanded, e.id);
+    LONGS_EQUAL(plan_executive::events::kGoalsCommanded, e.id);
     LONGS_EQUAL(208, e.id);
     STRCMP_EQUAL("app: 0 goal(s), risk bound 0.001", e.text);
 }
@@ -59,8 +68,21 @@ TEST(GoalCommands, GotoReplacesTheGoalsAndEachChangeIsAnnounced) {
     LONGS_EQUAL(2, announced.drain(&m));
     LONGS_EQUAL(0, m.count);
     DOUBLES_EQUAL(1e-6, m.riskBound, 0.0);
-    LONGS_EQUAL(4, test::drainEventsWithId(events, deliberative::events::kGoalsCommanded));
+    LONGS_EQUAL(4, test::drainEventsWithId(events, plan_executive::events::kGoalsCommanded));
     LONGS_EQUAL(0, commands.goals().count());
+}
+
+TEST(GoalCommands, TheGoalListTakenCarriesItsCountAndRiskBound) {
+    const test::AcceptedCommand go(CommandCode::GOTO, cmdtlm::GOTO_Args{20.0, -3.0, 0.01});
+    CHECK_TRUE(commands.execute(go.verdict()).ok);
+    core::Event e;
+    CHECK(core::isOk(events.pop(&e)));
+    LONGS_EQUAL(plan_executive::events::kGoalsCommanded, e.id);
+    STRCMP_EQUAL("app: 1 goal(s), risk bound 0.01", e.text);
+    evd::GOALS_COMMANDED goals;
+    CHECK_TRUE(goals.unpack(e.id, e.data));
+    DOUBLES_EQUAL(1.0, goals.goal_count, 0.0);
+    DOUBLES_EQUAL(0.01, goals.risk_bound, 0.0);
 }
 
 TEST(GoalCommands, ATargetBeyondAFullListFailsWithTheListsSizeAndChangesNothing) {
@@ -73,4 +95,12 @@ TEST(GoalCommands, ATargetBeyondAFullListFailsWithTheListsSizeAndChangesNothing)
     LONGS_EQUAL(msg::kMaxGoals, o.detail);
     LONGS_EQUAL(0, announced.drain());
     LONGS_EQUAL(msg::kMaxGoals, commands.goals().count());
+}
+
+TEST(GoalCommands, ACommandOfAnotherApidIsNotItsToCarryOut) {
+    const test::AcceptedCommand noop(CommandCode::NOOP);
+    const cmdtlm::CommandOutcome o = commands.execute(noop.verdict());
+    CHECK_FALSE(o.ok);
+    LONGS_EQUAL(-1, o.detail);
+    LONGS_EQUAL(0, announced.drain());
 }

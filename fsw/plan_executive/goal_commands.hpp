@@ -1,8 +1,10 @@
-// The mission-goal commands (APID 0x181), owned by the deliberative layer
-// whose planner reaches the goals: GOTO, ADD_TARGET, CLEAR_GOALS and
-// SET_RISK_BOUND change the goal list (goal_list.hpp), which is announced on
-// the bus after each change and once at start-up (GoalListMsg: the plan
-// executive makes it a plan, PLAN telemetry shows it) and evented (208).
+// The mission-goal commands (APID 0x181), owned by the plan executive, which
+// owns the mission: its goals (these) and its plans (plan_commands.hpp, 0x185).
+// GOTO, ADD_TARGET, CLEAR_GOALS and SET_RISK_BOUND change the goal list
+// (goal_list.hpp), which is announced on the bus after each change and once at
+// start-up (GoalListMsg: the plan executive task makes it a plan of drives,
+// goal_plan.hpp, and sends the deliberative layer one goal a drive; PLAN
+// telemetry shows it) and evented (208, events::kGoalsCommanded).
 // ADD_TARGET on a full list fails (execution_failed, detail kMaxGoals).
 #pragma once
 
@@ -10,16 +12,10 @@
 #include "fsw/core/clock.hpp"
 #include "fsw/core/event_log.hpp"
 #include "fsw/core/software_bus.hpp"
-#include "fsw/deliberative/goal_list.hpp"
+#include "fsw/plan_executive/goal_list.hpp"
 #include "fsw/tables/table_service.hpp"
 
-namespace rse::deliberative {
-
-namespace events {
-// A goal command changed the goal list (count, risk bound). Kept from fsw/app's range (its
-// text starts "app:"), where the goal commands were before.
-constexpr core::EventId kGoalsCommanded = 208;
-}  // namespace events
+namespace rse::plan_executive {
 
 class GoalCommands final : public cmdtlm::AppCommands {
 public:
@@ -45,4 +41,4 @@ private:
     GoalList goals_;
 };
 
-}  // namespace rse::deliberative
+}  // namespace rse::plan_executive

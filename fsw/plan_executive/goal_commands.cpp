@@ -1,8 +1,9 @@
-#include "fsw/deliberative/goal_commands.hpp"
+#include "fsw/plan_executive/goal_commands.hpp"
 
 #include "fsw/cmdtlm/event_data.hpp"
+#include "fsw/plan_executive/plan_executive_events.hpp"
 
-namespace rse::deliberative {
+namespace rse::plan_executive {
 
 using cmdtlm::CommandCode;
 
@@ -53,4 +54,4 @@ void GoalCommands::publish() {
                    static_cast<unsigned>(m.count), m.riskBound);
 }
 
-}  // namespace rse::deliberative
+}  // namespace rse::plan_executive

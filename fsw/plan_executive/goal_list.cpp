@@ -1,6 +1,6 @@
-#include "fsw/deliberative/goal_list.hpp"
+#include "fsw/plan_executive/goal_list.hpp"
 
-namespace rse::deliberative {
+namespace rse::plan_executive {
 
 void GoalList::replaceWithGoal(double x, double y, double risk) {
     list_.count = 1;
@@ -28,4 +28,4 @@ void GoalList::setRiskBound(double risk) {
     ++list_.revision;
 }
 
-}  // namespace rse::deliberative
+}  // namespace rse::plan_executive
