@@ -2,11 +2,11 @@
 
 namespace rse::deliberative {
 
-core::Status CcWorkspace::begin(const CcProblem& plan, const CcPlannerParams& settings) {
+core::Status CcWorkspace::begin(const CcProblem& given, const CcPlannerParams& settings) {
     incumbent.reset();
     certifier.stop();
     run.stop();
-    problem = plan;
+    problem = given;
     params = settings;
     incumbent.setSteps(problem.steps);
     riskBudget = problem.riskBound * (1.0 - kRiskSafety);

@@ -39,7 +39,7 @@ struct CcWorkspace {
     // parameters: no best plan, the budgets, the margins (their work
     // counted from 0), the LP set up (kInvalidArgument when it cannot be),
     // no LP under way, nothing being certified.
-    core::Status begin(const CcProblem& plan, const CcPlannerParams& settings);
+    core::Status begin(const CcProblem& given, const CcPlannerParams& settings);
 
     std::size_t steps() const { return problem.steps; }
     std::size_t obstacles() const { return problem.obstacleCount; }

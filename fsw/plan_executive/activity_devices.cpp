@@ -104,7 +104,7 @@ void ActivityDevices::publishGoal(std::uint16_t a) {
     g.riskBound = riskBound_;
     ++goalRevision_;
     if (goalRevision_ < kGoalRevisionBase) {
-        goalRevision_ = kGoalRevisionBase;  // wrapped: stay apart from the command handlers' revisions
+        goalRevision_ = kGoalRevisionBase;  // wrapped: stay apart from the goal commands' revisions
     }
     g.revision = goalRevision_;
     if (a != kNoIndex) {

@@ -5,7 +5,7 @@
 // Start(drive): a PlanGoalMsg of one goal (the activity's point and region,
 // the operator's risk bound, the goal's index in the operator's list for a
 // goal plan) for the deliberative layer; its revisions count from
-// kGoalRevisionBase, apart from the command handlers'. Start(sample / dig /
+// kGoalRevisionBase, apart from the goal commands'. Start(sample / dig /
 // image): an InstrumentCommandMsg to the grinder / camera with a fresh
 // command id (1..65535, wrapping) and the activity's ub as the instrument's
 // own limit. Cancel: a PlanGoalMsg of no goal, or the instrument's cancel.

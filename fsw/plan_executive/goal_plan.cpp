@@ -17,7 +17,7 @@ std::size_t writeGoalPlanText(const msg::GoalListMsg& g, char* text, std::size_t
         if (i > 0) {
             std::snprintf(from, sizeof from, "goal%u", static_cast<unsigned>(i));
         }
-        // A goal's region goes with it (the command handlers' goals are
+        // A goal's region goes with it (the goal commands' goals are
         // points: radius 0, no `within`); below the text's 1 mm it is the point.
         char within[24] = "";
         if (g.goals[i].radiusM >= 0.0005F) {
@@ -69,7 +69,7 @@ void GoalPlans::stopForEmptyList() {
     const msg::GoalListMsg& g = list_;
     const bool running = ctx_.goalPlan && ctx_.planRunning();
     const bool missionPlan = !ctx_.goalPlan && ctx_.planRunning();
-    // DEBUG when there is nothing to say (the command handlers' first list at boot).
+    // DEBUG when there is nothing to say (the goal commands' first list at boot).
     ctx_.events.report(events::kGoalListEmpty, running || missionPlan ? core::Severity::kInfo : core::Severity::kDebug,
                        "plan_exec: goal list rev %u empty: %s", static_cast<unsigned>(g.revision),
                        running ? "goal plan stopped"

@@ -14,15 +14,15 @@ PlanExecutiveTask::PlanExecutiveTask(core::SoftwareBus& bus, core::EventLog& eve
       regeneration_(ctx_, components_, lifecycle_),
       adoption_(ctx_, components_, lifecycle_, regeneration_),
       goals_(ctx_, devices_, lifecycle_, adoption_),
-      commands_(bus, events, core::InputPipeConfig{"plan_exec", kPipeDepth, events::kMalformedInput, "plan_exec"}),
+      commandPipe_(bus, events, core::InputPipeConfig{"plan_exec", kPipeDepth, events::kMalformedInput, "plan_exec"}),
       inputs_(bus, events,
               core::InputPipeConfig{"plan_exec_in", kStatusPipeDepth, events::kMalformedInput, "plan_exec"}) {}
 
 core::Status PlanExecutiveTask::init() {
     // The status pipe's ids are routed (and so subscribed) in the order they always were.
-    core::Status status = commands_.create();
+    core::Status status = commandPipe_.create();
     if (core::isOk(status)) {
-        status = commands_.route<&PlanExecutiveTask::takeCommand>(this);
+        status = commandPipe_.route<&PlanExecutiveTask::takeCommand>(this);
     }
     if (core::isOk(status)) {
         status = inputs_.create();
@@ -54,7 +54,7 @@ void PlanExecutiveTask::run(const core::FrameContext& frame) {
     }
     ctx_.now = frame.scheduledStart;
     ++runs_;
-    commands_.drain();
+    commandPipe_.drain();
     inputs_.drain();
     if (goals_.pending() && ctx_.job == SelectionJob::kNone) {
         goals_.begin();

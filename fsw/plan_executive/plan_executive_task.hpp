@@ -3,7 +3,7 @@
 // it creates the pipes and routes each input to its part, and each run does
 // the work in this order:
 //
-//   1. the command handlers' PlanCommandMsg ("plan_exec", at most
+//   1. the plan commands' PlanCommandMsg ("plan_exec", at most
 //      kPipeDepth): PLAN_LOAD chunks to the upload (PlanUpload), PLAN_START
 //      (the assembled text's length and CRC-32) and PLAN_SHORT to a new
 //      plan's parse and selection (PlanAdoption; busy while a selection is
@@ -104,7 +104,7 @@ public:
     const Selection& selection() const { return adoption_.selection(); }
     std::size_t uploadLength() const { return upload_.length(); }
     // Inputs refused on either pipe (did not decode, or out of range).
-    std::uint32_t malformed() const { return commands_.malformed() + inputs_.malformed(); }
+    std::uint32_t malformed() const { return commandPipe_.malformed() + inputs_.malformed(); }
 
 private:
     // The pipes' handlers: a message out of range is refused (malformed).
@@ -132,10 +132,10 @@ private:
     PlanAdoption adoption_;
     GoalPlans goals_;
     PlanStatusReport status_;
-    // The command handlers' PlanCommandMsg ("plan_exec"), and what the
+    // The plan commands' PlanCommandMsg ("plan_exec"), and what the
     // devices, mode estimation, the deliberative layer and the operator's goal
     // list say ("plan_exec_in").
-    core::InputPipe commands_;
+    core::InputPipe commandPipe_;
     core::InputPipe inputs_;
     bool ready_ = false;
     std::uint32_t runs_ = 0;

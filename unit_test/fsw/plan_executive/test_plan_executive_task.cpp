@@ -1,5 +1,5 @@
 // The plan executive task on a software bus (plan_executive_task.hpp): the
-// command handlers' PlanCommandMsg in (chunks, start with length and CRC-32,
+// plan commands' PlanCommandMsg in (chunks, start with length and CRC-32,
 // the short form, abort), the status and safe requests out. Uploads in chunks
 // and started; a bad CRC, a bad length, a gap and an overflow refused with the
 // plan running kept; a parse error refused with its reason, line and token; a
@@ -115,7 +115,7 @@ struct Rig {
         m.lastRefusedCommandId = refusedId;
         CHECK_TRUE(core::isOk(bus.publish(m)));
     }
-    // PLAN_EXTEND as the command handlers pass it.
+    // PLAN_EXTEND as the plan commands pass it.
     void extend(const char* activity, std::uint32_t extraMs) {
         command = msg::PlanCommandMsg{};
         command.timeNs = clock.now();
@@ -145,7 +145,7 @@ struct Rig {
         g.revision = 1;
         CHECK_TRUE(core::isOk(bus.publish(g)));
     }
-    // The command handlers' goal list (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
+    // The goal commands' goal list (GOTO, ADD_TARGET, CLEAR_GOALS, SET_RISK_BOUND).
     void goalList(std::uint32_t revision, const double (*xy)[2], std::size_t count, double risk = 1e-3) {
         double xyr[msg::kMaxGoals][3] = {};
         for (std::size_t i = 0; i < count && i < msg::kMaxGoals; ++i) {
@@ -154,7 +154,7 @@ struct Rig {
         }
         goalListWithRadii(revision, xyr, count, risk);
     }
-    // The same with each goal's region radius (the command handlers' goals are points: 0).
+    // The same with each goal's region radius (the goal commands' goals are points: 0).
     void goalListWithRadii(std::uint32_t revision, const double (*xyr)[3], std::size_t count, double risk = 1e-3) {
         msg::GoalListMsg g{};
         g.timeNs = clock.now();
@@ -726,7 +726,7 @@ TEST(PlanExecutiveGoalLists, GotoIsAPlanOfOneDriveCompletedWhenTheGoalIsReached)
     LONGS_EQUAL(1, rig->count(ev::kPlanComplete));
     LONGS_EQUAL(1, rig->status.activitiesCompleted);
     LONGS_EQUAL(1, rig->goals);  // nothing more sent: no cancel of a drive that completed
-    // The same revision again (the command handlers republish): nothing new.
+    // The same revision again (the goal commands republish): nothing new.
     rig->goalList(5, xy, 1, 2e-3);
     rig->runFor(2);
     LONGS_EQUAL(1, rig->count(ev::kGoalPlan));
