@@ -20,7 +20,7 @@ constexpr core::EventId kBoundRelaxed = 910;      // WARN: a leg's length or ene
 constexpr core::EventId kReplan = 911;            // WARN: replanning from the current state (n of the limit)
 constexpr core::EventId kCallHome = 912;          // CRITICAL: no plan within the bounds: rover safed, reason
 constexpr core::EventId kProblemRefused = 913;    // ERROR: the map problem could not be built (why)
-constexpr core::EventId kDroppedObstacles = 914;  // WARN: more coarse-map obstacles than the planner holds: n dropped (farthest)
+constexpr core::EventId kDroppedObstacles = 914;  // WARN: more coarse-map obstacles than the planner holds: n left out of the problem (risk checked)
 constexpr core::EventId kLeftAutonomous = 915;    // INFO: mode left AUTONOMOUS: plan dropped, legs cancelled
 constexpr core::EventId kMalformedInput = 916;    // ERROR: a bus message that does not decode or fails its checks (throttled)
 constexpr core::EventId kInitFailed = 917;        // ERROR: pipe creation or subscription refused at init
@@ -37,6 +37,8 @@ constexpr core::EventId kPlannedFromReentry = 928; // WARN: the start lies off t
 constexpr core::EventId kWideSearch = 929;        // INFO: no plan within Boole's bound: the search widened (factor), the plan certified within the risk
 // 990: the deliberative range 900-929 is full; 990-999 are the deliberative layer's too.
 constexpr core::EventId kFailedDriveModel = 990;  // WARN: plans now take these drives as failed (drive mode estimate): power factor, motion noise
+constexpr core::EventId kWholeMapReplan = 991;    // WARN: the plan passes obstacles its problem left out (risk above the left-out share): planned again with them in (round)
+constexpr core::EventId kWholeMapRefused = 992;   // WARN: plan not taken: the obstacles left out of its problem carry more than the left-out share, no room or rounds left
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 
 }  // namespace rse::deliberative::events

@@ -428,7 +428,7 @@ void DeliberativeTask::onPlanFinished() {
         return;
     }
     maker_.reportNoPlan(goalNumber());
-    if (policy_.relaxRisk(maker_.problem().riskBound, goals_.riskBound,
+    if (policy_.relaxRisk(maker_.riskBound(), goals_.riskBound,
                           static_cast<double>(tables_.planner().risk_relax_limit))) {
         setState(msg::DeliberativeState::kWaiting);
         return;

@@ -189,15 +189,6 @@ geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::
 
 namespace {
 
-// Every grown polygon and hazard that may enter the problem, each with its
-// rank (the squared distance to the straight line from start to goal).
-struct ObstacleCandidates {
-    static constexpr std::size_t kCapacity = kCoarseMapSlots + msg::kMaxKnownHazards;
-    PlanObstacle grown[kCapacity];
-    double rank[kCapacity] = {};
-    std::size_t count = 0;
-};
-
 // The problem but its obstacles: the plant from the tables and the request,
 // the site from the map.
 CcProblem problemFrame(const tables::PlannerTable& planner, const PlanRequest& request,
@@ -226,7 +217,7 @@ CcProblem problemFrame(const tables::PlannerTable& planner, const PlanRequest& r
 // Every polygon in use grown by the footprint; kBadMap or kGoalInObstacle
 // stop the problem.
 MapProblemError addMapPolygons(const tables::CoarseMapTable& map, const CcProblem& p, double radius,
-                               ObstacleCandidates* c, MapProblemReport* report) {
+                               MapObstacles* c, MapProblemReport* report) {
     const std::size_t slots = rse::geometry::coarseMapSlotsUsed(map);
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
@@ -243,12 +234,13 @@ MapProblemError addMapPolygons(const tables::CoarseMapTable& map, const CcProble
         ++c->count;
     }
     report->obstaclesOnMap = static_cast<std::uint8_t>(c->count);
+    c->polygons = c->count;
     return MapProblemError::kNone;
 }
 
 // Every usable seen hazard as an octagon grown by the footprint, less where
 // the start or the goal needs room (see the header).
-void addSeenHazards(const PlanRequest& request, const CcProblem& p, double radius, ObstacleCandidates* c,
+void addSeenHazards(const PlanRequest& request, const CcProblem& p, double radius, MapObstacles* c,
                     MapProblemReport* report) {
     const Point2 s{p.startX, p.startY};
     const Point2 g{p.goalX, p.goalY};
@@ -288,40 +280,63 @@ void addSeenHazards(const PlanRequest& request, const CcProblem& p, double radiu
     }
 }
 
-// The kMaxPlanObstacles nearest into the problem (selection, ties to the
-// lower slot), in candidate order; the report's counts of them.
-void keepNearest(const ObstacleCandidates& c, CcProblem* p, MapProblemReport* report) {
-    bool taken[ObstacleCandidates::kCapacity] = {};
-    const std::size_t keep = c.count < kMaxPlanObstacles ? c.count : kMaxPlanObstacles;
-    for (std::size_t k = 0; k < keep; ++k) {
-        std::size_t pick = c.count;
-        for (std::size_t i = 0; i < c.count; ++i) {
-            if (!taken[i] && (pick == c.count || c.rank[i] < c.rank[pick])) {
-                pick = i;
-            }
-        }
-        taken[pick] = true;
-    }
+// The index of the nearest candidate not yet taken with forced == wantForced
+// (ties to the lower index); c.count when there is none.
+std::size_t nearestUntaken(const MapObstacles& c, const bool* taken, bool wantForced) {
+    std::size_t pick = c.count;
     for (std::size_t i = 0; i < c.count; ++i) {
-        if (taken[i]) {
-            p->obstacles[p->obstacleCount++] = c.grown[i];
+        if (!taken[i] && c.forced[i] == wantForced && (pick == c.count || c.rank[i] < c.rank[pick])) {
+            pick = i;
         }
     }
-    const std::size_t polygons = report->obstaclesOnMap;
-    std::size_t polygonsUsed = 0;
-    for (std::size_t i = 0; i < c.count; ++i) {
-        polygonsUsed += (taken[i] && i < polygons) ? 1U : 0U;
-    }
-    report->obstaclesUsed = static_cast<std::uint8_t>(polygonsUsed);
-    report->obstaclesDropped = static_cast<std::uint8_t>(polygons - polygonsUsed);
-    report->hazardsUsed = static_cast<std::uint8_t>(p->obstacleCount - polygonsUsed);
+    return pick;
 }
 
 }  // namespace
 
+void MapObstacles::clear() {
+    count = 0;
+    polygons = 0;
+    for (bool& f : forced) {
+        f = false;
+    }
+}
+
+std::size_t MapObstacles::leftOut() const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        n += inProblem[i] ? 0U : 1U;
+    }
+    return n;
+}
+
+void selectObstacles(MapObstacles* c, CcProblem* p, MapProblemReport* report) {
+    bool* taken = c->inProblem;
+    for (std::size_t i = 0; i < c->count; ++i) {
+        taken[i] = false;
+    }
+    const std::size_t keep = c->count < kMaxPlanObstacles ? c->count : kMaxPlanObstacles;
+    for (std::size_t k = 0; k < keep; ++k) {
+        std::size_t pick = nearestUntaken(*c, taken, true);
+        pick = pick < c->count ? pick : nearestUntaken(*c, taken, false);
+        taken[pick] = true;
+    }
+    p->obstacleCount = 0;
+    std::size_t polygonsUsed = 0;
+    for (std::size_t i = 0; i < c->count; ++i) {
+        if (taken[i]) {
+            p->obstacles[p->obstacleCount++] = c->grown[i];
+            polygonsUsed += i < c->polygons ? 1U : 0U;
+        }
+    }
+    report->obstaclesUsed = static_cast<std::uint8_t>(polygonsUsed);
+    report->obstaclesDropped = static_cast<std::uint8_t>(c->polygons - polygonsUsed);
+    report->hazardsUsed = static_cast<std::uint8_t>(p->obstacleCount - polygonsUsed);
+}
+
 core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
                              const tables::RoverGeometryTable& geometry, const PlanRequest& request,
-                             CcProblem* out, MapProblemReport* report) {
+                             CcProblem* out, MapProblemReport* report, MapObstacles* obstacles) {
     *report = MapProblemReport{};
     const auto fail = [report](MapProblemError error) {
         report->error = error;
@@ -341,13 +356,15 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         return fail(MapProblemError::kGoalOffSite);
     }
     // Grow every polygon in use and every seen hazard; rank by distance to the straight line.
-    ObstacleCandidates candidates;
-    const MapProblemError mapError = addMapPolygons(map, p, radius, &candidates, report);
+    MapObstacles local;
+    MapObstacles* candidates = obstacles != nullptr ? obstacles : &local;
+    candidates->clear();
+    const MapProblemError mapError = addMapPolygons(map, p, radius, candidates, report);
     if (mapError != MapProblemError::kNone) {
         return fail(mapError);
     }
-    addSeenHazards(request, p, radius, &candidates, report);
-    keepNearest(candidates, &p, report);
+    addSeenHazards(request, p, radius, candidates, report);
+    selectObstacles(candidates, &p, report);
     if (!core::isOk(checkProblem(p))) {
         return fail(MapProblemError::kBadProblem);
     }

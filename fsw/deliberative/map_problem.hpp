@@ -8,10 +8,12 @@
 //   sharpest first within kMaxObstacleFaces: every face supports the disc
 //   sweep of the polygon, so a mean outside it keeps the rover's disc off the
 //   rock, and a sharp corner no longer reaches radius / cos(turn / 2) out). The planner takes kMaxPlanObstacles; when the map holds more, the
-//   ones nearest the straight segment from start to goal are kept and the rest
-//   are counted as dropped: the habitual layer still avoids every polygon
-//   (its local map holds them all), so a dropped one costs a local detour, not
-//   a collision.
+//   ones the whole-map check forced in come first (PlanMaker, whole_map_check.hpp),
+//   then the ones nearest the straight segment from start to goal; the rest are
+//   left out of the problem but not out of the plan's risk: the whole-map check
+//   bounds each one's risk against the plan before it is sent, and a plan whose
+//   left-out obstacles carry more than a negligible share is planned again with
+//   them in, or not sent.
 // - Seen hazards (KnownHazardsMsg: the habitual layer's remembered discs): each
 //   disc grown by the footprint radius becomes the regular octagon that
 //   circumscribes it (kHazardFaces faces), so the plan and its legs keep the
@@ -34,6 +36,7 @@
 
 #include "fsw/core/status.hpp"
 #include "fsw/deliberative/cc_problem.hpp"
+#include "fsw/geometry/coarse_map.hpp"
 #include "fsw/geometry/site_bounds.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
@@ -72,7 +75,7 @@ struct MapProblemReport {
     MapProblemError error = MapProblemError::kNone;
     std::uint8_t obstaclesOnMap = 0;
     std::uint8_t obstaclesUsed = 0;
-    std::uint8_t obstaclesDropped = 0;   // on the map, beyond kMaxPlanObstacles, farthest from the line
+    std::uint8_t obstaclesDropped = 0;   // on the map, beyond kMaxPlanObstacles: left out of the problem
     bool startInObstacle = false;        // the start lies inside a grown obstacle (the planner will find no plan)
     std::uint8_t hazardsSeen = 0;        // usable hazards in the request
     std::uint8_t hazardsUsed = 0;        // of them, in the problem
@@ -80,13 +83,33 @@ struct MapProblemReport {
     std::uint8_t hazardsLeftOut = 0;     // bare disc on the start or goal, or not finite / not positive
 };
 
+// Every grown polygon and seen hazard that may enter the problem: the ones it
+// holds and the ones it leaves out (the whole-map check bounds their risk).
+struct MapObstacles {
+    static constexpr std::size_t kCapacity = geometry::kCoarseMapSlots + msg::kMaxKnownHazards;
+    PlanObstacle grown[kCapacity];
+    double rank[kCapacity] = {};     // squared distance to the straight line from start to goal
+    bool forced[kCapacity] = {};     // first into the problem: the whole-map check found its risk mattered
+    bool inProblem[kCapacity] = {};
+    std::size_t count = 0;
+    std::size_t polygons = 0;        // grown[0 .. polygons) are the coarse map's, the rest seen hazards
+    void clear();                    // no candidate, none forced
+    std::size_t leftOut() const;     // candidates not in the problem
+};
+
 // kOk and *out filled, or kInvalidArgument with report->error saying why.
+// *obstacles (when not null) gets every candidate and which the problem holds.
 // Where a plan's start, goal and means must lie: the site shrunk by the rover's
 // clearance radius (a start or goal outside it: kStartOffSite / kGoalOffSite).
 geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::RoverGeometryTable& rover);
 
 core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
                              const tables::RoverGeometryTable& geometry, const PlanRequest& request,
-                             CcProblem* out, MapProblemReport* report);
+                             CcProblem* out, MapProblemReport* report, MapObstacles* obstacles = nullptr);
+
+// The problem's obstacles chosen again from *obstacles: the forced ones first
+// (nearest first), then the nearest, kMaxPlanObstacles in all, in candidate
+// order; inProblem and the report's counts follow. The rest of *problem is kept.
+void selectObstacles(MapObstacles* obstacles, CcProblem* problem, MapProblemReport* report);
 
 }  // namespace rse::deliberative

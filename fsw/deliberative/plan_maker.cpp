@@ -33,11 +33,11 @@ bool PlanMaker::start(const PlanStart& s, const char** refusal) {
     request.noiseFactor =
         s.failedDrives != 0U ? static_cast<double>(tables_.planner().failed_drive_noise_factor) : 1.0;
     MapProblemReport report;
+    wideSearch_ = false;
     if (!buildProblem(s, request, &report, refusal)) {
         return false;
     }
     seedFromLastPlan();
-    wideSearch_ = false;
     ++counters_.plansStarted;
     slices_ = 0;
     noteFailedDrives(s);
@@ -75,7 +75,7 @@ bool PlanMaker::buildProblem(const PlanStart& s, const PlanRequest& request, Map
                              const char** refusal) {
     const tables::PlannerTable& planner = tables_.planner();
     if (!core::isOk(buildMapProblem(tables_.coarseMap(), planner, tables_.roverGeometry(), request, &problem_,
-                                    report))) {
+                                    report, &obstacles_))) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
                        "deliberative: goal %u (%.2f, %.2f) from (%.2f, %.2f): %s",
@@ -87,10 +87,20 @@ bool PlanMaker::buildProblem(const PlanStart& s, const PlanRequest& request, Map
     if (report->obstaclesDropped > 0) {
         ++counters_.obstaclesDropped;
         events_.report(events::kDroppedObstacles, core::Severity::kWarning,
-                       "deliberative: %u of %u coarse-map obstacles left out (farthest from the line; the habitual "
-                       "layer still avoids them)",
+                       "deliberative: %u of %u coarse-map obstacles left out of the problem (farthest from the "
+                       "line): the plan's risk is checked against them",
                        static_cast<unsigned>(report->obstaclesDropped), static_cast<unsigned>(report->obstaclesOnMap));
     }
+    // The whole map (whole_map_check.hpp): obstacles left out keep a share
+    // of the bound for their risk.
+    riskBound_ = request.riskBound;
+    leftOutCount_ = obstacles_.leftOut();
+    leftOutRisk_ = 0.0;
+    wholeMapRounds_ = 0;
+    if (leftOutCount_ > 0) {
+        problem_.riskBound = riskBound_ * (1.0 - kLeftOutShare);
+    }
+    phase_ = Phase::kPlanning;
     if (!core::isOk(planner_.start(problem_, plannerParams()))) {
         ++counters_.problemsRefused;
         events_.report(events::kProblemRefused, core::Severity::kError,
@@ -140,26 +150,108 @@ CcPlannerParams PlanMaker::plannerParams() const {
     CcPlannerParams params;
     params.nodeBudget = planner.node_budget;
     params.workBudget = static_cast<std::uint32_t>(planner.time_budget_ms) * kWorkKUnitsPerMs;
+    params.searchRiskScale = wideSearch_ ? kWideSearchScale : params.searchRiskScale;
     return params;
 }
 
 bool PlanMaker::step() {
-    const std::uint64_t work0 = planner_.work();
+    const std::uint64_t work0 = work();
     std::uint32_t units = 0;
-    while (!planner_.finished() && units < kMaxUnitsPerRun && planner_.work() - work0 < kSliceWork) {
-        (void)planner_.step(1);
+    while (phase_ != Phase::kDone && units < kMaxUnitsPerRun && work() - work0 < kSliceWork) {
+        stepUnit();
         ++units;
     }
-    const std::uint64_t work = planner_.work() - work0;
-    counters_.maxRunWork = work > counters_.maxRunWork ? work : counters_.maxRunWork;
+    const std::uint64_t runWork = work() - work0;
+    counters_.maxRunWork = runWork > counters_.maxRunWork ? runWork : counters_.maxRunWork;
     counters_.maxRunUnits = units > counters_.maxRunUnits ? units : counters_.maxRunUnits;
     ++counters_.planningRuns;
     ++slices_;
-    return planner_.finished();
+    return phase_ == Phase::kDone;
+}
+
+void PlanMaker::stepUnit() {
+    // A unit is one of the planner's, one obstacle of the whole-map check or
+    // the restart of the planner with obstacles forced in: each within
+    // CcPlanner::kMaxUnitWork, each counted in work_.
+    if (phase_ == Phase::kPlanning) {
+        if (!planner_.finished()) {
+            const std::uint64_t before = planner_.work();
+            (void)planner_.step(1);
+            work_ += planner_.work() - before;
+        }
+        if (planner_.finished()) {
+            onPlannerFinished();
+        }
+    } else if (phase_ == Phase::kChecking) {
+        if (check_.unit(&work_)) {
+            onCheckDone();
+        }
+    } else if (phase_ == Phase::kReplanning) {
+        replanWithForced();
+    }
+}
+
+void PlanMaker::onPlannerFinished() {
+    candidate_ = planner_.plan();
+    const bool hasPath = candidate_.status == CcStatus::kOptimal || candidate_.status == CcStatus::kFeasible;
+    if (!hasPath || leftOutCount_ == 0) {
+        phase_ = Phase::kDone;
+        return;
+    }
+    ++counters_.wholeMapChecks;
+    check_.start(problem_, candidate_, obstacles_);
+    phase_ = Phase::kChecking;
+}
+
+void PlanMaker::onCheckDone() {
+    const double allowed = kLeftOutShare * riskBound_;
+    if (check_.leftOutRisk() <= allowed) {
+        // Certified against the whole map: the problem's obstacles within
+        // (1 - kLeftOutShare) Delta, the rest within the share.
+        leftOutRisk_ = check_.leftOutRisk();
+        candidate_.riskUsed += leftOutRisk_;
+        phase_ = Phase::kDone;
+        return;
+    }
+    const double risk = check_.leftOutRisk();
+    const double floor = allowed / static_cast<double>(MapObstacles::kCapacity);
+    if (wholeMapRounds_ < kMaxWholeMapRounds && check_.force(&obstacles_, floor) > 0) {
+        ++wholeMapRounds_;
+        ++counters_.wholeMapReplans;
+        events_.report(events::kWholeMapReplan, core::Severity::kWarning,
+                       "deliberative: left-out obstacles near the plan (risk %.3g > %.3g): round %u with them in",
+                       risk, allowed, static_cast<unsigned>(wholeMapRounds_));
+        phase_ = Phase::kReplanning;
+        return;
+    }
+    refuseCandidate(risk);
+}
+
+void PlanMaker::refuseCandidate(double leftOutRisk) {
+    ++counters_.wholeMapRefusals;
+    events_.report(events::kWholeMapRefused, core::Severity::kWarning,
+                   "deliberative: plan not taken: left-out obstacles carry risk %.3g > %.3g (%u rounds)",
+                   leftOutRisk, kLeftOutShare * riskBound_, static_cast<unsigned>(wholeMapRounds_));
+    candidate_ = CcPlan{};
+    candidate_.status = CcStatus::kNoPlan;
+    phase_ = Phase::kDone;
+}
+
+void PlanMaker::replanWithForced() {
+    MapProblemReport report;
+    selectObstacles(&obstacles_, &problem_, &report);
+    leftOutCount_ = obstacles_.leftOut();
+    problem_.riskBound = riskBound_ * (leftOutCount_ > 0 ? 1.0 - kLeftOutShare : 1.0);
+    if (!core::isOk(planner_.start(problem_, plannerParams()))) {
+        refuseCandidate(check_.leftOutRisk());
+        return;
+    }
+    work_ += planner_.work();  // what start did (the fixed ends' margins)
+    phase_ = Phase::kPlanning;
 }
 
 bool PlanMaker::finish() {
-    plan_ = planner_.plan();
+    plan_ = candidate_;
     planGap_ = 1.0;
     const bool hasPath = plan_.status == CcStatus::kOptimal || plan_.status == CcStatus::kFeasible;
     if (hasPath) {
@@ -183,8 +275,11 @@ void PlanMaker::countPlanFound(core::TimeNs now) {
     m.status = static_cast<std::uint8_t>(plan_.status);
     const std::size_t steps = plan_.steps <= kMaxPlanSteps ? plan_.steps : kMaxPlanSteps;
     m.steps = static_cast<std::uint8_t>(steps);
-    m.riskBound = problem_.riskBound;
+    m.riskBound = riskBound_;
     m.riskUsed = plan_.riskUsed;
+    m.riskLeftOut = leftOutRisk_;
+    m.obstaclesInProblem = problem_.obstacleCount;
+    m.obstaclesLeftOut = static_cast<std::uint8_t>(leftOutCount_);
     m.lengthM = plan_.euclideanLengthM;
     m.processSigmaM = problem_.processSigmaM;
     for (std::size_t i = 0; i < 4; ++i) {
@@ -212,7 +307,7 @@ void PlanMaker::reportPlanFound(std::size_t legCount) {
     events_.report(events::kPlanFound, core::Severity::kInfo,
                    "deliberative: %s plan%s, gap %.1f%%: %.2f m, risk %.3g/%.3g, %u legs, %u nodes",
                    budget ? "BUDGET" : "optimal", seededPlan_ ? ", seeded" : "", 100.0 * planGap_,
-                   plan_.euclideanLengthM, plan_.riskUsed, problem_.riskBound, static_cast<unsigned>(legCount),
+                   plan_.euclideanLengthM, plan_.riskUsed, riskBound_, static_cast<unsigned>(legCount),
                    static_cast<unsigned>(planner_.nodes()));
 }
 
@@ -223,16 +318,16 @@ bool PlanMaker::startWideSearch() {
     // Boole's even split refused it; a plan may still certify within the
     // bound (cc_planner.hpp, "Risk allocation"): one wider search first.
     const bool proven = planner_.searchExhausted();
-    CcPlannerParams params = plannerParams();
-    params.searchRiskScale = kWideSearchScale;
-    if (!core::isOk(planner_.start(problem_, params))) {
+    wideSearch_ = true;
+    if (!core::isOk(planner_.start(problem_, plannerParams()))) {
+        wideSearch_ = false;
         return false;
     }
-    wideSearch_ = true;
+    phase_ = Phase::kPlanning;
     ++counters_.wideSearches;
     events_.report(events::kWideSearch, core::Severity::kInfo,
                    "deliberative: no plan within Boole's bound at %.3g (%s): search x%.0f, certify at %.3g",
-                   problem_.riskBound, proven ? "proven" : "budget spent", kWideSearchScale, problem_.riskBound);
+                   riskBound_, proven ? "proven" : "budget spent", kWideSearchScale, riskBound_);
     return true;
 }
 
@@ -240,7 +335,7 @@ void PlanMaker::reportNoPlan(std::size_t goalNumber) {
     ++counters_.noPlans;
     events_.report(events::kNoPlan, core::Severity::kWarning,
                    "deliberative: no plan for goal %u within risk %.3g (%s, %u nodes)",
-                   static_cast<unsigned>(goalNumber), problem_.riskBound,
+                   static_cast<unsigned>(goalNumber), riskBound_,
                    planner_.searchExhausted() ? "proven" : "budget spent", static_cast<unsigned>(planner_.nodes()));
 }
 

@@ -20,13 +20,21 @@
 //   at most CcPlanner::kMaxUnitWork), so a run costs at most kSliceWork +
 //   kMaxUnitWork work units; a whole plan is bounded by PLANNER.node_budget
 //   LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs thousand work units.
+// - The whole map: when the map and the seen hazards hold more obstacles than
+//   the problem, the planner plans to (1 - kLeftOutShare) Delta and each plan
+//   it finds is checked against every obstacle (whole_map_check.hpp) before it
+//   is taken: the left-out ones' risk is added to its certified risk when it
+//   fits in kLeftOutShare Delta; else the obstacles that matter are forced into
+//   the problem and it is planned again (event 991), at most
+//   kMaxWholeMapRounds times, and then no plan is taken (event 992): a plan
+//   whose risk against the whole map is not certified is never sent.
 // - No plan at the even split (kOptimised allocation, obstacles in the way):
 //   the same problem once more with the search at kWideSearchScale x Boole's
 //   budget, its plan certified within the risk in force (event 929).
 //
 // Owns the planner, the problem, the plan and the last plan (about 500 KB:
 // the task is static). Publishes PlanPathMsg (through the Publisher). Events
-// 901, 902, 903, 913, 914, 928, 929, 990.
+// 901, 902, 903, 913, 914, 928, 929, 990, 991, 992.
 #pragma once
 
 #include <cstddef>
@@ -38,6 +46,7 @@
 #include "fsw/deliberative/cc_problem.hpp"
 #include "fsw/deliberative/map_problem.hpp"
 #include "fsw/deliberative/publisher.hpp"
+#include "fsw/deliberative/whole_map_check.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/tables/table_service.hpp"
 
@@ -65,6 +74,11 @@ constexpr double kWideSearchScale = 8.0;
 // layer's planning margin.
 constexpr double kReentryInsetM = 0.3;
 
+// Plans of one goal planned again with obstacles the whole-map check forced
+// in: each round forces at least one more, so kMaxPlanObstacles rounds would
+// hold any forced set; four keep a plan within a few plans' time.
+constexpr std::uint32_t kMaxWholeMapRounds = 4;
+
 // What a plan is asked for.
 struct PlanStart {
     double xM = 0.0, yM = 0.0;    // the start's mean
@@ -90,6 +104,9 @@ struct PlanCounters {
     std::uint32_t wideSearches = 0;      // no plan, so the same problem searched at kWideSearchScale
     std::uint32_t wideSearchPlans = 0;   // ... which found a plan certified within the risk in force
     std::uint32_t failedDriveModels = 0; // plans started with a new set of drives taken as failed (event 990)
+    std::uint32_t wholeMapChecks = 0;    // plans checked against the obstacles their problem left out
+    std::uint32_t wholeMapReplans = 0;   // ... planned again with obstacles forced in (event 991)
+    std::uint32_t wholeMapRefusals = 0;  // ... and not taken: left-out risk beyond kLeftOutShare (event 992)
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -102,10 +119,12 @@ public:
     // Builds the problem and starts the planner (events 901, 928, 914, 990).
     // False when the problem is refused (event 913): *refusal says why.
     bool start(const PlanStart& request, const char** refusal);
-    // One run's slice of planning; true when the planner has finished.
+    // One run's slice of planning and of the whole-map check; true when both
+    // have finished.
     bool step();
-    // Takes the finished planner's plan; true when it has a path (it is then
-    // the seed of the next plan to the same goal among the same obstacles).
+    // Takes the finished plan; true when it has a path certified against the
+    // whole map (it is then the seed of the next plan to the same goal among
+    // the same obstacles).
     bool finish();
     // The plan is one the task made (counted in PLAN's plansMade): PLAN_PATH
     // numbered with the count.
@@ -123,6 +142,12 @@ public:
     const CcPlanner& planner() const { return planner_; }
     const CcProblem& problem() const { return problem_; }
     const CcPlan& plan() const { return plan_; }
+    // The risk in force the plan was asked for (the problem's own bound is
+    // less by the left-out share when obstacles are left out).
+    double riskBound() const { return riskBound_; }
+    // Obstacles the plan's problem left out, and their share of its risk.
+    std::size_t obstaclesLeftOut() const { return leftOutCount_; }
+    double leftOutRisk() const { return leftOutRisk_; }
     double planGap() const { return planGap_; }
     bool fromReentry() const { return fromReentry_; }
     std::uint32_t slices() const { return slices_; }
@@ -140,7 +165,15 @@ private:
         CcPlan plan{};
     };
 
+    enum class Phase : std::uint8_t { kPlanning, kChecking, kReplanning, kDone };
+
     void planFromReentry(PlanRequest* request);
+    void stepUnit();
+    void onPlannerFinished();
+    void onCheckDone();
+    void refuseCandidate(double leftOutRisk);
+    void replanWithForced();
+    std::uint64_t work() const { return work_; }
     bool buildProblem(const PlanStart& start, const PlanRequest& request, MapProblemReport* report,
                       const char** refusal);
     void seedFromLastPlan();
@@ -151,6 +184,14 @@ private:
     const tables::TableService& tables_;
     Publisher& out_;
     CcProblem problem_{};
+    MapObstacles obstacles_{};   // every candidate of the problem (about 10 KB)
+    WholeMapCheck check_{};
+    Phase phase_ = Phase::kDone;
+    std::uint64_t work_ = 0;         // work units of every unit stepped (planner, check, restarts)
+    std::uint32_t wholeMapRounds_ = 0;
+    double riskBound_ = 0.0;
+    std::size_t leftOutCount_ = 0;
+    double leftOutRisk_ = 0.0;
     LastPlan last_{};
     double planGap_ = 1.0;       // PlanStatusMsg.planGap of plan_
     bool seededPlan_ = false;    // the plan under way was seeded with last_
@@ -159,6 +200,7 @@ private:
     // Drives the last plan started with took as failed (bit per wheel): event 990 when it changes.
     std::uint8_t plannedFailedMask_ = 0;
     std::uint32_t slices_ = 0;   // runs the current plan has taken
+    CcPlan candidate_{};  // the planner's plan under the whole-map check; plan_ once finished
     CcPlan plan_{};
     PlanCounters counters_{};
     CcPlanner planner_;

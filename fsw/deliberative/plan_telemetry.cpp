@@ -42,6 +42,9 @@ core::Status PlanTelemetry::takePlanPath(const msg::PlanPathMsg& m) {
     t.steps = static_cast<std::uint8_t>(steps);
     t.risk_bound = m.riskBound;
     t.risk_used = m.riskUsed;
+    t.risk_left_out = m.riskLeftOut;
+    t.obstacles_in_problem = m.obstaclesInProblem;
+    t.obstacles_left_out = m.obstaclesLeftOut;
     t.length = static_cast<float>(m.lengthM);
     t.process_sigma = static_cast<float>(m.processSigmaM);
     for (std::size_t i = 0; i < 4; ++i) {

@@ -82,16 +82,18 @@ struct PlanStatusMsg {
 // plansMade and publishes none. Carries the plan's mean path and what makes
 // its covariance, Sigma_t = startCov + t processSigmaM^2 I (cc_problem.hpp),
 // so a ground can draw the plan with its risk ellipses (PLAN_PATH packet).
-// 496 bytes: within kBusMaxPayload (1024).
+// 504 bytes: within kBusMaxPayload (1024).
 struct PlanPathMsg {
     static constexpr core::MsgId kMsgId = ids::kPlanPath;
     std::int64_t timeNs;           // when the planner finished
     std::uint32_t planNumber;      // the PlanStatusMsg::plansMade value this plan made (1 for the first)
     std::uint8_t status;           // deliberative::CcStatus: 0 optimal, 1 feasible (budget plan)
     std::uint8_t steps;            // N: meanX/Y[0..steps] are the means, the rest 0
-    std::uint8_t pad[2];
+    std::uint8_t obstaclesInProblem;  // obstacles the planner's problem held (<= kMaxPlanObstacles)
+    std::uint8_t obstaclesLeftOut;    // map polygons and seen hazards it left out (whole-map checked)
     double riskBound;              // Delta planned to (the risk in force, after any relaxation)
-    double riskUsed;               // the plan's certified bound on P(collision) (CcPlan::riskUsed)
+    double riskUsed;               // the plan's certified bound on P(collision) against the whole map
+    double riskLeftOut;            // of riskUsed, the left-out obstacles' share (whole_map_check.hpp)
     double lengthM;                // Euclidean length of the mean path (CcPlan::euclideanLengthM)
     double processSigmaM;          // sigma per step
     double startCov[4];            // Sigma_0, row major, m^2

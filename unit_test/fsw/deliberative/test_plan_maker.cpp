@@ -1,15 +1,20 @@
 // Making the plan of the goal in hand (plan_maker.hpp) with the default
 // tables: the problem from the start, the planner sliced within a run's work,
 // PLAN_PATH numbered by the plans made, refusals, the re-entry start, the
-// failed-drive model and the seed from the last plan.
+// failed-drive model, the seed from the last plan, and the whole map: a plan
+// never passes an obstacle its problem left out beyond its certified risk.
 #include <cmath>
+#include <initializer_list>
 
 #include "fsw/core/clock.hpp"
 #include "fsw/core/software_bus.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/deliberative/plan_maker.hpp"
+#include "fsw/deliberative/plan_risk.hpp"
+#include "fsw/deliberative/whole_map_check.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/tables/default_tables.hpp"
+#include "fsw/tables/table_image.hpp"
 #include "unit_test/fsw/deliberative/event_record.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -57,6 +62,17 @@ TEST_GROUP(PlanMaker) {
         s.riskBound = risk;
         s.hazards = &hazards;
         return s;
+    }
+    // Makes map the active COARSE_MAP, as an upload would.
+    void useMap(const tables::CoarseMapTable& map) {
+        std::uint8_t image[tables::kMaxTableImageSize];
+        const std::size_t n = tables::encodeTable(map, 7, image, sizeof image);
+        CHECK(n > 0);
+        CHECK_TRUE(tables.loadChunk(tables::TableId::kCoarseMap, 0, image, n).ok());
+        CHECK_TRUE(tables.validate(tables::TableId::kCoarseMap).ok());
+        CHECK_TRUE(tables.activate(tables::TableId::kCoarseMap).ok());
+        tables.run(core::FrameContext{});
+        CHECK(tables.coarseMap().obstacle_count == map.obstacle_count);
     }
     // Steps to the end; the runs it took.
     int stepToEnd() {
@@ -170,4 +186,146 @@ TEST(PlanMaker, TheWideSearchRunsOnceAPlanAndOnlyAmongObstacles) {
     // A new plan may search wide again.
     CHECK_TRUE(maker->start(request(0.1, 0.0, 20.0, 0.0), &refusal));
     CHECK_TRUE(maker->startWideSearch());
+}
+
+// ---------------------------------------------------------------------------
+// The whole map (whole_map_check.hpp).
+
+namespace {
+
+// A 20 m x 20 m site round the origin with a 0.6 m square rock centred at each (x, y).
+tables::CoarseMapTable rocks(std::initializer_list<std::initializer_list<float>> centres) {
+    tables::CoarseMapTable map{};
+    map.x_min_m = -10.0F;
+    map.x_max_m = 10.0F;
+    map.y_min_m = -10.0F;
+    map.y_max_m = 10.0F;
+    for (const auto& c : centres) {
+        const std::size_t slot = map.obstacle_count;
+        const float x = *c.begin();
+        const float y = *(c.begin() + 1);
+        const float xs[4] = {x - 0.3F, x + 0.3F, x + 0.3F, x - 0.3F};
+        const float ys[4] = {y - 0.3F, y - 0.3F, y + 0.3F, y + 0.3F};
+        for (std::size_t v = 0; v < 4; ++v) {
+            map.vertex_x_m[slot * 8 + v] = xs[v];
+            map.vertex_y_m[slot * 8 + v] = ys[v];
+        }
+        map.vertex_count[slot] = 4;
+        map.obstacle_count = static_cast<std::uint8_t>(slot + 1);
+    }
+    return map;
+}
+
+// The plan's risk against every candidate the problem did not hold, bounded
+// here on its own: each candidate alone in a copy of the problem.
+double riskOutsideTheProblem(const deliberative::CcProblem& problem, const deliberative::CcPlan& plan,
+                             const deliberative::MapObstacles& all) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < all.count; ++i) {
+        bool held = false;
+        for (std::size_t k = 0; k < problem.obstacleCount; ++k) {
+            held = held || (problem.obstacles[k].id == all.grown[i].id &&
+                            problem.obstacles[k].offset[0] == all.grown[i].offset[0]);
+        }
+        if (!held) {
+            deliberative::CcProblem alone = problem;
+            alone.obstacleCount = 1;
+            alone.obstacles[0] = all.grown[i];
+            sum += deliberative::planRiskBound(alone, plan.meanX, plan.meanY, nullptr, nullptr);
+        }
+    }
+    return sum;
+}
+
+}  // namespace
+
+// The held-out field's case, made small: a wall of four rocks across the
+// straight line from (-8, 0) to (8, 0), four rocks near the start and the
+// goal nearer the line than the two that close the wall's ends (at y = +-3.6,
+// 0.3 m of grown gap from the wall: no passage). The problem's eight slots
+// take the wall and the four; the end rocks are left out. Before the
+// whole-map check the plan went round the wall's end straight through a
+// left-out rock, certified within its bound. Now: the plan sent keeps its
+// risk against every rock within the bound, the left-out ones' share within
+// kLeftOutShare of it, and PLAN_PATH says so.
+TEST(PlanMaker, APlanPastRocksLeftOutOfItsProblemIsCertifiedAgainstThemAllOrNotSent) {
+    useMap(rocks({{0, 0.5F}, {0, -0.5F}, {0, 1.5F}, {0, -1.5F},                  // the wall, nearest the line
+                  {-7.5F, 2.0F}, {-7.5F, -2.0F}, {7.5F, 2.0F}, {7.5F, -2.0F},   // near start and goal
+                  {0, 3.6F}, {0, -3.6F}}));                                     // the wall's ends
+    const double risk = 1e-3;
+    const char* refusal = nullptr;
+    CHECK_TRUE(maker->start(request(-8.0, 0.0, 8.0, 0.0, risk), &refusal));
+    LONGS_EQUAL(8, maker->problem().obstacleCount);
+    LONGS_EQUAL(2, maker->obstaclesLeftOut());
+    // Every candidate, for the check below.
+    deliberative::MapObstacles all;
+    {
+        deliberative::PlanRequest r;
+        r.startX = -8.0;
+        r.goalX = 8.0;
+        r.startCov[0] = r.startCov[3] = 0.0025;
+        r.riskBound = risk;
+        deliberative::CcProblem p;
+        deliberative::MapProblemReport report;
+        CHECK(core::isOk(deliberative::buildMapProblem(tables.coarseMap(), tables.planner(), tables.roverGeometry(),
+                                                       r, &p, &report, &all)));
+        LONGS_EQUAL(10, all.count);
+    }
+    (void)stepToEnd();
+    CHECK(maker->counters().maxRunWork <= deliberative::kSliceWork + deliberative::CcPlanner::kMaxUnitWork);
+    CHECK(maker->counters().wholeMapReplans >= 1);  // the first plan went through a left-out rock
+    LONGS_EQUAL(maker->counters().wholeMapReplans + 1, maker->counters().wholeMapChecks);  // each plan checked
+    CHECK(seen.count(ev::kWholeMapReplan) >= 1);
+    if (!maker->finish()) {
+        // Never sent: refused, with its event.
+        LONGS_EQUAL(1, maker->counters().wholeMapRefusals);
+        LONGS_EQUAL(1, seen.count(ev::kWholeMapRefused));
+        return;
+    }
+    const deliberative::CcPlan& plan = maker->plan();
+    const double outside = riskOutsideTheProblem(maker->problem(), plan, all);
+    CHECK(outside <= deliberative::kLeftOutShare * risk);
+    DOUBLES_EQUAL(outside, maker->leftOutRisk(), 1e-15);
+    const double inside = deliberative::certifiedPlanRisk(maker->problem(), plan, nullptr, nullptr);
+    CHECK(inside + outside <= risk * (1.0 + 1e-9));
+    DOUBLES_EQUAL(inside + outside, plan.riskUsed, 1e-12);
+    maker->countPlanFound(core::kNsPerSec);
+    core::Message m;
+    msg::PlanPathMsg path{};
+    CHECK(core::isOk(bus.receive(probe, &m)));
+    CHECK(core::isOk(m.decode(&path)));
+    DOUBLES_EQUAL(risk, path.riskBound, 0.0);
+    DOUBLES_EQUAL(plan.riskUsed, path.riskUsed, 0.0);
+    DOUBLES_EQUAL(maker->leftOutRisk(), path.riskLeftOut, 0.0);
+    LONGS_EQUAL(maker->problem().obstacleCount, path.obstaclesInProblem);
+    LONGS_EQUAL(maker->obstaclesLeftOut(), path.obstaclesLeftOut);
+}
+
+// A wall across the whole site, more rocks than the problem holds: every
+// plan the problem allows goes through a rock it left out, and none is sent.
+TEST(PlanMaker, APlanThatCannotBeCertifiedAgainstTheWholeMapIsNeverSent) {
+    tables::CoarseMapTable wall = rocks({});
+    for (int k = 0; k < 16; ++k) {
+        const float y = -9.0F + 1.2F * static_cast<float>(k);  // 0.6 m gaps: shut for a 0.6 m radius
+        const tables::CoarseMapTable one = rocks({{0, y}});
+        for (std::size_t v = 0; v < 4; ++v) {
+            wall.vertex_x_m[k * 8 + v] = one.vertex_x_m[v];
+            wall.vertex_y_m[k * 8 + v] = one.vertex_y_m[v];
+        }
+        wall.vertex_count[k] = 4;
+    }
+    wall.obstacle_count = 16;
+    useMap(wall);
+    const char* refusal = nullptr;
+    CHECK_TRUE(maker->start(request(-8.0, 0.0, 8.0, 0.0), &refusal));
+    LONGS_EQUAL(8, maker->obstaclesLeftOut());
+    (void)stepToEnd();
+    CHECK_FALSE(maker->finish());
+    CHECK(deliberative::CcStatus::kNoPlan == maker->plan().status);
+    CHECK(maker->counters().wholeMapReplans + maker->counters().wholeMapRefusals >= 1);
+    // The wide search of the same problem is refused the same way.
+    if (maker->startWideSearch()) {
+        (void)stepToEnd();
+        CHECK_FALSE(maker->finish());
+    }
 }

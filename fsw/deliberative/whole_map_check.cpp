@@ -1,0 +1,70 @@
+#include "fsw/deliberative/whole_map_check.hpp"
+
+#include "fsw/deliberative/cc_planner.hpp"
+#include "fsw/deliberative/plan_risk.hpp"
+
+namespace rse::deliberative {
+
+static_assert(WholeMapCheck::kMaxUnitWork <= CcPlanner::kMaxUnitWork,
+              "a left-out obstacle's check is one unit of the planner's slice");
+
+void WholeMapCheck::start(const CcProblem& problem, const CcPlan& plan, const MapObstacles& obstacles) {
+    single_ = problem;
+    single_.obstacleCount = 1;
+    plan_ = &plan;
+    obstacles_ = &obstacles;
+    count_ = obstacles.count;
+    next_ = 0;
+    leftOut_ = 0;
+    total_ = 0.0;
+    for (double& r : risk_) {
+        r = 0.0;
+    }
+}
+
+bool WholeMapCheck::unit(std::uint64_t* work) {
+    if (next_ >= count_) {
+        return true;
+    }
+    single_.obstacles[0] = obstacles_->grown[next_];
+    RiskWork w;
+    double sum = 0.0;
+    const std::size_t steps = plan_->steps <= kMaxPlanSteps ? plan_->steps : kMaxPlanSteps;
+    for (std::size_t t = 0; t < steps; ++t) {
+        sum += pairRiskBound(single_, plan_->meanX, plan_->meanY, t, 0, &w);
+    }
+    *work += kTailWork * w.tails + kOrthantWork * w.orthants + kScoreWork * w.lineSolves;
+    risk_[next_] = sum;
+    if (!obstacles_->inProblem[next_]) {
+        total_ += sum;
+        ++leftOut_;
+    }
+    ++next_;
+    return done();
+}
+
+std::size_t WholeMapCheck::force(MapObstacles* obstacles, double floor) const {
+    std::size_t forced = 0;
+    for (std::size_t i = 0; i < obstacles->count; ++i) {
+        forced += obstacles->forced[i] ? 1U : 0U;
+    }
+    std::size_t added = 0;
+    while (forced < kMaxPlanObstacles) {
+        std::size_t worst = count_;
+        for (std::size_t i = 0; i < count_; ++i) {
+            const bool candidate = !obstacles->forced[i] && risk_[i] > floor;
+            if (candidate && (worst == count_ || risk_[i] > risk_[worst])) {
+                worst = i;
+            }
+        }
+        if (worst == count_) {
+            break;
+        }
+        obstacles->forced[worst] = true;
+        ++forced;
+        ++added;
+    }
+    return added;
+}
+
+}  // namespace rse::deliberative
