@@ -34,4 +34,7 @@ int runTable(CliContext& cli, const Words& words);
 // Mission plans: load, short and abort over the link, check the plan tool's (ground/cli_plan.cpp).
 int runPlan(CliContext& cli, const Words& words);
 
+// The site map: check, load and abort over the link (ground/cli_map.cpp).
+int runMap(CliContext& cli, const Words& words);
+
 }  // namespace rse::ground

@@ -18,6 +18,7 @@
 
 #include "fsw/cmdtlm/command_auth.hpp"
 #include "fsw/cmdtlm/dictionary.hpp"
+#include "fsw/core/byte_codec.hpp"
 
 namespace rse::ground {
 
@@ -64,5 +65,15 @@ std::vector<std::uint8_t> encodeCommand(const std::string& name, const std::vect
 
 // The built-in lab key as a PacketAuth (key id 1).
 PacketAuth labKeyAuth();
+
+// A command's argument bytes through the dictionary's own encoder.
+template <typename Args>
+std::vector<std::uint8_t> argumentBytes(const Args& args) {
+    std::vector<std::uint8_t> bytes(sizeof(Args));
+    core::BeWriter w(bytes.data(), bytes.size());
+    cmdtlm::encodeArgs(w, args);
+    bytes.resize(w.size());
+    return bytes;
+}
 
 }  // namespace rse::ground

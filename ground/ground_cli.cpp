@@ -37,6 +37,7 @@ constexpr SubCommand kSubCommands[] = {
     {"send", runSend},       {"resync", runResync}, {"watch", runWatch},   {"run", runScript},
     {"record", runRecord},   {"summary", runSummary}, {"report", runReport}, {"table", runTable},
     {"encode", runEncode},   {"dict", runDict},     {"plan", runPlan},     {"serve", runServeCommand},
+    {"map", runMap},
 };
 
 std::string commandNames() {

@@ -6,6 +6,7 @@
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/core/crc32.hpp"
 #include "fsw/plan_executive/plan_executive_events.hpp"
+#include "ground/command_encoder.hpp"
 #include "ground/plan_tool.hpp"
 #include "ground/telemetry_decoder.hpp"
 #include "ground/text_format.hpp"
@@ -14,16 +15,6 @@ namespace rse::ground {
 namespace {
 
 namespace pe_events = plan_executive::events;
-
-// A command's argument bytes through the dictionary's own encoder.
-template <typename Args>
-std::vector<std::uint8_t> argumentBytes(const Args& args) {
-    std::vector<std::uint8_t> bytes(sizeof(Args));
-    core::BeWriter w(bytes.data(), bytes.size());
-    cmdtlm::encodeArgs(w, args);
-    bytes.resize(w.size());
-    return bytes;
-}
 
 // The plan executive's events that say what became of an upload, as they
 // come down, numbered by the session's receive count (arrival order).

@@ -44,6 +44,9 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       mobilityCommands_(clock, bus_, mode_),
       tableTelemetry_(tables_),
       tableCommands_(tables_, tableTelemetry_, telemetryOutput_),
+      siteMap_(events_),
+      siteMapTelemetry_(siteMap_),
+      siteMapCommands_(siteMap_, siteMapTelemetry_, telemetryOutput_),
       planCommands_(clock, bus_),
       planTelemetry_(telemetryOutput_),
       canIo_(can, clock, bus_, events_, tables_),
@@ -157,8 +160,8 @@ core::Status FswApp::initCommandOwners() {
     // task restarts to the executive's commands.
     status = core::isOk(status) ? mode_.routeRequests(router_.requests()) : status;
     status = core::isOk(status) ? executiveCommands_.routeRequests(router_.requests()) : status;
-    cmdtlm::AppCommands* const owners[] = {&serviceCommands_, &goalCommands_,     &mobilityCommands_,
-                                           &tableCommands_,   &executiveCommands_, &planCommands_};
+    cmdtlm::AppCommands* const owners[] = {&serviceCommands_,   &goalCommands_, &mobilityCommands_, &tableCommands_,
+                                           &executiveCommands_, &planCommands_, &siteMapCommands_};
     for (cmdtlm::AppCommands* owner : owners) {
         status = core::isOk(status) ? router_.add(owner) : status;
     }

@@ -46,6 +46,9 @@
 #include "fsw/reflexive/manual_drive.hpp"
 #include "fsw/reflexive/mobility_commands.hpp"
 #include "fsw/reflexive/trajectory_task.hpp"
+#include "fsw/site_map/site_map_commands.hpp"
+#include "fsw/site_map/site_map_service.hpp"
+#include "fsw/site_map/site_map_telemetry.hpp"
 #include "fsw/tables/table_commands.hpp"
 #include "fsw/tables/table_service.hpp"
 #include "fsw/tables/table_telemetry.hpp"
@@ -105,6 +108,7 @@ public:
     const io::CanIoTask& canIo() const { return canIo_; }
     io::CanIoTask& canIo() { return canIo_; }
     const tables::TableService& tables() const { return tables_; }
+    const site_map::SiteMapService& siteMap() const { return siteMap_; }
     const cmdtlm::CommandTask& commands() const { return commands_; }
     const cmdtlm::CommandRouter& commandRouter() const { return router_; }
     const cmdtlm::RoverMode& roverMode() const { return mode_; }
@@ -153,6 +157,10 @@ private:
     reflexive::MobilityCommands mobilityCommands_;
     tables::TableTelemetry tableTelemetry_;
     tables::TableCommands tableCommands_;
+    // The site map in force and its upload (1.5 MB; docs/site_map.md).
+    site_map::SiteMapService siteMap_;
+    site_map::SiteMapTelemetry siteMapTelemetry_;
+    site_map::SiteMapCommands siteMapCommands_;
     plan_executive::PlanCommands planCommands_;
     // The packers of the packet families the telemetry task schedules.
     io::DrivesTelemetry drivesTelemetry_;

@@ -6,11 +6,11 @@
 // - a file in a layer folder (fsw/estimator, fsw/reflexive, fsw/habitual,
 //   fsw/deliberative, fsw/fault_protection, fsw/plan_executive) includes only its own folder and
 //   the folders below every layer: fsw/msg, fsw/core, fsw/geometry, fsw/tables,
-//   fsw/rover_model. Not another layer, not fsw/cmdtlm or fsw/app, not hal/
+//   fsw/rover_model, fsw/site_map. Not another layer, not fsw/cmdtlm or fsw/app, not hal/
 //   (no layer uses it), not the simulator or the ground tools;
 // - a file in a folder below the layers includes only folders below the layers
 //   (what sits below both cannot reach back up into either);
-// - the exception to both: a layer and fsw/tables may include the application
+// - the exception to both: a layer, fsw/tables and fsw/site_map may include the application
 //   interface of fsw/cmdtlm (the headers kCmdTlmInterface names, listed in
 //   fsw/cmdtlm/app_commands.hpp), through which an application owns its
 //   commands and its telemetry packets and names its events' numbers
@@ -37,7 +37,7 @@ namespace {
 
 const std::vector<std::string> kLayers = {"estimator", "reflexive", "habitual", "deliberative", "fault_protection",
                                           "plan_executive"};
-const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "tables", "rover_model"};
+const std::vector<std::string> kBelowLayers = {"msg", "core", "geometry", "tables", "rover_model", "site_map"};
 const std::vector<std::string> kCmdTlmInterface = {
     "fsw/cmdtlm/dictionary.hpp",     "fsw/cmdtlm/command_verdict.hpp",  "fsw/cmdtlm/app_commands.hpp",
     "fsw/cmdtlm/telemetry_sink.hpp", "fsw/cmdtlm/telemetry_packer.hpp", "fsw/cmdtlm/housekeeping_contributor.hpp",
@@ -154,10 +154,13 @@ TEST(LayerIncludes, ALayerIncludesOnlyItselfAndWhatLiesBelowEveryLayer) {
 }
 
 TEST(LayerIncludes, WhatLiesBelowTheLayersIncludesNoLayer) {
-    std::vector<std::string> belowButTables = kBelowLayers;
-    belowButTables.erase(std::find(belowButTables.begin(), belowButTables.end(), "tables"));
-    Scan s = scan(belowButTables, kBelowLayers);
-    const Scan tables = scan({"tables"}, kBelowLayers, kCmdTlmInterface);  // it owns the table commands
+    std::vector<std::string> belowButServices = kBelowLayers;
+    for (const char* service : {"tables", "site_map"}) {
+        belowButServices.erase(std::find(belowButServices.begin(), belowButServices.end(), service));
+    }
+    Scan s = scan(belowButServices, kBelowLayers);
+    // The table service and the site map service own their commands.
+    const Scan tables = scan({"tables", "site_map"}, kBelowLayers, kCmdTlmInterface);
     s.files += tables.files;
     s.violations += tables.violations;
     CHECK_TEXT(s.files > 20, "shared sources not found (run from the repository root)");

@@ -46,6 +46,7 @@ const std::map<std::uint16_t, std::string> kCommandOwners = {
     {0x183, "tables"},          // the table service
     {0x184, "cmdtlm"},          // the executive's commands (its face in the command service)
     {0x185, "plan_executive"},  // plans
+    {0x186, "site_map"},        // the site map service
 };
 
 // The folder under fsw/ that packs each telemetry packet.
@@ -56,7 +57,7 @@ const std::map<std::string, std::string> kPacketOwners = {
     {"DRIVES", "io"},           {"POWER", "io"},                {"INSTRUMENTS", "io"},
     {"PLAN", "deliberative"},   {"PLAN_PATH", "deliberative"},  {"HAZARDS", "habitual"},
     {"FAULT_PROTECTION", "fault_protection"},                   {"PLAN_EXEC", "plan_executive"},
-    {"TABLE_STATUS", "tables"}, {"TABLE_DUMP", "tables"},
+    {"TABLE_STATUS", "tables"}, {"TABLE_DUMP", "tables"},       {"SITE_MAP", "site_map"},
 };
 
 // Packets more than one owner fills, each its own fields, through an interface.
