@@ -26,6 +26,7 @@ enum class RngStream : std::uint64_t {
     kDriveVelocity0 = 12,  // .. kDriveVelocity0 + 5
     kGrinder = 18,         // the grinder/sampler's work durations
     kCamera = 19,          // the camera's
+    kRockField = 20,       // a generated rock field (sim_stub/scenario/rock_field.hpp)
 };
 constexpr std::size_t kDriveNoiseStreams = 6;
 
