@@ -34,6 +34,7 @@ bool PlanMaker::start(const PlanStart& s, const char** refusal) {
         s.failedDrives != 0U ? static_cast<double>(tables_.planner().failed_drive_noise_factor) : 1.0;
     MapProblemReport report;
     wideSearch_ = false;
+    refusedByWholeMap_ = false;
     if (!buildProblem(s, request, &report, refusal)) {
         return false;
     }
@@ -229,6 +230,7 @@ void PlanMaker::onCheckDone() {
 
 void PlanMaker::refuseCandidate(double leftOutRisk) {
     ++counters_.wholeMapRefusals;
+    refusedByWholeMap_ = true;
     events_.report(events::kWholeMapRefused, core::Severity::kWarning,
                    "deliberative: plan not taken: left-out obstacles carry risk %.3g > %.3g (%u rounds)",
                    leftOutRisk, kLeftOutShare * riskBound_, static_cast<unsigned>(wholeMapRounds_));
@@ -238,6 +240,7 @@ void PlanMaker::refuseCandidate(double leftOutRisk) {
 }
 
 void PlanMaker::replanWithForced() {
+    seededPlan_ = false;  // the last plan's faces belong to another set of obstacles
     MapProblemReport report;
     selectObstacles(&obstacles_, &problem_, &report);
     leftOutCount_ = obstacles_.leftOut();
@@ -312,7 +315,10 @@ void PlanMaker::reportPlanFound(std::size_t legCount) {
 }
 
 bool PlanMaker::startWideSearch() {
-    if (wideSearch_ || problem_.allocation != RiskAllocation::kOptimised || problem_.obstacleCount == 0) {
+    // Not after a whole-map refusal: a plan was found, its left-out obstacles
+    // were the trouble, and the rounds are spent.
+    if (wideSearch_ || refusedByWholeMap_ || problem_.allocation != RiskAllocation::kOptimised ||
+        problem_.obstacleCount == 0) {
         return false;
     }
     // Boole's even split refused it; a plan may still certify within the

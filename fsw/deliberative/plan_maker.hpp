@@ -18,8 +18,11 @@
 // - Time bound per run: at most kMaxUnitsPerRun planner units, stopping after
 //   the unit that takes the run's planner work past kSliceWork (one unit does
 //   at most CcPlanner::kMaxUnitWork), so a run costs at most kSliceWork +
-//   kMaxUnitWork work units; a whole plan is bounded by PLANNER.node_budget
-//   LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs thousand work units.
+//   kMaxUnitWork work units; one planner run is bounded by PLANNER.node_budget
+//   LPs and PLANNER.time_budget_ms x kWorkKUnitsPerMs thousand work units, and
+//   a plan by 1 + kMaxWholeMapRounds planner runs (the whole-map rounds, each
+//   with its own budget, and each check at most a unit per candidate), or 2
+//   runs with the wide search where nothing is left out.
 // - The whole map: when the map and the seen hazards hold more obstacles than
 //   the problem, the planner plans to (1 - kLeftOutShare) Delta and each plan
 //   it finds is checked against every obstacle (whole_map_check.hpp) before it
@@ -75,8 +78,9 @@ constexpr double kWideSearchScale = 8.0;
 constexpr double kReentryInsetM = 0.3;
 
 // Plans of one goal planned again with obstacles the whole-map check forced
-// in: each round forces at least one more, so kMaxPlanObstacles rounds would
-// hold any forced set; four keep a plan within a few plans' time.
+// in: each round forces at least one more left-out obstacle (else the plan is
+// refused at once), so kMaxPlanObstacles rounds would hold any forced set;
+// four keep a plan within five planner runs' time.
 constexpr std::uint32_t kMaxWholeMapRounds = 4;
 
 // What a plan is asked for.
@@ -196,6 +200,7 @@ private:
     double planGap_ = 1.0;       // PlanStatusMsg.planGap of plan_
     bool seededPlan_ = false;    // the plan under way was seeded with last_
     bool wideSearch_ = false;    // the plan under way is the wide search (kWideSearchScale)
+    bool refusedByWholeMap_ = false;  // this goal's plan was refused by the whole-map check (no wide search)
     bool fromReentry_ = false;   // the plan being made starts at the re-entry point, not at the rover
     // Drives the last plan started with took as failed (bit per wheel): event 990 when it changes.
     std::uint8_t plannedFailedMask_ = 0;

@@ -1,5 +1,7 @@
 #include "fsw/deliberative/whole_map_check.hpp"
 
+#include <initializer_list>
+
 #include "fsw/deliberative/cc_planner.hpp"
 #include "fsw/deliberative/plan_risk.hpp"
 
@@ -48,23 +50,28 @@ std::size_t WholeMapCheck::force(MapObstacles* obstacles, double floor) const {
     for (std::size_t i = 0; i < obstacles->count; ++i) {
         forced += obstacles->forced[i] ? 1U : 0U;
     }
-    std::size_t added = 0;
-    while (forced < kMaxPlanObstacles) {
-        std::size_t worst = count_;
-        for (std::size_t i = 0; i < count_; ++i) {
-            const bool candidate = !obstacles->forced[i] && risk_[i] > floor;
-            if (candidate && (worst == count_ || risk_[i] > risk_[worst])) {
-                worst = i;
+    // The left-out ones first (only they change the problem), then the held
+    // ones the plan came near, so they keep their places while room is left.
+    std::size_t leftOutAdded = 0;
+    for (const bool held : {false, true}) {
+        while (forced < kMaxPlanObstacles) {
+            std::size_t worst = count_;
+            for (std::size_t i = 0; i < count_; ++i) {
+                const bool candidate =
+                    !obstacles->forced[i] && obstacles->inProblem[i] == held && risk_[i] > floor;
+                if (candidate && (worst == count_ || risk_[i] > risk_[worst])) {
+                    worst = i;
+                }
             }
+            if (worst == count_) {
+                break;
+            }
+            obstacles->forced[worst] = true;
+            ++forced;
+            leftOutAdded += held ? 0U : 1U;
         }
-        if (worst == count_) {
-            break;
-        }
-        obstacles->forced[worst] = true;
-        ++forced;
-        ++added;
     }
-    return added;
+    return leftOutAdded;
 }
 
 }  // namespace rse::deliberative

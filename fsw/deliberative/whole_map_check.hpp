@@ -57,9 +57,11 @@ public:
     std::size_t leftOutCount() const { return leftOut_; }
     // Candidate i's bound (0 when not checked yet).
     double risk(std::size_t candidate) const { return candidate < count_ ? risk_[candidate] : 0.0; }
-    // Forces into *obstacles the candidates (held or left out) whose risk is
-    // above floor, worst first, while the forced ones fit in
-    // kMaxPlanObstacles; the number newly forced (0: none to force, or no room).
+    // Forces into *obstacles the candidates whose risk is above floor while
+    // the forced ones fit in kMaxPlanObstacles: the left-out ones first, worst
+    // first, then the held ones (so the ones the plan came near keep their
+    // places). The number of left-out ones newly forced: 0 when the next
+    // problem would be the same (nothing left out above the floor, or no room).
     std::size_t force(MapObstacles* obstacles, double floor) const;
 
 private:

@@ -144,7 +144,12 @@ std::size_t SiteMap::rocksNearSegment(Point2 a, Point2 b, double reach, SiteQuer
     QueryStats local;
     QueryStats* s = stats != nullptr ? stats : &local;
     *s = QueryStats{};
-    if (rockCount_ == 0 || !geometry::isFinite(a) || !geometry::isFinite(b) || !(reach >= 0.0)) {
+    const auto within = [](double v) { return std::fabs(v) <= kMaxQueryCoordinateM; };  // false for NaN
+    if (!within(a.x) || !within(a.y) || !within(b.x) || !within(b.y) || !(reach >= 0.0) || !within(reach)) {
+        s->refused = true;
+        return 0;
+    }
+    if (rockCount_ == 0) {
         return 0;
     }
     // A fresh stamp; on wrap-around every stamp is cleared so none matches.

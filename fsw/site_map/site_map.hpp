@@ -53,7 +53,12 @@ struct QueryStats {
     std::uint32_t refsExamined = 0;
     std::uint32_t found = 0;      // rocks within reach, listed or not
     bool overflow = false;        // found > capacity
+    bool refused = false;         // a point not finite or beyond kMaxQueryCoordinateM, or a reach not in [0, that]: nothing looked at
 };
+
+// The largest coordinate or reach a query takes (m): far beyond any site
+// (kMaxSiteExtentM), small enough that the band walk's arithmetic stays finite.
+constexpr double kMaxQueryCoordinateM = 1.0e6;
 
 class SiteMap {
 public:
@@ -79,7 +84,10 @@ public:
     // a -> b, each once, into out[0 .. capacity): their count (at most
     // capacity). A superset of the rocks within reach (the box, not the
     // polygon); the caller measures the polygon. *stats (when not null) says
-    // what it cost and whether out was too small.
+    // what it cost and whether out was too small. A query it cannot answer (a
+    // point not finite or beyond kMaxQueryCoordinateM, a reach negative, not
+    // finite or beyond it) lists nothing and says so (QueryStats::refused):
+    // "nothing near" is never the answer to a question not asked properly.
     std::size_t rocksNearSegment(geometry::Point2 a, geometry::Point2 b, double reach, SiteQuery* scratch,
                                  std::uint16_t* out, std::size_t capacity, QueryStats* stats) const;
 

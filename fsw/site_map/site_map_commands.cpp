@@ -18,7 +18,7 @@ cmdtlm::CommandOutcome SiteMapCommands::execute(const cmdtlm::CommandVerdict& ve
             break;
         }
         case CommandCode::MAP_ABORT:
-            why = service_.abort() ? UploadRefusal::kNone : UploadRefusal::kNothingUploaded;
+            why = service_.abort();
             break;
         default:
             return cmdtlm::commandFailed(-1);

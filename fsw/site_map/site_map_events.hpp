@@ -11,5 +11,6 @@ constexpr core::EventId kMapLoaded = 590;       // INFO: a committed image repla
 constexpr core::EventId kChunkRefused = 591;    // WARN: MAP_LOAD refused (gap, overflow, spoiled, nothing open): offset, length, image so far
 constexpr core::EventId kCommitRefused = 592;   // WARN: MAP_COMMIT refused (length, CRC, spoiled, nothing uploaded, or the image's reason and rock): the map in force kept
 constexpr core::EventId kUploadAborted = 593;   // INFO: MAP_ABORT dropped the upload (bytes dropped)
+constexpr core::EventId kAbortRefused = 594;    // WARN: MAP_ABORT with no upload open
 
 }  // namespace rse::site_map::events

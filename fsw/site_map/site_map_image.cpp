@@ -24,6 +24,7 @@ const char* toString(SiteMapReject reason) {
         case SiteMapReject::kBadKind: return "unknown keep-out kind";
         case SiteMapReject::kTrailingBytes: return "bytes after the last record";
         case SiteMapReject::kIndexFull: return "rocks span more cells than the index holds";
+        case SiteMapReject::kBadHeader: return "header flags or reserved not 0";
     }
     return "?";
 }
@@ -122,7 +123,7 @@ SiteMapCheck checkSiteMapImage(const std::uint8_t* image, std::size_t length) {
     core::BeReader in(image, image != nullptr ? length : 0);
     const std::uint32_t magic = in.u32();
     const std::uint16_t version = in.u16();
-    (void)in.u16();  // flags
+    const std::uint16_t flags = in.u16();
     SiteBounds site;
     site.xMin = in.f32();
     site.yMin = in.f32();
@@ -130,7 +131,7 @@ SiteMapCheck checkSiteMapImage(const std::uint8_t* image, std::size_t length) {
     site.yMax = in.f32();
     check.rocks = in.u32();
     check.keepOuts = in.u16();
-    (void)in.u16();  // reserved
+    const std::uint16_t reserved = in.u16();
     const auto fail = [&check](SiteMapReject reason) {
         check.reason = reason;
         return check;
@@ -143,6 +144,9 @@ SiteMapCheck checkSiteMapImage(const std::uint8_t* image, std::size_t length) {
     }
     if (version != kSiteMapVersion) {
         return fail(SiteMapReject::kBadVersion);
+    }
+    if (flags != 0 || reserved != 0) {
+        return fail(SiteMapReject::kBadHeader);
     }
     if (!siteOk(site)) {
         return fail(SiteMapReject::kBadSite);

@@ -59,6 +59,7 @@ enum class SiteMapReject : std::uint8_t {
     kBadKind,          // a keep-out kind not in KeepOutKind
     kTrailingBytes,    // bytes after the last record
     kIndexFull,        // the rocks cover more grid cells than the index holds (SiteMap::kMaxCellRefs)
+    kBadHeader,        // the header's flags or reserved field not 0 (a newer writer's meaning this reader lacks)
 };
 const char* toString(SiteMapReject reason);
 

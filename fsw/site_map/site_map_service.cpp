@@ -55,15 +55,17 @@ UploadRefusal SiteMapService::commit(std::uint32_t length, std::uint32_t crc) {
     return UploadRefusal::kNone;
 }
 
-bool SiteMapService::abort() {
+UploadRefusal SiteMapService::abort() {
     const std::size_t dropped = upload_.length();
     if (!upload_.abort()) {
-        return false;
+        ++counters_.abortsRefused;
+        events_.report(events::kAbortRefused, core::Severity::kWarning, "site_map: MAP_ABORT refused: no upload open");
+        return refuse(UploadRefusal::kNothingUploaded, 0);
     }
     ++counters_.uploadsAborted;
     events_.report(events::kUploadAborted, core::Severity::kInfo, "site_map: upload aborted (%u bytes dropped)",
                    static_cast<unsigned>(dropped));
-    return true;
+    return UploadRefusal::kNone;
 }
 
 }  // namespace rse::site_map

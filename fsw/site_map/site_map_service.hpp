@@ -1,7 +1,7 @@
 // The site map service (docs/site_map.md): the map in force (SiteMap) and its
 // upload (SiteMapUpload), as the commands of APID 0x186 drive them
 // (site_map_commands.hpp). It owns what it decides: a chunk or a commit
-// refused is counted and evented here (events 590-593), and the last refusal
+// refused is counted and evented here (events 590-594), and the last refusal
 // is kept for SITE_MAP. A committed image replaces the map only when it passes
 // checkSiteMapImage whole; else the map in force is kept.
 //
@@ -23,6 +23,7 @@ struct SiteMapCounters {
     std::uint32_t mapsLoaded = 0;
     std::uint32_t commitsRefused = 0;
     std::uint32_t uploadsAborted = 0;
+    std::uint32_t abortsRefused = 0;   // MAP_ABORT with no upload open
 };
 
 class SiteMapService {
@@ -35,8 +36,9 @@ public:
     // else the refusal (event 592, counted; an image's reason names its rock
     // or zone in lastRefusalItem()).
     UploadRefusal commit(std::uint32_t length, std::uint32_t crc);
-    // MAP_ABORT: false when no upload was open (event 593 when one was).
-    bool abort();
+    // MAP_ABORT: kNone and event 593 when an upload was open; else
+    // kNothingUploaded (event 594, counted).
+    UploadRefusal abort();
     void resetCounters() { counters_ = SiteMapCounters{}; }
 
     const SiteMap& map() const { return map_; }

@@ -24,6 +24,7 @@ cmdtlm::SITE_MAP_Tlm SiteMapTelemetry::packet() const {
     t.maps_loaded = c.mapsLoaded;
     t.commits_refused = c.commitsRefused;
     t.uploads_aborted = c.uploadsAborted;
+    t.aborts_refused = c.abortsRefused;
     return t;
 }
 

@@ -18,7 +18,7 @@ const char* toString(UploadRefusal refusal) {
         case UploadRefusal::kImage: break;
     }
     const int image = static_cast<int>(refusal) - static_cast<int>(UploadRefusal::kImage);
-    if (image >= 0 && image <= static_cast<int>(SiteMapReject::kIndexFull)) {
+    if (image >= 0 && image <= static_cast<int>(SiteMapReject::kBadHeader)) {
         return toString(static_cast<SiteMapReject>(image));
     }
     return "?";

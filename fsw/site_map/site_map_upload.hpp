@@ -41,8 +41,10 @@ public:
     // A chunk of length bytes at offset: kNone when taken.
     UploadRefusal takeChunk(std::uint32_t offset, const std::uint8_t* data, std::size_t length);
     // The commit of an image length bytes long with CRC-32 crc: kNone when the
-    // upload is complete and intact (the upload then closes: image() is it);
-    // else the reason (a refused commit closes nothing but a spoiled upload's).
+    // upload is complete and intact (the upload then closes: image() is it,
+    // and a new upload starts at offset 0 whatever the image's own check then
+    // says); else the reason, the upload left as it was (a wrong length or
+    // CRC may be committed again with the right one).
     UploadRefusal checkCommit(std::uint32_t length, std::uint32_t crc);
     // Drops the upload (MAP_ABORT); false when none was open.
     bool abort();

@@ -136,8 +136,8 @@ TEST(WholeMapCheck, TheLeftOutObstaclesAreBoundedOneUnitEachAndSummed) {
     DOUBLES_EQUAL(planRiskBound(alone, rig.plan.meanX, rig.plan.meanY, nullptr, nullptr), check.risk(onPath), 1e-12);
 }
 
-// Forcing: the worst first while the forced ones fit in the problem's slots;
-// nothing when none is above the floor.
+// Forcing: the left-out ones first, worst first, while the forced ones fit
+// in the problem's slots; 0 when no left-out one could be forced.
 TEST(WholeMapCheck, ForcingTakesTheWorstFirstWhileThereIsRoom) {
     Rig rig;
     rig.build(squares({{-6, 3}, {-4, -3}, {-2, 3}, {0, -3}, {2, 3}, {4, -3}, {6, 3}, {6, -3}, {0, 0}, {-9, 9}}));
@@ -154,13 +154,25 @@ TEST(WholeMapCheck, ForcingTakesTheWorstFirstWhileThereIsRoom) {
     const std::size_t onPath = indexOfCentre(rig.obstacles, 0, 0);
     // Nine forced already (more than the slots): no room.
     LONGS_EQUAL(0, check.force(&rig.obstacles, 1e-9));
-    // None forced and a floor nearly 0: as many as the slots hold, the rock
-    // on the path (the worst) among them.
+    // None forced and a floor nearly 0: the left-out rock on the path first
+    // (the corner's risk is 0: not above the floor), then the held ones fill
+    // the slots; one left out newly forced.
     for (std::size_t i = 0; i < rig.obstacles.count; ++i) {
         rig.obstacles.forced[i] = false;
     }
-    LONGS_EQUAL(kMaxPlanObstacles, check.force(&rig.obstacles, 1e-300));
+    LONGS_EQUAL(1, check.force(&rig.obstacles, 1e-300));
     CHECK_TRUE(rig.obstacles.forced[onPath]);
+    std::size_t forced = 0;
+    for (std::size_t i = 0; i < rig.obstacles.count; ++i) {
+        forced += rig.obstacles.forced[i] ? 1U : 0U;
+    }
+    LONGS_EQUAL(kMaxPlanObstacles, forced);
+    // The held ones forced first (every slot): no left-out one fits, so the
+    // next problem would be the same: 0.
+    for (std::size_t i = 0; i < rig.obstacles.count; ++i) {
+        rig.obstacles.forced[i] = rig.obstacles.inProblem[i];
+    }
+    LONGS_EQUAL(0, check.force(&rig.obstacles, 1e-300));
     for (std::size_t i = 0; i < rig.obstacles.count; ++i) {
         rig.obstacles.forced[i] = false;
     }

@@ -111,6 +111,25 @@ TEST(SiteMap, ABufferTooSmallIsSaidNotSilentlyCut) {
     CHECK(stats.found > 4);
 }
 
+// A question not asked properly is refused, never answered "nothing near".
+TEST(SiteMap, AQueryWithAReachOrPointNotFiniteOrFarBeyondAnySiteIsRefused) {
+    const std::vector<std::uint8_t> image = rse::ground::encodeSiteMap(rse::test::randomField(200, 100.0F, 6));
+    CHECK(map->load(image.data(), image.size(), nullptr) == rse::core::Status::kOk);
+    std::uint16_t out[8];
+    QueryStats stats;
+    LONGS_EQUAL(0, map->rocksNearSegment({0, 0}, {100, 100}, INFINITY, query, out, 8, &stats));
+    CHECK_TRUE(stats.refused);
+    LONGS_EQUAL(0, map->rocksNearSegment({0, 0}, {100, 100}, -1.0, query, out, 8, &stats));
+    CHECK_TRUE(stats.refused);
+    LONGS_EQUAL(0, map->rocksNearSegment({0, 0}, {1e300, 100}, 1.0, query, out, 8, &stats));
+    CHECK_TRUE(stats.refused);
+    LONGS_EQUAL(0, map->rocksNearSegment({NAN, 0}, {10, 10}, 1.0, query, out, 8, &stats));
+    CHECK_TRUE(stats.refused);
+    // Asked properly, the same segment finds rocks.
+    CHECK(map->rocksNearSegment({0, 0}, {100, 100}, 3.0, query, out, 8, &stats) > 0);
+    CHECK_FALSE(stats.refused);
+}
+
 TEST(SiteMap, ARefusedImageLeavesTheMapInForce) {
     const std::vector<std::uint8_t> good = rse::ground::encodeSiteMap(rse::test::randomField(50, 100.0F, 1));
     CHECK(map->load(good.data(), good.size(), nullptr) == rse::core::Status::kOk);

@@ -196,6 +196,9 @@ TEST(SiteMapCommands, AbortDropsTheUploadAndIsRefusedWithNoneOpen) {
     DOUBLES_EQUAL(1, field("uploads_aborted"), 0.0);
     const cmdtlm::CommandOutcome out = commands->execute(abort.verdict());
     LONGS_EQUAL(static_cast<int>(UploadRefusal::kNothingUploaded), out.detail);
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kAbortRefused));
+    DOUBLES_EQUAL(1, field("aborts_refused"), 0.0);
+    DOUBLES_EQUAL(static_cast<double>(UploadRefusal::kNothingUploaded), field("last_refusal"), 0.0);
     // RESET_COUNTERS zeroes them.
     commands->resetCounters();
     CHECK_TRUE(loadChunk(img, 0, 200).ok);

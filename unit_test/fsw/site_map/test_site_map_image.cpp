@@ -58,6 +58,12 @@ TEST(SiteMapImage, TheHeaderIsCheckedFirst) {
     bad = image;
     bad[5] = 2;
     LONGS_EQUAL(reasonOf(SiteMapReject::kBadVersion), reasonOf(bad));
+    bad = image;
+    bad[7] = 1;  // flags
+    LONGS_EQUAL(reasonOf(SiteMapReject::kBadHeader), reasonOf(bad));
+    bad = image;
+    bad[31] = 1;  // reserved
+    LONGS_EQUAL(reasonOf(SiteMapReject::kBadHeader), reasonOf(bad));
     CHECK_EQUAL(0, checkSiteMapImage(nullptr, 100).rocks);
     LONGS_EQUAL(reasonOf(SiteMapReject::kTooShort), static_cast<int>(checkSiteMapImage(nullptr, 100).reason));
 }
