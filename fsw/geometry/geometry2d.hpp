@@ -88,6 +88,23 @@ inline bool pointInConvexPolygon(Point2 p, const Point2* ccwVertices, std::size_
     return true;
 }
 
+// Squared distance from the closed segment [a, b] to the convex polygon whose
+// count vertices run counter-clockwise: 0 when they meet (an end inside, or
+// the segment crossing or touching an edge). A segment that enters the
+// polygon with neither end inside crosses an edge, so the end test and the
+// edge distances cover every case.
+inline double segmentConvexPolygonDistanceSquared(Point2 a, Point2 b, const Point2* ccwVertices, std::size_t count) {
+    if (pointInConvexPolygon(a, ccwVertices, count)) {
+        return 0.0;
+    }
+    double best = INFINITY;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double d = segmentSegmentDistanceSquared(a, b, ccwVertices[i], ccwVertices[i + 1 == count ? 0 : i + 1]);
+        best = d < best ? d : best;
+    }
+    return best;
+}
+
 // An angle wrapped to (-pi, pi]; non-finite values pass through.
 inline double wrapAngleRad(double radians) {
     constexpr double kPi = 3.14159265358979323846;

@@ -38,3 +38,14 @@ TEST(Geometry2d, PointToSegmentUsesTheNearestEndWhenBeyondIt) {
     // A degenerate segment is its point.
     DOUBLES_EQUAL(2.0, geometry::pointSegmentDistanceSquared({1, 1}, {0, 0}, {0, 0}), 1e-12);
 }
+
+TEST(Geometry2d, ASegmentAndAConvexPolygonAreZeroApartWhenTheyMeetAndElseTheNearestEdgeDistance) {
+    const Point2 square[4] = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}};
+    // An end inside, the segment through it with both ends outside, touching a corner.
+    DOUBLES_EQUAL(0.0, geometry::segmentConvexPolygonDistanceSquared({1.0, 1.0}, {5.0, 5.0}, square, 4), 0.0);
+    DOUBLES_EQUAL(0.0, geometry::segmentConvexPolygonDistanceSquared({-1.0, 1.0}, {3.0, 1.0}, square, 4), 0.0);
+    DOUBLES_EQUAL(0.0, geometry::segmentConvexPolygonDistanceSquared({-1.0, 3.0}, {3.0, -1.0}, square, 4), 0.0);
+    // Apart: above the top edge, and beyond a corner.
+    DOUBLES_EQUAL(1.0, geometry::segmentConvexPolygonDistanceSquared({-1.0, 3.0}, {3.0, 3.0}, square, 4), 1e-12);
+    DOUBLES_EQUAL(2.0, geometry::segmentConvexPolygonDistanceSquared({3.0, 3.0}, {3.0, 3.0}, square, 4), 1e-12);
+}

@@ -1,0 +1,135 @@
+// The global route's growth (issue 31, "Growth"): route-planning CPU and
+// memory for 100, 1 000, 5 000 and 8 192 rocks (the site map's capacity) on a
+// 1 km x 1 km site, a diagonal route from corner to corner, sliced as the
+// deliberative task slices it (kSliceWork a run), each run's CPU time against
+// the deliberative rate-group row's budget.
+//
+// Fields: Golombek and Rapp's model (sim_stub/scenario/rock_field.hpp) at
+// k = 0.25 with every rock of 1 m or more, its first N rocks; no rock within
+// 5 m of the route's ends. Time is this thread's CPU time
+// (CLOCK_THREAD_CPUTIME_ID) around each step().
+//
+// TARGET lines: a route found at every size; no run over the budget at any
+// size. Also printed: the work units' cost here (ns a unit: the scale
+// kWorkKUnitsPerMs assumes 0.45 - 0.9 ns).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <vector>
+
+#include "fsw/deliberative/global_route.hpp"
+#include "fsw/deliberative/plan_maker.hpp"
+#include "fsw/site_map/site_map.hpp"
+#include "ground/site_map_encoder.hpp"
+#include "sim_stub/scenario/rock_field.hpp"
+#include "unit_test/bench/bench_targets.hpp"
+
+using rse::deliberative::GlobalRoute;
+using rse::deliberative::RouteParams;
+using rse::deliberative::RouteState;
+using rse::geometry::Point2;
+
+namespace {
+
+// The deliberative row of the rate-group table (fsw/app/fsw_app.cpp): 5 ms a run.
+constexpr double kDeliberativeBudgetUs = 5000.0;
+
+double threadCpuUs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) / 1e3;
+}
+
+rse::ground::SiteMapSpec fieldOf(std::size_t rocks, Point2 a, Point2 b) {
+    rse::sim::RockFieldParams p;
+    p.k = 0.25;
+    p.xMin = 0.0;
+    p.yMin = 0.0;
+    p.xMax = 1000.0;
+    p.yMax = 1000.0;
+    p.minDiameterM = 1.0;
+    p.seed = 31;
+    rse::ground::SiteMapSpec spec;
+    spec.site = {0.0F, 0.0F, 1000.0F, 1000.0F};
+    for (const rse::sim::FieldRock& r : rse::sim::generateRockField(p)) {
+        if (spec.rocks.size() == rocks) {
+            break;
+        }
+        if (std::hypot(r.x - a.x, r.y - a.y) < 5.0 + r.diameterM || std::hypot(r.x - b.x, r.y - b.y) < 5.0 + r.diameterM) {
+            continue;
+        }
+        std::vector<rse::ground::MapVertex> v;
+        for (const rse::sim::RockVertex& q : r.vertices) {
+            v.push_back({static_cast<float>(q.x), static_cast<float>(q.y)});
+        }
+        spec.rocks.push_back(v);
+    }
+    return spec;
+}
+
+}  // namespace
+
+int main() {
+    static rse::site_map::SiteMap map;
+    static GlobalRoute route;
+    rse::bench::Targets targets;
+    const Point2 start{20.0, 20.0}, goal{980.0, 980.0};
+    const double straight = std::hypot(goal.x - start.x, goal.y - start.y);
+    std::printf("global route, 1 km x 1 km, (20, 20) to (980, 980): %.0f m straight; slice %llu units a run\n", straight,
+                static_cast<unsigned long long>(rse::deliberative::kSliceWork));
+    std::printf("static memory: site map %zu B, route search %zu B (the same at every size)\n",
+                rse::site_map::kSiteMapBytes, rse::deliberative::kGlobalRouteBytes);
+    std::printf("%7s %8s %9s %11s %7s %9s %10s %11s %9s %8s\n", "rocks", "state", "length/", "expansions", "runs",
+                "CPU ms", "max run us", "work Munits", "ns/unit", "map B");
+    std::printf("%7s %8s %9s\n", "", "", "straight");
+    bool allFound = true;
+    double worstRunUs = 0.0;
+    double nsPerUnitMax = 0.0;
+    for (const std::size_t n : {std::size_t{100}, std::size_t{1000}, std::size_t{5000}, std::size_t{8192}}) {
+        const rse::ground::SiteMapSpec spec = fieldOf(n, start, goal);
+        const std::vector<std::uint8_t> image = rse::ground::encodeSiteMap(spec);
+        rse::site_map::SiteMapCheck check;
+        if (map.load(image.data(), image.size(), &check) != rse::core::Status::kOk) {
+            std::printf("%7zu: the map was refused\n", n);
+            return 1;
+        }
+        const RouteParams params;
+        const double t0 = threadCpuUs();
+        if (route.start(map, start, goal, params) != rse::deliberative::RouteRefusal::kNone) {
+            std::printf("%7zu: refused (%s)\n", n, rse::deliberative::toString(route.refusal()));
+            return 1;
+        }
+        double maxRunUs = threadCpuUs() - t0;   // start() runs in a task run of its own
+        double total = maxRunUs;
+        std::uint32_t runs = 1;
+        for (std::uint32_t i = 0; i < 100000; ++i) {
+            const double s0 = threadCpuUs();
+            const bool ended = route.step(rse::deliberative::kSliceWork);
+            const double us = threadCpuUs() - s0;
+            maxRunUs = std::max(maxRunUs, us);
+            total += us;
+            ++runs;
+            if (ended) {
+                break;
+            }
+        }
+        const bool found = route.state() == RouteState::kFound;
+        allFound = allFound && found;
+        worstRunUs = std::max(worstRunUs, maxRunUs);
+        const double nsPerUnit = total * 1e3 / static_cast<double>(route.stats().work);
+        nsPerUnitMax = std::max(nsPerUnitMax, nsPerUnit);
+        std::printf("%7zu %8s %9.3f %11u %7u %9.1f %10.0f %11.1f %9.2f %8zu\n", map.rockCount(),
+                    rse::deliberative::toString(route.state()), found ? route.lengthM() / straight : 0.0,
+                    route.stats().expansions, runs, total / 1e3, maxRunUs,
+                    static_cast<double>(route.stats().work) / 1e6, nsPerUnit, image.size());
+    }
+    std::printf("TARGET route found at every size (100 .. 8 192 rocks): %s %s\n", allFound ? "yes" : "no",
+                targets.check(allFound) ? "PASS" : "FAIL");
+    const bool inBudget = worstRunUs <= kDeliberativeBudgetUs;
+    std::printf("TARGET no run over the deliberative budget at any size: worst %.0f us of %.0f %s\n", worstRunUs,
+                kDeliberativeBudgetUs, targets.check(inBudget) ? "PASS" : "FAIL");
+    std::printf("work units here: at most %.2f ns a unit (kWorkKUnitsPerMs assumes 0.45 - 0.9)\n", nsPerUnitMax);
+    return targets.finish();
+}
