@@ -60,7 +60,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
       habitual_(bus_, events_, tables_),
-      deliberative_(bus_, events_, tables_),
+      deliberative_(bus_, events_, tables_, &siteMap_.map()),
       planExecutive_(bus_, events_) {}
 
 core::Status FswApp::addGroundLink(hal::PacketLink* link) { return groundLinks_.add(link); }

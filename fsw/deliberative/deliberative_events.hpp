@@ -38,6 +38,8 @@ constexpr core::EventId kWideSearch = 929;        // INFO: no plan within Boole'
 // 990: the deliberative range 900-929 is full; 990-999 are the deliberative layer's too.
 constexpr core::EventId kFailedDriveModel = 990;  // WARN: plans now take these drives as failed (drive mode estimate): power factor, motion noise
 constexpr core::EventId kWholeMapReplan = 991;    // WARN: the plan passes obstacles its problem left out (risk above the left-out share): planned again with them in (round)
+constexpr core::EventId kRouteFound = 993;        // INFO: site mode: the global route to the goal (length, points, expansions, runs)
+constexpr core::EventId kNoRoute = 994;           // WARN: site mode: no route to the goal over the site map (refused, none, budget spent): call home
 constexpr core::EventId kWholeMapRefused = 992;   // WARN: plan not taken: the obstacles left out of its problem carry more than the left-out share, no room or rounds left
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 

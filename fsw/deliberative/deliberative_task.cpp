@@ -7,12 +7,14 @@
 
 namespace rse::deliberative {
 
-DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
+DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
+                                   const site_map::SiteMap* siteMap)
     : events_(events),
       tables_(tables),
       out_(bus, events),
       inputs_(bus, events, *this),
       hold_(events),
+      siteMap_(siteMap),
       policy_(events),
       backUp_(events),
       legs_(events, out_),
@@ -48,6 +50,10 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
     } else if (s == msg::DeliberativeState::kWaiting && autonomous_ && !hold_.held() && goalIndex_ < goals_.count &&
                poseUsable()) {
         startPlan();
+    } else if (s == msg::DeliberativeState::kPlanning && routing_) {
+        if (horizons_.step()) {
+            onRouted();
+        }
     } else if (s == msg::DeliberativeState::kPlanning) {
         if (maker_.step()) {
             onPlanFinished();
@@ -107,6 +113,10 @@ void DeliberativeTask::collectCounters() {
     c.failedDriveModels = plans.failedDriveModels;
     c.maxRunWork = plans.maxRunWork;
     c.maxRunUnits = plans.maxRunUnits;
+    c.routesFound = routesFound_;
+    c.routesFailed = routesFailed_;
+    c.horizonsReached = horizonsReached_;
+    c.siteRocksAdded = plans.siteRocksAdded;
 }
 
 // ---------------------------------------------------------------------------
@@ -142,6 +152,9 @@ void DeliberativeTask::takeGoals(const msg::PlanGoalMsg& goal) {
     status_.callHome = msg::CallHomeReason::kNone;
     status_.riskInForce = goals.riskBound;
     maker_.forgetPlan();  // PLAN shows "no plan" until the new goal is planned
+    horizons_.forget();
+    routing_ = false;
+    horizonLast_ = true;
     setState(goals.count == 0 ? msg::DeliberativeState::kIdle : msg::DeliberativeState::kWaiting);
     events_.report(events::kGoalsChanged, core::Severity::kInfo,
                    "deliberative: goal list rev %u: %u goal(s), risk bound %.3g: %s", static_cast<unsigned>(goals.revision),
@@ -160,6 +173,7 @@ void DeliberativeTask::takeMode(const msg::ModeMsg& mode) {
     backUp_.cancel();
     if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
         cancelLeg();
+        routing_ = false;   // a route half searched is searched again (one found is kept)
         setState(msg::DeliberativeState::kWaiting);
         events_.report(events::kLeftAutonomous, core::Severity::kInfo,
                        "deliberative: left AUTONOMOUS (mode %u): plan dropped, goal %u replanned when back",
@@ -278,6 +292,12 @@ void DeliberativeTask::backedUp() {
 }
 
 void DeliberativeTask::lastLegReached() {
+    if (!horizonLast_) {
+        // A horizon's end, not the goal: the next horizon from the pose.
+        ++horizonsReached_;
+        setState(msg::DeliberativeState::kWaiting);
+        return;
+    }
     const GoalClaim claim = legs_.claimGoal(arrival());
     if (claim == GoalClaim::kReached) {
         nextGoal();
@@ -376,6 +396,10 @@ void DeliberativeTask::callHome(msg::CallHomeReason reason, const char* detail) 
 void DeliberativeTask::startPlan() {
     const msg::Goal& goal = goals_.goals[goalIndex_];
     const StartPoint from = policy_.takeStart(now_, pose_);
+    if (siteMode() && !horizons_.routes(geometry::Point2{goal.xM, goal.yM}, siteMap_->revision())) {
+        startRoute(from.xM, from.yM, goal);
+        return;
+    }
     PlanStart start;
     start.xM = from.xM;
     start.yM = from.yM;
@@ -390,6 +414,11 @@ void DeliberativeTask::startPlan() {
         drives_.confirmedFailedDrives(now_, static_cast<double>(tables_.planner().failed_drive_confirm_s));
     start.meanPowerFactor = meanFactor();
     start.hazards = &hazards_;
+    horizonLast_ = true;
+    if (siteMode() && !planHorizon(from.xM, from.yM, &start)) {
+        callHome(msg::CallHomeReason::kGoalUnreachable, "no horizon on the route");
+        return;
+    }
     const char* refusal = "";
     if (!maker_.start(start, &refusal)) {
         callHome(msg::CallHomeReason::kGoalUnreachable, refusal);
@@ -397,6 +426,52 @@ void DeliberativeTask::startPlan() {
     }
     status_.riskInForce = start.riskBound;
     setState(msg::DeliberativeState::kPlanning);
+}
+
+bool DeliberativeTask::planHorizon(double fromX, double fromY, PlanStart* start) {
+    if (!horizons_.next(geometry::Point2{fromX, fromY}, &horizon_)) {
+        return false;
+    }
+    horizonLast_ = horizon_.last;
+    start->goalX = horizon_.goal.x;
+    start->goalY = horizon_.goal.y;
+    start->site = SiteCorridor{siteMap_, &siteQuery_, horizon_.corridor, horizon_.count, kCorridorReachM};
+    return true;
+}
+
+void DeliberativeTask::startRoute(double fromX, double fromY, const msg::Goal& goal) {
+    const RouteRefusal refusal =
+        horizons_.begin(*siteMap_, geometry::Point2{fromX, fromY}, geometry::Point2{goal.xM, goal.yM},
+                        rse::geometry::clearanceRadiusM(tables_.roverGeometry()));
+    if (refusal != RouteRefusal::kNone) {
+        ++routesFailed_;
+        events_.report(events::kNoRoute, core::Severity::kWarning,
+                       "deliberative: no route to goal %u (%.2f, %.2f) over the site map: %s",
+                       static_cast<unsigned>(goalNumber()), goal.xM, goal.yM, toString(refusal));
+        callHome(msg::CallHomeReason::kGoalUnreachable, toString(refusal));
+        return;
+    }
+    routing_ = true;
+    setState(msg::DeliberativeState::kPlanning);
+}
+
+void DeliberativeTask::onRouted() {
+    routing_ = false;
+    const GlobalRoute& r = horizons_.route();
+    if (horizons_.routed()) {
+        ++routesFound_;
+        events_.report(events::kRouteFound, core::Severity::kInfo,
+                       "deliberative: route to goal %u: %.1f m, %u points, %u expansions, %u runs",
+                       static_cast<unsigned>(goalNumber()), r.lengthM(), static_cast<unsigned>(r.pointCount()),
+                       static_cast<unsigned>(r.stats().expansions), static_cast<unsigned>(r.stats().steps));
+        setState(msg::DeliberativeState::kWaiting);   // the first horizon next run
+        return;
+    }
+    ++routesFailed_;
+    events_.report(events::kNoRoute, core::Severity::kWarning,
+                   "deliberative: no route to goal %u over the site map: %s (%u expansions)",
+                   static_cast<unsigned>(goalNumber()), toString(r.state()), static_cast<unsigned>(r.stats().expansions));
+    callHome(msg::CallHomeReason::kGoalUnreachable, toString(r.state()));
 }
 
 void DeliberativeTask::onPlanFinished() {
@@ -501,6 +576,10 @@ GoalArrival DeliberativeTask::arrival() const {
 }
 
 double DeliberativeTask::goalRadiusM() const {
+    // A horizon short of the goal ends at its point.
+    if (!horizonLast_) {
+        return 0.0;
+    }
     return goalIndex_ < goals_.count ? static_cast<double>(goals_.goals[goalIndex_].radiusM) : 0.0;
 }
 

@@ -113,9 +113,12 @@
 //   replan_policy        fail-ups: relax or replan; replan requests; risk relaxation
 //   back_up              the driven track and the back-up manoeuvre
 //   publisher            publishing with the refusals counted (event 918)
+//   route_horizons       site mode: the global route over the site map and the
+//                        horizons along it (events 993, 994)
 // Inputs are bounded by the pipe depths; a run's planning by plan_maker.hpp's
-// slice. No heap: the planner, problem, plan and legs are members (about
-// 515 KB: make the task static).
+// slice, and site mode's route search by its slice. No heap: the planner,
+// problem, plan, legs and the route search are members (about 3.3 MB, 2.8 MB
+// of it the route search: make the task static).
 #pragma once
 
 #include <cstddef>
@@ -136,6 +139,7 @@
 #include "fsw/deliberative/plan_maker.hpp"
 #include "fsw/deliberative/publisher.hpp"
 #include "fsw/deliberative/replan_policy.hpp"
+#include "fsw/deliberative/route_horizons.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
@@ -145,6 +149,7 @@
 #include "fsw/msg/health_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/plan_executive_msgs.hpp"
+#include "fsw/site_map/site_map.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::deliberative {
@@ -191,11 +196,19 @@ struct DeliberativeCounters {
     std::uint32_t failedDriveModels = 0; // plans started with a new set of drives taken as failed (event 990)
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
+    std::uint32_t routesFound = 0;       // site mode: global routes found (event 993)
+    std::uint32_t routesFailed = 0;      // ... refused, none, or the budget spent (event 994)
+    std::uint32_t horizonsReached = 0;   // ... horizons driven to their end (the next one planned)
+    std::uint32_t siteRocksAdded = 0;    // ... rocks near a plan made candidates before its check
 };
 
 class DeliberativeTask final : public core::Task, private DeliberativeInputs::Receiver {
 public:
-    DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
+    // siteMap: the site map in force (docs/site_map.md), or null. While it
+    // holds a map the layer is in site mode: a global route to each goal,
+    // then horizons along it (route_horizons.hpp).
+    DeliberativeTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
+                     const site_map::SiteMap* siteMap = nullptr);
 
     // Pipes "delib_fast" and "deliberative" (deliberative_inputs.hpp). A
     // refusal is evented (917) and returned; run() then does nothing.
@@ -208,6 +221,7 @@ public:
     const CcPlanner& planner() const { return maker_.planner(); }
     const CcProblem& problem() const { return maker_.problem(); }
     const CcPlan& plan() const { return maker_.plan(); }
+    const PlanMaker& planMaker() const { return maker_; }
     const LegPlan& legs() const { return legs_.legs(); }
     const msg::LegCommandMsg& lastLeg() const { return legs_.legInForce(); }
     std::uint32_t plannerSlices() const { return maker_.slices(); }
@@ -215,6 +229,11 @@ public:
     bool backingUp() const { return backUp_.active(); }
     const ReplanRequest& lastReplanRequest() const { return policy_.request(); }
     const msg::KnownHazardsMsg& hazards() const { return hazards_; }
+    // Site mode: the route and the horizon in hand.
+    bool siteMode() const { return siteMap_ != nullptr && siteMap_->loaded(); }
+    const RouteHorizons& route() const { return horizons_; }
+    const Horizon& horizon() const { return horizon_; }
+    bool routing() const { return routing_; }
 
 private:
     // The shell's own counts (the parts keep theirs).
@@ -256,6 +275,10 @@ private:
     // Planning.
     void startPlan();
     void onPlanFinished();
+    // Site mode: the route to the goal in hand, sliced over runs.
+    void startRoute(double fromX, double fromY, const msg::Goal& goal);
+    void onRouted();
+    bool planHorizon(double fromX, double fromY, PlanStart* start);
 
     // What the parts are given.
     bool active() const;
@@ -302,6 +325,17 @@ private:
     msg::PlanStatusMsg status_{};
     MissionCounters mission_{};
     DeliberativeCounters counters_{};
+
+    // Site mode.
+    const site_map::SiteMap* siteMap_ = nullptr;
+    site_map::SiteQuery siteQuery_{};
+    Horizon horizon_{};
+    bool routing_ = false;       // the route search is under way (kPlanning)
+    bool horizonLast_ = true;    // the plan in hand goes to the goal itself (not a horizon short of it)
+    std::uint32_t routesFound_ = 0;
+    std::uint32_t routesFailed_ = 0;
+    std::uint32_t horizonsReached_ = 0;
+    RouteHorizons horizons_;
 
     // The parts.
     DriveHealthView drives_;

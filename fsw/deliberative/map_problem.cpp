@@ -23,26 +23,25 @@ using geometry::Point2;
 // and a bevel there would only add a face for the search to branch on.
 constexpr double kBevelMaxCos = 0.8660254037844386;
 
-// Slot grown by radius: faces with outward unit normals, then bevels. False for a polygon
-// that is not strictly convex (a zero-length edge, a reflex or straight corner,
-// a boundary that winds more than once).
-bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, double radius,
-                   PlanObstacle* out) {
+// The polygon v[0 .. count) grown by radius: faces with outward unit normals,
+// then bevels. False for a polygon that is not strictly convex (a zero-length
+// edge, a reflex or straight corner, a boundary that winds more than once).
+bool grownPolygon(const Point2* vertex, std::size_t count, double radius, std::uint8_t id, PlanObstacle* out) {
     double twiceArea = 0.0;
     for (std::size_t v = 0; v < count; ++v) {
-        twiceArea += geometry::cross(coarseMapVertex(map, slot, v), coarseMapVertex(map, slot, (v + 1) % count));
+        twiceArea += geometry::cross(vertex[v], vertex[(v + 1) % count]);
     }
     if (!(std::fabs(twiceArea) > 0.0)) {
         return false;
     }
     const double winding = twiceArea > 0.0 ? 1.0 : -1.0;  // +1 counter-clockwise
-    out->id = static_cast<std::uint8_t>(slot);
+    out->id = id;
     double edgeNx[kMaxObstacleFaces] = {};
     double edgeNy[kMaxObstacleFaces] = {};
     for (std::size_t v = 0; v < count; ++v) {
-        const Point2 a = coarseMapVertex(map, slot, v);
-        const Point2 b = coarseMapVertex(map, slot, (v + 1) % count);
-        const Point2 c = coarseMapVertex(map, slot, (v + 2) % count);
+        const Point2 a = vertex[v];
+        const Point2 b = vertex[(v + 1) % count];
+        const Point2 c = vertex[(v + 2) % count];
         if (winding * geometry::cross(b - a, c - b) <= 0.0) {
             return false;
         }
@@ -51,7 +50,7 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
         // faces bound only its inner pentagon.
         for (std::size_t w = 0; w < count; ++w) {
             const bool onEdge = w == v || w == (v + 1) % count;
-            if (!onEdge && winding * geometry::cross(b - a, coarseMapVertex(map, slot, w) - a) <= 0.0) {
+            if (!onEdge && winding * geometry::cross(b - a, vertex[w] - a) <= 0.0) {
                 return false;
             }
         }
@@ -89,14 +88,14 @@ bool grownObstacle(const tables::CoarseMapTable& map, std::size_t slot, std::siz
     }
     std::size_t f = 0;
     for (std::size_t v = 0; v < count; ++v) {
-        const Point2 a = coarseMapVertex(map, slot, v);
+        const Point2 a = vertex[v];
         out->normalX[f] = edgeNx[v];
         out->normalY[f] = edgeNy[v];
         out->offset[f] = edgeNx[v] * a.x + edgeNy[v] * a.y + radius;
         ++f;
         if (bevel[v]) {
             const std::size_t w = (v + 1) % count;
-            const Point2 corner = coarseMapVertex(map, slot, w);
+            const Point2 corner = vertex[w];
             const double mx = edgeNx[v] + edgeNx[w];
             const double my = edgeNy[v] + edgeNy[w];
             const double m = std::sqrt(mx * mx + my * my);
@@ -120,13 +119,12 @@ bool inside(const PlanObstacle& o, double x, double y) {
     return true;
 }
 
-// Distance from the segment start-goal to the polygon's vertices and the
-// polygon's vertices' segments: a ranking, not a clearance (0 when they meet).
-double rankDistance(const tables::CoarseMapTable& map, std::size_t slot, std::size_t count, Point2 s, Point2 g) {
+// Squared distance from the segment start-goal to the polygon's edges: a
+// ranking, not a clearance (0 when they meet).
+double rankDistance(const Point2* vertex, std::size_t count, Point2 s, Point2 g) {
     double best = INFINITY;
     for (std::size_t v = 0; v < count; ++v) {
-        const double d = geometry::segmentSegmentDistanceSquared(s, g, coarseMapVertex(map, slot, v),
-                                                                 coarseMapVertex(map, slot, (v + 1) % count));
+        const double d = geometry::segmentSegmentDistanceSquared(s, g, vertex[v], vertex[(v + 1) % count]);
         best = d < best ? d : best;
     }
     return best;
@@ -179,12 +177,23 @@ const char* toString(MapProblemError error) {
         case MapProblemError::kGoalInObstacle: return "goal inside an obstacle";
         case MapProblemError::kBadMap: return "coarse map polygon not convex";
         case MapProblemError::kBadProblem: return "planner table out of range";
+        case MapProblemError::kTooManyRocks: return "too many site-map rocks near the horizon";
     }
     return "?";
 }
 
 geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::RoverGeometryTable& rover) {
     return geometry::siteBox(map, rse::geometry::clearanceRadiusM(rover));
+}
+
+geometry::SiteBox siteMapBox(const site_map::SiteMap& map, double insetM) {
+    const site_map::SiteBounds& b = map.site();
+    return geometry::SiteBox{static_cast<double>(b.xMin) + insetM, static_cast<double>(b.xMax) - insetM,
+                             static_cast<double>(b.yMin) + insetM, static_cast<double>(b.yMax) - insetM};
+}
+
+geometry::SiteBox siteFor(const tables::CoarseMapTable& map, const site_map::SiteMap* site, double insetM) {
+    return site != nullptr ? siteMapBox(*site, insetM) : geometry::siteBox(map, insetM);
 }
 
 namespace {
@@ -223,19 +232,112 @@ MapProblemError addMapPolygons(const tables::CoarseMapTable& map, const CcProble
     const Point2 g{p.goalX, p.goalY};
     for (std::size_t slot = 0; slot < slots; ++slot) {
         const std::size_t n = map.vertex_count[slot];
-        if (n < 3 || n > kMaxObstacleFaces || !grownObstacle(map, slot, n, radius, &c->grown[c->count])) {
+        Point2 vertex[kMaxObstacleFaces];
+        for (std::size_t v = 0; v < n && v < kMaxObstacleFaces; ++v) {
+            vertex[v] = coarseMapVertex(map, slot, v);
+        }
+        if (n < 3 || n > kMaxObstacleFaces ||
+            !grownPolygon(vertex, n, radius, static_cast<std::uint8_t>(slot), &c->grown[c->count])) {
             return MapProblemError::kBadMap;
         }
         if (inside(c->grown[c->count], p.goalX, p.goalY)) {
             return MapProblemError::kGoalInObstacle;
         }
         report->startInObstacle = report->startInObstacle || inside(c->grown[c->count], p.startX, p.startY);
-        c->rank[c->count] = rankDistance(map, slot, n, s, g);
+        c->rank[c->count] = rankDistance(vertex, n, s, g);
+        c->mapId[c->count] = static_cast<std::uint16_t>(slot);
         ++c->count;
     }
     report->obstaclesOnMap = static_cast<std::uint8_t>(c->count);
     c->polygons = c->count;
     return MapProblemError::kNone;
+}
+
+// Site rock id as a candidate (once: already listed is fine). kTooManyRocks
+// when kMaxMapPolygons are listed, kBadMap for a polygon the planner cannot
+// take, kGoalInObstacle when checkGoal and the grown rock holds the goal.
+MapProblemError addSiteRock(const site_map::SiteMap& map, std::uint16_t id, const CcProblem& p, double radius,
+                            bool checkGoal, const Point2* corridor, std::size_t corridorCount, MapObstacles* c,
+                            bool* startInside) {
+    for (std::size_t i = 0; i < c->polygons; ++i) {
+        if (c->mapId[i] == id) {
+            return MapProblemError::kNone;
+        }
+    }
+    if (c->polygons >= kMaxMapPolygons) {
+        return MapProblemError::kTooManyRocks;
+    }
+    const site_map::Rock& rock = map.rock(id);
+    Point2 vertex[kMaxObstacleFaces];
+    const std::size_t n = rock.count < kMaxObstacleFaces ? rock.count : kMaxObstacleFaces;
+    for (std::size_t v = 0; v < n; ++v) {
+        vertex[v] = Point2{rock.x[v], rock.y[v]};
+    }
+    // Polygons come first in the candidates: a rock added after the seen
+    // hazards (a plan's top-up) moves the first hazard to the end.
+    const std::size_t at = c->polygons;
+    if (c->count > at) {
+        c->grown[c->count] = c->grown[at];
+        c->rank[c->count] = c->rank[at];
+        c->forced[c->count] = c->forced[at];
+        c->inProblem[c->count] = c->inProblem[at];
+        c->mapId[c->count] = c->mapId[at];
+    }
+    PlanObstacle& grown = c->grown[at];
+    if (n < 3 || !grownPolygon(vertex, n, radius, static_cast<std::uint8_t>(at), &grown)) {
+        return MapProblemError::kBadMap;
+    }
+    if (checkGoal && inside(grown, p.goalX, p.goalY)) {
+        return MapProblemError::kGoalInObstacle;
+    }
+    *startInside = *startInside || inside(grown, p.startX, p.startY);
+    double rank = INFINITY;
+    for (std::size_t s = 1; s < corridorCount; ++s) {
+        rank = std::fmin(rank, rankDistance(vertex, n, corridor[s - 1], corridor[s]));
+    }
+    c->rank[at] = rank;
+    c->forced[at] = false;
+    c->inProblem[at] = false;
+    c->mapId[at] = id;
+    ++c->polygons;
+    ++c->count;
+    return MapProblemError::kNone;
+}
+
+// Every site rock within reach of the polyline points[0 .. count), as candidates.
+MapProblemError addSiteRocksNear(const site_map::SiteMap& map, site_map::SiteQuery* query, const Point2* points,
+                                 std::size_t count, double reach, const CcProblem& p, double radius, bool checkGoal,
+                                 MapObstacles* c, bool* startInside) {
+    std::uint16_t near[kMaxMapPolygons];
+    for (std::size_t k = 1; k < count; ++k) {
+        site_map::QueryStats stats;
+        const std::size_t found =
+            map.rocksNearSegment(points[k - 1], points[k], reach, query, near, kMaxMapPolygons, &stats);
+        if (stats.overflow || stats.refused) {
+            return MapProblemError::kTooManyRocks;
+        }
+        for (std::size_t f = 0; f < found; ++f) {
+            const MapProblemError e = addSiteRock(map, near[f], p, radius, checkGoal, points, count, c, startInside);
+            if (e != MapProblemError::kNone) {
+                return e;
+            }
+        }
+    }
+    return MapProblemError::kNone;
+}
+
+// Site mode: every site-map rock within the corridor's reach grown by the
+// footprint, once each, ranked by its distance to the corridor; as
+// addMapPolygons, and kTooManyRocks beyond kMaxMapPolygons.
+MapProblemError addSiteRocks(const SiteCorridor& corridor, const CcProblem& p, double radius, MapObstacles* c,
+                             MapProblemReport* report) {
+    if (corridor.query == nullptr || corridor.points == nullptr || corridor.count < 2 || !(corridor.reachM >= 0.0)) {
+        return MapProblemError::kTooManyRocks;
+    }
+    const MapProblemError e = addSiteRocksNear(*corridor.map, corridor.query, corridor.points, corridor.count,
+                                               corridor.reachM, p, radius, true, c, &report->startInObstacle);
+    report->obstaclesOnMap = static_cast<std::uint8_t>(c->count);
+    return e;
 }
 
 // Every usable seen hazard as an octagon grown by the footprint, less where
@@ -274,6 +376,7 @@ void addSeenHazards(const PlanRequest& request, const CcProblem& p, double radiu
             ++report->hazardsShrunk;
         }
         hazardOctagon(centre, r + growth, hz.obstacleId, &c->grown[c->count]);
+        c->mapId[c->count] = 0;
         const double gap = std::sqrt(geometry::pointSegmentDistanceSquared(centre, s, g)) - r;
         c->rank[c->count] = gap > 0.0 ? gap * gap : 0.0;
         ++c->count;
@@ -346,7 +449,7 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
         return fail(MapProblemError::kBadRequest);
     }
     const double radius = rse::geometry::clearanceRadiusM(geometry);
-    const geometry::SiteBox site = planningSite(map, geometry);
+    const geometry::SiteBox site = siteFor(map, request.site.map, radius);
     CcProblem p = problemFrame(planner, request, site);
     const auto onSite = [&site](double x, double y) { return geometry::outsideBy(site, x, y) <= 0.0; };
     if (!onSite(p.startX, p.startY)) {
@@ -359,7 +462,9 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     MapObstacles local;
     MapObstacles* candidates = obstacles != nullptr ? obstacles : &local;
     candidates->clear();
-    const MapProblemError mapError = addMapPolygons(map, p, radius, candidates, report);
+    const MapProblemError mapError = request.site.map != nullptr
+                                         ? addSiteRocks(request.site, p, radius, candidates, report)
+                                         : addMapPolygons(map, p, radius, candidates, report);
     if (mapError != MapProblemError::kNone) {
         return fail(mapError);
     }
@@ -370,6 +475,25 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     }
     *out = p;
     return core::Status::kOk;
+}
+
+bool addRocksNearPath(const SiteCorridor& site, const tables::RoverGeometryTable& geometry, const CcProblem& problem,
+                      const double* meanX, const double* meanY, std::size_t points, double reachM,
+                      MapObstacles* obstacles, std::size_t* added) {
+    *added = 0;
+    if (site.map == nullptr || site.query == nullptr || points > kMaxPlanSteps + 1) {
+        return false;
+    }
+    Point2 path[kMaxPlanSteps + 1];
+    for (std::size_t k = 0; k < points; ++k) {
+        path[k] = Point2{meanX[k], meanY[k]};
+    }
+    const std::size_t before = obstacles->polygons;
+    bool startInside = false;
+    const MapProblemError e = addSiteRocksNear(*site.map, site.query, path, points, reachM, problem,
+                                               rse::geometry::clearanceRadiusM(geometry), false, obstacles, &startInside);
+    *added = obstacles->polygons - before;
+    return e == MapProblemError::kNone;
 }
 
 }  // namespace rse::deliberative

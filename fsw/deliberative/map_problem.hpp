@@ -39,6 +39,7 @@
 #include "fsw/geometry/coarse_map.hpp"
 #include "fsw/geometry/site_bounds.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
+#include "fsw/site_map/site_map.hpp"
 #include "fsw/tables/table_types.hpp"
 
 namespace rse::deliberative {
@@ -46,6 +47,25 @@ namespace rse::deliberative {
 constexpr std::size_t kHazardFaces = 8;
 // Clearance a start or goal keeps from an obstacle grown less for it.
 constexpr double kHazardEndClearanceM = 0.05;
+
+// Map polygons one problem's candidates may hold: the coarse map's 16, or the
+// site map's rocks near a horizon's corridor (a 30 m horizon in a k = 0.10
+// field has about 2 rocks of 1 m and more within 6 m of it; 64 is the
+// densest field's share with room).
+constexpr std::size_t kMaxMapPolygons = 64;
+static_assert(kMaxMapPolygons >= geometry::kCoarseMapSlots, "every coarse-map polygon is a candidate");
+
+// Site mode (the site map in force, docs/site_map.md): the rocks are the
+// site map's within reachM of the corridor (the global route's stretch the
+// horizon follows, from the start to the horizon's goal), not the coarse
+// map's, and the site is the site map's.
+struct SiteCorridor {
+    const site_map::SiteMap* map = nullptr;     // null: the coarse map (COARSE_MAP) is the map
+    site_map::SiteQuery* query = nullptr;       // the caller's query scratch
+    const geometry::Point2* points = nullptr;   // the corridor, count points (at least 2)
+    std::size_t count = 0;
+    double reachM = 0.0;                        // rocks whose box comes within this of the corridor
+};
 
 struct PlanRequest {
     double startX = 0.0, startY = 0.0;
@@ -57,6 +77,7 @@ struct PlanRequest {
     double noiseFactor = 1.0;
     const msg::KnownHazard* hazards = nullptr;  // seen hazards (site frame), hazardCount of them
     std::size_t hazardCount = 0;                // at most msg::kMaxKnownHazards are read
+    SiteCorridor site{};                        // site mode when site.map is set
 };
 
 // Why a problem could not be built.
@@ -68,6 +89,7 @@ enum class MapProblemError : std::uint8_t {
     kGoalInObstacle = 4,  // the goal lies inside a grown obstacle: no plan can end there
     kBadMap = 5,          // a polygon that is not convex or has no area (the table check should have refused it)
     kBadProblem = 6,      // the result failed checkProblem() (a table value out of the planner's range)
+    kTooManyRocks = 7,    // site mode: more rocks near the corridor than kMaxMapPolygons (or a corridor not usable)
 };
 const char* toString(MapProblemError error);
 
@@ -86,13 +108,14 @@ struct MapProblemReport {
 // Every grown polygon and seen hazard that may enter the problem: the ones it
 // holds and the ones it leaves out (the whole-map check bounds their risk).
 struct MapObstacles {
-    static constexpr std::size_t kCapacity = geometry::kCoarseMapSlots + msg::kMaxKnownHazards;
+    static constexpr std::size_t kCapacity = kMaxMapPolygons + msg::kMaxKnownHazards;
     PlanObstacle grown[kCapacity];
     double rank[kCapacity] = {};     // squared distance to the straight line from start to goal
     bool forced[kCapacity] = {};     // first into the problem: the whole-map check found its risk mattered
     bool inProblem[kCapacity] = {};
+    std::uint16_t mapId[kCapacity] = {};  // a polygon's coarse-map slot or site-map rock (hazards: 0)
     std::size_t count = 0;
-    std::size_t polygons = 0;        // grown[0 .. polygons) are the coarse map's, the rest seen hazards
+    std::size_t polygons = 0;        // grown[0 .. polygons) are the map's polygons, the rest seen hazards
     void clear();                    // no candidate, none forced
     std::size_t leftOut() const;     // candidates not in the problem
 };
@@ -102,10 +125,24 @@ struct MapObstacles {
 // Where a plan's start, goal and means must lie: the site shrunk by the rover's
 // clearance radius (a start or goal outside it: kStartOffSite / kGoalOffSite).
 geometry::SiteBox planningSite(const tables::CoarseMapTable& map, const tables::RoverGeometryTable& rover);
+// The same for site mode: the site map's bounds shrunk by insetM.
+geometry::SiteBox siteMapBox(const site_map::SiteMap& map, double insetM);
+// The site mode's site when site is set, else the coarse map's, shrunk by insetM.
+geometry::SiteBox siteFor(const tables::CoarseMapTable& map, const site_map::SiteMap* site, double insetM);
 
 core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::PlannerTable& planner,
                              const tables::RoverGeometryTable& geometry, const PlanRequest& request,
                              CcProblem* out, MapProblemReport* report, MapObstacles* obstacles = nullptr);
+
+// Site mode, before a plan's whole-map check: every site rock within reachM
+// of the plan's means (meanX/meanY[0 .. points), its sampled path's centre
+// line) that is not a candidate yet is added (grown, left out of the
+// problem), so that the check bounds each one. False (some may have been
+// added) when they do not fit in kMaxMapPolygons or the query is refused:
+// the plan cannot be certified. *added: how many were added.
+bool addRocksNearPath(const SiteCorridor& site, const tables::RoverGeometryTable& geometry, const CcProblem& problem,
+                      const double* meanX, const double* meanY, std::size_t points, double reachM,
+                      MapObstacles* obstacles, std::size_t* added);
 
 // The problem's obstacles chosen again from *obstacles: the forced ones first
 // (nearest first), then the nearest, kMaxPlanObstacles in all, in candidate

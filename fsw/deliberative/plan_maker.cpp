@@ -14,6 +14,7 @@ namespace rse::deliberative {
 static_assert(msg::kPlanPathMeans == kMaxPlanSteps + 1, "PlanPathMsg holds mu_0 .. mu_N of the longest plan");
 
 bool PlanMaker::start(const PlanStart& s, const char** refusal) {
+    site_ = s.site;
     PlanRequest request;
     request.startX = s.xM;
     request.startY = s.yM;
@@ -26,6 +27,8 @@ bool PlanMaker::start(const PlanStart& s, const char** refusal) {
     request.goalX = s.goalX;
     request.goalY = s.goalY;
     request.riskBound = s.riskBound;
+    request.site = s.site;
+    far_ = FarRockBound{};
     // The motor loss in the state estimate: a drive the mode estimator
     // declares failed (or cannot tell) is planned as failed - its power factor
     // in the legs' bounds (the task's LegParams) and, once the declaration has
@@ -54,9 +57,9 @@ void PlanMaker::planFromReentry(PlanRequest* request) {
     // A start off the planning site (off the map, or pushed against its edge)
     // has no plan: plan from the nearest point well on it instead; the
     // habitual layer drives the rover there on the first leg.
-    const geometry::SiteBox planSite = planningSite(tables_.coarseMap(), tables_.roverGeometry());
-    const geometry::SiteBox reentrySite =
-        geometry::siteBox(tables_.coarseMap(), rse::geometry::clearanceRadiusM(tables_.roverGeometry()) + kReentryInsetM);
+    const double radius = rse::geometry::clearanceRadiusM(tables_.roverGeometry());
+    const geometry::SiteBox planSite = siteFor(tables_.coarseMap(), site_.map, radius);
+    const geometry::SiteBox reentrySite = siteFor(tables_.coarseMap(), site_.map, radius + kReentryInsetM);
     double inX = request->startX;
     double inY = request->startY;
     fromReentry_ = geometry::outsideBy(planSite, request->startX, request->startY) > 0.0 &&
@@ -98,7 +101,8 @@ bool PlanMaker::buildProblem(const PlanStart& s, const PlanRequest& request, Map
     leftOutCount_ = obstacles_.leftOut();
     leftOutRisk_ = 0.0;
     wholeMapRounds_ = 0;
-    if (leftOutCount_ > 0) {
+    // Site mode: the rocks far from the plan always take a share.
+    if (leftOutCount_ > 0 || site_.map != nullptr) {
         problem_.riskBound = riskBound_ * (1.0 - kLeftOutShare);
     }
     phase_ = Phase::kPlanning;
@@ -195,7 +199,12 @@ void PlanMaker::stepUnit() {
 void PlanMaker::onPlannerFinished() {
     candidate_ = planner_.plan();
     const bool hasPath = candidate_.status == CcStatus::kOptimal || candidate_.status == CcStatus::kFeasible;
-    if (!hasPath || leftOutCount_ == 0) {
+    if (hasPath && site_.map != nullptr && !topUpSiteRocks()) {
+        return;
+    }
+    if (!hasPath || obstacles_.leftOut() == 0) {
+        candidate_.riskUsed += far_.risk;
+        leftOutRisk_ = far_.risk;
         phase_ = Phase::kDone;
         return;
     }
@@ -205,11 +214,12 @@ void PlanMaker::onPlannerFinished() {
 }
 
 void PlanMaker::onCheckDone() {
-    const double allowed = kLeftOutShare * riskBound_;
+    const double allowed = kLeftOutShare * riskBound_ - far_.risk;
     if (check_.leftOutRisk() <= allowed) {
         // Certified against the whole map: the problem's obstacles within
-        // (1 - kLeftOutShare) Delta, the rest within the share.
-        leftOutRisk_ = check_.leftOutRisk();
+        // (1 - kLeftOutShare) Delta, the rest (and in site mode the rocks
+        // far from the plan) within the share.
+        leftOutRisk_ = check_.leftOutRisk() + far_.risk;
         candidate_.riskUsed += leftOutRisk_;
         phase_ = Phase::kDone;
         return;
@@ -228,6 +238,31 @@ void PlanMaker::onCheckDone() {
     refuseCandidate(risk);
 }
 
+bool PlanMaker::topUpSiteRocks() {
+    // Every rock near enough the plan to matter becomes a candidate, so the
+    // check bounds it; the rest are the far rocks' bound (whole_map_check.hpp).
+    const std::size_t steps = candidate_.steps <= kMaxPlanSteps ? candidate_.steps : kMaxPlanSteps;
+    far_ = farRockBound(problem_, steps, rse::geometry::clearanceRadiusM(tables_.roverGeometry()),
+                        kFarRockShare * kLeftOutShare * riskBound_);
+    std::size_t added = 0;
+    const bool fits = addRocksNearPath(site_, tables_.roverGeometry(), problem_, candidate_.meanX, candidate_.meanY,
+                                       steps + 1, far_.reachM, &obstacles_, &added);
+    counters_.siteRocksAdded += static_cast<std::uint32_t>(added);
+    if (fits) {
+        return true;
+    }
+    ++counters_.siteCrowdedRefusals;
+    ++counters_.wholeMapRefusals;
+    refusedByWholeMap_ = true;
+    events_.report(events::kWholeMapRefused, core::Severity::kWarning,
+                   "deliberative: plan not taken: more than %u site-map rocks within %.2f m of it (cannot certify)",
+                   static_cast<unsigned>(kMaxMapPolygons), far_.reachM);
+    candidate_ = CcPlan{};
+    candidate_.status = CcStatus::kNoPlan;
+    phase_ = Phase::kDone;
+    return false;
+}
+
 void PlanMaker::refuseCandidate(double leftOutRisk) {
     ++counters_.wholeMapRefusals;
     refusedByWholeMap_ = true;
@@ -244,7 +279,7 @@ void PlanMaker::replanWithForced() {
     MapProblemReport report;
     selectObstacles(&obstacles_, &problem_, &report);
     leftOutCount_ = obstacles_.leftOut();
-    problem_.riskBound = riskBound_ * (leftOutCount_ > 0 ? 1.0 - kLeftOutShare : 1.0);
+    problem_.riskBound = riskBound_ * (leftOutCount_ > 0 || site_.map != nullptr ? 1.0 - kLeftOutShare : 1.0);
     if (!core::isOk(planner_.start(problem_, plannerParams()))) {
         refuseCandidate(check_.leftOutRisk());
         return;

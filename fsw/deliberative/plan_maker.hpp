@@ -93,6 +93,7 @@ struct PlanStart {
     std::uint8_t failedDrives = 0;   // confirmed failed or unknown (bit per wheel)
     double meanPowerFactor = 1.0;    // the legs' (event 990)
     const msg::KnownHazardsMsg* hazards = nullptr;  // seen hazards
+    SiteCorridor site{};          // site mode (map_problem.hpp) when site.map is set
 };
 
 struct PlanCounters {
@@ -111,6 +112,8 @@ struct PlanCounters {
     std::uint32_t wholeMapChecks = 0;    // plans checked against the obstacles their problem left out
     std::uint32_t wholeMapReplans = 0;   // ... planned again with obstacles forced in (event 991)
     std::uint32_t wholeMapRefusals = 0;  // ... and not taken: left-out risk beyond kLeftOutShare (event 992)
+    std::uint32_t siteRocksAdded = 0;    // site mode: rocks near a plan made candidates before its check
+    std::uint32_t siteCrowdedRefusals = 0;  // ... plans not taken: the rocks near them did not fit (event 992)
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -149,6 +152,12 @@ public:
     // The risk in force the plan was asked for (the problem's own bound is
     // less by the left-out share when obstacles are left out).
     double riskBound() const { return riskBound_; }
+    // Site mode: the bound of the rocks far from the plan (whole_map_check.hpp),
+    // part of leftOutRisk().
+    const FarRockBound& farRocks() const { return far_; }
+    // Every candidate of the plan's problem: the ones it holds and the ones
+    // the whole-map check bounded (site mode: with the rocks near the plan).
+    const MapObstacles& candidates() const { return obstacles_; }
     // Obstacles the plan's problem left out, and their share of its risk.
     std::size_t obstaclesLeftOut() const { return leftOutCount_; }
     double leftOutRisk() const { return leftOutRisk_; }
@@ -176,6 +185,7 @@ private:
     void onPlannerFinished();
     void onCheckDone();
     void refuseCandidate(double leftOutRisk);
+    bool topUpSiteRocks();
     void replanWithForced();
     std::uint64_t work() const { return work_; }
     bool buildProblem(const PlanStart& start, const PlanRequest& request, MapProblemReport* report,
@@ -188,7 +198,9 @@ private:
     const tables::TableService& tables_;
     Publisher& out_;
     CcProblem problem_{};
-    MapObstacles obstacles_{};   // every candidate of the problem (about 10 KB)
+    MapObstacles obstacles_{};   // every candidate of the problem (about 20 KB)
+    SiteCorridor site_{};        // site mode when site_.map is set
+    FarRockBound far_{};
     WholeMapCheck check_{};
     Phase phase_ = Phase::kDone;
     std::uint64_t work_ = 0;         // work units of every unit stepped (planner, check, restarts)

@@ -1,5 +1,6 @@
 #include "fsw/deliberative/whole_map_check.hpp"
 
+#include <cmath>
 #include <initializer_list>
 
 #include "fsw/deliberative/cc_planner.hpp"
@@ -9,6 +10,32 @@ namespace rse::deliberative {
 
 static_assert(WholeMapCheck::kMaxUnitWork <= CcPlanner::kMaxUnitWork,
               "a left-out obstacle's check is one unit of the planner's slice");
+
+FarRockBound farRockBound(const CcProblem& problem, std::size_t steps, double radiusM, double share) {
+    // Sigma_0's largest eigenvalue, then lambda_t = lambda_0 + t sigma^2.
+    const double a = problem.startCov[0];
+    const double d = problem.startCov[3];
+    const double b = 0.5 * (problem.startCov[1] + problem.startCov[2]);
+    const double half = 0.5 * (a - d);
+    const double lambda0 = std::fmax(0.0, 0.5 * (a + d) + std::sqrt(half * half + b * b));
+    const double q = problem.processSigmaM * problem.processSigmaM;
+    const double lambdaN = lambda0 + static_cast<double>(steps) * q;
+    FarRockBound out;
+    out.reachM = radiusM;
+    if (!(lambdaN > 0.0) || !(share > 0.0)) {
+        return out;   // no uncertainty: a rock beyond the disc is never met
+    }
+    // (N + 1) exp(-r^2 / (2 lambda_N)) = share, then the sum itself (<= share).
+    const double r = std::sqrt(2.0 * lambdaN * std::log(static_cast<double>(steps + 1) / share));
+    double sum = 0.0;
+    for (std::size_t t = 0; t <= steps; ++t) {
+        const double lambda = lambda0 + static_cast<double>(t) * q;
+        sum += lambda > 0.0 ? std::exp(-r * r / (2.0 * lambda)) : 0.0;
+    }
+    out.reachM = radiusM + r;
+    out.risk = sum;
+    return out;
+}
 
 void WholeMapCheck::start(const CcProblem& problem, const CcPlan& plan, const MapObstacles& obstacles) {
     single_ = problem;

@@ -37,6 +37,28 @@ namespace rse::deliberative {
 // out, and the left-out ones together may take at most kLeftOutShare Delta.
 constexpr double kLeftOutShare = 0.01;
 
+// Site mode: the rocks far from the plan (docs/deliberative.md, "Rocks far
+// from the plan"). A sampled position is x_t = mu_t + e_t with e_t ~ N(0,
+// Sigma_t), Sigma_t = Sigma_0 + t sigma^2 I, and a point of the sampled
+// segment t is a convex combination of two of them, so its error is at most
+// max(|e_t|, |e_t+1|). The rover's disc (radius rho) meets a rock only where
+// its centre comes within rho of it; a rock at least reachM = rho + r from
+// every segment of the means is met only if some |e_t| >= r, and
+//   P(|e_t| >= r) <= P(e' Sigma_t^-1 e >= r^2 / lambda_t) = exp(-r^2 / (2 lambda_t))
+// (lambda_t: Sigma_t's largest eigenvalue; the quadratic form is chi-square
+// with 2 degrees of freedom). Boole over t = 0 .. N bounds every such rock of
+// the map together, however many, by the sum. farRockBound picks r so that the
+// sum is at most share; the plan maker makes every rock within reachM a
+// candidate (addRocksNearPath) and adds risk to the plan's certified risk.
+struct FarRockBound {
+    double reachM = 0.0;   // rho + r: rocks at least this far from every segment of the means
+    double risk = 0.0;     // ... together meet the sampled path with at most this probability (<= share)
+};
+FarRockBound farRockBound(const CcProblem& problem, std::size_t steps, double radiusM, double share);
+
+// The share of the left-out share (kLeftOutShare) the rocks far from the plan take.
+constexpr double kFarRockShare = 0.1;
+
 class WholeMapCheck {
 public:
     // The most work one pair bound does (plan_risk.hpp, "Cost": 2 x 8 + 2

@@ -34,7 +34,9 @@ public:
     static constexpr std::uint8_t kAutonomous = 2;
     static constexpr std::uint8_t kStandby = 1;
 
-    DeliberativeRig() : events(clock), bus(clock, events), tables(events), task(bus, events, tables) {}
+    // siteMap: the site map the task plans on (site mode), or none.
+    explicit DeliberativeRig(const site_map::SiteMap* siteMap = nullptr)
+        : events(clock), bus(clock, events), tables(events), task(bus, events, tables, siteMap) {}
 
     bool init() {
         if (!core::isOk(tables.init(tables::kDefaultTableImages, tables::kDefaultTableImageCount))) {
