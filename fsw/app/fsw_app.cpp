@@ -59,7 +59,7 @@ FswApp::FswApp(core::Clock& clock, hal::CanBus& can)
       manualDrive_(clock, bus_, events_, tables_),
       follower_(clock, bus_, events_, tables_),
       console_(bus_, events_),
-      habitual_(bus_, events_, tables_),
+      habitual_(bus_, events_, tables_, &siteMap_.map()),
       deliberative_(bus_, events_, tables_, &siteMap_.map()),
       planExecutive_(bus_, events_) {}
 

@@ -18,13 +18,14 @@ constexpr core::InputPipeConfig kInputPipe{"habitual", kInputPipeDepth, events::
 
 }  // namespace
 
-HabitualTask::HabitualTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables)
+HabitualTask::HabitualTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
+                           const site_map::SiteMap* siteMap)
     : events_(events),
       tables_(tables),
       posePipe_(bus, events, kPosePipe),
       inputPipe_(bus, events, kInputPipe),
       legEvents_(events),
-      memory_(events, tables.coarseMap()),
+      memory_(events, tables.coarseMap(), siteMap),
       evaluator_(tables.habitual()),
       supervisor_(events, tables.habitual()),
       outputs_(bus, tables.habitual()),

@@ -97,6 +97,7 @@
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
+#include "fsw/site_map/site_map.hpp"
 #include "fsw/tables/table_service.hpp"
 
 namespace rse::habitual {
@@ -143,7 +144,10 @@ struct HabitualCounters {
 
 class HabitualTask final : public core::Task {
 public:
-    HabitualTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables);
+    // siteMap: the site map in force (site mode: its rocks near each leg join
+    // the local map; docs/habitual.md), or null.
+    HabitualTask(core::SoftwareBus& bus, core::EventLog& events, const tables::TableService& tables,
+                 const site_map::SiteMap* siteMap = nullptr);
 
     // Pipes "habitual_pose" (depth kPosePipeDepth: PoseEstimateMsg) and
     // "habitual" (kInputPipeDepth: leg, hazards, drive modes, follower status,

@@ -1,5 +1,7 @@
 #include "fsw/habitual/hazard_memory.hpp"
 
+#include <cmath>
+
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 
@@ -10,7 +12,10 @@ using geometry::Point2;
 void HazardMemory::remember(const msg::HazardMsg& hazards, Point2 roverPosition, double roverHeadingRad) {
     for (std::size_t i = 0; i < hazards.count && i < msg::kMaxHazardsInMsg; ++i) {
         const msg::HazardSightingTlm& s = hazards.sightings[i];
-        switch (builder_.remember(coarse_, roverPosition, roverHeadingRad, s)) {
+        SiteWindow site;
+        site.map = site_;
+        site.query = &query_;
+        switch (builder_.remember(coarse_, roverPosition, roverHeadingRad, s, &site)) {
             case SightingOutcome::kAdded:
                 reportAdded(s.obstacleId);
                 break;
@@ -72,7 +77,8 @@ bool HazardMemory::build(LocalMap* map, double clearanceM, const msg::LegCommand
         withEnd.seenAt = Point2{leg.goalXM, leg.goalYM};
         withEnd.hasSeenAt = true;
     }
-    const core::Status status = builder_.build(coarse_, clearanceM, map, &withEnd);
+    const SiteWindow site = windowOf(leg, clearanceM);
+    const core::Status status = builder_.build(coarse_, clearanceM, map, &withEnd, &site);
     if (!core::isOk(status)) {
         ++mapRefused_;
         if (core::isReportableOccurrence(mapRefused_)) {
@@ -82,6 +88,19 @@ bool HazardMemory::build(LocalMap* map, double clearanceM, const msg::LegCommand
         }
     }
     return map->valid();
+}
+
+SiteWindow HazardMemory::windowOf(const msg::LegCommandMsg& leg, double clearanceM) {
+    SiteWindow w;
+    if (leg.legId == 0 || site_ == nullptr || !std::isfinite(leg.maxPathLengthM)) {
+        return w;
+    }
+    w.map = site_;
+    w.query = &query_;
+    w.centre = Point2{leg.goalXM, leg.goalYM};
+    const double reach = leg.maxPathLengthM + clearanceM;
+    w.reachM = reach < kMaxSiteWindowM ? reach : kMaxSiteWindowM;
+    return w;
 }
 
 void HazardMemory::refreshCheckMap(double footprintM, const msg::LegCommandMsg& leg) {

@@ -33,7 +33,10 @@ namespace rse::habitual {
 
 class HazardMemory {
 public:
-    HazardMemory(core::EventLog& events, const tables::CoarseMapTable& coarse) : events_(events), coarse_(coarse) {}
+    // site: the site map in force (site mode), or null.
+    HazardMemory(core::EventLog& events, const tables::CoarseMapTable& coarse,
+                 const site_map::SiteMap* site = nullptr)
+        : events_(events), coarse_(coarse), site_(site) {}
 
     // hazards' sightings, relative to the rover at roverPosition facing
     // roverHeadingRad, remembered (hazards.count is checked by the caller).
@@ -41,7 +44,8 @@ public:
 
     // map rebuilt from the coarse map and the memory, every obstacle inflated
     // by clearanceM, with relief (may be null) and the leg's end (legId 0: no
-    // leg) as the seen disc's place. Whether the map is usable.
+    // leg) as the seen disc's place; in site mode with the site map's rocks in
+    // the leg's window (map_builder.hpp, SiteWindow). Whether the map is usable.
     bool build(LocalMap* map, double clearanceM, const msg::LegCommandMsg& leg, const MapRelief* relief = nullptr);
 
     // The check map: rebuilt at footprintM for the leg, at the memory's revision.
@@ -61,8 +65,13 @@ public:
 private:
     void reportAdded(std::uint8_t obstacleId);
 
+    // The site rocks' window of a leg (none without a leg or a site map).
+    SiteWindow windowOf(const msg::LegCommandMsg& leg, double clearanceM);
+
     core::EventLog& events_;
     const tables::CoarseMapTable& coarse_;
+    const site_map::SiteMap* site_ = nullptr;
+    site_map::SiteQuery query_{};
     std::uint32_t checkedRevision_ = 0;
     std::uint32_t mapRefused_ = 0;
     MapBuilder builder_;

@@ -31,10 +31,41 @@ Point2 enclosingDisc(Point2 a, double ra, Point2 b, double rb, double* radius) {
     return a + ((enclosing - ra) / apart) * (b - a);
 }
 
+bool siteUsable(const SiteWindow* site) { return site != nullptr && site->map != nullptr && site->query != nullptr && site->map->loaded(); }
+
+// A site rock's vertices; their count.
+std::size_t siteRockVertices(const site_map::SiteMap& map, std::uint16_t id, Point2* out) {
+    const site_map::Rock& rock = map.rock(id);
+    const std::size_t n = rock.count < kMaxPolygonVertices ? rock.count : kMaxPolygonVertices;
+    for (std::size_t v = 0; v < n; ++v) {
+        out[v] = Point2{rock.x[v], rock.y[v]};
+    }
+    return n;
+}
+
+// p within marginM of a site-map rock (a rock's polygon, measured exactly).
+bool nearSiteRock(const SiteWindow* site, Point2 p, double marginM) {
+    if (!siteUsable(site)) {
+        return false;
+    }
+    std::uint16_t near[16];
+    site_map::QueryStats stats;
+    const std::size_t found = site->map->rocksNearSegment(p, p, marginM, site->query, near, 16, &stats);
+    for (std::size_t k = 0; k < found; ++k) {
+        Point2 v[kMaxPolygonVertices];
+        const std::size_t n = siteRockVertices(*site->map, near[k], v);
+        if (geometry::segmentConvexPolygonDistanceSquared(p, p, v, n) <= marginM * marginM) {
+            return true;
+        }
+    }
+    return false;
+}
+
 }  // namespace
 
 SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point2 roverPosition,
-                                     double roverHeadingRad, const msg::HazardSightingTlm& sighting) {
+                                     double roverHeadingRad, const msg::HazardSightingTlm& sighting,
+                                     const SiteWindow* site) {
     ++sightings_;
     const bool finite = std::isfinite(sighting.rangeM) && std::isfinite(sighting.bearingRad) &&
                         std::isfinite(sighting.halfWidthM) && isFinite(roverPosition) &&
@@ -47,7 +78,8 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
     const double direction = roverHeadingRad + sighting.bearingRad;
     const double reach = sighting.rangeM + sighting.halfWidthM;
     const Point2 centre{roverPosition.x + reach * std::cos(direction), roverPosition.y + reach * std::sin(direction)};
-    if (distanceToCoarseMap(coarse, centre) <= kKnownObstacleMarginM) {
+    if (distanceToCoarseMap(coarse, centre) <= kKnownObstacleMarginM ||
+        nearSiteRock(site, centre, kKnownObstacleMarginM)) {
         ++known_;
         return SightingOutcome::kKnownObstacle;
     }
@@ -58,7 +90,8 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
     const double seenRadius = std::fmax(kSightingRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
     const Point2 nearest{roverPosition.x + sighting.rangeM * std::cos(direction),
                          roverPosition.y + sighting.rangeM * std::sin(direction)};
-    const bool onMappedRock = distanceToCoarseMap(coarse, nearest) <= kKnownObstacleMarginM;
+    const bool onMappedRock = distanceToCoarseMap(coarse, nearest) <= kKnownObstacleMarginM ||
+                              nearSiteRock(site, nearest, kKnownObstacleMarginM);
     const double coverRadius =
         onMappedRock ? seenRadius : std::fmax(kCoverRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
 
@@ -138,7 +171,7 @@ std::size_t MapBuilder::rememberedCount() const {
 }
 
 core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
-                              const MapRelief* relief) const {
+                              const MapRelief* relief, const SiteWindow* site) const {
     if (map == nullptr) {
         return core::Status::kInvalidArgument;
     }
@@ -161,6 +194,23 @@ core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clea
         const core::Status st = map->addPolygon(vertices, n);
         if (!core::isOk(st) && core::isOk(first)) {
             first = st;
+        }
+    }
+    if (siteUsable(site)) {
+        std::uint16_t near[kMaxMapPolygons + 1];
+        site_map::QueryStats stats;
+        const std::size_t found = site->map->rocksNearSegment(site->centre, site->centre, site->reachM, site->query,
+                                                              near, kMaxMapPolygons + 1, &stats);
+        if ((stats.overflow || stats.refused) && core::isOk(first)) {
+            first = core::Status::kFull;
+        }
+        for (std::size_t k = 0; k < found; ++k) {
+            Point2 vertices[kMaxPolygonVertices];
+            const std::size_t n = siteRockVertices(*site->map, near[k], vertices);
+            const core::Status st = map->addPolygon(vertices, n);
+            if (!core::isOk(st) && core::isOk(first)) {
+                first = st;
+            }
         }
     }
     for (const RememberedHazard& h : slots_) {

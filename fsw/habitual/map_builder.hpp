@@ -69,6 +69,7 @@
 #include "fsw/core/status.hpp"
 #include "fsw/geometry/geometry2d.hpp"
 #include "fsw/habitual/local_map.hpp"
+#include "fsw/site_map/site_map.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
 
@@ -132,19 +133,36 @@ struct MapRelief {
     bool hasSeenAt = false;
 };
 
+// The site map's rocks a local map takes (site mode, docs/site_map.md): those
+// whose boxes come within reachM of centre. A leg's window is the disc about
+// its goal that holds every path the leg allows (a point on a path no longer
+// than maxPathLengthM that ends at the goal lies within that of it), plus the
+// clearance, at most kMaxSiteWindowM.
+struct SiteWindow {
+    const site_map::SiteMap* map = nullptr;   // null or not loaded: no site rocks
+    site_map::SiteQuery* query = nullptr;
+    geometry::Point2 centre{0.0, 0.0};
+    double reachM = 0.0;
+};
+constexpr double kMaxSiteWindowM = 40.0;
+
 class MapBuilder {
 public:
     // Turns one sighting into a disc and remembers it (see the file comment).
     // roverPosition / roverHeadingRad: the pose estimate the sighting is relative to.
+    // site (may be null): a sighting on a site-map rock is known too.
     SightingOutcome remember(const tables::CoarseMapTable& coarse, geometry::Point2 roverPosition,
-                             double roverHeadingRad, const msg::HazardSightingTlm& sighting);
+                             double roverHeadingRad, const msg::HazardSightingTlm& sighting,
+                             const SiteWindow* site = nullptr);
     void forgetAll();
 
     // map reset to the coarse-map bounds with clearanceM, then every coarse
-    // polygon and remembered cover. The first refusal of the map is returned (the
-    // map then holds what was added before it); kOk otherwise.
+    // polygon, the site map's rocks in site's window (when site is given and
+    // holds a map) and every remembered cover. The first refusal of the map is
+    // returned (the map then holds what was added before it; more site rocks
+    // in the window than the map holds: kFull); kOk otherwise.
     core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
-                       const MapRelief* relief = nullptr) const;
+                       const MapRelief* relief = nullptr, const SiteWindow* site = nullptr) const;
 
     std::size_t rememberedCount() const;
     const RememberedHazard& slot(std::size_t index) const { return slots_[index < kMaxMapDiscs ? index : 0]; }

@@ -9,6 +9,7 @@
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/habitual/habitual_events.hpp"
 #include "fsw/habitual/hazard_memory.hpp"
+#include "ground/site_map_encoder.hpp"
 #include "unit_test/fsw/habitual/habitual_parts.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -135,4 +136,59 @@ TEST(HazardMemory, TheDeliberativeLayerIsToldTheSeenDiscs) {
     DOUBLES_EQUAL(0.6, m.hazards[0].radiusM, 1e-5);  // 1.5 half widths, not the cover
     LONGS_EQUAL(8, m.hazards[1].obstacleId);
     DOUBLES_EQUAL(-4.8, m.hazards[1].yM, 1e-5);
+}
+
+// Site mode: the site map's rocks near a leg join its maps, and a sighting of
+// one is known, not remembered.
+TEST_GROUP(HazardMemorySiteMode) {
+    core::VirtualClock clock{0};
+    core::EventLog events{clock};
+    tables::CoarseMapTable coarse = test::defaultTable<tables::CoarseMapTable>();
+    site_map::SiteMap* site = nullptr;
+    void setup() override {
+        // As site mode flies: COARSE_MAP's bounds cover the site, its rocks are the site map's.
+        coarse.x_min_m = -20.0F;
+        coarse.x_max_m = 120.0F;
+        coarse.y_min_m = -20.0F;
+        coarse.y_max_m = 20.0F;
+        for (auto& n : coarse.vertex_count) {
+            n = 0;
+        }
+        static site_map::SiteMap storage;   // ~1 MB: static, as in flight
+        site = &storage;
+        ground::SiteMapSpec spec;
+        spec.site = {-20.0F, -20.0F, 120.0F, 20.0F};
+        // Rock 0 near the leg (x 60..61, y -0.5..0.5), rock 1 far from it (x 100..101).
+        spec.rocks.push_back({{60.0F, -0.5F}, {61.0F, -0.5F}, {61.0F, 0.5F}, {60.0F, 0.5F}});
+        spec.rocks.push_back({{100.0F, -0.5F}, {101.0F, -0.5F}, {101.0F, 0.5F}, {100.0F, 0.5F}});
+        const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
+        site_map::SiteMapCheck check;
+        CHECK(site->load(image.data(), image.size(), &check) == core::Status::kOk);
+    }
+};
+
+TEST(HazardMemorySiteMode, TheSiteRocksInALegsWindowJoinItsMapAndTheOthersDoNot) {
+    HazardMemory* memory = nullptr;
+    HazardMemory storage(events, coarse, site);
+    memory = &storage;
+    msg::LegCommandMsg leg{};
+    leg.legId = 3;
+    leg.goalXM = 64.0;
+    leg.goalYM = 0.0;
+    leg.maxPathLengthM = 6.0;
+    habitual::LocalMap map;
+    CHECK_TRUE(memory->build(&map, 0.6, leg));
+    // Rock 0 (3 m from the goal); not rock 1 (36 m).
+    LONGS_EQUAL(1, map.polygonCount());
+    CHECK_FALSE(map.pointFree(Point2{60.5, 0.0}));
+    CHECK_FALSE(map.pointFree(Point2{61.4, 0.0}));   // within the clearance
+    CHECK_TRUE(map.pointFree(Point2{100.5, 0.0}));   // not in this leg's window
+    // No leg: no window, no site rocks.
+    habitual::LocalMap bare;
+    CHECK_TRUE(memory->build(&bare, 0.6, msg::LegCommandMsg{}));
+    LONGS_EQUAL(0, bare.polygonCount());
+    // A sighting of rock 0 (its face at x 60, seen from (58, 0)) is known.
+    memory->remember(hazards({test::sighting(5, 2.0, 0.0, 0.5)}), Point2{58.0, 0.0}, 0.0);
+    LONGS_EQUAL(0, memory->builder().rememberedCount());
+    LONGS_EQUAL(1, memory->builder().knownObstacles());
 }
