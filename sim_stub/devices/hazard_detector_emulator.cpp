@@ -70,9 +70,14 @@ bool observeObstacle(const Pose2& pose, const Obstacle& obstacle, const HazardDe
 }
 
 std::size_t observeTerrain(const Pose2& pose, const Terrain& terrain, const HazardDetectorParams& params,
-                           HazardView* views, std::size_t max) {
+                           HazardView* views, std::size_t max, std::vector<std::size_t>* scratch) {
+    // Only an obstacle whose box comes within range can be seen (its nearest
+    // point is farther): the index's list is every one a whole scan would see.
+    std::vector<std::size_t> local;
+    std::vector<std::size_t>* near = scratch != nullptr ? scratch : &local;
+    terrain.near(Vec2{pose.x, pose.y}, params.rangeM, near);
     std::size_t count = 0;
-    for (std::size_t i = 0; i < terrain.obstacleCount(); ++i) {
+    for (const std::size_t i : *near) {
         HazardView v;
         if (!observeObstacle(pose, terrain.obstacle(i), params, &v)) {
             continue;
@@ -98,7 +103,34 @@ std::size_t observeTerrain(const Pose2& pose, const Terrain& terrain, const Haza
 HazardDetectorEmulator::HazardDetectorEmulator(hal::CanBus& bus, const World& world,
                                                const HazardDetectorParams& params, std::uint64_t seed,
                                                bool pollsBus)
-    : DeviceEmulator(bus, kHazardNodeId, pollsBus), world_(world), params_(params), rng_(seed, RngStream::kHazard) {}
+    : DeviceEmulator(bus, kHazardNodeId, pollsBus), world_(world), params_(params), rng_(seed, RngStream::kHazard) {
+    near_.reserve(world.terrain().obstacleCount());   // look() allocates nothing
+    for (std::size_t i = 0; i < world.terrain().obstacleCount(); ++i) {
+        wideIds_ = wideIds_ || world.terrain().obstacle(i).id > 255;
+    }
+}
+
+std::uint8_t HazardDetectorEmulator::trackOf(std::uint16_t obstacleId) {
+    if (!wideIds_) {
+        return static_cast<std::uint8_t>(obstacleId);
+    }
+    // Its own track, else a free one, else the one seen longest ago.
+    std::size_t oldest = 0;
+    for (std::size_t t = 1; t < 256; ++t) {
+        if (trackObstacle_[t] == obstacleId) {
+            trackSeen_[t] = looks_;
+            return static_cast<std::uint8_t>(t);
+        }
+        const bool freeT = trackObstacle_[t] == 0;
+        const bool freeOldest = oldest != 0 && trackObstacle_[oldest] == 0;
+        if (oldest == 0 || (freeT && !freeOldest) || (freeT == freeOldest && trackSeen_[t] < trackSeen_[oldest])) {
+            oldest = t;
+        }
+    }
+    trackObstacle_[oldest] = obstacleId;
+    trackSeen_[oldest] = looks_;
+    return static_cast<std::uint8_t>(oldest);
+}
 
 void HazardDetectorEmulator::onBoot(core::TimeNs now, bool resetApplication) {
     if (resetApplication) {
@@ -117,13 +149,15 @@ void HazardDetectorEmulator::produce(core::TimeNs now) {
 }
 
 void HazardDetectorEmulator::look(core::TimeNs now) {
-    const std::size_t n = observeTerrain(world_.truth().pose, world_.terrain(), params_, views_, kMaxHazardReports);
+    ++looks_;
+    const std::size_t n =
+        observeTerrain(world_.truth().pose, world_.terrain(), params_, views_, kMaxHazardReports, &near_);
     for (std::size_t i = 0; i < n; ++i) {
         const HazardView& v = views_[i];
         double range = v.rangeM + params_.rangeSigmaM * rng_.gaussian();
         range = range < 0.0 ? 0.0 : range;
         const double bearing = wrapAngle(v.bearingRad + params_.bearingSigmaRad * rng_.gaussian());
-        report(v.obstacleId, range, bearing, v.halfWidthM);
+        report(trackOf(v.obstacleId), range, bearing, v.halfWidthM);
     }
     if (n > 0) {
         sawSomething_ = true;

@@ -21,6 +21,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "sim_stub/devices/device_emulator.hpp"
 #include "sim_stub/world/random.hpp"
@@ -42,7 +43,7 @@ struct HazardDetectorParams {
 };
 
 struct HazardView {
-    std::uint8_t obstacleId = 0;
+    std::uint16_t obstacleId = 0;   // the world's obstacle id (the report carries the track number)
     double rangeM = 0.0;
     double bearingRad = 0.0;
     double halfWidthM = 0.0;
@@ -53,8 +54,10 @@ struct HazardView {
 bool observeObstacle(const Pose2& pose, const Obstacle& obstacle, const HazardDetectorParams& params,
                      HazardView* view);
 // Every obstacle in view, nearest first, at most max of them (the nearest ones).
+// scratch (may be null: then a vector of its own) holds the obstacles near
+// the pose; reserved to the terrain's obstacle count, nothing is allocated.
 std::size_t observeTerrain(const Pose2& pose, const Terrain& terrain, const HazardDetectorParams& params,
-                           HazardView* views, std::size_t max);
+                           HazardView* views, std::size_t max, std::vector<std::size_t>* scratch = nullptr);
 
 class HazardDetectorEmulator final : public DeviceEmulator {
 public:
@@ -68,6 +71,12 @@ private:
     void produce(core::TimeNs now) override;
     void look(core::TimeNs now);
     void report(std::uint8_t id, double rangeM, double bearingRad, double halfWidthM);
+    // The track number (1..255) the detector reports an obstacle by: its id
+    // while every id of the world fits a byte (every scenario of a few rocks:
+    // reports as before), else a number given at first sight and reused
+    // least recently seen first, as a real detector's tracks are (the flight
+    // side tells a reused number from its old rock by the jump, map_builder.hpp).
+    std::uint8_t trackOf(std::uint16_t obstacleId);
 
     const World& world_;
     HazardDetectorParams params_;
@@ -77,6 +86,11 @@ private:
     bool sawSomething_ = false;
     core::TimeNs nextClear_ = 0;
     HazardView views_[kMaxHazardReports];
+    std::vector<std::size_t> near_;        // observeTerrain's scratch, reserved at construction
+    bool wideIds_ = false;                 // some obstacle id is above 255
+    std::uint16_t trackObstacle_[256] = {};  // per track number: the obstacle it follows (0: free)
+    std::uint64_t trackSeen_[256] = {};      // ... the look it was last reported in
+    std::uint64_t looks_ = 0;
 };
 
 }  // namespace rse::sim

@@ -1,6 +1,9 @@
 #include "sim_stub/lockstep/map_upload.hpp"
 
+#include "fsw/core/crc32.hpp"
 #include "fsw/tables/table_image.hpp"
+#include "ground/map_transfer.hpp"
+#include "ground/site_map_encoder.hpp"
 #include "ground/table_compiler.hpp"
 #include "ground/table_transfer.hpp"
 #include "sim_stub/scenario/coarse_map_source.hpp"
@@ -69,6 +72,41 @@ MapUploadResult uploadCoarseMap(const Scenario& scenario, MemoryGround& ground, 
     const MemoryGround::TableStatusSeen& s = ground.tableStatus();
     if (!answered || s.tableId != id || s.activeCrc != r.crc) {
         return failed(r, "TABLE_STATUS does not show the scenario's COARSE_MAP active");
+    }
+    r.ok = true;
+    return r;
+}
+
+MapUploadResult uploadSiteMap(const Scenario& scenario, MemoryGround& ground, LockstepRig& rig,
+                              const std::function<void()>& service) {
+    MapUploadResult r;
+    const ground::SiteMapSpec spec = siteMapSpec(scenario);
+    const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
+    r.obstacles = spec.rocks.size();
+    r.bytes = image.size();
+    r.crc = core::crc32(image.data(), image.size());
+    const auto sendAndStep = [&](const char* name, const std::vector<std::uint8_t>& args) {
+        const std::uint32_t before = ground.siteMap().packets;
+        if (!ground.send(name, args.data(), args.size())) {
+            return false;
+        }
+        return rig.runUntil([&] { service(); return ground.siteMap().packets > before; }, kMapUploadLimitNs);
+    };
+    for (const std::vector<std::uint8_t>& chunk : ground::mapLoadChunks(image)) {
+        if (!sendAndStep("MAP_LOAD", chunk) || ground.siteMap().lastRefusal != 0) {
+            return failed(r, "MAP_LOAD chunk " + std::to_string(r.chunks) + " not taken (refusal " +
+                                 std::to_string(ground.siteMap().lastRefusal) + ")");
+        }
+        ++r.chunks;
+    }
+    if (!sendAndStep("MAP_COMMIT", ground::mapCommitArgs(image))) {
+        return failed(r, "MAP_COMMIT not answered");
+    }
+    const MemoryGround::SiteMapSeen& seen = ground.siteMap();
+    if (seen.lastRefusal != 0 || seen.mapCrc != r.crc || seen.rocks != r.obstacles) {
+        return failed(r, "SITE_MAP does not show the scenario's map in force (refusal " +
+                             std::to_string(seen.lastRefusal) + ", item " + std::to_string(seen.lastRefusalItem) +
+                             ")");
     }
     r.ok = true;
     return r;

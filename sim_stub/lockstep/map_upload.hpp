@@ -37,4 +37,12 @@ struct MapUploadResult {
 MapUploadResult uploadCoarseMap(const Scenario& scenario, MemoryGround& ground, LockstepRig& rig,
                                 const std::function<void()>& service);
 
+// The scenario's site map (siteMapSpec: the map's bounds and every known
+// rock) the way `rse-ground map load` sends it: MAP_LOAD chunks, each waiting
+// for its SITE_MAP answer, then MAP_COMMIT, confirmed from SITE_MAP (the map
+// in force with the image's CRC and rock count). In SAFE or STANDBY (before
+// SET_MODE AUTONOMOUS). The result's obstacles are the known rocks.
+MapUploadResult uploadSiteMap(const Scenario& scenario, MemoryGround& ground, LockstepRig& rig,
+                              const std::function<void()>& service);
+
 }  // namespace rse::sim

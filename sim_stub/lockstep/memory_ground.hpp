@@ -65,6 +65,7 @@ public:
             ++downlinked_;
             noteTaskTiming(length);
             noteTableStatus(length);
+            noteSiteMap(length);
             keepPacket(length);
         }
     }
@@ -78,6 +79,17 @@ public:
         std::uint32_t activations = 0;
     };
     const TableStatusSeen& tableStatus() const { return tableStatus_; }
+    // The latest SITE_MAP (sent after every site map command).
+    struct SiteMapSeen {
+        std::uint32_t packets = 0;
+        std::uint32_t revision = 0;
+        std::uint32_t rocks = 0;
+        std::uint32_t mapCrc = 0;
+        std::uint8_t lastRefusal = 0;
+        std::uint32_t lastRefusalItem = 0;
+        std::uint32_t commitsRefused = 0;
+    };
+    const SiteMapSeen& siteMap() const { return siteMap_; }
 
     // Keeps the latest packet of one APID (0: none) for a test to decode.
     void keepApid(std::uint16_t apid) { keptApid_ = apid; }
@@ -155,6 +167,36 @@ private:
         }
     }
 
+    // A SITE_MAP packet in buffer_ (fields in the dictionary's order).
+    void noteSiteMap(std::size_t length) {
+        if (length != cmdtlm::kTelemetryHeaderSize + cmdtlm::kSITE_MAP_TlmSize ||
+            cmdtlm::decodePrimaryHeader(buffer_).apid != cmdtlm::SITE_MAP_Tlm::kApid) {
+            return;
+        }
+        core::BeReader r(buffer_ + cmdtlm::kTelemetryHeaderSize, cmdtlm::kSITE_MAP_TlmSize);
+        SiteMapSeen s = siteMap_;
+        s.revision = r.u32();
+        s.rocks = r.u32();
+        (void)r.u16();  // keep_outs
+        for (int i = 0; i < 4; ++i) {
+            (void)r.u32();  // x_min, y_min, x_max, y_max (f32)
+        }
+        (void)r.u32();  // map_bytes
+        s.mapCrc = r.u32();
+        (void)r.u32();  // upload_bytes
+        (void)r.u8();   // upload_open
+        s.lastRefusal = r.u8();
+        s.lastRefusalItem = r.u32();
+        (void)r.u32();  // chunks_taken
+        (void)r.u32();  // chunks_refused
+        (void)r.u32();  // maps_loaded
+        s.commitsRefused = r.u32();
+        if (r.ok()) {
+            ++s.packets;
+            siteMap_ = s;
+        }
+    }
+
     hal::MemoryPacketLink link_;
     cmdtlm::HmacSha256 hmac_;
     bool hmacReady_ = false;
@@ -165,6 +207,7 @@ private:
     TaskSeen tasks_[kRows] = {};
     std::uint8_t buffer_[hal::kMemoryLinkMaxPacket] = {};
     TableStatusSeen tableStatus_{};
+    SiteMapSeen siteMap_{};
     std::uint16_t keptApid_ = 0;
     std::uint8_t kept_[hal::kMemoryLinkMaxPacket] = {};
     std::size_t keptLength_ = 0;

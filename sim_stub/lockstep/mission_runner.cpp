@@ -319,6 +319,18 @@ bool MissionRun::bringUpDrivesAndMap() {
                   "TABLE_LOAD chunks, validated, activated",
                   map.obstacles, map.bytes, static_cast<unsigned>(map.crc), map.chunks);
     say(out_, *rig_, mapLine);
+    if (!uplinked.usesSiteMap()) {
+        return true;
+    }
+    const MapUploadResult site = uploadSiteMap(uplinked, ground_, *rig_, [this] { service(); });
+    if (!site.ok) {
+        return fail("the scenario's site map was not uploaded: " + site.error);
+    }
+    std::snprintf(mapLine, sizeof mapLine,
+                  "ground: site map of the scenario (%zu known rocks, %zu B, CRC-32 0x%08x) loaded in %zu MAP_LOAD "
+                  "chunks and committed",
+                  site.obstacles, site.bytes, static_cast<unsigned>(site.crc), site.chunks);
+    say(out_, *rig_, mapLine);
     return true;
 }
 

@@ -34,8 +34,10 @@ std::string vertexArray(const char* field, const std::vector<const Obstacle*>& k
 
 std::string coarseMapSource(const Scenario& scenario) {
     std::vector<const Obstacle*> known;
+    // Site mode: the rocks go with the site map; COARSE_MAP keeps the bounds.
+    const bool boundsOnly = scenario.usesSiteMap();
     for (const Obstacle& o : scenario.obstacles) {
-        if (!o.known) {
+        if (!o.known || boundsOnly) {
             continue;
         }
         if (o.shape.n > kCoarseMapSlotVertices) {
@@ -50,7 +52,8 @@ std::string coarseMapSource(const Scenario& scenario) {
                              " known obstacles; COARSE_MAP holds at most " + std::to_string(kCoarseMapSlots));
     }
     std::string s = "# COARSE_MAP of scenario " + scenario.name + " (" + scenario.source +
-                    "): the site bounds and its known obstacles (sim_stub/scenario/coarse_map_source.hpp)\n";
+                    (boundsOnly ? "): the site bounds; its known rocks go with the site map (sim_stub/scenario/coarse_map_source.hpp)\n"
+                                : "): the site bounds and its known obstacles (sim_stub/scenario/coarse_map_source.hpp)\n");
     s += "table = \"COARSE_MAP\"\nversion = 1\n\n[values]\n";
     s += "x_min_m = " + number(scenario.map.xMin) + "\n";
     s += "x_max_m = " + number(scenario.map.xMax) + "\n";
@@ -65,6 +68,23 @@ std::string coarseMapSource(const Scenario& scenario) {
     s += vertexArray("vertex_x_m", known, true);
     s += vertexArray("vertex_y_m", known, false);
     return s;
+}
+
+ground::SiteMapSpec siteMapSpec(const Scenario& scenario) {
+    ground::SiteMapSpec spec;
+    spec.site = {static_cast<float>(scenario.map.xMin), static_cast<float>(scenario.map.yMin),
+                 static_cast<float>(scenario.map.xMax), static_cast<float>(scenario.map.yMax)};
+    for (const Obstacle& o : scenario.obstacles) {
+        if (!o.known) {
+            continue;
+        }
+        std::vector<ground::MapVertex> v;
+        for (std::size_t k = 0; k < o.shape.n; ++k) {
+            v.push_back({static_cast<float>(o.shape.v[k].x), static_cast<float>(o.shape.v[k].y)});
+        }
+        spec.rocks.push_back(v);
+    }
+    return spec;
 }
 
 }  // namespace rse::sim

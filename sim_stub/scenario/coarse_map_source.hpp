@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "ground/site_map_encoder.hpp"
 #include "sim_stub/scenario/scenario.hpp"
 
 namespace rse::sim {
@@ -28,7 +29,13 @@ constexpr std::size_t kCoarseMapSlots = 16;         // COARSE_MAP obstacle slots
 constexpr std::size_t kCoarseMapSlotVertices = 8;   // vertices a slot
 
 // The TOML source of the COARSE_MAP table for the scenario (version 1).
-// Throws CoarseMapError naming the scenario and what does not fit.
+// Throws CoarseMapError naming the scenario and what does not fit. A
+// scenario that uses the site map (Scenario::usesSiteMap) gets the bounds
+// alone: its known rocks go with the site map (siteMapSpec).
 std::string coarseMapSource(const Scenario& scenario);
+
+// The site map of the scenario (ground/site_map_encoder.hpp): the map's
+// bounds and every known rock, in the scenario's order.
+ground::SiteMapSpec siteMapSpec(const Scenario& scenario);
 
 }  // namespace rse::sim

@@ -68,4 +68,12 @@ WorldConfig Scenario::worldConfig() const {
     return c;
 }
 
+bool Scenario::usesSiteMap() const {
+    std::size_t known = 0;
+    for (const Obstacle& o : obstacles) {
+        known += o.known ? 1U : 0U;
+    }
+    return field.present || known > kCoarseMapObstacleSlots;
+}
+
 }  // namespace rse::sim

@@ -18,12 +18,14 @@
 #include "sim_stub/devices/position_fix_emulator.hpp"
 #include "sim_stub/devices/power_monitor_emulator.hpp"
 #include "sim_stub/scenario/fault_target.hpp"
+#include "sim_stub/scenario/field_rocks.hpp"
 #include "sim_stub/world/world.hpp"
 
 namespace rse::sim {
 
 constexpr core::TimeNs kNever = std::numeric_limits<core::TimeNs>::max();
-constexpr double kDefaultBabbleRateHz = 8000.0;  // about a saturated 1 Mbit/s bus of 8-byte frames
+constexpr double kDefaultBabbleRateHz = 8000.0;
+constexpr std::size_t kCoarseMapObstacleSlots = 16;   // COARSE_MAP's rock slots (docs/tables.md)  // about a saturated 1 Mbit/s bus of 8-byte frames
 
 enum class FaultType : std::uint8_t {
     kMotorDegradation,  // wheel, value = current factor k
@@ -106,7 +108,8 @@ struct Scenario {
     SolarParams solar;
     MapBounds map;
     Pose2 start;
-    std::vector<Obstacle> obstacles;
+    std::vector<Obstacle> obstacles;     // the file's [[obstacles]], then the [field]'s rocks
+    FieldSpec field;                     // [field]: a generated rock field (field_rocks.hpp)
     std::vector<ScienceTarget> targets;  // what the instruments can work on (ids 1..255, unique)
     DeviceParams devices;
     DriveNoiseParams drives;
@@ -114,6 +117,9 @@ struct Scenario {
     MissionSpec mission;
 
     WorldConfig worldConfig() const;
+    // The rover is told of the known rocks with the site map (MAP_LOAD, docs/site_map.md)
+    // rather than COARSE_MAP: a [field], or more known rocks than COARSE_MAP's 16.
+    bool usesSiteMap() const;
 };
 
 }  // namespace rse::sim

@@ -42,6 +42,7 @@ private:
     void parseTargets(const toml::node& n, const MapBounds& map, std::vector<ScienceTarget>* out) const;
     void parseDrives(const toml::table& t, DriveNoiseParams* drives) const;
     void parseMission(const toml::table& t, const MapBounds& map, MissionSpec* mission) const;
+    void parseField(const toml::table& t, std::uint64_t scenarioSeed, FieldSpec* field) const;
 };
 
 void Parser::parseRover(const toml::table& t, RoverParams* r) const {
@@ -331,6 +332,25 @@ void Parser::parseMission(const toml::table& t, const MapBounds& map, MissionSpe
     }
 }
 
+void Parser::parseField(const toml::table& t, std::uint64_t scenarioSeed, FieldSpec* f) const {
+    const std::string p = "field";
+    onlyKeys(t, p, {"k", "seed", "min_diameter_m", "max_diameter_m", "orbital_resolution_m", "clear_m"});
+    f->present = true;
+    f->rocks.k = ranged(t, p, "k", 0.0, 0.001, 0.5, true);
+    const std::int64_t seed = integer(t, p, "seed", static_cast<std::int64_t>(scenarioSeed));
+    if (seed < 0) {
+        fail(join(p, "seed"), "must be >= 0 (got " + std::to_string(seed) + ")");
+    }
+    f->rocks.seed = static_cast<std::uint64_t>(seed);
+    f->rocks.minDiameterM = ranged(t, p, "min_diameter_m", 0.5, 0.05, 10.0);
+    f->rocks.maxDiameterM = ranged(t, p, "max_diameter_m", 8.0, 0.1, 50.0);
+    if (!(f->rocks.maxDiameterM > f->rocks.minDiameterM)) {
+        fail(join(p, "max_diameter_m"), "must be greater than min_diameter_m (" + num(f->rocks.minDiameterM) + ")");
+    }
+    f->rocks.orbitalResolutionM = ranged(t, p, "orbital_resolution_m", 1.0, 0.05, 50.0);
+    f->clearM = ranged(t, p, "clear_m", 5.0, 0.0, 100.0);
+}
+
 Scenario Parser::parse(std::string_view text) {
     toml::table root;
     try {
@@ -342,7 +362,7 @@ Scenario Parser::parse(std::string_view text) {
     }
     onlyKeys(root, "",
              {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
-              "targets", "devices", "drives", "faults", "mission"});
+              "targets", "devices", "drives", "faults", "mission", "field"});
     Scenario s;
     s.source = source();
     s.name = string(root, "", "name", source());
@@ -381,6 +401,11 @@ Scenario Parser::parse(std::string_view text) {
     }
     if (const toml::table* t = table(root, "", "mission", false)) {
         parseMission(*t, s.map, &s.mission);
+    }
+    // After the start and the mission: the field keeps clear of both.
+    if (const toml::table* t = table(root, "", "field", false)) {
+        parseField(*t, s.seed, &s.field);
+        addFieldRocks(s.field, &s);
     }
     return s;
 }

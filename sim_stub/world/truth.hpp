@@ -38,7 +38,7 @@ struct TruthRecord {
     std::uint32_t collisions = 0;          // new contacts of the footprint with an obstacle or the map's edge
     double leastClearanceM = 1e9;          // least gap between the footprint disc and an obstacle so far (<= 0: touched)
     bool inContact = false;                // touching (blocked by) an obstacle now
-    std::uint8_t lastCollisionObstacle = 0;  // obstacle id of the latest contact with an obstacle
+    std::uint16_t lastCollisionObstacle = 0;  // obstacle id of the latest contact with an obstacle
     std::uint32_t mapEdgeHits = 0;         // new contacts with the map boundary (counted in collisions too)
     bool atMapEdge = false;
     bool blocked = false;                  // the last sub-step's translation was refused

@@ -14,6 +14,7 @@ World::World(const WorldConfig& config)
       time_(config.startTime),
       nextSlipDraw_(config.startTime),
       contact_(config.obstacles.size(), 0) {
+    near_.reserve(config.obstacles.size());   // checkContacts allocates nothing
     truth_.time = time_;
     truth_.pose = config.start;
     truth_.pose.theta = wrapAngle(config.start.theta);
@@ -48,7 +49,17 @@ void World::startSlide(double offsetM, double bearingRad, double durationS) {
 bool World::checkContacts(Vec2 centre) {
     bool overlapping = false;
     bool anyContact = false;
-    for (std::size_t i = 0; i < terrain_.obstacleCount(); ++i) {
+    // A small site is scanned whole (its least clearance exact whatever the
+    // distance); a large one through the terrain's index, out to the contact
+    // release and kClearanceWatchM beyond (the least clearance is then the
+    // least within that: farther never matters to a contact).
+    const bool whole = terrain_.obstacleCount() <= kWholeScanObstacles;
+    if (!whole) {
+        terrain_.near(centre, rover_.radiusM + kContactReleaseM + kClearanceWatchM, &near_);
+    }
+    const std::size_t visits = whole ? terrain_.obstacleCount() : near_.size();
+    for (std::size_t k = 0; k < visits; ++k) {
+        const std::size_t i = whole ? k : near_[k];
         const Obstacle& o = terrain_.obstacle(i);
         const double d = distanceToPolygon(centre, o.shape);
         truth_.leastClearanceM = std::min(truth_.leastClearanceM, d - rover_.radiusM);

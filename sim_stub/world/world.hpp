@@ -32,6 +32,10 @@ namespace rse::sim {
 constexpr core::TimeNs kDefaultSubStepNs = core::kNsPerMs;
 constexpr core::TimeNs kSlipRedrawNs = 100 * core::kNsPerMs;
 constexpr double kContactReleaseM = 0.02;
+// Sites of more obstacles than this are checked through the terrain's index
+// (terrain.hpp), within kClearanceWatchM beyond the contact release.
+constexpr std::size_t kWholeScanObstacles = 64;
+constexpr double kClearanceWatchM = 5.0;
 
 struct WorldConfig {
     RoverParams rover;
@@ -88,6 +92,7 @@ private:
     double slideVx_ = 0.0;  // m/s while sliding
     double slideVy_ = 0.0;
     std::vector<std::uint8_t> contact_;  // per obstacle: touched in the last sub-step
+    std::vector<std::size_t> near_;      // checkContacts' obstacles near the rover (large sites)
     bool edgeContact_ = false;
     WheelArray loads_{};
     TruthRecord truth_;

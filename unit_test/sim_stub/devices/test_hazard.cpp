@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -17,7 +18,7 @@ namespace {
 
 constexpr core::TimeNs kMs = core::kNsPerMs;
 
-Obstacle box(std::uint8_t id, bool known, double x0, double y0, double x1, double y1) {
+Obstacle box(std::uint16_t id, bool known, double x0, double y0, double x1, double y1) {
     Obstacle o;
     o.id = id;
     o.known = known;
@@ -221,4 +222,69 @@ TEST(SimHazard, TheFlightClientAcceptsTheReports) {
     LONGS_EQUAL(0, client.frameStats().badValue);
     LONGS_EQUAL(0, client.frameStats().gaps);
     LONGS_EQUAL(2, client.sightings().size());
+}
+
+// A world whose ids pass 255 (a generated field): the detector reports track
+// numbers of its own, one per rock in view, kept while the rock is seen.
+TEST(SimHazard, ObstacleIdsAbove255AreReportedAsTrackNumbersOneARock) {
+    build({box(300, false, 2.0, -1.5, 2.4, -0.9), box(1000, false, 2.0, 0.9, 2.4, 1.5)}, Pose2{});
+    runUntil(core::kNsPerSec);
+    CHECK(reports.size() >= 10);
+    std::vector<std::uint8_t> ids;
+    for (const Report& r : reports) {
+        CHECK(r.id >= 1);
+        bool listed = false;
+        for (std::uint8_t id : ids) {
+            listed = listed || id == r.id;
+        }
+        if (!listed) {
+            ids.push_back(r.id);
+        }
+    }
+    LONGS_EQUAL(2, ids.size());   // two rocks, two tracks, the same all along
+    CHECK(ids[0] != ids[1]);
+    // Each track keeps its rock: the right one (bearing < 0) always the same number.
+    for (const Report& r : reports) {
+        const bool right = r.bearingRad < 0.0;
+        for (const Report& q : reports) {
+            if ((q.bearingRad < 0.0) == right) {
+                LONGS_EQUAL(r.id, q.id);
+            }
+        }
+    }
+}
+
+// Seeing goes through the terrain's index: a field of 400 rocks gives the
+// same views as looking at every rock.
+TEST(SimHazard, TheIndexSeesWhatAScanOfEveryRockSees) {
+    std::vector<Obstacle> rocks;
+    for (int i = 0; i < 400; ++i) {
+        const double x = -40.0 + 4.0 * (i % 20) + 0.3 * (i % 7);
+        const double y = -40.0 + 4.0 * (i / 20) + 0.2 * (i % 5);
+        rocks.push_back(box(static_cast<std::uint16_t>(i + 1), false, x, y, x + 0.8, y + 0.6));
+    }
+    WorldConfig c;
+    c.map = MapBounds{-50.0, 50.0, -50.0, 50.0};
+    c.obstacles = rocks;
+    const World w(c);
+    for (int k = 0; k < 50; ++k) {
+        const Pose2 pose{-30.0 + 1.3 * k, -25.0 + 1.1 * k, 0.37 * k};
+        HazardView views[kMaxHazardReports];
+        const std::size_t n = observeTerrain(pose, w.terrain(), noiseless(), views, kMaxHazardReports);
+        std::vector<HazardView> all;
+        for (const Obstacle& o : rocks) {
+            HazardView v;
+            if (observeObstacle(pose, o, noiseless(), &v)) {
+                all.push_back(v);
+            }
+        }
+        LONGS_EQUAL(std::min(all.size(), kMaxHazardReports), n);
+        for (std::size_t i = 0; i < n; ++i) {
+            bool found = false;
+            for (const HazardView& v : all) {
+                found = found || (v.obstacleId == views[i].obstacleId && v.rangeM == views[i].rangeM);
+            }
+            CHECK_TRUE(found);
+        }
+    }
 }

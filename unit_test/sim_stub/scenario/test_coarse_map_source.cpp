@@ -59,14 +59,31 @@ TEST(CoarseMapSource, HiddenRocksAreLeftOutAndTheBoundsAreTheScenarios) {
     CHECK(text.find("scenario obstacle 8") == std::string::npos);  // hidden
 }
 
-TEST(CoarseMapSource, KnownRocksThatDoNotFitTheTableAreRefused) {
+// More known rocks than the table holds go with the site map (issue 31):
+// COARSE_MAP keeps the site's bounds alone, the site map has every known rock.
+TEST(CoarseMapSource, MoreKnownRocksThanTheTableHoldsGoWithTheSiteMap) {
     Scenario s;
     s.name = "crowded";
     for (std::uint8_t i = 1; i <= 17; ++i) {
         s.obstacles.push_back(square(i, 3.0 * i, 0.0, true));
     }
-    CHECK_THROWS(sim::CoarseMapError, sim::coarseMapSource(s));
-    s.obstacles.resize(16);
+    s.obstacles.push_back(square(40, 0.0, 9.0, false));   // hidden: on neither
+    CHECK_TRUE(s.usesSiteMap());
+    const std::string text = sim::coarseMapSource(s);
+    CHECK(text.find("obstacle_count = 0") != std::string::npos);
+    CHECK(text.find("its known rocks go with the site map") != std::string::npos);
+    const ground::SiteMapSpec spec = sim::siteMapSpec(s);
+    LONGS_EQUAL(17, spec.rocks.size());
+    DOUBLES_EQUAL(s.map.xMax, spec.site.xMax, 1e-6);
+    DOUBLES_EQUAL(3.0 * 17 + 1.0, spec.rocks[16][0].x, 1e-4);   // its first vertex
+}
+
+TEST(CoarseMapSource, KnownRocksThatDoNotFitTheTableAreRefused) {
+    Scenario s;
+    s.name = "crowded";
+    for (std::uint8_t i = 1; i <= 16; ++i) {
+        s.obstacles.push_back(square(i, 3.0 * i, 0.0, true));
+    }
     s.obstacles.push_back(square(30, 0.0, 9.0, false));  // a 17th, hidden: fine
     CHECK(!sim::coarseMapSource(s).empty());
     s.obstacles[0] = square(1, 3.0, 0.0, true, 9);  // 9 vertices

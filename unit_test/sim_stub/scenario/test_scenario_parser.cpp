@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "sim_stub/scenario/scenario_parser.hpp"
+#include "sim_stub/world/geometry.hpp"
 #include "sim_stub/world/terrain.hpp"
 #include "unit_test/sim_stub/sim_test_support.hpp"
 
@@ -717,4 +718,49 @@ TEST(SimScenario, TheShippedMissionsAreTheirFilesGoalsAndPlans) {
     CHECK(two.mission.planText.find("plan two_targets\n") != std::string::npos);
     const Scenario estimator = loadScenarioFile("sim_stub/scenarios/estimator_drive.toml");
     CHECK_FALSE(estimator.mission.present);  // a drive profile, not a mission
+}
+
+// [field]: a generated rock field on the map, clear of the start and the goal;
+// its errors named.
+TEST(SimScenario, AFieldAddsGeneratedRocksClearOfTheStartAndTheGoal) {
+    Scenario s;
+    std::string error;
+    CHECK_TRUE_TEXT(tryLoadScenarioFile("sim_stub/scenarios/rock_field_100m.toml", &s, &error), error.c_str());
+    CHECK_TRUE(s.field.present);
+    DOUBLES_EQUAL(0.10, s.field.rocks.k, 0.0);
+    const FieldCounts c = fieldCounts(s);
+    CHECK(c.rocks >= 300);
+    LONGS_EQUAL(c.rocks, s.obstacles.size());
+    const Vec2 start{s.start.x, s.start.y};
+    const Vec2 goal{s.mission.goalX, s.mission.goalY};
+    std::uint32_t lastId = 0;
+    for (const Obstacle& o : s.obstacles) {
+        CHECK(o.id >= kFirstFieldRockId);
+        CHECK(o.id > lastId);
+        lastId = o.id;
+        CHECK(isConvexCcw(o.shape.v.data(), o.shape.n));
+        for (std::size_t k = 0; k < o.shape.n; ++k) {
+            CHECK(s.map.contains(o.shape.v[k]));
+        }
+        CHECK(distanceToPolygon(start, o.shape) > s.field.clearM + s.rover.radiusM);
+        CHECK(distanceToPolygon(goal, o.shape) > s.field.clearM + s.rover.radiusM);
+    }
+    CHECK_TRUE(s.usesSiteMap());
+    // The same seed, the same field; another seed, another.
+    Scenario again;
+    CHECK_TRUE(tryLoadScenarioFile("sim_stub/scenarios/rock_field_100m.toml", &again, &error));
+    LONGS_EQUAL(s.obstacles.size(), again.obstacles.size());
+    DOUBLES_EQUAL(s.obstacles[7].shape.v[0].x, again.obstacles[7].shape.v[0].x, 0.0);
+    const Scenario other = parseScenario(kBase + "\n[field]\nk = 0.1\nseed = 2\n", "field.toml");
+    CHECK(other.field.rocks.seed == 2);
+    CHECK_FALSE(parseScenario(kBase, "min.toml").usesSiteMap());
+}
+
+TEST(SimScenario, AFieldsErrorsAreNamed) {
+    STRCMP_CONTAINS("field.k", errorOf(kBase + "\n[field]\nseed = 1\n").c_str());
+    STRCMP_CONTAINS("field.k", errorOf(kBase + "\n[field]\nk = 0.9\n").c_str());
+    STRCMP_CONTAINS("field.max_diameter_m",
+                    errorOf(kBase + "\n[field]\nk = 0.1\nmin_diameter_m = 2\nmax_diameter_m = 1\n").c_str());
+    STRCMP_CONTAINS("field.seed", errorOf(kBase + "\n[field]\nk = 0.1\nseed = -1\n").c_str());
+    STRCMP_CONTAINS("field.colour", errorOf(kBase + "\n[field]\nk = 0.1\ncolour = 1\n").c_str());
 }

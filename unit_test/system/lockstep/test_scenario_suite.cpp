@@ -541,7 +541,8 @@ TEST(ScenarioSuite, EveryScenarioWithAMissionHasItsOutcomeAsserted) {
                                 "low_battery_midway", "low_battery_too_small", "two_targets"};
     const char* const elsewhere[] = {"demo_mission",     // test_mission_demo.cpp: the ten points
                                      "habitual_stall",   // test_lockstep_fault_protection.cpp
-                                     "low_battery"};     // test_lockstep_fault_protection.cpp
+                                     "low_battery",      // test_lockstep_fault_protection.cpp
+                                     "rock_field_100m"}; // test_lockstep_rock_field.cpp
     std::size_t files = 0;
     std::size_t missions = 0;
     for (const auto& entry : std::filesystem::directory_iterator(kDir)) {
