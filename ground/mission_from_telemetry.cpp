@@ -111,6 +111,9 @@ void replayOrder(const SessionRecording& recording, const MissionTelemetry& miss
                                     static_cast<std::uint16_t>(number(p, "event_id")), item.index);
         } else if (kind == "PLAN_PATH") {
             item.timeS = mission.flightTime(number(p, "plan_time"));
+        } else if (kind == "ROUTE") {
+            // Chunks of one route share its time: the stable sort keeps their order.
+            item.timeS = mission.flightTime(number(p, "route_time"));
         } else if (kind == "PLAN" || kind == "ROVER_STATE" || kind == "TASK_TIMING") {
             item.timeS = mission.flightTime(p.met) - kMinorFrameS;
         } else {
@@ -185,6 +188,15 @@ TelemetryMissionRecord missionRecordFromTelemetry(const SessionRecording& record
         } else if (kind == "PLAN_PATH") {
             r.plans.push_back(planDrawing(p, item.timeS, map));
             ++out.plansDrawn;
+        } else if (kind == "ROUTE") {
+            // Chunks in order, chunk 0 first: a first chunk starts a route.
+            if (number(p, "chunk_index") == 0.0 || r.routes.empty()) {
+                r.routes.emplace_back();
+            }
+            const auto count = static_cast<std::size_t>(number(p, "count"));
+            for (std::size_t k = 0; k < count && k < 32; ++k) {
+                r.routes.back().push_back(geometry::Point2{number(p, "x", k), number(p, "y", k)});
+            }
         } else if (kind == "TASK_TIMING") {
             timing[static_cast<unsigned>(number(p, "task_index"))] = taskTimingRow(p);  // the latest
         }

@@ -137,6 +137,10 @@ struct MissionRecord {
     std::vector<TrackPoint> estimatedTrack;
     std::vector<PlanDrawing> plans;
     std::vector<HazardSeen> hazards;
+    // Site mode (docs/site_map.md): the site map's rocks the rover had, and
+    // every global route it found (ROUTE telemetry), in order.
+    std::vector<std::vector<geometry::Point2>> siteRocks;
+    std::vector<std::vector<geometry::Point2>> routes;
 
     // The ten points and the verdict.
     std::array<MissionPoint, kMissionPointCount> points{};

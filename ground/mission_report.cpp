@@ -181,6 +181,22 @@ void mapHiddenRocksAndHazards(const MissionRecord& r, const MissionMapLayout& l,
     }
 }
 
+// Site mode: the site map's rocks (as the coarse map's) and the global routes.
+void mapSiteRocksAndRoutes(const MissionRecord& r, const SvgFrame& f, std::string* s) {
+    for (const std::vector<Point2>& rock : r.siteRocks) {
+        if (rock.size() >= 3) {
+            *s += "<polygon class=\"site-rock\" points=\"" + svgPoints(rock, f) +
+                  "\" fill=\"#8d6e63\" stroke=\"#5d4037\" stroke-width=\"1\"/>\n";
+        }
+    }
+    for (const std::vector<Point2>& route : r.routes) {
+        if (route.size() >= 2) {
+            *s += "<polyline class=\"route\" points=\"" + svgPoints(route, f) +
+                  "\" fill=\"none\" stroke=\"#8e44ad\" stroke-width=\"2\" stroke-dasharray=\"10 4\"/>\n";
+        }
+    }
+}
+
 // A track's finite points as a polyline (none for fewer than two).
 void mapTrack(const std::vector<TrackPoint>& points, const char* cls, const char* style, const SvgFrame& f,
               std::string* s) {
@@ -245,7 +261,7 @@ void mapLegend(const MissionRecord& r, const MissionMapLayout& l, std::string* s
     };
     legend("<rect x=\"" + svgNumber(lx) + "\" y=\"" + svgNumber(ly - 10.0) +
                "\" width=\"18\" height=\"12\" fill=\"#8d6e63\" stroke=\"#5d4037\"/>",
-           "rock on the coarse map", 190.0);
+           r.siteRocks.empty() ? "rock on the coarse map" : "rock on the site map (orbital)", 190.0);
     legend("<rect x=\"" + svgNumber(lx) + "\" y=\"" + svgNumber(ly - 10.0) +
                "\" width=\"18\" height=\"12\" fill=\"#e67e22\" fill-opacity=\"0.55\" stroke=\"#a04000\"/>",
            "hidden rock (truth)", 160.0);
@@ -260,14 +276,26 @@ void mapLegend(const MissionRecord& r, const MissionMapLayout& l, std::string* s
            "estimated track", 150.0);
     legend("<ellipse cx=\"" + svgNumber(lx + 9.0) + "\" cy=\"" + svgNumber(ly - 4.0) +
                "\" rx=\"9\" ry=\"6\" fill=\"#1f5fbf\" fill-opacity=\"0.1\" stroke=\"#1f5fbf\"/>",
-           "plan: mean path, risk ellipses k = \u03a6\u207b\u00b9(1 \u2212 \u0394)", 330.0);
+           r.routes.empty() ? "plan: mean path, risk ellipses k = \u03a6\u207b\u00b9(1 \u2212 \u0394)"
+                            : "horizon plan: mean path, risk ellipses",
+           330.0);
+    if (!r.routes.empty()) {
+        legend("<line x1=\"" + svgNumber(lx) + "\" y1=\"" + svgNumber(ly - 4.0) + "\" x2=\"" + svgNumber(lx + 18.0) +
+                   "\" y2=\"" + svgNumber(ly - 4.0) + "\" stroke=\"#8e44ad\" stroke-width=\"2\" stroke-dasharray=\"10 4\"/>",
+               "global route (site map)", 190.0);
+    }
     *s += "</g>\n";
     std::string plans;
-    for (std::size_t i = 0; i < r.plans.size(); ++i) {
+    // A long traverse makes a plan a horizon: the first few are named, the rest counted.
+    constexpr std::size_t kPlansNamed = 6;
+    for (std::size_t i = 0; i < r.plans.size() && i < kPlansNamed; ++i) {
         plans += (i == 0 ? "" : "; ") + std::string("plan ") + std::to_string(i + 1) + " at " +
                  num(1, r.plans[i].timeS) + " s (" + planColour(i) + "): " +
                  (hasPath(r.plans[i].plan) ? num(2, r.plans[i].plan.euclideanLengthM) + " m" : std::string("no path")) +
                  ", \u03c3 " + num(3, r.plans[i].problem.processSigmaM) + " m/step";
+    }
+    if (r.plans.size() > kPlansNamed) {
+        plans += "; " + std::to_string(r.plans.size() - kPlansNamed) + " more";
     }
     *s += "<text x=\"" + svgNumber(MissionMapLayout::kMargin) + "\" y=\"" +
           svgNumber(ly + MissionMapLayout::kLineHeight + 4.0) + "\" font-size=\"12\">" +
@@ -302,6 +330,7 @@ std::string renderMissionMap(const MissionRecord& r) {
     mapHeading(r, layout, &s);
     drawSite(r.map, f, &s);
     drawRocks(r.map, f, &s);
+    mapSiteRocksAndRoutes(r, f, &s);
     if (!r.plans.empty()) {
         drawGrownObstacles(r.plans.front().problem, f, &s);
     }

@@ -300,14 +300,19 @@ void drawSite(const tables::CoarseMapTable& map, const SvgFrame& f, std::string*
     const double siteH = (static_cast<double>(map.y_max_m) - static_cast<double>(map.y_min_m)) * f.scale;
     s += "<rect class=\"site\" x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" + px(siteW) + "\" height=\"" +
          px(siteH) + "\" fill=\"#fbf8f1\" stroke=\"#555\" stroke-width=\"1\"/>\n";
-    // Axis labels every 5 m along the west and south edges.
-    for (double x = std::ceil(static_cast<double>(map.x_min_m) / 5.0) * 5.0; x <= static_cast<double>(map.x_max_m);
-         x += 5.0) {
+    // Axis labels along the west and south edges: every 5 m, or on a large
+    // site (a site map's kilometre) every 10, 25, 50 ... m, 30 px apart at least.
+    double step = 5.0;
+    for (const double wider : {10.0, 25.0, 50.0, 100.0, 250.0, 500.0}) {
+        step = step * f.scale < 30.0 ? wider : step;
+    }
+    for (double x = std::ceil(static_cast<double>(map.x_min_m) / step) * step; x <= static_cast<double>(map.x_max_m);
+         x += step) {
         s += "<text class=\"tick\" x=\"" + px(f.x(x)) + "\" y=\"" + px(top + siteH + 12.0) +
              "\" font-size=\"9\" text-anchor=\"middle\" fill=\"#777\">" + fixed(x, 0) + "</text>\n";
     }
-    for (double y = std::ceil(static_cast<double>(map.y_min_m) / 5.0) * 5.0; y <= static_cast<double>(map.y_max_m);
-         y += 5.0) {
+    for (double y = std::ceil(static_cast<double>(map.y_min_m) / step) * step; y <= static_cast<double>(map.y_max_m);
+         y += step) {
         s += "<text class=\"tick\" x=\"" + px(left - 3.0) + "\" y=\"" + px(f.y(y) + 3.0) +
              "\" font-size=\"9\" text-anchor=\"end\" fill=\"#777\">" + fixed(y, 0) + "</text>\n";
     }

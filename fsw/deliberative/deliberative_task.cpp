@@ -66,6 +66,11 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
             resendFromPose();
         }
     }
+    // ROUTE: a route found is told in chunks, a few a run.
+    msg::RouteChunkMsg chunk;
+    for (std::size_t k = 0; k < kRouteChunksPerRun && horizons_.nextChunk(&chunk); ++k) {
+        out_.publish(chunk, "route chunk");
+    }
     ++runs_;
     if (changed_ || runs_ % kStatusPeriodRuns == 0) {
         publishStatus();
@@ -293,8 +298,12 @@ void DeliberativeTask::backedUp() {
 
 void DeliberativeTask::lastLegReached() {
     if (!horizonLast_) {
-        // A horizon's end, not the goal: the next horizon from the pose.
+        // A horizon's end, not the goal: the next horizon from the pose. The
+        // replan, risk-relaxation and back-up limits are a plan's: each
+        // horizon has them whole (a 700 m goal is many horizons).
         ++horizonsReached_;
+        policy_.nextGoal();
+        backUp_.nextGoal();
         setState(msg::DeliberativeState::kWaiting);
         return;
     }
@@ -460,6 +469,7 @@ void DeliberativeTask::onRouted() {
     const GlobalRoute& r = horizons_.route();
     if (horizons_.routed()) {
         ++routesFound_;
+        horizons_.announce(now_, goalIndex_);
         events_.report(events::kRouteFound, core::Severity::kInfo,
                        "deliberative: route to goal %u: %.1f m, %u points, %u expansions, %u runs",
                        static_cast<unsigned>(goalNumber()), r.lengthM(), static_cast<unsigned>(r.pointCount()),

@@ -44,7 +44,7 @@
 namespace rse::deliberative {
 
 constexpr std::size_t kMaxRouteNodes = 131072;
-constexpr std::size_t kMaxRoutePoints = 1024;
+constexpr std::size_t kMaxRoutePoints = 1024;   // ROUTE: at most 32 chunks of 32
 constexpr double kMinRouteSpacingM = 0.25;
 // Theta*'s sight lines are tried up to this long; beyond, the node's own edge
 // is taken (a longer route vertex gains little and costs a long band query).

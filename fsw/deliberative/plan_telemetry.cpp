@@ -10,6 +10,9 @@ core::Status PlanTelemetry::routeInputs(core::InputPipe& pipe) {
     if (core::isOk(status)) {
         status = pipe.route<&PlanTelemetry::takePlanPath>(this);
     }
+    if (core::isOk(status)) {
+        status = pipe.route<&PlanTelemetry::takeRouteChunk>(this);
+    }
     return status;
 }
 
@@ -58,6 +61,32 @@ core::Status PlanTelemetry::takePlanPath(const msg::PlanPathMsg& m) {
     }
     sink_.send(t);
     ++planPathsSent_;
+    return core::Status::kOk;
+}
+
+core::Status PlanTelemetry::takeRouteChunk(const msg::RouteChunkMsg& m) {
+    if (m.count == 0 || m.count > msg::kRouteChunkPoints || m.chunkIndex >= m.chunkCount) {
+        return core::Status::kInvalidArgument;
+    }
+    route_ = cmdtlm::ROUTE_Tlm{};
+    cmdtlm::ROUTE_Tlm& t = route_;
+    static_assert(sizeof t.x / sizeof t.x[0] == msg::kRouteChunkPoints, "ROUTE holds a chunk");
+    t.route_number = m.routeNumber;
+    t.route_time = static_cast<double>(m.timeNs) / static_cast<double>(core::kNsPerSec);
+    t.point_count = m.pointCount;
+    t.chunk_index = m.chunkIndex;
+    t.chunk_count = m.chunkCount;
+    t.goal_index = m.goalIndex;
+    t.count = m.count;
+    t.length = static_cast<float>(m.lengthM);
+    t.goal_x = static_cast<float>(m.goalX);
+    t.goal_y = static_cast<float>(m.goalY);
+    for (std::size_t i = 0; i < m.count; ++i) {
+        t.x[i] = m.x[i];
+        t.y[i] = m.y[i];
+    }
+    sink_.send(t);
+    ++routeChunksSent_;
     return core::Status::kOk;
 }
 

@@ -10,6 +10,9 @@
 //              before that run's events (so it is given the sink when built).
 //              One with more means than the message holds is refused (counted
 //              by the pipe).
+//   ROUTE      one per RouteChunkMsg (site mode: a route found, in chunks), on
+//              receipt as PLAN_PATH; a chunk of more points than it holds is
+//              refused (counted by the pipe).
 #pragma once
 
 #include <cstdint>
@@ -31,11 +34,13 @@ public:
     void pack(const core::FrameContext& frame, cmdtlm::TelemetrySink& sink) override;
 
     std::uint32_t planPathsSent() const { return planPathsSent_; }
+    std::uint32_t routeChunksSent() const { return routeChunksSent_; }
 
 private:
     void takeGoals(const msg::GoalListMsg& goals);
     void takePlanStatus(const msg::PlanStatusMsg& status);
     core::Status takePlanPath(const msg::PlanPathMsg& path);
+    core::Status takeRouteChunk(const msg::RouteChunkMsg& chunk);
     void sendPlan(cmdtlm::TelemetrySink& sink);
 
     cmdtlm::TelemetrySink& sink_;
@@ -43,9 +48,11 @@ private:
     msg::PlanStatusMsg planStatus_{};
     bool changed_ = true;  // PLAN goes in the first run
     std::uint32_t planPathsSent_ = 0;
+    std::uint32_t routeChunksSent_ = 0;
     // Packet structs kept off the telemetry task's stack.
     cmdtlm::PLAN_Tlm plan_{};
     cmdtlm::PLAN_PATH_Tlm planPath_{};
+    cmdtlm::ROUTE_Tlm route_{};
 };
 
 }  // namespace rse::deliberative

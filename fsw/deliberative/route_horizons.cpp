@@ -8,8 +8,42 @@ namespace rse::deliberative {
 
 using geometry::Point2;
 
+void RouteHorizons::announce(core::TimeNs foundAt, std::uint8_t goalIndex) {
+    ++routeNumber_;
+    foundAt_ = foundAt;
+    goalIndex_ = goalIndex;
+    nextChunk_ = 0;
+    const std::size_t n = route_.pointCount();
+    chunkCount_ = routed() ? (n + msg::kRouteChunkPoints - 1) / msg::kRouteChunkPoints : 0;
+}
+
+bool RouteHorizons::nextChunk(msg::RouteChunkMsg* out) {
+    if (nextChunk_ >= chunkCount_ || !routed()) {
+        return false;
+    }
+    *out = msg::RouteChunkMsg{};
+    out->timeNs = foundAt_;
+    out->routeNumber = routeNumber_;
+    out->pointCount = static_cast<std::uint16_t>(route_.pointCount());
+    out->chunkIndex = static_cast<std::uint8_t>(nextChunk_);
+    out->chunkCount = static_cast<std::uint8_t>(chunkCount_);
+    out->goalIndex = goalIndex_;
+    out->lengthM = route_.lengthM();
+    out->goalX = goal_.x;
+    out->goalY = goal_.y;
+    const std::size_t first = nextChunk_ * msg::kRouteChunkPoints;
+    for (std::size_t k = 0; k < msg::kRouteChunkPoints && first + k < route_.pointCount(); ++k) {
+        out->x[k] = static_cast<float>(route_.point(first + k).x);
+        out->y[k] = static_cast<float>(route_.point(first + k).y);
+        out->count = static_cast<std::uint8_t>(k + 1);
+    }
+    ++nextChunk_;
+    return true;
+}
+
 RouteRefusal RouteHorizons::begin(const site_map::SiteMap& map, Point2 from, Point2 goal, double footprintRadiusM) {
     valid_ = false;
+    chunkCount_ = 0;
     progress_ = 0;
     map_ = &map;
     goal_ = goal;

@@ -20,7 +20,9 @@
 #include <cstdint>
 
 #include "fsw/deliberative/global_route.hpp"
+#include "fsw/core/clock.hpp"
 #include "fsw/geometry/geometry2d.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/site_map/site_map.hpp"
 
 namespace rse::deliberative {
@@ -39,6 +41,8 @@ constexpr double kCorridorReachM = 6.0;
 // zone, and prices rocks within this comfort beyond that.
 constexpr double kRouteMarginM = 0.4;
 constexpr double kRouteComfortM = 1.5;
+// ROUTE chunks published in one run (the telemetry pipe takes them as they come).
+constexpr std::size_t kRouteChunksPerRun = 4;
 // Corridor points a horizon carries (its start, the route's points within it
 // and its goal): 30 m of route at the 64 m sight limit holds a handful.
 constexpr std::size_t kMaxCorridorPoints = 32;
@@ -66,6 +70,13 @@ public:
     // The next horizon from `from` (the rover's estimate); false without a route.
     bool next(geometry::Point2 from, Horizon* out);
 
+    // The route found is to be told (ROUTE telemetry): numbered, its chunks
+    // pending from the first.
+    void announce(core::TimeNs foundAt, std::uint8_t goalIndex);
+    // The next pending chunk of the route announced; false when none is left.
+    bool nextChunk(msg::RouteChunkMsg* out);
+    std::uint32_t routesAnnounced() const { return routeNumber_; }
+
     const GlobalRoute& route() const { return route_; }
     std::size_t progress() const { return progress_; }
 
@@ -76,6 +87,12 @@ private:
     const site_map::SiteMap* map_ = nullptr;
     std::size_t progress_ = 0;   // the route segment the rover was last placed on
     bool valid_ = false;
+    // ROUTE: the route announced and its next chunk.
+    std::uint32_t routeNumber_ = 0;
+    core::TimeNs foundAt_ = 0;
+    std::uint8_t goalIndex_ = 0;
+    std::size_t nextChunk_ = 0;
+    std::size_t chunkCount_ = 0;
 };
 
 }  // namespace rse::deliberative

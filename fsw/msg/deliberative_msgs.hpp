@@ -12,6 +12,7 @@
 namespace rse::msg {
 
 constexpr std::size_t kPlanPathMeans = 25;   // mu_0 .. mu_N of a plan: deliberative::kMaxPlanSteps + 1 (checked there)
+constexpr std::size_t kRouteChunkPoints = 32;  // route points a RouteChunkMsg (ROUTE packet) carries
 constexpr std::size_t kPlanStatusLegs = 12;  // legs shown, from the current one (PLAN telemetry: it must fit 512 bytes)
 
 enum class DeliberativeState : std::uint8_t {
@@ -101,6 +102,26 @@ struct PlanPathMsg {
     double goalY;
     double meanX[kPlanPathMeans];  // mu_0 (the start planned from) .. mu_N
     double meanY[kPlanPathMeans];
+};
+
+// Site mode: a global route found over the site map (docs/deliberative.md,
+// "Site mode"), in chunks of kRouteChunkPoints points, chunk 0 first; the
+// route's points are chunk k's points[0 .. count) at k * kRouteChunkPoints.
+struct RouteChunkMsg {
+    static constexpr core::MsgId kMsgId = ids::kRouteChunk;
+    std::int64_t timeNs;         // when the route was found
+    std::uint32_t routeNumber;   // routes found since start, this one included (1 for the first)
+    std::uint16_t pointCount;    // the whole route's points (>= 2)
+    std::uint8_t chunkIndex;     // 0 .. chunkCount - 1
+    std::uint8_t chunkCount;
+    std::uint8_t goalIndex;      // the goal in hand (PlanStatusMsg.goalIndex)
+    std::uint8_t count;          // points in this chunk
+    std::uint8_t pad[6];
+    double lengthM;              // the route's length
+    double goalX;                // the goal it reaches
+    double goalY;
+    float x[kRouteChunkPoints];
+    float y[kRouteChunkPoints];
 };
 
 // Put the rover in SAFE and hold it there: sent once per call home.

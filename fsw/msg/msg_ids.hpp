@@ -49,6 +49,7 @@ constexpr core::MsgId kGoalList = 0x0140;      // GoalListMsg, on change, goal c
 constexpr core::MsgId kPlanStatus = 0x0141;    // PlanStatusMsg, on change and 1 Hz, deliberative -> telemetry
 constexpr core::MsgId kSafeRequest = 0x0142;   // SafeRequestMsg, on a call home, deliberative -> the mode owner (cmdtlm)
 constexpr core::MsgId kPlanPath = 0x0143;      // PlanPathMsg, per plan made (plansMade), deliberative -> telemetry (PLAN_PATH)
+constexpr core::MsgId kRouteChunk = 0x0144;    // RouteChunkMsg, per chunk of a site-mode route found, deliberative -> telemetry (ROUTE)
 
 // fault protection -> CAN I/O and the layers (fault_protection_msgs.hpp)
 constexpr core::MsgId kMissionHold = 0x0180;    // MissionHoldMsg, on change and 1 Hz, fault protection -> can_io, habitual, deliberative, telemetry

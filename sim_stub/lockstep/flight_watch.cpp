@@ -80,7 +80,7 @@ bool FlightWatch::subscribe() {
     const core::MsgId ids[] = {msg::ids::kPlanStatus,    msg::ids::kMode,        msg::ids::kMissionHold,
                                msg::ids::kFaultStatus,   msg::ids::kFaultProtectionStatus,
                                msg::ids::kDriveRecovery, msg::ids::kTaskRestart, msg::ids::kReplanRequest,
-                               msg::ids::kPoseEstimate, msg::ids::kPlanExecutiveStatus};
+                               msg::ids::kPoseEstimate, msg::ids::kPlanExecutiveStatus, msg::ids::kRouteChunk};
     for (core::MsgId id : ids) {
         ok = ok && core::isOk(bus_.subscribe(pipe_, id));
     }

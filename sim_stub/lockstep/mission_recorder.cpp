@@ -27,7 +27,16 @@ void MissionRecorder::onMessage(const core::Message& message) {
     app::FswApp& fsw = rig_.fsw();
     msg::PoseEstimateMsg pose{};
     msg::PlanStatusMsg plan{};
-    if (message.header.id == msg::ids::kPoseEstimate && core::isOk(message.decode(&pose))) {
+    msg::RouteChunkMsg chunk{};
+    if (message.header.id == msg::ids::kRouteChunk && core::isOk(message.decode(&chunk))) {
+        // A route's chunks come in order, chunk 0 first: a first chunk starts a route.
+        if (chunk.chunkIndex == 0 || routes_.empty()) {
+            routes_.emplace_back();
+        }
+        for (std::size_t k = 0; k < chunk.count && k < msg::kRouteChunkPoints; ++k) {
+            routes_.back().push_back(geometry::Point2{chunk.x[k], chunk.y[k]});
+        }
+    } else if (message.header.id == msg::ids::kPoseEstimate && core::isOk(message.decode(&pose))) {
         if (pose.initialised != 0) {
             const double t = seconds(pose.timeNs);
             tracker_.onPose(t, pose.xM, pose.yM);
@@ -86,6 +95,16 @@ ground::MissionRecord MissionRecorder::record() const {
         }
     }
     r.plans = plans_;
+    r.routes = routes_;
+    const site_map::SiteMap& site = fsw.siteMap().map();
+    for (std::size_t i = 0; i < site.rockCount(); ++i) {
+        const site_map::Rock& rock = site.rock(i);
+        std::vector<geometry::Point2> polygon;
+        for (std::size_t v = 0; v < rock.count; ++v) {
+            polygon.push_back(geometry::Point2{rock.x[v], rock.y[v]});
+        }
+        r.siteRocks.push_back(polygon);
+    }
     r.truthTrack = truth_;
     const TruthRecord& truth = rig_.rover().truth();
     r.truthTrack.push_back(ground::TrackPoint{seconds(rig_.clock().now()), truth.pose.x, truth.pose.y});

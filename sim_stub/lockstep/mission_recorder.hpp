@@ -47,6 +47,7 @@ private:
     core::EventLog::Cursor cursor_{};
     std::uint32_t plansMade_ = 0;
     std::vector<ground::PlanDrawing> plans_;
+    std::vector<std::vector<geometry::Point2>> routes_;   // site mode: ROUTE chunks assembled
     std::vector<ground::TrackPoint> truth_;
     std::vector<ground::TrackPoint> estimate_;
     double nextTruthS_ = 0.0;

@@ -19,6 +19,7 @@
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "ground/mission_from_telemetry.hpp"
+#include "ground/mission_report.hpp"
 #include "ground/session_recording.hpp"
 #include "ground/table_compiler.hpp"
 #include "unit_test/ground/ground_test_support.hpp"
@@ -305,4 +306,42 @@ TEST(MissionFromTelemetry, ReportWritesTheFilesAndExitsByTheVerdict) {
     CHECK_TRUE(contains(r.err, "is not a good COARSE_MAP image"));
     CHECK_EQUAL(1, rig.run({"report", rig.dir.file("missing.rec"), "--map", map}).rc);
     CHECK_EQUAL(2, rig.run({"report"}).rc);
+}
+
+// Site mode: a route's ROUTE chunks become the record's route, in order, and
+// the mission map draws it (and the site map's rocks the record holds).
+TEST(MissionFromTelemetry, ARoutesChunksBecomeItsRouteAndTheMapDrawsIt) {
+    std::ostringstream file;
+    ground::SessionRecorder recorder(file, "UDP", 1733157000.0);
+    double received = 0.0;
+    recorder.record(received += 0.01, housekeeping(kStartMetS + 0.2));
+    for (std::uint8_t c = 0; c < 2; ++c) {
+        cmdtlm::ROUTE_Tlm t{};
+        t.route_number = 1;
+        t.point_count = 40;
+        t.chunk_index = c;
+        t.chunk_count = 2;
+        t.count = c == 0 ? 32 : 8;
+        for (std::uint8_t k = 0; k < t.count; ++k) {
+            t.x[k] = static_cast<float>(32 * c + k);   // x runs 0 .. 39 over the route
+            t.y[k] = 1.0F;
+        }
+        recorder.record(received += 0.01, test::telemetryPacket(t, 0, at(kStartMetS + 1.0)));
+    }
+    std::istringstream in(file.str());
+    const ground::SessionRecording recording = ground::readSessionRecording(in);
+    CHECK_TRUE(recording.errors.empty());
+    const ground::MissionTelemetry mission = ground::readMissionTelemetry(recording);
+    ground::TelemetryMissionRecord result =
+        ground::missionRecordFromTelemetry(recording, mission, test::oneRock(), 0.6, "site mode");
+    ground::MissionRecord& r = result.record;
+    LONGS_EQUAL(1, r.routes.size());
+    LONGS_EQUAL(40, r.routes[0].size());
+    DOUBLES_EQUAL(0.0, r.routes[0].front().x, 0.0);
+    DOUBLES_EQUAL(39.0, r.routes[0].back().x, 0.0);
+    r.siteRocks.push_back({{5.0, 2.0}, {6.0, 2.0}, {6.0, 3.0}});
+    const std::string svg = ground::renderMissionMap(r);
+    CHECK_TRUE(contains(svg, "class=\"route\""));
+    CHECK_TRUE(contains(svg, "class=\"site-rock\""));
+    CHECK_TRUE(contains(svg, "global route (site map)"));
 }

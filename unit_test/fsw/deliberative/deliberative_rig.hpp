@@ -45,7 +45,8 @@ public:
         if (!core::isOk(bus.createPipe("probe", 32, &probe)) || !core::isOk(bus.subscribe(probe, msg::ids::kLegCommand)) ||
             !core::isOk(bus.subscribe(probe, msg::ids::kPlanStatus)) ||
             !core::isOk(bus.subscribe(probe, msg::ids::kSafeRequest)) ||
-            !core::isOk(bus.subscribe(probe, msg::ids::kPlanPath))) {
+            !core::isOk(bus.subscribe(probe, msg::ids::kPlanPath)) ||
+            !core::isOk(bus.subscribe(probe, msg::ids::kRouteChunk))) {
             return false;
         }
         if (!core::isOk(task.init())) {
@@ -250,6 +251,8 @@ public:
     unsigned safeRequests = 0;
     msg::PlanPathMsg lastPath{};
     unsigned planPaths = 0;
+    msg::RouteChunkMsg lastRouteChunk{};
+    unsigned routeChunks = 0;
     unsigned seen[1000] = {};
     char texts[1000][core::kEventTextSize] = {};
     core::EventData data[1000] = {};
@@ -269,7 +272,11 @@ private:
             msg::PlanStatusMsg status{};
             msg::SafeRequestMsg safe{};
             msg::PlanPathMsg path{};
-            if (inbox.header.id == msg::ids::kLegCommand && core::isOk(inbox.decode(&leg))) {
+            msg::RouteChunkMsg chunk{};
+            if (inbox.header.id == msg::ids::kRouteChunk && core::isOk(inbox.decode(&chunk))) {
+                lastRouteChunk = chunk;
+                ++routeChunks;
+            } else if (inbox.header.id == msg::ids::kLegCommand && core::isOk(inbox.decode(&leg))) {
                 if (leg.legId == 0) {
                     ++cancels;
                 } else {

@@ -82,3 +82,36 @@ TEST(PlanTelemetry, APathWithMoreMeansThanTheMessageHoldsIsRefused) {
     LONGS_EQUAL(0, receipts.packets.size());
     LONGS_EQUAL(0, packer.planPathsSent());
 }
+
+TEST(PlanTelemetry, EachRouteChunkGoesDownOnReceiptAndABadOneIsRefused) {
+    msg::RouteChunkMsg chunk{};
+    chunk.routeNumber = 2;
+    chunk.timeNs = 3 * core::kNsPerSec;
+    chunk.pointCount = 40;
+    chunk.chunkIndex = 1;
+    chunk.chunkCount = 2;
+    chunk.count = 8;
+    chunk.lengthM = 512.5;
+    chunk.x[7] = 700.0F;
+    chunk.y[7] = 80.0F;
+    rig.publish(chunk);
+    (void)rig.pipe.drain();
+    LONGS_EQUAL(1, receipts.count<cmdtlm::ROUTE_Tlm>());
+    const RecordingSink::Packet& p = receipts.last<cmdtlm::ROUTE_Tlm>();
+    DOUBLES_EQUAL(2, RecordingSink::field(p, "route_number"), 0.0);
+    DOUBLES_EQUAL(3.0, RecordingSink::field(p, "route_time"), 0.0);
+    DOUBLES_EQUAL(40, RecordingSink::field(p, "point_count"), 0.0);
+    DOUBLES_EQUAL(1, RecordingSink::field(p, "chunk_index"), 0.0);
+    DOUBLES_EQUAL(8, RecordingSink::field(p, "count"), 0.0);
+    DOUBLES_EQUAL(512.5, RecordingSink::field(p, "length"), 1e-3);
+    DOUBLES_EQUAL(700.0, RecordingSink::field(p, "x", 7), 1e-3);
+    DOUBLES_EQUAL(0.0, RecordingSink::field(p, "x", 8), 0.0);
+    LONGS_EQUAL(1, packer.routeChunksSent());
+    chunk.count = static_cast<std::uint8_t>(msg::kRouteChunkPoints + 1);   // more than it holds
+    rig.publish(chunk);
+    chunk.count = 1;
+    chunk.chunkIndex = 2;                                                  // past the last chunk
+    rig.publish(chunk);
+    (void)rig.pipe.drain();
+    LONGS_EQUAL(1, packer.routeChunksSent());
+}

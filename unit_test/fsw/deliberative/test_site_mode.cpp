@@ -143,6 +143,16 @@ TEST(SiteMode, ARouteThenHorizonsAlongItReachAGoal180MetresAwayThroughABoulderFi
     CHECK(c.horizonsReached >= 4);   // 180 m in horizons of 30 m, the last up to 37.5 m
     CHECK(plans >= 5);
     LONGS_EQUAL(1, c.routesFound);
+    // The route went down as ROUTE chunks: announced once, every chunk sent,
+    // the last one ending at the goal.
+    const deliberative::GlobalRoute& route = rig->task.route().route();
+    LONGS_EQUAL(1, rig->task.route().routesAnnounced());
+    LONGS_EQUAL((route.pointCount() + msg::kRouteChunkPoints - 1) / msg::kRouteChunkPoints, rig->routeChunks);
+    const msg::RouteChunkMsg& last = rig->lastRouteChunk;
+    LONGS_EQUAL(route.pointCount(), last.pointCount);
+    LONGS_EQUAL(last.chunkCount - 1, last.chunkIndex);
+    DOUBLES_EQUAL(190.0, last.x[last.count - 1], 1e-4);
+    DOUBLES_EQUAL(route.lengthM(), last.lengthM, 1e-9);
     // Every run within its slice: the planner's bound and the route's.
     CHECK(c.maxRunWork <= deliberative::kSliceWork + deliberative::CcPlanner::kMaxUnitWork);
     DOUBLES_EQUAL(190.0, rig->x, 0.5);

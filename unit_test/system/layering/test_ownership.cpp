@@ -55,7 +55,7 @@ const std::map<std::string, std::string> kPacketOwners = {
     {"EVENT_DATA", "cmdtlm"},
     {"TASK_TIMING", "cmdtlm"},  {"ROVER_STATE", "estimator"},   {"HEALTH", "estimator"},
     {"DRIVES", "io"},           {"POWER", "io"},                {"INSTRUMENTS", "io"},
-    {"PLAN", "deliberative"},   {"PLAN_PATH", "deliberative"},  {"HAZARDS", "habitual"},
+    {"PLAN", "deliberative"},   {"PLAN_PATH", "deliberative"},  {"ROUTE", "deliberative"},   {"HAZARDS", "habitual"},
     {"FAULT_PROTECTION", "fault_protection"},                   {"PLAN_EXEC", "plan_executive"},
     {"TABLE_STATUS", "tables"}, {"TABLE_DUMP", "tables"},       {"SITE_MAP", "site_map"},
 };
