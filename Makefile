@@ -664,7 +664,7 @@ $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEF
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO) -lompl
 
 # The fault-recovery, lockstep-mission and plan-executive benchmarks run whole missions through the ground link (the ground library).
-$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission $(BUILD)/bin/bench_plan_executive $(BUILD)/bin/bench_global_route: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
+$(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission $(BUILD)/bin/bench_plan_executive $(BUILD)/bin/bench_global_route $(BUILD)/bin/bench_site_fields: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 

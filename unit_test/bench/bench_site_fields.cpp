@@ -1,0 +1,171 @@
+// A campaign over generated rock fields (issue 31, "Targets"): each run a
+// field of its own (Golombek and Rapp's model, sim_stub/scenario/field_rocks.hpp;
+// half the runs at k = 0.05, half at k = 0.10, rocks of 0.5 m and more, those
+// of 1 m and more known and uplinked as the site map), a 200 m traverse on a
+// 220 m x 60 m site flown in lockstep as rse-demo flies it.
+//
+// Per run: the outcome (goal reached, called home and why, timed out), the
+// contacts (the simulator's truth), the path driven against the straight
+// line and against an offline shortest path with the rover's clearance (the
+// global route's search over every rock, known and hidden, at the bare
+// footprint, unpriced, on a 0.5 m lattice: the way a rover that knew every
+// rock could take).
+//
+// TARGET lines (the issue's): 0 contacts; at least 95 % reach the goal and
+// every other run ends in a call home with its reason (none times out); path
+// length at most 1.15 x the straight line in the median and 1.46 x at worst.
+//
+// Usage: bench_site_fields [RUNS] (default 100; half at each k).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "fsw/deliberative/global_route.hpp"
+#include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/site_map/site_map.hpp"
+#include "ground/site_map_encoder.hpp"
+#include "sim_stub/lockstep/mission_runner.hpp"
+#include "sim_stub/scenario/field_rocks.hpp"
+#include "sim_stub/scenario/scenario_parser.hpp"
+#include "unit_test/bench/bench_targets.hpp"
+
+using namespace rse;
+
+namespace {
+
+constexpr const char* kTemplate = "sim_stub/scenarios/rock_field_100m.toml";
+constexpr double kStraightM = 200.0;
+
+// The template's site made 220 m x 60 m, a fresh field of k and seed on it.
+void fieldRun(sim::Scenario& s, double k, std::uint64_t seed) {
+    s.map = sim::MapBounds{0.0, 220.0, 0.0, 60.0};
+    s.start = sim::Pose2{10.0, 30.0, 0.0};
+    s.mission.present = true;
+    s.mission.hasGoal = true;
+    s.mission.goalX = 210.0;
+    s.mission.goalY = 30.0;
+    s.obstacles.clear();
+    s.field.rocks.k = k;
+    s.field.rocks.seed = seed;
+    sim::addFieldRocks(s.field, &s);
+}
+
+// The shortest way with the rover's clearance past every rock (known and hidden).
+double offlineShortestM(const sim::Scenario& s, double clearanceM) {
+    static site_map::SiteMap map;
+    static deliberative::GlobalRoute route;
+    ground::SiteMapSpec spec;
+    spec.site = {static_cast<float>(s.map.xMin), static_cast<float>(s.map.yMin), static_cast<float>(s.map.xMax),
+                 static_cast<float>(s.map.yMax)};
+    for (const sim::Obstacle& o : s.obstacles) {
+        std::vector<ground::MapVertex> v;
+        for (std::size_t i = 0; i < o.shape.n; ++i) {
+            v.push_back({static_cast<float>(o.shape.v[i].x), static_cast<float>(o.shape.v[i].y)});
+        }
+        spec.rocks.push_back(v);
+    }
+    const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
+    site_map::SiteMapCheck check;
+    if (map.load(image.data(), image.size(), &check) != core::Status::kOk) {
+        return -1.0;
+    }
+    deliberative::RouteParams p;
+    p.clearanceM = clearanceM;
+    p.comfortM = clearanceM + 0.01;
+    p.proximityCost = 0.0;
+    p.spacingM = 0.5;
+    p.workBudget = 4000000000ULL;
+    if (route.start(map, {s.start.x, s.start.y}, {s.mission.goalX, s.mission.goalY}, p) !=
+        deliberative::RouteRefusal::kNone) {
+        return -1.0;
+    }
+    for (int i = 0; i < 1000000 && !route.step(100000000ULL); ++i) {
+    }
+    return route.state() == deliberative::RouteState::kFound ? route.lengthM() : -1.0;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) {
+        return 0.0;
+    }
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int runs = argc > 1 ? std::atoi(argv[1]) : 100;
+    if (runs < 2) {
+        std::fprintf(stderr, "usage: bench_site_fields [RUNS >= 2]\n");
+        return 2;
+    }
+    rse::bench::Targets targets;
+    std::printf("site fields: %d runs of a 200 m traverse (220 m x 60 m), half at k = 0.05, half at k = 0.10\n", runs);
+    std::printf("%4s %5s %6s %6s %-22s %5s %8s %8s %8s %7s\n", "run", "k", "rocks", "known", "outcome", "hits",
+                "driven", "/line", "/short", "wall s");
+    int reached = 0, calledHome = 0, timedOut = 0, setup = 0;
+    std::uint32_t contacts = 0;
+    std::vector<double> ratios, shortRatios;
+    double worst = 0.0;
+    for (int run = 0; run < runs; ++run) {
+        const double k = run % 2 == 0 ? 0.05 : 0.10;
+        const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(run);
+        sim::MissionOptions o;
+        const char* args[] = {"bench_site_fields", "--scenario", kTemplate, "--goto", "210,30,1e-3", "--quiet",
+                              "--no-report", "--duration", "2400"};
+        std::string error;
+        if (sim::parseMissionArgs(9, args, &o, &error) != sim::ParseOutcome::kRun) {
+            std::fprintf(stderr, "bench_site_fields: %s\n", error.c_str());
+            return 1;
+        }
+        o.editScenario = [k, seed](sim::Scenario& s) { fieldRun(s, k, seed); };
+        sim::Scenario scenario = sim::loadScenarioFile(kTemplate);
+        fieldRun(scenario, k, seed);
+        const sim::FieldCounts counts = sim::fieldCounts(scenario);
+        const sim::MissionSummary s = sim::runMission(o, nullptr);
+        const double shortest = offlineShortestM(scenario, scenario.rover.radiusM);
+        const char* outcome = sim::toString(s.outcome);
+        std::string what = outcome;
+        if (s.outcome == sim::MissionOutcome::kGoalReached) {
+            ++reached;
+            ratios.push_back(s.distanceM / kStraightM);
+            worst = std::max(worst, s.distanceM / kStraightM);
+            if (shortest > 0.0) {
+                shortRatios.push_back(s.distanceM / shortest);
+            }
+        } else if (s.outcome == sim::MissionOutcome::kCalledHome) {
+            ++calledHome;
+            what += " (" + std::to_string(static_cast<int>(s.callHome)) + ")";
+        } else if (s.outcome == sim::MissionOutcome::kTimedOut) {
+            ++timedOut;
+        } else {
+            ++setup;
+            what += ": " + s.setupError;
+        }
+        contacts += s.collisions;
+        std::printf("%4d %5.2f %6zu %6zu %-22s %5u %8.1f %8.3f %8.3f %7.1f\n", run, k, counts.rocks, counts.known,
+                    what.c_str(), s.collisions, s.distanceM, s.distanceM / kStraightM,
+                    shortest > 0.0 ? s.distanceM / shortest : 0.0, s.wallTimeS);
+        std::fflush(stdout);
+    }
+    const double rate = static_cast<double>(reached) / runs;
+    std::printf("reached %d, called home %d, timed out %d, setup failed %d of %d; contacts %u\n", reached, calledHome,
+                timedOut, setup, runs, contacts);
+    std::printf("path driven / straight line: median %.3f, worst %.3f; / offline shortest with clearance: median %.3f\n",
+                median(ratios), worst, median(shortRatios));
+    std::printf("TARGET 0 contacts over every run: %u %s\n", contacts, targets.check(contacts == 0) ? "PASS" : "FAIL");
+    std::printf("TARGET at least 95 %% reach the goal: %.1f %% %s\n", 100.0 * rate,
+                targets.check(rate >= 0.95) ? "PASS" : "FAIL");
+    std::printf("TARGET every other run calls home with its reason (none times out): %d timed out, %d setup %s\n",
+                timedOut, setup, targets.check(timedOut == 0 && setup == 0) ? "PASS" : "FAIL");
+    std::printf("TARGET path <= 1.15 x the straight line in the median: %.3f %s\n", median(ratios),
+                targets.check(!ratios.empty() && median(ratios) <= 1.15) ? "PASS" : "FAIL");
+    std::printf("TARGET path <= 1.46 x the straight line at worst: %.3f %s\n", worst,
+                targets.check(!ratios.empty() && worst <= 1.46) ? "PASS" : "FAIL");
+    return targets.finish();
+}
