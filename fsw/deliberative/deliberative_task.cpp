@@ -429,6 +429,7 @@ void DeliberativeTask::startPlan() {
         return;
     }
     const char* refusal = "";
+    hazardRevisionAtPlan_ = hazards_.revision;
     if (!maker_.start(start, &refusal)) {
         callHome(msg::CallHomeReason::kGoalUnreachable, refusal);
         return;
@@ -571,6 +572,7 @@ ReplanFrom DeliberativeTask::replanFrom() const {
     from.goalIndex = goalIndex_;
     from.goalCount = goals_.count;
     from.seenHazards = hazards_.count;
+    from.informed = siteMode() && hazards_.revision != hazardRevisionAtPlan_;
     return from;
 }
 

@@ -332,6 +332,7 @@ private:
     Horizon horizon_{};
     bool routing_ = false;       // the route search is under way (kPlanning)
     bool horizonLast_ = true;    // the plan in hand goes to the goal itself (not a horizon short of it)
+    std::uint32_t hazardRevisionAtPlan_ = 0;  // the known hazards' revision when the plan in hand was started
     std::uint32_t routesFound_ = 0;
     std::uint32_t routesFailed_ = 0;
     std::uint32_t horizonsReached_ = 0;

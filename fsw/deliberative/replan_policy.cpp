@@ -36,11 +36,13 @@ const char* callHomeReasonName(msg::CallHomeReason r) {
 void ReplanPolicy::newGoals() {
     riskFactor_ = 1.0;
     goalReplans_ = 0;
+    goalInformedReplans_ = 0;
     request_.pending = false;
 }
 
 void ReplanPolicy::nextGoal() {
     goalReplans_ = 0;
+    goalInformedReplans_ = 0;
     riskFactor_ = 1.0;
 }
 
@@ -96,16 +98,19 @@ void ReplanPolicy::capture(msg::LegConstraint why, const ReplanFrom& from) {
 }
 
 bool ReplanPolicy::replan(msg::LegConstraint why, const ReplanFrom& from, std::uint32_t replanLimit) {
-    if (goalReplans_ >= replanLimit) {
+    const bool informed = from.informed && goalInformedReplans_ < kMaxInformedReplans;
+    if (!informed && goalReplans_ >= replanLimit) {
         return false;
     }
-    ++goalReplans_;
+    goalReplans_ += informed ? 0U : 1U;
+    goalInformedReplans_ += informed ? 1U : 0U;
     ++replans_;
     capture(why, from);
     const ReplanRequest& rr = request_;
     events_.report(events::kReplan, core::Severity::kWarning,
-                   "deliberative: replan %u/%u (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
-                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(replanLimit), constraintName(why),
+                   "deliberative: replan %u/%u%s (%s) t=%.2f s from (%.2f, %.2f): goals %u..%u left, %u hazards",
+                   static_cast<unsigned>(goalReplans_), static_cast<unsigned>(replanLimit),
+                   informed ? " (new sightings: not counted)" : "", constraintName(why),
                    static_cast<double>(from.now) / static_cast<double>(core::kNsPerSec), rr.xM, rr.yM,
                    static_cast<unsigned>(rr.firstGoal), static_cast<unsigned>(rr.firstGoal + rr.unfinished - 1),
                    static_cast<unsigned>(from.seenHazards));

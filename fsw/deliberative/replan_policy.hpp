@@ -62,7 +62,16 @@ struct ReplanFrom {
     std::uint8_t goalIndex = 0;                  // the goal in hand, in the list given
     std::uint8_t goalCount = 0;
     std::uint8_t seenHazards = 0;                // for event 911
+    // Site mode: hazards were seen since the plan in force was started (the
+    // known-hazard revision moved): the replan has new knowledge to plan with,
+    // so it is not one of replan_limit's (at most kMaxInformedReplans a plan's).
+    bool informed = false;
 };
+
+// Replans with new sightings a goal (site mode: a horizon) may take beyond
+// replan_limit: each follows new knowledge, and this bounds them all the same
+// (a disc that grows at every sighting moves the revision every time).
+constexpr std::uint32_t kMaxInformedReplans = 8;
 
 // Where a plan starts: a mean and its (x, y) covariance, row major.
 struct StartPoint {
@@ -133,7 +142,8 @@ public:
 private:
     core::EventLog& events_;
     double riskFactor_ = 1.0;        // risk in force = Delta x riskFactor_
-    std::uint32_t goalReplans_ = 0;  // replans of the current goal
+    std::uint32_t goalReplans_ = 0;  // replans of the current goal (counted against replan_limit)
+    std::uint32_t goalInformedReplans_ = 0;  // ... with new sightings (site mode; at most kMaxInformedReplans)
     ReplanRequest request_{};
     std::uint32_t replans_ = 0;
     std::uint32_t riskRelaxations_ = 0;
