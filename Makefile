@@ -343,6 +343,8 @@ $(CC_MILP_OBJ): unit_test/bench/cc_reference_milp.cpp | deps
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CBC_CPPFLAGS) $(TEST_CXXFLAGS) -c $< -o $@
 SUITE_HOST_ONLY_system_cc_reference := $(wildcard unit_test/system/cc_reference/*_milp.cpp unit_test/system/cc_reference/*_host.cpp)
+# The 700 m Snowdrift traverse: 12 s on the host, minutes under emulation (the 100 m field flies on every target).
+SUITE_HOST_ONLY_system_lockstep := $(wildcard unit_test/system/lockstep/*_host.cpp)
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal/nvm/test_threaded_record_writer.cpp

@@ -261,7 +261,7 @@ void mapLegend(const MissionRecord& r, const MissionMapLayout& l, std::string* s
     };
     legend("<rect x=\"" + svgNumber(lx) + "\" y=\"" + svgNumber(ly - 10.0) +
                "\" width=\"18\" height=\"12\" fill=\"#8d6e63\" stroke=\"#5d4037\"/>",
-           r.siteRocks.empty() ? "rock on the coarse map" : "rock on the site map (orbital)", 190.0);
+           r.siteRocks.empty() ? "rock on the coarse map" : "rock on the site map", 190.0);
     legend("<rect x=\"" + svgNumber(lx) + "\" y=\"" + svgNumber(ly - 10.0) +
                "\" width=\"18\" height=\"12\" fill=\"#e67e22\" fill-opacity=\"0.55\" stroke=\"#a04000\"/>",
            "hidden rock (truth)", 160.0);
@@ -277,12 +277,12 @@ void mapLegend(const MissionRecord& r, const MissionMapLayout& l, std::string* s
     legend("<ellipse cx=\"" + svgNumber(lx + 9.0) + "\" cy=\"" + svgNumber(ly - 4.0) +
                "\" rx=\"9\" ry=\"6\" fill=\"#1f5fbf\" fill-opacity=\"0.1\" stroke=\"#1f5fbf\"/>",
            r.routes.empty() ? "plan: mean path, risk ellipses k = \u03a6\u207b\u00b9(1 \u2212 \u0394)"
-                            : "horizon plan: mean path, risk ellipses",
-           330.0);
+                            : "horizon plans, risk ellipses",
+           r.routes.empty() ? 330.0 : 240.0);
     if (!r.routes.empty()) {
         legend("<line x1=\"" + svgNumber(lx) + "\" y1=\"" + svgNumber(ly - 4.0) + "\" x2=\"" + svgNumber(lx + 18.0) +
                    "\" y2=\"" + svgNumber(ly - 4.0) + "\" stroke=\"#8e44ad\" stroke-width=\"2\" stroke-dasharray=\"10 4\"/>",
-               "global route (site map)", 190.0);
+               "global route (site map)", 180.0);
     }
     *s += "</g>\n";
     std::string plans;

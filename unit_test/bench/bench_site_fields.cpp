@@ -15,7 +15,11 @@
 // every other run ends in a call home with its reason (none times out); path
 // length at most 1.15 x the straight line in the median and 1.46 x at worst.
 //
-// Usage: bench_site_fields [RUNS] (default 100; half at each k).
+// Then the 700 m Snowdrift traverse (sim_stub/scenarios/snowdrift.toml) once:
+// TARGET lines for its goal, its contacts, every CPU-timed task in budget in
+// every frame, and lockstep at least 20 x real time (wall clock, here).
+//
+// Usage: bench_site_fields [RUNS] (default 100; half at each k; 0: Snowdrift only).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +31,7 @@
 #include "fsw/msg/deliberative_msgs.hpp"
 #include "fsw/site_map/site_map.hpp"
 #include "ground/site_map_encoder.hpp"
+#include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/mission_runner.hpp"
 #include "sim_stub/scenario/field_rocks.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
@@ -96,15 +101,53 @@ double median(std::vector<double> v) {
     return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+void snowdrift(rse::bench::Targets* targets) {
+    sim::MissionOptions o;
+    const char* args[] = {"bench_site_fields", "--scenario", "sim_stub/scenarios/snowdrift.toml", "--quiet",
+                          "--no-report"};
+    std::string error;
+    if (sim::parseMissionArgs(5, args, &o, &error) != sim::ParseOutcome::kRun) {
+        std::printf("snowdrift: %s\n", error.c_str());
+        return;
+    }
+    std::uint32_t cpuOver = 0;
+    o.onFrame = [&cpuOver](sim::LockstepRig& rig) {
+        const core::Executive& exec = rig.fsw().executive();
+        cpuOver = 0;
+        for (std::size_t i = 0; i < exec.taskCount(); ++i) {
+            const core::TaskStats* st = exec.taskStats(i);
+            cpuOver += st != nullptr ? st->cpuOverBudget : 0U;
+        }
+    };
+    const sim::MissionSummary s = sim::runMission(o, nullptr);
+    const double speed = s.wallTimeS > 0.0 ? s.endTimeS / s.wallTimeS : 0.0;
+    std::printf("snowdrift: %s at %.0f s, driven %.1f m (%.3f x 700 m), %u contacts, %u plans, %.0f x real time\n",
+                sim::toString(s.outcome), s.outcomeTimeS, s.distanceM, s.distanceM / 700.0, s.collisions, s.plansMade,
+                speed);
+    const bool reached = s.outcome == sim::MissionOutcome::kGoalReached;
+    std::printf("TARGET snowdrift 700 m: goal reached: %s %s\n", reached ? "yes" : "no",
+                targets->check(reached) ? "PASS" : "FAIL");
+    std::printf("TARGET snowdrift 700 m: 0 contacts: %u %s\n", s.collisions,
+                targets->check(s.collisions == 0) ? "PASS" : "FAIL");
+    std::printf("TARGET snowdrift 700 m: every CPU-timed task inside its budget in every frame: %u runs over %s\n",
+                cpuOver, targets->check(cpuOver == 0) ? "PASS" : "FAIL");
+    std::printf("TARGET snowdrift 700 m: lockstep >= 20 x real time: %.0f x %s\n", speed,
+                targets->check(speed >= 20.0) ? "PASS" : "FAIL");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     const int runs = argc > 1 ? std::atoi(argv[1]) : 100;
-    if (runs < 2) {
-        std::fprintf(stderr, "usage: bench_site_fields [RUNS >= 2]\n");
+    if (runs < 0 || runs == 1) {
+        std::fprintf(stderr, "usage: bench_site_fields [RUNS: 0 (Snowdrift only) or >= 2]\n");
         return 2;
     }
     rse::bench::Targets targets;
+    if (runs == 0) {
+        snowdrift(&targets);
+        return targets.finish();
+    }
     std::printf("site fields: %d runs of a 200 m traverse (220 m x 60 m), half at k = 0.05, half at k = 0.10\n", runs);
     std::printf("%4s %5s %6s %6s %-22s %5s %8s %8s %8s %7s\n", "run", "k", "rocks", "known", "outcome", "hits",
                 "driven", "/line", "/short", "wall s");
@@ -167,5 +210,6 @@ int main(int argc, char** argv) {
                 targets.check(!ratios.empty() && median(ratios) <= 1.15) ? "PASS" : "FAIL");
     std::printf("TARGET path <= 1.46 x the straight line at worst: %.3f %s\n", worst,
                 targets.check(!ratios.empty() && worst <= 1.46) ? "PASS" : "FAIL");
+    snowdrift(&targets);
     return targets.finish();
 }

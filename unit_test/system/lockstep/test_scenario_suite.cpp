@@ -542,7 +542,8 @@ TEST(ScenarioSuite, EveryScenarioWithAMissionHasItsOutcomeAsserted) {
     const char* const elsewhere[] = {"demo_mission",     // test_mission_demo.cpp: the ten points
                                      "habitual_stall",   // test_lockstep_fault_protection.cpp
                                      "low_battery",      // test_lockstep_fault_protection.cpp
-                                     "rock_field_100m"}; // test_lockstep_rock_field.cpp
+                                     "rock_field_100m",  // test_lockstep_rock_field.cpp
+                                     "snowdrift"};       // test_lockstep_snowdrift_host.cpp
     std::size_t files = 0;
     std::size_t missions = 0;
     for (const auto& entry : std::filesystem::directory_iterator(kDir)) {
