@@ -61,7 +61,8 @@ RouteRefusal GlobalRoute::start(const site_map::SiteMap& map, Point2 start, Poin
     if (!finitePositive(params.clearanceM) || !std::isfinite(params.comfortM) || params.comfortM <= params.clearanceM ||
         !(params.proximityCost >= 0.0) || !std::isfinite(params.proximityCost) ||
         !(params.spacingM >= kMinRouteSpacingM) || !std::isfinite(params.spacingM) ||
-        !(params.heuristicWeight >= 1.0) || !std::isfinite(params.heuristicWeight) || params.workBudget == 0) {
+        !(params.heuristicWeight >= 1.0) || !std::isfinite(params.heuristicWeight) || params.workBudget == 0 ||
+        !(params.zoneMarginM >= 0.0) || !std::isfinite(params.zoneMarginM)) {
         return refuse(RouteRefusal::kBadParams);
     }
     if (!geometry::isFinite(start) || !geometry::isFinite(goal)) {
@@ -252,10 +253,12 @@ double GlobalRoute::edgeCost(Point2 a, Point2 b) {
             penalty += closeness * (length < chord ? length : chord);
         }
     }
-    const double loX = (a.x < b.x ? a.x : b.x) - params_.clearanceM;
-    const double hiX = (a.x > b.x ? a.x : b.x) + params_.clearanceM;
-    const double loY = (a.y < b.y ? a.y : b.y) - params_.clearanceM;
-    const double hiY = (a.y > b.y ? a.y : b.y) + params_.clearanceM;
+    const double zoneClearance = params_.clearanceM + params_.zoneMarginM;
+    const double zoneClearance2 = zoneClearance * zoneClearance;
+    const double loX = (a.x < b.x ? a.x : b.x) - zoneClearance;
+    const double hiX = (a.x > b.x ? a.x : b.x) + zoneClearance;
+    const double loY = (a.y < b.y ? a.y : b.y) - zoneClearance;
+    const double hiY = (a.y > b.y ? a.y : b.y) + zoneClearance;
     const std::size_t zones = map_->keepOutCount();
     for (std::size_t z = 0; z < zones; ++z) {
         stats_.work += kRouteEdgeWork;
@@ -269,7 +272,7 @@ double GlobalRoute::edgeCost(Point2 a, Point2 b) {
             v[i] = Point2{zone.x[i], zone.y[i]};
         }
         stats_.work += n * kRouteEdgeWork;
-        if (geometry::segmentConvexPolygonDistanceSquared(a, b, v, n) < clearance2) {
+        if (geometry::segmentConvexPolygonDistanceSquared(a, b, v, n) < zoneClearance2) {
             return -1.0;
         }
     }

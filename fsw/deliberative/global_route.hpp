@@ -66,6 +66,7 @@ struct RouteParams {
     double proximityCost = 1.0;    // the added cost of a rock passed at the clearance, per metre passed (>= 0)
     double spacingM = 1.0;         // the lattice spacing wanted (>= kMinRouteSpacingM)
     double heuristicWeight = 1.0;  // >= 1: the route costs at most this times the cheapest on the lattice
+    double zoneMarginM = 0.0;      // keep-out zones are kept this much farther off than rocks (>= 0)
     std::uint64_t workBudget = 400000000;  // the whole search (~0.2 - 0.4 s on the development host)
 };
 

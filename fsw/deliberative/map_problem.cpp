@@ -477,6 +477,32 @@ core::Status buildMapProblem(const tables::CoarseMapTable& map, const tables::Pl
     return core::Status::kOk;
 }
 
+bool keepOutNearPath(const site_map::SiteMap& map, const double* meanX, const double* meanY, std::size_t points,
+                     double reachM) {
+    const std::size_t zones = map.keepOutCount();
+    for (std::size_t z = 0; z < zones; ++z) {
+        const site_map::KeepOut& zone = map.keepOut(z);
+        const std::size_t n = zone.count < site_map::kMaxKeepOutVertices ? zone.count : site_map::kMaxKeepOutVertices;
+        double lo[2] = {INFINITY, INFINITY};
+        double hi[2] = {-INFINITY, -INFINITY};
+        for (std::size_t v = 0; v < n; ++v) {
+            lo[0] = std::fmin(lo[0], static_cast<double>(zone.x[v]));
+            lo[1] = std::fmin(lo[1], static_cast<double>(zone.y[v]));
+            hi[0] = std::fmax(hi[0], static_cast<double>(zone.x[v]));
+            hi[1] = std::fmax(hi[1], static_cast<double>(zone.y[v]));
+        }
+        const Point2 box[4] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
+        for (std::size_t k = 0; k + 1 < points; ++k) {
+            const Point2 a{meanX[k], meanY[k]};
+            const Point2 b{meanX[k + 1], meanY[k + 1]};
+            if (geometry::segmentConvexPolygonDistanceSquared(a, b, box, 4) <= reachM * reachM) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 bool addRocksNearPath(const SiteCorridor& site, const tables::RoverGeometryTable& geometry, const CcProblem& problem,
                       const double* meanX, const double* meanY, std::size_t points, double reachM,
                       MapObstacles* obstacles, std::size_t* added) {

@@ -144,6 +144,11 @@ bool addRocksNearPath(const SiteCorridor& site, const tables::RoverGeometryTable
                       const double* meanX, const double* meanY, std::size_t points, double reachM,
                       MapObstacles* obstacles, std::size_t* added);
 
+// Site mode: some keep-out zone's bounding box comes within reachM of the
+// polyline (meanX, meanY)[0 .. points).
+bool keepOutNearPath(const site_map::SiteMap& map, const double* meanX, const double* meanY, std::size_t points,
+                     double reachM);
+
 // The problem's obstacles chosen again from *obstacles: the forced ones first
 // (nearest first), then the nearest, kMaxPlanObstacles in all, in candidate
 // order; inProblem and the report's counts follow. The rest of *problem is kept.

@@ -15,6 +15,7 @@ static_assert(msg::kPlanPathMeans == kMaxPlanSteps + 1, "PlanPathMsg holds mu_0 
 
 bool PlanMaker::start(const PlanStart& s, const char** refusal) {
     site_ = s.site;
+    siteRevision_ = site_.map != nullptr ? site_.map->revision() : 0;
     PlanRequest request;
     request.startX = s.xM;
     request.startY = s.yM;
@@ -244,19 +245,33 @@ bool PlanMaker::topUpSiteRocks() {
     const std::size_t steps = candidate_.steps <= kMaxPlanSteps ? candidate_.steps : kMaxPlanSteps;
     far_ = farRockBound(problem_, steps, rse::geometry::clearanceRadiusM(tables_.roverGeometry()),
                         kFarRockShare * kLeftOutShare * riskBound_);
-    std::size_t added = 0;
-    const bool fits = addRocksNearPath(site_, tables_.roverGeometry(), problem_, candidate_.meanX, candidate_.meanY,
-                                       steps + 1, far_.reachM, &obstacles_, &added);
-    counters_.siteRocksAdded += static_cast<std::uint32_t>(added);
-    if (fits) {
-        return true;
+    // The candidates came from the map the plan was started on: a map put in
+    // force since (its rock ids mean other rocks) cannot certify it.
+    const char* why = nullptr;
+    if (site_.map->revision() != siteRevision_) {
+        why = "the site map changed while it was planned";
+    } else if (keepOutNearPath(*site_.map, candidate_.meanX, candidate_.meanY, steps + 1, far_.reachM)) {
+        // The chance-constrained problem holds rocks, not keep-out zones (up
+        // to 16 vertices): a plan that comes within the far reach of one is
+        // not certified against it, so it is not taken (the route keeps off
+        // zones with the rover's clearance; a horizon near one calls home).
+        why = "a keep-out zone lies within its far reach";
+    } else {
+        std::size_t added = 0;
+        const bool fits = addRocksNearPath(site_, tables_.roverGeometry(), problem_, candidate_.meanX,
+                                           candidate_.meanY, steps + 1, far_.reachM, &obstacles_, &added);
+        counters_.siteRocksAdded += static_cast<std::uint32_t>(added);
+        leftOutCount_ = obstacles_.leftOut();
+        if (fits) {
+            return true;
+        }
+        why = "more site-map rocks near it than the candidates hold (64)";
     }
     ++counters_.siteCrowdedRefusals;
     ++counters_.wholeMapRefusals;
     refusedByWholeMap_ = true;
     events_.report(events::kWholeMapRefused, core::Severity::kWarning,
-                   "deliberative: plan not taken: more than %u site-map rocks within %.2f m of it (cannot certify)",
-                   static_cast<unsigned>(kMaxMapPolygons), far_.reachM);
+                   "deliberative: plan not taken: %s (far reach %.2f m): cannot certify", why, far_.reachM);
     candidate_ = CcPlan{};
     candidate_.status = CcStatus::kNoPlan;
     phase_ = Phase::kDone;

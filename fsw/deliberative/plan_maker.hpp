@@ -113,7 +113,7 @@ struct PlanCounters {
     std::uint32_t wholeMapReplans = 0;   // ... planned again with obstacles forced in (event 991)
     std::uint32_t wholeMapRefusals = 0;  // ... and not taken: left-out risk beyond kLeftOutShare (event 992)
     std::uint32_t siteRocksAdded = 0;    // site mode: rocks near a plan made candidates before its check
-    std::uint32_t siteCrowdedRefusals = 0;  // ... plans not taken: the rocks near them did not fit (event 992)
+    std::uint32_t siteCrowdedRefusals = 0;  // ... plans not taken: the rocks near them did not fit, a keep-out zone near, or the map changed (event 992)
     std::uint64_t maxRunWork = 0;        // most planner work one run did (work units)
     std::uint32_t maxRunUnits = 0;
 };
@@ -200,6 +200,7 @@ private:
     CcProblem problem_{};
     MapObstacles obstacles_{};   // every candidate of the problem (about 20 KB)
     SiteCorridor site_{};        // site mode when site_.map is set
+    std::uint32_t siteRevision_ = 0;  // the site map's revision the plan was started on
     FarRockBound far_{};
     WholeMapCheck check_{};
     Phase phase_ = Phase::kDone;

@@ -51,6 +51,7 @@ RouteRefusal RouteHorizons::begin(const site_map::SiteMap& map, Point2 from, Poi
     RouteParams params;
     params.clearanceM = footprintRadiusM + kRouteMarginM;
     params.comfortM = params.clearanceM + kRouteComfortM;
+    params.zoneMarginM = kRouteZoneMarginM;
     const RouteRefusal refusal = route_.start(map, from, goal, params);
     valid_ = refusal == RouteRefusal::kNone;
     return refusal;

@@ -41,6 +41,10 @@ constexpr double kCorridorReachM = 6.0;
 // zone, and prices rocks within this comfort beyond that.
 constexpr double kRouteMarginM = 0.4;
 constexpr double kRouteComfortM = 1.5;
+// Keep-out zones are kept this much farther off: a horizon's plan within the
+// far reach of a zone is not taken (whole_map_check.hpp), and the far reach
+// is about 2 m at the default noise.
+constexpr double kRouteZoneMarginM = 2.5;
 // ROUTE chunks published in one run (the telemetry pipe takes them as they come).
 constexpr std::size_t kRouteChunksPerRun = 4;
 // Corridor points a horizon carries (its start, the route's points within it

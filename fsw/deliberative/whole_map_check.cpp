@@ -22,8 +22,15 @@ FarRockBound farRockBound(const CcProblem& problem, std::size_t steps, double ra
     const double lambdaN = lambda0 + static_cast<double>(steps) * q;
     FarRockBound out;
     out.reachM = radiusM;
-    if (!(lambdaN > 0.0) || !(share > 0.0)) {
+    if (!(lambdaN > 0.0)) {
         return out;   // no uncertainty: a rock beyond the disc is never met
+    }
+    if (!(share > 0.0) || !std::isfinite(lambdaN)) {
+        // No share to give the far rocks: none is far enough, the whole
+        // share is claimed (a caller bug, made safe: nothing is certified).
+        out.reachM = INFINITY;
+        out.risk = 1.0;
+        return out;
     }
     // (N + 1) exp(-r^2 / (2 lambda_N)) = share, then the sum itself (<= share).
     const double r = std::sqrt(2.0 * lambdaN * std::log(static_cast<double>(steps + 1) / share));

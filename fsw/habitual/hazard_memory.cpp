@@ -77,29 +77,33 @@ bool HazardMemory::build(LocalMap* map, double clearanceM, const msg::LegCommand
         withEnd.seenAt = Point2{leg.goalXM, leg.goalYM};
         withEnd.hasSeenAt = true;
     }
-    const SiteWindow site = windowOf(leg, clearanceM);
+    SiteWindow site = windowOf(leg, clearanceM);
     const core::Status status = builder_.build(coarse_, clearanceM, map, &withEnd, &site);
-    if (!core::isOk(status)) {
+    if (!core::isOk(status) || site.incomplete) {
         ++mapRefused_;
         if (core::isReportableOccurrence(mapRefused_)) {
             events_.report(events::kMapRefused, core::Severity::kError,
-                           "habitual: local map refused an obstacle (%s) (%u so far)", core::toString(status),
+                           "habitual: local map refused an obstacle (%s%s) (%u so far)", core::toString(status),
+                           site.incomplete ? ", site rocks of the leg's window left out: map not used" : "",
                            static_cast<unsigned>(mapRefused_));
         }
     }
-    return map->valid();
+    // A window whose rocks are not all in the map hides some: not usable.
+    return map->valid() && !site.incomplete;
 }
 
 SiteWindow HazardMemory::windowOf(const msg::LegCommandMsg& leg, double clearanceM) {
     SiteWindow w;
-    if (leg.legId == 0 || site_ == nullptr || !std::isfinite(leg.maxPathLengthM)) {
-        return w;
+    if (leg.legId == 0 || site_ == nullptr || !site_->loaded() || !std::isfinite(leg.maxPathLengthM)) {
+        return w;   // no site map in force: the coarse map alone, as before site mode
     }
     w.map = site_;
     w.query = &query_;
     w.centre = Point2{leg.goalXM, leg.goalYM};
     const double reach = leg.maxPathLengthM + clearanceM;
     w.reachM = reach < kMaxSiteWindowM ? reach : kMaxSiteWindowM;
+    // A leg whose paths reach past the window would plan on rocks unseen.
+    w.incomplete = reach > kMaxSiteWindowM;
     return w;
 }
 

@@ -171,7 +171,7 @@ std::size_t MapBuilder::rememberedCount() const {
 }
 
 core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
-                              const MapRelief* relief, const SiteWindow* site) const {
+                              const MapRelief* relief, SiteWindow* site) const {
     if (map == nullptr) {
         return core::Status::kInvalidArgument;
     }
@@ -201,15 +201,17 @@ core::Status MapBuilder::build(const tables::CoarseMapTable& coarse, double clea
         site_map::QueryStats stats;
         const std::size_t found = site->map->rocksNearSegment(site->centre, site->centre, site->reachM, site->query,
                                                               near, kMaxMapPolygons + 1, &stats);
-        if ((stats.overflow || stats.refused) && core::isOk(first)) {
-            first = core::Status::kFull;
+        if (stats.overflow || stats.refused) {
+            site->incomplete = true;
+            first = core::isOk(first) ? core::Status::kFull : first;
         }
         for (std::size_t k = 0; k < found; ++k) {
             Point2 vertices[kMaxPolygonVertices];
             const std::size_t n = siteRockVertices(*site->map, near[k], vertices);
             const core::Status st = map->addPolygon(vertices, n);
-            if (!core::isOk(st) && core::isOk(first)) {
-                first = st;
+            if (!core::isOk(st)) {
+                site->incomplete = true;
+                first = core::isOk(first) ? st : first;
             }
         }
     }

@@ -143,6 +143,10 @@ struct SiteWindow {
     site_map::SiteQuery* query = nullptr;
     geometry::Point2 centre{0.0, 0.0};
     double reachM = 0.0;
+    // Set by build(): some rock of the window is not in the map (more than it
+    // holds, the query refused, or the window cut to kMaxSiteWindowM): the
+    // map does not show the leg's whole neighbourhood and must not be used.
+    bool incomplete = false;
 };
 constexpr double kMaxSiteWindowM = 40.0;
 
@@ -160,9 +164,9 @@ public:
     // polygon, the site map's rocks in site's window (when site is given and
     // holds a map) and every remembered cover. The first refusal of the map is
     // returned (the map then holds what was added before it; more site rocks
-    // in the window than the map holds: kFull); kOk otherwise.
+    // in the window than the map holds: kFull and site->incomplete); kOk otherwise.
     core::Status build(const tables::CoarseMapTable& coarse, double clearanceM, LocalMap* map,
-                       const MapRelief* relief = nullptr, const SiteWindow* site = nullptr) const;
+                       const MapRelief* relief = nullptr, SiteWindow* site = nullptr) const;
 
     std::size_t rememberedCount() const;
     const RememberedHazard& slot(std::size_t index) const { return slots_[index < kMaxMapDiscs ? index : 0]; }

@@ -257,8 +257,8 @@ TEST(GlobalRoute, ASpentBudgetEndsWithTheBestRouteSoFar) {
 }
 
 TEST(GlobalRoute, TheRouteIsTheSameHoweverTheSearchIsSliced) {
-    const Point2 start{10.0, 10.0}, goal{290.0, 280.0};
-    load(fieldClearOf(2000, 300.0F, 33, {start, goal}));
+    const Point2 start{10.0, 10.0}, goal{140.0, 130.0};
+    load(fieldClearOf(600, 150.0F, 33, {start, goal}));
     CHECK(search(start, goal, RouteParams{}) == RouteState::kFound);
     std::vector<Point2> whole;
     for (std::size_t k = 0; k < route->pointCount(); ++k) {
@@ -308,8 +308,8 @@ TEST(GlobalRoute, AKeepOutZoneIsGoneRoundWithTheClearance) {
 }
 
 TEST(GlobalRoute, AWeightedHeuristicFindsARouteWithinItsWeightForLessWork) {
-    const Point2 start{10.0, 390.0}, goal{390.0, 10.0};
-    load(fieldClearOf(3000, 400.0F, 34, {start, goal}));
+    const Point2 start{10.0, 190.0}, goal{190.0, 10.0};
+    load(fieldClearOf(1000, 200.0F, 34, {start, goal}));
     CHECK(search(start, goal, RouteParams{}) == RouteState::kFound);
     const double cheapest = route->cost();
     const std::uint32_t expansions = route->stats().expansions;

@@ -192,3 +192,31 @@ TEST(HazardMemorySiteMode, TheSiteRocksInALegsWindowJoinItsMapAndTheOthersDoNot)
     LONGS_EQUAL(0, memory->builder().rememberedCount());
     LONGS_EQUAL(1, memory->builder().knownObstacles());
 }
+
+// More site rocks in a leg's window than the local map holds: the map is not
+// used (it would hide rocks), never used in part.
+TEST(HazardMemorySiteMode, AWindowWithMoreRocksThanTheMapHoldsIsNotUsable) {
+    ground::SiteMapSpec spec;
+    spec.site = {-20.0F, -20.0F, 120.0F, 20.0F};
+    for (int i = 0; i < 60; ++i) {
+        const float x = 50.0F + 2.0F * static_cast<float>(i % 10);
+        const float y = -6.0F + 2.0F * static_cast<float>(i / 10);
+        spec.rocks.push_back({{x, y}, {x + 0.5F, y}, {x + 0.5F, y + 0.5F}, {x, y + 0.5F}});
+    }
+    const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
+    site_map::SiteMapCheck check;
+    CHECK(site->load(image.data(), image.size(), &check) == core::Status::kOk);
+    HazardMemory memory(events, coarse, site);
+    msg::LegCommandMsg leg{};
+    leg.legId = 4;
+    leg.goalXM = 60.0;
+    leg.goalYM = 0.0;
+    leg.maxPathLengthM = 20.0;
+    habitual::LocalMap map;
+    CHECK_FALSE(memory.build(&map, 0.6, leg));
+    LONGS_EQUAL(1, memory.mapRefused());
+    // A leg whose paths reach past the window (over 40 m) is not usable either.
+    leg.goalXM = 0.0;
+    leg.maxPathLengthM = 45.0;
+    CHECK_FALSE(memory.build(&map, 0.6, leg));
+}
