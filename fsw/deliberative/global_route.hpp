@@ -27,8 +27,8 @@
 // kMaxSightRocks is taken as blocked (counted), never measured in part.
 //
 // Memory (static): 21 bytes a node for kMaxRouteNodes + 2 nodes (cost, key,
-// parent, heap position, heap slot, flags), 16 bytes a route point: about
-// 2.77 MB (kGlobalRouteBytes, checked in test_global_route). The lattice
+// parent, heap position, heap slot, flags), 16 bytes a route point, a site
+// map query scratch: about 2.81 MB (kGlobalRouteBytes, checked in test_global_route). The lattice
 // spacing is params.spacingM or, on a site that would need more nodes, the
 // smallest spacing that fits kMaxRouteNodes (a 1 km x 1 km site: 2.77 m).
 //

@@ -15,9 +15,10 @@ namespace rse::site_map {
 constexpr std::size_t kMaxGridCells = 65536;
 constexpr double kMinCellM = 2.0;
 // Rock references the cells may hold in all (a rock is listed in every cell
-// its bounding box touches): nearly 8 a rock at the most rocks, and within a
-// u16, so a cell's start is 2 bytes.
-constexpr std::size_t kMaxCellRefs = 65535;
+// its bounding box touches): 8 a rock at the most rocks. A reference is a
+// rock's number (u16: kMaxSiteRocks < 65 536), a cell's start a u32.
+constexpr std::size_t kMaxCellRefs = 8 * kMaxSiteRocks;
+static_assert(kMaxSiteRocks < 65536, "a cell reference is a u16 rock number");
 
 struct GridShape {
     double x0 = 0.0, y0 = 0.0;  // the site's lower-left corner

@@ -43,7 +43,7 @@ void SiteMap::clear() {
     keepOutCount_ = 0;
     site_ = SiteBounds{};
     grid_ = GridShape{};
-    for (std::uint16_t& s : cellStart_) {
+    for (std::uint32_t& s : cellStart_) {
         s = 0;
     }
     loaded_ = false;
@@ -112,9 +112,9 @@ void SiteMap::index() {
     std::uint32_t end = 0;
     for (std::size_t c = 0; c < cells; ++c) {
         end += cellStart_[c];
-        cellStart_[c] = static_cast<std::uint16_t>(end);  // the image check bounds end by kMaxCellRefs
+        cellStart_[c] = end;  // the image check bounds end by kMaxCellRefs
     }
-    cellStart_[cells] = static_cast<std::uint16_t>(end);
+    cellStart_[cells] = end;
     for (std::size_t r = rockCount_; r-- > 0;) {
         forEachCell(rocks_[r], [this, r](std::size_t c) { cellRefs_[--cellStart_[c]] = static_cast<std::uint16_t>(r); });
     }

@@ -6,7 +6,7 @@
 //
 // Memory (static, checked in test_site_map): kBytesPerRock a rock slot
 // (vertices, bounding box, count) for kMaxSiteRocks slots, plus the index
-// (2 bytes a cell start for kMaxGridCells + 1 cells, 2 bytes a reference for
+// (4 bytes a cell start for kMaxGridCells + 1 cells, 2 bytes a reference for
 // kMaxCellRefs) and the zones: kSiteMapBytes in all.
 //
 // load() checks the image whole before it touches the map: a refused image
@@ -40,7 +40,7 @@ struct KeepOut {
     std::uint8_t count;
 };
 
-// A reader's scratch for queries: one per reader (16 KB).
+// A reader's scratch for queries: one per reader (2 bytes a rock slot: 40 KB).
 struct SiteQuery {
     std::uint16_t stamp[kMaxSiteRocks] = {};
     std::uint16_t current = 0;
@@ -99,7 +99,7 @@ private:
     Rock rocks_[kMaxSiteRocks] = {};
     KeepOut zones_[kMaxKeepOuts] = {};
     // Cell c's rocks: cellRefs_[cellStart_[c] .. cellStart_[c + 1]).
-    std::uint16_t cellStart_[kMaxGridCells + 1] = {};
+    std::uint32_t cellStart_[kMaxGridCells + 1] = {};
     std::uint16_t cellRefs_[kMaxCellRefs] = {};
     SiteBounds site_{};
     GridShape grid_{};

@@ -26,7 +26,9 @@ constexpr std::uint32_t kSiteMapMagic = 0x5253454DU;  // "RSEM"
 constexpr std::uint16_t kSiteMapVersion = 1;
 constexpr std::size_t kSiteMapHeaderSize = 32;
 
-constexpr std::size_t kMaxSiteRocks = 8192;
+// 20 480: the growth table goes to 20 000 rocks on a square kilometre
+// (a k = 0.10 field counted down to 1 m has some 6 000).
+constexpr std::size_t kMaxSiteRocks = 20480;
 constexpr std::size_t kMaxRockVertices = 8;
 constexpr std::size_t kMaxKeepOuts = 64;
 constexpr std::size_t kMaxKeepOutVertices = 16;

@@ -20,7 +20,7 @@ using rse::site_map::SiteMap;
 
 namespace {
 
-SiteMap* map = nullptr;        // ~1 MB and ~2.8 MB: static storage, as in flight
+SiteMap* map = nullptr;        // ~2.3 MB and ~2.8 MB: static storage, as in flight
 GlobalRoute* route = nullptr;
 
 void load(const rse::ground::SiteMapSpec& spec) {
@@ -323,7 +323,7 @@ TEST(GlobalRoute, AWeightedHeuristicFindsARouteWithinItsWeightForLessWork) {
 
 TEST(GlobalRoute, TheSearchTakesTheStaticMemoryTheDocsState) {
     // docs/deliberative.md, "Global route": 21 bytes a node for
-    // kMaxRouteNodes + 2 nodes, the query scratch and the route: under 2.8 MB.
+    // kMaxRouteNodes + 2 nodes, the query scratch (40 KB) and the route: under 2.82 MB.
     CHECK(kGlobalRouteBytes >= 21 * (kMaxRouteNodes + 2));
-    CHECK(kGlobalRouteBytes < 2800000);
+    CHECK(kGlobalRouteBytes < 2820000);
 }

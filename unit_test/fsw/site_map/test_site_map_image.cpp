@@ -153,14 +153,14 @@ TEST(SiteMapImage, ATruncatedOrPaddedImageIsRefused) {
 }
 
 // Rocks so wide that their boxes span more cells than the index holds (the
-// check does not forbid overlapping rocks: 400 squares of 127 m, ~17 x 17
-// cells each at 7.8 m cells, twice the index).
+// check does not forbid overlapping rocks: 900 squares of 127 m, ~17 x 17
+// cells each at 7.8 m cells, half as much again as the index).
 TEST(SiteMapImage, RocksSpanningTooManyCellsAreRefused) {
     SiteMapSpec spec;
     spec.site = {0.0F, 0.0F, 2000.0F, 2000.0F};
-    for (std::size_t i = 0; i < 400; ++i) {
-        const float x = 100.0F + static_cast<float>(i % 20) * 90.0F;
-        const float y = 100.0F + static_cast<float>(i / 20) * 90.0F;
+    for (std::size_t i = 0; i < 900; ++i) {
+        const float x = 100.0F + static_cast<float>(i % 30) * 60.0F;
+        const float y = 100.0F + static_cast<float>(i / 30) * 60.0F;
         spec.rocks.push_back(rse::test::regularRock(x, y, 90.0F, 4, 0.785398F));
     }
     LONGS_EQUAL(reasonOf(SiteMapReject::kIndexFull), reasonOf(encodeSiteMap(spec)));
