@@ -669,6 +669,8 @@ $(BUILD)/bin/bench_rrt_star: $(BUILD)/obj/unit_test/bench/bench_rrt_star.o $(DEF
 $(BUILD)/bin/bench_fault_recovery $(BUILD)/bin/bench_lockstep_mission $(BUILD)/bin/bench_plan_executive $(BUILD)/bin/bench_global_route $(BUILD)/bin/bench_site_fields: $(BUILD)/bin/bench_%: $(BUILD)/obj/unit_test/bench/bench_%.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
+# The site-field campaign samples its flown horizons against the whole site map.
+$(BUILD)/bin/bench_site_fields: $(BUILD)/obj/unit_test/bench/whole_map_mc.o $(CC_BENCH_OBJS)
 
 # The ground-link flood benchmark runs rse-fsw and signs its commands with the ground library.
 $(BUILD)/bin/bench_ground_flood: $(BUILD)/obj/unit_test/bench/bench_ground_flood.o $(DEFAULT_TABLES_OBJ) $(SIM_LIB) $(GROUND_LIB) $(FLIGHT_LIB) | $(FSW_BIN)
