@@ -39,6 +39,7 @@ void RoverSim::step(core::TimeNs now) {
             continue;
         }
         w->setLoadTorqueNm(world_.loadTorqueNm(i));
+        w->setBlockTorqueNm(world_.blockTorqueNm(i));
         w->step(now);
         speeds[i] = w->wheelSpeedRadS();
         currents[i] = w->currentA();

@@ -46,7 +46,7 @@ core::Status checkHazards(const msg::KnownHazardsMsg& h) {
     for (std::size_t i = 0; i < h.count; ++i) {
         const msg::KnownHazard& k = h.hazards[i];
         if (!std::isfinite(k.xM) || !std::isfinite(k.yM) || !std::isfinite(k.radiusM) || !(k.radiusM > 0.0F) ||
-            k.radiusM > kMaxHazardRadiusM || k.obstacleId == 0) {
+            k.radiusM > kMaxHazardRadiusM) {  // obstacleId 0: a contact's disc (habitual map_builder.hpp)
             return core::Status::kInvalidArgument;
         }
     }

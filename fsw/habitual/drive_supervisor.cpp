@@ -30,6 +30,8 @@ const char* followReasonName(msg::FollowReason reason) {
             return "not autonomous";
         case msg::FollowReason::kBadTrajectory:
             return "bad trajectory";
+        case msg::FollowReason::kContact:
+            return "contact";
     }
     return "?";
 }

@@ -30,5 +30,6 @@ constexpr core::EventId kInitFailed = 819;         // ERROR: pipe creation or su
 constexpr core::EventId kMissionHeld = 820;        // WARN: fault protection holds the mission (reasons): rover stopped, leg kept
 constexpr core::EventId kMissionReleased = 821;    // INFO: hold released: waiting for the leg to be re-sent (planning resumes)
 constexpr core::EventId kEscape = 822;             // WARN: start inside a seen hazard's footprint: backing out to a free point, then replan
+constexpr core::EventId kContactRemembered = 823;  // WARN: a contact the follower felt remembered as a hazard (where, cover)
 
 }  // namespace rse::habitual::events

@@ -48,6 +48,7 @@ core::Status HabitualTask::init() {
     status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeHazards>(this) : status;
     status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeDriveModes>(this) : status;
     status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeFollower>(this) : status;
+    status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeContact>(this) : status;
     status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeMode>(this) : status;
     status = core::isOk(status) ? inputPipe_.route<&HabitualTask::takeHold>(this) : status;
     if (!core::isOk(status)) {
@@ -195,6 +196,14 @@ core::Status HabitualTask::takeHazards(const msg::HazardMsg& hazards) {
         return core::Status::kOk;
     }
     memory_.remember(hazards, Point2{pose_.xM, pose_.yM}, pose_.headingRad);
+    return core::Status::kOk;
+}
+
+core::Status HabitualTask::takeContact(const msg::ContactMsg& contact) {
+    if (!contactUsable(contact)) {
+        return core::Status::kInvalidArgument;
+    }
+    memory_.rememberContact(contact, geometry::clearanceRadiusM(tables_.roverGeometry()));
     return core::Status::kOk;
 }
 

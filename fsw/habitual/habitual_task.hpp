@@ -180,6 +180,9 @@ private:
     core::Status takeHazards(const msg::HazardMsg& hazards);
     core::Status takeDriveModes(const msg::DriveModesMsg& modes);
     core::Status takeFollower(const msg::FollowerStatusMsg& status);
+    // A contact the follower felt: remembered where it was (hazard_memory.hpp);
+    // the follower's kCannotFollow (kContact) after its back-off replans the leg.
+    core::Status takeContact(const msg::ContactMsg& contact);
     core::Status takeHold(const msg::MissionHoldMsg& hold);
     bool poseUsable(core::TimeNs now) const;
     double meanFactor() const;

@@ -92,6 +92,18 @@ bool HazardMemory::build(LocalMap* map, double clearanceM, const msg::LegCommand
     return map->valid() && !site.incomplete;
 }
 
+void HazardMemory::rememberContact(const msg::ContactMsg& contact, double footprintM) {
+    const double reach = contact.directionSign * footprintM;
+    const Point2 lead{contact.xM + reach * std::cos(contact.headingRad), contact.yM + reach * std::sin(contact.headingRad)};
+    const double cover = std::fmax(kContactCoverFactor * footprintM, kContactSeenRadiusM);
+    const SightingOutcome outcome = builder_.rememberContact(lead, kContactSeenRadiusM, cover);
+    events_.report(events::kContactRemembered, core::Severity::kWarning,
+                   "habitual: contact %u at (%.2f, %.2f) remembered as a hazard at (%.2f, %.2f), cover %.2f m (%s)",
+                   static_cast<unsigned>(contact.contacts), contact.xM, contact.yM, lead.x, lead.y, cover,
+                   outcome == SightingOutcome::kRejected ? "refused" :
+                   outcome == SightingOutcome::kReplacedOldest ? "replacing the oldest" : "added");
+}
+
 SiteWindow HazardMemory::windowOf(const msg::LegCommandMsg& leg, double clearanceM) {
     SiteWindow w;
     if (leg.legId == 0 || site_ == nullptr || !site_->loaded() || !std::isfinite(leg.maxPathLengthM)) {

@@ -27,9 +27,15 @@
 #include "fsw/habitual/map_builder.hpp"
 #include "fsw/msg/habitual_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
+#include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/tables/table_types.hpp"
 
 namespace rse::habitual {
+
+// A contact's discs (rememberContact): the seen disc's radius, and the
+// cover's as a fraction of the footprint radius.
+constexpr double kContactSeenRadiusM = 0.25;
+constexpr double kContactCoverFactor = 0.8;
 
 class HazardMemory {
 public:
@@ -41,6 +47,14 @@ public:
     // hazards' sightings, relative to the rover at roverPosition facing
     // roverHeadingRad, remembered (hazards.count is checked by the caller).
     void remember(const msg::HazardMsg& hazards, geometry::Point2 roverPosition, double roverHeadingRad);
+
+    // A contact (ContactMsg, already checked): a disc where the rover's
+    // footprint (radius footprintM) touched, on the side it drove towards
+    // (kContactSeenRadiusM about the footprint's leading point, cover
+    // kContactCoverFactor x footprintM about it: the footprint's rim within
+    // about 45 degrees of the heading), remembered (MapBuilder::rememberContact)
+    // and evented (823).
+    void rememberContact(const msg::ContactMsg& contact, double footprintM);
 
     // map rebuilt from the coarse map and the memory, every obstacle inflated
     // by clearanceM, with relief (may be null) and the leg's end (legId 0: no

@@ -27,8 +27,14 @@ bool driveModesUsable(const msg::DriveModesMsg& modes) {
 }
 
 bool followerStatusUsable(const msg::FollowerStatusMsg& status) {
-    return static_cast<std::uint8_t>(status.state) <= static_cast<std::uint8_t>(msg::FollowerState::kStopping) &&
-           static_cast<std::uint8_t>(status.reason) <= static_cast<std::uint8_t>(msg::FollowReason::kBadTrajectory);
+    return static_cast<std::uint8_t>(status.state) <= static_cast<std::uint8_t>(msg::FollowerState::kBackingOff) &&
+           static_cast<std::uint8_t>(status.reason) <= static_cast<std::uint8_t>(msg::FollowReason::kContact);
+}
+
+bool contactUsable(const msg::ContactMsg& contact) {
+    return std::isfinite(contact.xM) && std::isfinite(contact.yM) && std::isfinite(contact.headingRad) &&
+           (contact.directionSign == 1.0 || contact.directionSign == -1.0) && std::fabs(contact.xM) <= 1.0e6 &&
+           std::fabs(contact.yM) <= 1.0e6;
 }
 
 const char* legRefusal(const msg::LegCommandMsg& leg, bool autonomous, std::uint32_t currentLegId,

@@ -32,6 +32,8 @@ bool hazardsUsable(const msg::HazardMsg& hazards);
 bool driveModesUsable(const msg::DriveModesMsg& modes);
 // A known follower state and reason.
 bool followerStatusUsable(const msg::FollowerStatusMsg& status);
+// A contact at a finite pose within 10^6 m of the site origin, driving forwards or backwards (+-1).
+bool contactUsable(const msg::ContactMsg& contact);
 // (A mission hold: msg::holdUsable, only known reasons.)
 
 // Why a leg (legId not 0: 0 cancels) is refused, or nullptr when it is taken:

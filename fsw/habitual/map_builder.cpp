@@ -108,7 +108,9 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
         if (!s.used && freeSlot == kMaxMapDiscs) {
             freeSlot = i;
         }
-        if (s.used && s.lastSeen < slots_[oldest].lastSeen) {
+        // A contact's disc is never the oldest sighting: nothing will see it again.
+        if (s.used && s.obstacleId != kContactObstacleId &&
+            (slots_[oldest].obstacleId == kContactObstacleId || s.lastSeen < slots_[oldest].lastSeen)) {
             oldest = i;
         }
     }
@@ -151,6 +153,45 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
         ++updated_;
     }
     slots_[chosen] = RememberedHazard{coverCentre, coverR, seenCentre, seenR, sightings_, sighting.obstacleId, true};
+    ++revision_;
+    return outcome;
+}
+
+SightingOutcome MapBuilder::rememberContact(Point2 centre, double seenRadiusM, double coverRadiusM) {
+    if (!isFinite(centre) || !std::isfinite(seenRadiusM) || !std::isfinite(coverRadiusM) || seenRadiusM <= 0.0 ||
+        coverRadiusM < seenRadiusM || coverRadiusM > kMaxMergedRadiusM) {
+        ++rejected_;
+        return SightingOutcome::kRejected;
+    }
+    // A free slot; else, with kMaxContactDiscs contacts held, the oldest
+    // contact; else the sighting seen longest ago.
+    std::size_t freeSlot = kMaxMapDiscs;
+    std::size_t oldestContact = kMaxMapDiscs;
+    std::size_t oldestSighting = kMaxMapDiscs;
+    std::size_t contacts = 0;
+    for (std::size_t i = 0; i < kMaxMapDiscs; ++i) {
+        const RememberedHazard& h = slots_[i];
+        if (!h.used) {
+            freeSlot = freeSlot == kMaxMapDiscs ? i : freeSlot;
+        } else if (h.obstacleId == kContactObstacleId) {
+            ++contacts;
+            oldestContact = oldestContact == kMaxMapDiscs || h.lastSeen < slots_[oldestContact].lastSeen ? i : oldestContact;
+        } else {
+            oldestSighting =
+                oldestSighting == kMaxMapDiscs || h.lastSeen < slots_[oldestSighting].lastSeen ? i : oldestSighting;
+        }
+    }
+    std::size_t chosen = freeSlot;
+    SightingOutcome outcome = SightingOutcome::kAdded;
+    if (chosen == kMaxMapDiscs) {
+        chosen = contacts >= kMaxContactDiscs || oldestSighting == kMaxMapDiscs ? oldestContact : oldestSighting;
+        outcome = SightingOutcome::kReplacedOldest;
+        ++replaced_;
+    } else {
+        ++added_;
+    }
+    ++sightings_;
+    slots_[chosen] = RememberedHazard{centre, coverRadiusM, centre, seenRadiusM, sightings_, kContactObstacleId, true};
     ++revision_;
     return outcome;
 }

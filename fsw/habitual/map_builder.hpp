@@ -150,8 +150,21 @@ struct SiteWindow {
 };
 constexpr double kMaxSiteWindowM = 40.0;
 
+// A contact (ContactMsg): the rover touched something the hazard detector
+// did not report. Remembered as a disc of its own keyed by id 0, which no
+// sighting carries (0 is the detector's "clear"), so no sighting merges with
+// it; never the "oldest" a new sighting replaces (nothing will see it again),
+// at most kMaxContactDiscs of them (a further contact replaces the oldest).
+constexpr std::uint8_t kContactObstacleId = 0;
+constexpr std::size_t kMaxContactDiscs = 8;
+
 class MapBuilder {
 public:
+    // A contact's discs (both centred at centre): the seen disc (what the
+    // deliberative layer is told) and the cover (what the habitual layer plans
+    // round). kRejected for a value not finite, a seen radius not positive, a
+    // cover smaller than it or larger than kMaxMergedRadiusM.
+    SightingOutcome rememberContact(geometry::Point2 centre, double seenRadiusM, double coverRadiusM);
     // Turns one sighting into a disc and remembers it (see the file comment).
     // roverPosition / roverHeadingRad: the pose estimate the sighting is relative to.
     // site (may be null): a sighting on a site-map rock is known too.

@@ -10,6 +10,9 @@ core::Status DrivesTelemetry::routeInputs(core::InputPipe& pipe) {
     if (core::isOk(status)) {
         status = pipe.route<&DrivesTelemetry::takeMode>(this);
     }
+    if (core::isOk(status)) {
+        status = pipe.route<&DrivesTelemetry::takeContact>(this);
+    }
     return status;
 }
 
@@ -28,6 +31,11 @@ void DrivesTelemetry::pack(const core::FrameContext& frame, cmdtlm::TelemetrySin
     }
     tlm.interlock = drives_.interlockTripped;
     tlm.estop = mode_.estop;
+    tlm.contacts = contact_.contacts;
+    tlm.last_contact_x = static_cast<float>(contact_.xM);
+    tlm.last_contact_y = static_cast<float>(contact_.yM);
+    tlm.last_contact_current = static_cast<float>(contact_.maxCurrentA);
+    tlm.last_contact_wheels = contact_.wheelsPushing;
     sink.send(tlm);
 }
 

@@ -3,7 +3,8 @@
 // each scheduled in its own place of the frame's packet order:
 //   DRIVES       slot kDrivesSlot of every second: each drive's state, speed,
 //                current and last EMCY (DriveStatusMsg), the speed commanded
-//                (WheelCommandMsg), the interlock, and the software e-stop (ModeMsg)
+//                (WheelCommandMsg), the interlock, the software e-stop (ModeMsg),
+//                and the contacts the follower felt (ContactMsg: count, the last one)
 //   INSTRUMENTS  slot kInstrumentsSlot of every second, and in the run after an
 //                instrument's state, command, result, fault code or last
 //                refusal changed (not its progress) (InstrumentStatusMsg, one
@@ -20,6 +21,7 @@
 #include "fsw/msg/instrument_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/sensor_msgs.hpp"
+#include "fsw/msg/trajectory_msgs.hpp"
 
 namespace rse::io {
 
@@ -36,10 +38,12 @@ private:
     void takeDrives(const msg::DriveStatusMsg& drives) { drives_ = drives; }
     void takeWheelCommand(const msg::WheelCommandMsg& command) { wheelCommand_ = command; }
     void takeMode(const msg::ModeMsg& mode) { mode_ = mode; }
+    void takeContact(const msg::ContactMsg& contact) { contact_ = contact; }
 
     msg::DriveStatusMsg drives_{};
     msg::WheelCommandMsg wheelCommand_{};
     msg::ModeMsg mode_{};
+    msg::ContactMsg contact_{};
 };
 
 class InstrumentsTelemetry final : public cmdtlm::TelemetryPacker {

@@ -82,7 +82,7 @@ struct KnownHazard {
     float xM;
     float yM;
     float radiusM;
-    std::uint8_t obstacleId;   // the hazard detector's id (nonzero)
+    std::uint8_t obstacleId;   // the hazard detector's id; 0: a contact the follower felt (ContactMsg), no sighting
     std::uint8_t pad[3];
 };
 

@@ -37,6 +37,7 @@ enum class FollowerState : std::uint8_t {
     kReached = 2,       // within the arrival tolerance of the last point; decelerating to zero
     kCannotFollow = 3,  // gave up on the trajectory (reason says why); wheels commanded to zero at once
     kStopping = 4,      // decelerating after a stop trajectory (count 0), within the acceleration limits
+    kBackingOff = 5,    // a contact stopped the rover: backing away from it (ContactMsg); then kCannotFollow (kContact)
 };
 
 enum class FollowReason : std::uint8_t {
@@ -46,6 +47,7 @@ enum class FollowReason : std::uint8_t {
     kDrivesHeld = 3,       // e-stop or the drive interlock holds the wheels at zero
     kNotAutonomous = 4,    // the rover left AUTONOMOUS mode
     kBadTrajectory = 5,    // refused on arrival: count, ids or a point not finite
+    kContact = 6,          // the rover touched something (ContactMsg): stopped at once, backed off
 };
 
 struct FollowerStatusMsg {
@@ -60,6 +62,26 @@ struct FollowerStatusMsg {
     double remainingM;           // path length left to the last point
     double commandedSpeedMS;     // body (v, w) sent this cycle, after limits
     double commandedTurnRateRadS;
+};
+
+// One per contact the follower sees (fsw/reflexive/contact_watch.hpp): the
+// drives of several wheels pushing at once (current far above a rolling
+// wheel's, or the wheels commanded but not turning) while the rover is
+// commanded to move. The follower has zeroed the wheels in the same run and
+// backs off; the habitual layer remembers where (a hazard the detector did
+// not report) and plans round it.
+struct ContactMsg {
+    static constexpr core::MsgId kMsgId = ids::kContact;
+    std::int64_t timeNs;       // the run that saw it
+    std::uint32_t contacts;    // contacts seen since start, this one included
+    std::uint32_t trajectoryId;  // the trajectory being followed (0: none)
+    double xM;                 // the pose estimate when it was seen (site frame)
+    double yM;
+    double headingRad;
+    double directionSign;      // +1 driving forwards, -1 backwards (the side of the rover that touched)
+    double maxCurrentA;        // the largest pushing wheel's current
+    std::uint8_t wheelsPushing;  // wheels that read contact in that frame
+    std::uint8_t pad[7];
 };
 
 }  // namespace rse::msg

@@ -19,5 +19,7 @@ constexpr core::EventId kFollowerGaveUp = 614;       // cannot follow (reason, f
 constexpr core::EventId kFollowerStopped = 615;      // a stop ended: body speed and turn rate at zero, idle
 constexpr core::EventId kFollowerInputMalformed = 616;  // pose, mode or drive status that does not decode or is not usable (throttled)
 constexpr core::EventId kFollowerHalted = 617;       // not following, but still moving, when the drives were held or AUTONOMOUS left: zero at once
+constexpr core::EventId kContactSeen = 618;          // a contact (wheels pushing, current, where): wheels to zero at once, backing off
+constexpr core::EventId kBackedOff = 619;            // the back-off after a contact ended (how far, why): cannot follow (contact)
 
 }  // namespace rse::reflexive::events

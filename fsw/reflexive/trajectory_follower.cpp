@@ -231,6 +231,7 @@ FollowerOutput TrajectoryFollower::step(const FollowerPose* pose, const tables::
             break;
         case msg::FollowerState::kIdle:
         case msg::FollowerState::kCannotFollow:
+        case msg::FollowerState::kBackingOff:  // the task's contact reflex, never the follower's own state
             v_ = 0.0;
             w_ = 0.0;
             break;

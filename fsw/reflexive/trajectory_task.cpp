@@ -4,6 +4,7 @@
 
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
+#include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
 #include "fsw/reflexive/reflexive_events.hpp"
 
@@ -26,6 +27,8 @@ const char* stateName(msg::FollowerState s) {
             return "cannot follow";
         case msg::FollowerState::kStopping:
             return "stopping";
+        case msg::FollowerState::kBackingOff:
+            return "backing off";
     }
     return "?";
 }
@@ -75,14 +78,82 @@ void TrajectoryTask::run(const core::FrameContext&) {
     const bool released = !autonomous_ || estop_ || interlockTripped_;
     if (released) {
         releaseWheels();
+        endBackoff(contact_.abortBackoff(BackoffEnd::kReleased));
+    } else if (contactPending_) {
+        if (contact_.state() == BackoffState::kBacking) {
+            endBackoff(contact_.abortBackoff(BackoffEnd::kContact));  // backed into something: stop there
+        } else if (follower_.speedMS() != 0.0) {
+            seeContact(now);
+        }
     }
+    contactPending_ = false;
 
     const FollowerPose pose{pose_.xM, pose_.yM, pose_.headingRad};
-    const FollowerOutput out =
+    FollowerOutput out =
         follower_.step(poseFresh(now) ? &pose : nullptr, tables_.follower(), tables_.roverGeometry(), dt);
     reportTransition(before, out, now, released);
+    applyBackoff(now, dt, &out);
     publishWheels(out, now);
     publishStatus(out, now);
+}
+
+void TrajectoryTask::seeContact(core::TimeNs now) {
+    const double direction = follower_.speedMS() > 0.0 ? 1.0 : -1.0;
+    const ContactReading& reading = contact_.latest();
+    if (follower_.state() == msg::FollowerState::kFollowing) {
+        follower_.giveUp(msg::FollowReason::kContact);
+    } else {
+        follower_.haltNow(msg::FollowReason::kContact);
+    }
+    ++counters_.contacts;
+    contact_.startBackoff(pose_.xM, pose_.yM, direction, now);
+    msg::ContactMsg m{};
+    m.timeNs = now;
+    m.contacts = counters_.contacts;
+    m.trajectoryId = trajectoryId_;
+    m.xM = pose_.xM;
+    m.yM = pose_.yM;
+    m.headingRad = pose_.headingRad;
+    m.directionSign = direction;
+    m.maxCurrentA = reading.maxCurrentA;
+    m.wheelsPushing = reading.wheelsPushing;
+    (void)bus_.publish(m);
+    events_.report(events::kContactSeen, core::Severity::kWarning,
+                   "follower: contact driving %s at (%.2f, %.2f): %u wheels pushing, up to %.2f A; wheels to zero, "
+                   "backing off %.2f m (%u so far)",
+                   direction > 0.0 ? "forwards" : "backwards", pose_.xM, pose_.yM,
+                   static_cast<unsigned>(reading.wheelsPushing), reading.maxCurrentA,
+                   static_cast<double>(tables_.follower().contact_backoff_m), static_cast<unsigned>(counters_.contacts));
+}
+
+void TrajectoryTask::endBackoff(BackoffEnd why) {
+    if (why == BackoffEnd::kNone) {
+        return;
+    }
+    ++counters_.backoffs;
+    counters_.backoffsCut += why == BackoffEnd::kDistance ? 0U : 1U;
+    events_.report(events::kBackedOff, why == BackoffEnd::kDistance ? core::Severity::kInfo : core::Severity::kWarning,
+                   "follower: back-off ended (%s) %.2f m from the contact; cannot follow (contact)", toString(why),
+                   contact_.backedM());
+}
+
+void TrajectoryTask::applyBackoff(core::TimeNs now, double dtS, FollowerOutput* out) {
+    if (contact_.state() != BackoffState::kBacking) {
+        return;
+    }
+    BackoffEnd ended = BackoffEnd::kNone;
+    const double dt = dtS < kMaxFollowerStepS ? dtS : kMaxFollowerStepS;
+    const double v = contact_.backoffStep(poseFresh(now), pose_.xM, pose_.yM, now, dt,
+                                          static_cast<double>(tables_.roverGeometry().max_accel_m_s2),
+                                          tables_.follower(), &ended);
+    if (ended != BackoffEnd::kNone) {
+        endBackoff(ended);
+        return;  // the follower's own output: zero, cannot follow (contact)
+    }
+    out->speedMS = v;
+    out->turnRateRadS = 0.0;
+    out->state = msg::FollowerState::kBackingOff;
+    out->reason = msg::FollowReason::kContact;
 }
 
 core::Status TrajectoryTask::takePose(const msg::PoseEstimateMsg& pose) {
@@ -107,6 +178,7 @@ core::Status TrajectoryTask::takeMode(const msg::ModeMsg& mode) {
 
 void TrajectoryTask::takeDriveStatus(const msg::DriveStatusMsg& drives) {
     interlockTripped_ = drives.interlockTripped != 0;
+    contactPending_ = contact_.observe(drives, tables_.follower()).contact || contactPending_;
 }
 
 void TrajectoryTask::refuseUndecodableTrajectory(const core::Message&) { refuse(0, "does not decode"); }
@@ -132,6 +204,12 @@ void TrajectoryTask::takeTrajectory(const msg::TrajectoryMsg& t) {
     }
     trajectoryId_ = t.trajectoryId;
     refusalPending_ = false;
+    if (t.count > 0) {
+        // A new path: the layer above has decided. A stop does not cut a
+        // back-off short: the rover is against something, and the back-off
+        // (slow, short, bounded) is how it stops being so.
+        endBackoff(contact_.abortBackoff(BackoffEnd::kSuperseded));
+    }
     if (t.count == 0) {
         ++counters_.stopsAccepted;
         stopStart_ = runStart_;
@@ -225,6 +303,7 @@ void TrajectoryTask::reportTransition(msg::FollowerState before, const FollowerO
                 events_.report(events::kFollowerGaveUp, core::Severity::kWarning,
                                "follower: gave up on %u: not in AUTONOMOUS mode; wheels to zero", id);
                 break;
+            case msg::FollowReason::kContact:  // evented by seeContact
             case msg::FollowReason::kNone:
             case msg::FollowReason::kBadTrajectory:
                 break;

@@ -52,6 +52,7 @@
 #include "fsw/msg/estimator_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
+#include "fsw/reflexive/contact_reflex.hpp"
 #include "fsw/reflexive/trajectory_follower.hpp"
 #include "fsw/tables/table_service.hpp"
 
@@ -77,6 +78,9 @@ struct TrajectoryTaskCounters {
     std::uint32_t malformedInputs = 0;       // pose, mode, drive status (not trajectories): the pipe's count
     std::uint32_t wheelCommandsPublished = 0;
     std::uint32_t statusPublished = 0;
+    std::uint32_t contacts = 0;        // contacts seen (ContactMsg, event 618)
+    std::uint32_t backoffs = 0;        // back-offs ended, whatever the reason (event 619)
+    std::uint32_t backoffsCut = 0;     // of those, ended before contact_backoff_m (timeout, contact, released, superseded)
 };
 
 class TrajectoryTask final : public core::Task {
@@ -94,6 +98,7 @@ public:
     const msg::FollowerStatusMsg& latestStatus() const { return status_; }
     const TrajectoryTaskCounters& counters() const { return counters_; }
     const TrajectoryFollower& follower() const { return follower_; }
+    const ContactReflex& contactReflex() const { return contact_; }
     bool autonomous() const { return autonomous_; }
 
 private:
@@ -111,6 +116,12 @@ private:
     // short by releaseWheels, which events its own).
     void reportTransition(msg::FollowerState before, const FollowerOutput& out, core::TimeNs now, bool released);
     void publishWheels(const FollowerOutput& out, core::TimeNs now);
+    // The contact reflex (contact_reflex.hpp): a contact seen while driving
+    // stops the wheels and starts the back-off; the back-off's command
+    // replaces the follower's while it lasts.
+    void seeContact(core::TimeNs now);
+    void endBackoff(BackoffEnd why);
+    void applyBackoff(core::TimeNs now, double dtS, FollowerOutput* out);
     void publishStatus(const FollowerOutput& out, core::TimeNs now);
 
     const core::Clock& clock_;
@@ -118,6 +129,8 @@ private:
     core::EventLog& events_;
     const tables::TableService& tables_;
     TrajectoryFollower follower_;
+    ContactReflex contact_;
+    bool contactPending_ = false;  // a drive status of this run's drain read a contact
     core::InputPipe input_;
     core::TimeNs runStart_ = 0;  // now of the current run (a stop's start)
 

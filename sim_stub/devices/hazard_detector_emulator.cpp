@@ -79,7 +79,7 @@ std::size_t observeTerrain(const Pose2& pose, const Terrain& terrain, const Haza
     std::size_t count = 0;
     for (const std::size_t i : *near) {
         HazardView v;
-        if (!observeObstacle(pose, terrain.obstacle(i), params, &v)) {
+        if (!terrain.obstacle(i).detectable || !observeObstacle(pose, terrain.obstacle(i), params, &v)) {
             continue;
         }
         // Insertion into the list sorted by range, keeping the nearest max.

@@ -1,6 +1,7 @@
 // Hazard detector (node 0x22): obstacle reports on 0x6A2 (docs/icd.md §1.2, §1.6).
 //
-// It sees every obstacle, known or hidden, part of which lies inside its sensing
+// It sees every obstacle, known or hidden, but not one marked undetectable
+// (Obstacle::detectable false, a scenario's `detectable = false`), part of which lies inside its sensing
 // sector: within rangeM of the rover centre and within +-halfFov of the heading.
 // For each obstacle seen, over the part of it inside the field of view:
 //   range     distance from the rover centre to the nearest point of that part;

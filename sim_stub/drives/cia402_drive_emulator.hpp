@@ -73,7 +73,11 @@
 //   velocity   : first-order lag, v <- t + (v - t) e^(-h/tau), tau = velocityTimeConstant
 //                (50 ms). With torque off the wheel coasts to 0 with the same lag.
 //   current mA = degradation x (noLoadCurrent + currentPerTorque x |load torque|
-//                + currentPerAcceleration x |dv/dt|) with torque on, 0 with torque off.
+//                + currentPerAcceleration x |dv/dt|) with torque on, 0 with torque off;
+//                while braking (|v| more than kBrakingMarginRadS above |t|, or v
+//                and t of opposite signs) without the block share of the load
+//                (setBlockTorque: a wheel slipping under a blocked rover is
+//                stopped by the slip's friction once the drive stops pushing).
 // Defaults: tau 50 ms, speed limit 5000 mrad/s, no-load 150 mA, 2000 mA per N m,
 // 20 mA per rad/s^2, load torque 0.3 N m (a constant rolling resistance until the
 // simulator calls setLoadTorque), degradation 1.0. So a wheel holding any steady
@@ -148,6 +152,10 @@ constexpr std::uint16_t kOverTemperature = 0x4310;
 constexpr std::uint16_t kMotorFailed = 0x5000;
 constexpr std::uint16_t kPdoLength = 0x8210;
 }  // namespace emcy
+
+// How much faster than its target a wheel must turn to count as braking
+// (the lag's tail: closer than this it is holding its speed).
+constexpr double kBrakingMarginRadS = 0.05;
 
 struct DriveEmulatorConfig {
     core::TimeNs velocityTimeConstant = 50 * core::kNsPerMs;
@@ -232,6 +240,8 @@ public:
 
     // ---- physics and fault hooks ----
     void setLoadTorque(double torqueNm) { loadTorqueNm_ = torqueNm; }
+    // Of the load, the share from pushing a blocked rover (WheelModel::setBlockTorqueNm).
+    void setBlockTorque(double torqueNm) { blockTorqueNm_ = torqueNm; }
     void setDegradation(double currentFactor);  // 1.0 nominal; values <= 0 are ignored
     void failMotor();                           // EMCY 0x5000, fault; survives resets and power cycles
     void injectFault(std::uint16_t emcyCode);   // a one-shot, resettable fault with this code (non-zero)
@@ -364,6 +374,7 @@ private:
     double velocity_ = 0.0;  // rad/s
     double current_ = 0.0;   // mA
     double loadTorqueNm_;
+    double blockTorqueNm_ = 0.0;
     double degradation_ = 1.0;
     double temperatureC_;
     double overheat_ = 1.0;

@@ -73,7 +73,11 @@ void Cia402DriveEmulator::advanceModel(core::TimeNs now) {
             continue;
         }
         const double acceleration = (velocity_ - before) / dts;
-        current_ = degradation_ * (config_.noLoadCurrentMa + config_.currentPerTorqueMaPerNm * std::fabs(loadTorqueNm_) +
+        // Braking a wheel that slips under a blocked rover: the slip's friction
+        // stops it, the drive does not push against it (the block share off).
+        const bool braking = std::fabs(velocity_) > std::fabs(target) + kBrakingMarginRadS || velocity_ * target < 0.0;
+        const double load = braking ? loadTorqueNm_ - blockTorqueNm_ : loadTorqueNm_;
+        current_ = degradation_ * (config_.noLoadCurrentMa + config_.currentPerTorqueMaPerNm * std::fabs(load) +
                                    config_.currentPerAccelMaPerRadS2 * std::fabs(acceleration));
         advanceTemperature(dts);
         if (current_ <= static_cast<double>(config_.overCurrentLimitMa)) {

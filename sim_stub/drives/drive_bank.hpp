@@ -69,6 +69,7 @@ private:
         explicit Wheel(Cia402DriveEmulator& drive) : drive_(drive) {}
         double wheelSpeedRadS() const override { return drive_.wheelSpeedRadS(); }
         void setLoadTorqueNm(double torqueNm) override { drive_.setLoadTorque(torqueNm); }
+        void setBlockTorqueNm(double torqueNm) override { drive_.setBlockTorque(torqueNm); }
         void step(core::TimeNs now) override { drive_.step(now); }
         double currentA() const override { return drive_.currentMa() * 1e-3; }
 

@@ -142,10 +142,11 @@ void Parser::parseObstacles(const toml::node& n, const MapBounds& map, std::vect
     for (std::size_t i = 0; i < a.size(); ++i) {
         const std::string op = indexed(p, i);
         const toml::table& t = *a.get(i)->as_table();
-        onlyKeys(t, op, {"id", "known", "vertices"});
+        onlyKeys(t, op, {"id", "known", "detectable", "vertices"});
         Obstacle o;
         o.id = uniqueId(t, p, i, *out);
         o.known = boolean(t, op, "known", true, true);
+        o.detectable = boolean(t, op, "detectable", true, false);
         const std::string vp = join(op, "vertices");
         const toml::node* vn = node(t, op, "vertices", true);
         const toml::array* va = vn->as_array();

@@ -38,6 +38,9 @@ struct Obstacle {
     // detector reports a track number of its own (1..255) when ids pass 255.
     std::uint16_t id = 0;
     bool known = true;    // on the orbital map; false = hidden
+    // false: the hazard detector never reports it (a flat or dark rock, one
+    // in shadow: what the cameras miss). The rover meets it only by contact.
+    bool detectable = true;
     ConvexPolygon shape;
 };
 

@@ -18,6 +18,10 @@ class WheelModel {
 public:
     virtual double wheelSpeedRadS() const = 0;
     virtual void setLoadTorqueNm(double torqueNm) = 0;
+    // Of that load, the share from pushing against an obstacle (the wheel
+    // slipping under a blocked rover): it resists the wheel only while the
+    // drive pushes; told to slow down, the slip's friction stops the wheel.
+    virtual void setBlockTorqueNm(double torqueNm) = 0;
     virtual void step(core::TimeNs now) = 0;
     virtual double currentA() const = 0;
 

@@ -133,6 +133,11 @@ void World::advance(core::TimeNs now, const WheelArray& wheelSpeedsRadS, const W
     }
     battery_.step(static_cast<double>(now - from) * 1e-9, static_cast<double>(now) * 1e-9, motorSum);
     wheelLoadTorques(rover_, wheelSpeedsRadS, truth_.yawRateRadS, truth_.blocked, &loads_);
+    // The blocked share: what wheelLoadTorques adds to every turning wheel when blocked.
+    const double push = truth_.blocked ? rover_.slideFriction * rover_.wheelNormalLoadN() * rover_.wheelRadiusM : 0.0;
+    for (std::size_t i = 0; i < kWheelCount; ++i) {
+        blockLoads_[i] = loads_[i] > 0.0 ? push : (loads_[i] < 0.0 ? -push : 0.0);
+    }
 
     truth_.time = now;
     for (std::size_t i = 0; i < kWheelCount; ++i) {

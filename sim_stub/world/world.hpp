@@ -58,6 +58,8 @@ public:
 
     // Load torque for each wheel from the last advance (0 before the first).
     double loadTorqueNm(std::size_t wheel) const { return wheel < kWheelCount ? loads_[wheel] : 0.0; }
+    // Of loadTorqueNm, the share from pushing against an obstacle (blocked).
+    double blockTorqueNm(std::size_t wheel) const { return wheel < kWheelCount ? blockLoads_[wheel] : 0.0; }
     const WheelArray& loadTorques() const { return loads_; }
 
     const TruthRecord& truth() const { return truth_; }
@@ -95,6 +97,7 @@ private:
     std::vector<std::size_t> near_;      // checkContacts' obstacles near the rover (large sites)
     bool edgeContact_ = false;
     WheelArray loads_{};
+    WheelArray blockLoads_{};  // of loads_, the blocked rover's slide friction
     TruthRecord truth_;
 };
 

@@ -30,6 +30,7 @@ public:
 
     double wheelSpeedRadS() const override { return speed_; }
     void setLoadTorqueNm(double torqueNm) override { load_ = torqueNm; }
+    void setBlockTorqueNm(double) override {}  // follows its command at once: never braking
     void step(core::TimeNs) override {
         speed_ = target_;
         current_ = std::fabs(speed_) > 0.0 ? factor_ * (kNoLoadA + std::fabs(load_) / kTorquePerAmp) : 0.0;

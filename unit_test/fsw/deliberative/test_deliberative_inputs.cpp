@@ -165,9 +165,12 @@ TEST(DeliberativeInputs, TheChecksRefuseWhatTheTaskCannotUse) {
     CHECK(core::isOk(deliberative::checkHazards(oneHazard(deliberative::kMaxHazardRadiusM))));
     CHECK_FALSE(core::isOk(deliberative::checkHazards(oneHazard(0.0F))));
     CHECK_FALSE(core::isOk(deliberative::checkHazards(oneHazard(NAN))));
-    msg::KnownHazardsMsg noId = oneHazard(1.0F);
-    noId.hazards[0].obstacleId = 0;
-    CHECK_FALSE(core::isOk(deliberative::checkHazards(noId)));
+    msg::KnownHazardsMsg contact = oneHazard(1.0F);
+    contact.hazards[0].obstacleId = 0;  // a contact the follower felt (habitual map_builder.hpp)
+    CHECK(core::isOk(deliberative::checkHazards(contact)));
+    msg::KnownHazardsMsg nowhere = oneHazard(1.0F);
+    nowhere.hazards[0].xM = NAN;
+    CHECK_FALSE(core::isOk(deliberative::checkHazards(nowhere)));
     msg::KnownHazardsMsg tooMany = oneHazard(1.0F);
     tooMany.count = static_cast<std::uint8_t>(msg::kMaxKnownHazards + 1);
     CHECK_FALSE(core::isOk(deliberative::checkHazards(tooMany)));

@@ -162,10 +162,10 @@ TEST(DeliberativeRecovery, MalformedHazardListsAreRefusedAndThePreviousOneKept) 
     tooMany.count = msg::kMaxKnownHazards + 1;
     (void)rig->bus.publish(tooMany);
     rig->run();
-    msg::KnownHazardsMsg noId{};
-    noId.count = 1;
-    noId.hazards[0] = msg::KnownHazard{8.0F, 0.0F, 0.5F, 0, {}};
-    (void)rig->bus.publish(noId);
+    msg::KnownHazardsMsg nowhere{};
+    nowhere.count = 1;
+    nowhere.hazards[0] = msg::KnownHazard{NAN, 0.0F, 0.5F, 4, {}};
+    (void)rig->bus.publish(nowhere);
     rig->run();
     LONGS_EQUAL(malformed + 5, rig->task.counters().malformedInputs);
     LONGS_EQUAL(1, rig->task.hazards().count);

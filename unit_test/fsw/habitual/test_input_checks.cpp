@@ -59,14 +59,25 @@ TEST(InputChecks, ModeHazardsFollowerAndDriveModesMustBeKnownAndInRange) {
     CHECK_FALSE(habitual::hazardsUsable(hazards));
 
     msg::FollowerStatusMsg status{};
-    status.state = msg::FollowerState::kStopping;
-    status.reason = msg::FollowReason::kBadTrajectory;
+    status.state = msg::FollowerState::kBackingOff;
+    status.reason = msg::FollowReason::kContact;
     CHECK_TRUE(habitual::followerStatusUsable(status));
-    status.reason = static_cast<msg::FollowReason>(static_cast<std::uint8_t>(msg::FollowReason::kBadTrajectory) + 1);
+    status.reason = static_cast<msg::FollowReason>(static_cast<std::uint8_t>(msg::FollowReason::kContact) + 1);
     CHECK_FALSE(habitual::followerStatusUsable(status));
     status.reason = msg::FollowReason::kNone;
-    status.state = static_cast<msg::FollowerState>(static_cast<std::uint8_t>(msg::FollowerState::kStopping) + 1);
+    status.state = static_cast<msg::FollowerState>(static_cast<std::uint8_t>(msg::FollowerState::kBackingOff) + 1);
     CHECK_FALSE(habitual::followerStatusUsable(status));
+
+    msg::ContactMsg contact{};
+    contact.directionSign = 1.0;
+    CHECK_TRUE(habitual::contactUsable(contact));
+    contact.directionSign = 0.5;  // neither way
+    CHECK_FALSE(habitual::contactUsable(contact));
+    contact.directionSign = -1.0;
+    contact.xM = std::nan("");
+    CHECK_FALSE(habitual::contactUsable(contact));
+    contact.xM = 2.0e6;
+    CHECK_FALSE(habitual::contactUsable(contact));
 
     msg::DriveModesMsg modes{};
     for (msg::DriveModeBelief& d : modes.drives) {

@@ -306,3 +306,44 @@ TEST(MapBuilder, ReliefTakesTheMarginOffOnlyTheDiscsRoundTheGivenPoints) {
     CHECK_TRUE(map.pointFree(start));        // the disc it is in keeps the bare footprint only
     CHECK_FALSE(map.pointFree(besideFar));   // every other obstacle keeps the whole margin
 }
+
+// A contact (ContactMsg) is a disc of its own: id 0, merged with no
+// sighting, never the oldest a sighting replaces, at most kMaxContactDiscs.
+TEST(MapBuilder, AContactIsRememberedApartFromSightingsAndOutlivesThem) {
+    CHECK(SightingOutcome::kAdded == builder.rememberContact(Point2{10.0, 0.0}, 0.25, 0.48));
+    const habitual::RememberedHazard* c = findId(builder, habitual::kContactObstacleId);
+    CHECK(c != nullptr);
+    DOUBLES_EQUAL(0.48, c->radiusM, 1e-12);
+    DOUBLES_EQUAL(0.25, c->seenRadiusM, 1e-12);
+    CHECK(core::Status::kOk == builder.build(coarse, 0.6, &map));
+    CHECK_FALSE(map.pointFree(Point2{10.0, 0.0}));
+    // A sighting with id 0 is still refused ("clear"), and touches nothing.
+    CHECK(SightingOutcome::kRejected == builder.remember(coarse, Point2{8.0, 0.0}, 0.0, sighting(0, 1.5, 0.0, 0.2)));
+    // Fill every other slot with sightings, then many more: the contact stays.
+    for (int i = 0; i < 200; ++i) {
+        const std::uint8_t id = static_cast<std::uint8_t>(1 + i % 250);
+        (void)builder.remember(coarse, Point2{20.0, -8.0 + 0.05 * i}, 0.0, sighting(id, 2.0, 0.0, 0.1));
+    }
+    LONGS_EQUAL(habitual::kMaxMapDiscs, builder.rememberedCount());
+    c = findId(builder, habitual::kContactObstacleId);
+    CHECK(c != nullptr);
+    DOUBLES_EQUAL(10.0, c->centre.x, 1e-12);
+    // Contacts beyond kMaxContactDiscs replace the oldest contact, not a sighting.
+    for (std::size_t k = 1; k <= habitual::kMaxContactDiscs; ++k) {
+        (void)builder.rememberContact(Point2{10.0 + static_cast<double>(k), 5.0}, 0.25, 0.48);
+    }
+    std::size_t contacts = 0;
+    bool firstKept = false;
+    for (std::size_t i = 0; i < habitual::kMaxMapDiscs; ++i) {
+        const habitual::RememberedHazard& h = builder.slot(i);
+        if (h.used && h.obstacleId == habitual::kContactObstacleId) {
+            ++contacts;
+            firstKept = firstKept || (h.centre.x == 10.0 && h.centre.y == 0.0);
+        }
+    }
+    LONGS_EQUAL(habitual::kMaxContactDiscs, contacts);
+    CHECK_FALSE(firstKept);
+    // Values not finite, or a cover smaller than the seen disc, are refused.
+    CHECK(SightingOutcome::kRejected == builder.rememberContact(Point2{std::nan(""), 0.0}, 0.25, 0.48));
+    CHECK(SightingOutcome::kRejected == builder.rememberContact(Point2{1.0, 0.0}, 0.5, 0.25));
+}

@@ -86,6 +86,8 @@ TEST_GROUP(TrajectoryTask) {
     std::uint8_t poseInitialised = 1;
     std::uint8_t interlock = 0;
     bool canIoEstop = false;        // CAN I/O holds every drive at zero and ignores commands
+    double wheelCurrentA = 1.4;     // what a turning wheel draws (a rolling one: about 1.4 A)
+    bool blocked = false;           // a rock ahead: the rover does not move forwards
     bool skipAccelCheckOnce = false;
     std::uint32_t haltsSeen = 0;
     // What the task published in the last frame, and over the test.
@@ -163,6 +165,17 @@ TEST_GROUP(TrajectoryTask) {
         msg::DriveStatusMsg d{};
         d.timeNs = now;
         d.interlockTripped = interlock;
+        // The drives: each wheel turning as commanded (stopped against a
+        // rock when blocked), drawing wheelCurrentA.
+        for (std::size_t i = 0; i < msg::kWheelCount; ++i) {
+            msg::WheelStatus& ws = d.wheels[i];
+            ws.targetRadS = wheels[i];
+            ws.velocityRadS = wheels[i];
+            ws.currentA = wheels[i] != 0.0 ? wheelCurrentA : 0.15;
+            ws.feedbackTimeNs = now;
+            ws.feedbackCount = static_cast<std::uint32_t>(frameCount + 1);
+            ws.health = msg::DriveHealth::kOperational;
+        }
         CHECK_TRUE(Status::kOk == bus.publish(d));
         task.run(core::FrameContext{frameCount, static_cast<std::uint32_t>(frameCount % 100), now, now});
         ++frameCount;
@@ -218,6 +231,9 @@ TEST_GROUP(TrajectoryTask) {
         v = vNew;
         w = wNew;
         for (int i = 0; i < 10; ++i) {  // 1 ms sub-steps
+            if (blocked && v > 0.0) {
+                continue;
+            }
             x += v * std::cos(heading) * kDt / 10.0;
             y += v * std::sin(heading) * kDt / 10.0;
             heading += w * kDt / 10.0;
@@ -668,6 +684,57 @@ TEST(TrajectoryTask, TablesAreReadEveryRun) {
     DOUBLES_EQUAL(0.15, v, 1e-6);
     runFrames(100);
     DOUBLES_EQUAL(0.15, v, 1e-6);
+}
+
+TEST(TrajectoryTask, AContactStopsTheWheelsInTheFrameItIsFeltAndBacksOffBeforeGivingUp) {
+    cruiseEast();
+    const double feltAt = x;
+    blocked = true;         // the rover meets a rock: it stops, the wheels slip, the current jumps
+    wheelCurrentA = 7.5;
+    skipAccelCheckOnce = true;  // the contact zeroes at once, as every give-up
+    runFrame();
+    LONGS_EQUAL(1, task.counters().contacts);
+    CHECK_TRUE(task.state() == FollowerState::kCannotFollow);   // the follower's own state
+    CHECK_TRUE(lastStatus.state == FollowerState::kBackingOff);  // what it reports while backing off
+    CHECK_TRUE(lastStatus.reason == FollowReason::kContact);
+    CHECK(v <= 0.0);  // not pushing any more: the first command of the back-off
+    LONGS_EQUAL(1, eventsWithId(reflexive::events::kContactSeen));
+    blocked = false;
+    wheelCurrentA = 1.4;
+    int frames = 0;
+    while (lastStatus.state == FollowerState::kBackingOff && frames < 1000) {
+        runFrame();
+        ++frames;
+        CHECK(v <= 0.0);
+    }
+    CHECK_TRUE(lastStatus.state == FollowerState::kCannotFollow);
+    CHECK_TRUE(lastStatus.reason == FollowReason::kContact);
+    CHECK(feltAt - x >= 0.3 - 0.005);
+    CHECK(feltAt - x <= 0.3 + 0.01);
+    CHECK_TRUE(commandIsZero());
+    LONGS_EQUAL(1, task.counters().backoffs);
+    LONGS_EQUAL(0, task.counters().backoffsCut);
+    LONGS_EQUAL(1, eventsWithId(reflexive::events::kBackedOff));
+    runFrames(100);
+    CHECK_TRUE(commandIsZero());
+    LONGS_EQUAL(1, task.counters().contacts);  // standing still is no contact
+}
+
+TEST(TrajectoryTask, ANewTrajectoryDuringTheBackoffEndsItAndIsFollowed) {
+    cruiseEast();
+    wheelCurrentA = 7.5;
+    skipAccelCheckOnce = true;
+    runFrame();
+    wheelCurrentA = 1.4;
+    runFrames(20);
+    CHECK_TRUE(lastStatus.state == FollowerState::kBackingOff);
+    const Pt pts[2] = {{x, y}, {x, y + 10.0}};
+    skipAccelCheckOnce = true;
+    send(2, 0.3, pts, 2);
+    runFrame();
+    LONGS_EQUAL(1, task.counters().backoffs);
+    LONGS_EQUAL(1, task.counters().backoffsCut);  // superseded
+    CHECK_TRUE(lastStatus.state != FollowerState::kBackingOff);
 }
 
 TEST(TrajectoryTask, NoHeapAllocationOverThousandsOfRuns) {

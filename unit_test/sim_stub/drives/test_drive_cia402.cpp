@@ -292,6 +292,39 @@ TEST(DriveCia402, OverCurrentFaultClearsWithFaultReset) {
     LONGS_EQUAL(1, rig.drive.stats().faults);
 }
 
+// A wheel slipping under a blocked rover: the block's share of the load
+// draws current while the drive pushes, none once it is told to stop (the
+// slip's friction stops the wheel); an ordinary load is drawn either way.
+TEST(DriveCia402, TheBlockShareOfTheLoadIsDrawnOnlyWhilePushing) {
+    rig.enable();
+    for (int i = 0; i < 50; ++i) {
+        (void)rig.cycle(0x000F, 2500);
+    }
+    rig.drive.setLoadTorque(0.6 + 3.1);  // rolling plus a blocked rover's slide friction
+    rig.drive.setBlockTorque(3.1);
+    Tpdo t = rig.cycle(0x000F, 2500);
+    CHECK(t.current > 7000);  // pushing: 150 + 2000 x 3.7 mA
+    (void)rig.cycle(0x000F, 0);  // told to stop (the TPDO of this cycle still shows the push)
+    t = rig.cycle(0x000F, 0);    // braking
+    CHECK(t.velocity > 100);     // still turning (the lag)...
+    CHECK(t.current < 3000);     // ...but not pushing: under the trip
+    for (int i = 0; i < 9; ++i) {
+        t = rig.cycle(0x000F, 0);
+        CHECK(t.current < 3000);
+    }
+    LONGS_EQUAL(0, rig.drive.stats().faults);  // no over-current trip
+    // An ordinary load (no block share) is drawn while braking too.
+    rig.drive.setLoadTorque(1.2);
+    rig.drive.setBlockTorque(0.0);
+    for (int i = 0; i < 50; ++i) {
+        (void)rig.cycle(0x000F, 2500);
+    }
+    (void)rig.cycle(0x000F, 0);
+    t = rig.cycle(0x000F, 0);
+    CHECK(t.current >= 2550);  // 150 + 2000 x 1.2 mA, and the deceleration's
+    LONGS_EQUAL(0, rig.drive.stats().faults);
+}
+
 TEST(DriveCia402, InjectedFaultCarriesItsCodeAndRegisterBits) {
     rig.enable();
     rig.drive.injectFault(0x4310);  // over-temperature

@@ -2,6 +2,7 @@
 // touching flight state) and what the flight software makes of them: a drive
 // that never boots, a motor that overheats.
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -32,7 +33,9 @@ TEST_GROUP(LockstepCanFaults) {};
 // node map (shipped CAN_NODE_MAP) expects node 6: to the flight software that
 // drive never boots.
 TEST(LockstepCanFaults, ADriveThatNeverBootsIsReportedLostAndRaisesItsHeartbeatFault) {
-    sim::LockstepRig rig(straightWith("[rover]\ndrive_nodes = [1, 2, 3, 4, 5, 9]\n"));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(straightWith("[rover]\ndrive_nodes = [1, 2, 3, 4, 5, 9]\n"));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     const std::uint8_t rr = msg::fault::kDriveHeartbeatLost + 5;
     rig.runFor(2900 * kNsPerMs);
@@ -50,7 +53,9 @@ TEST(LockstepCanFaults, ADriveThatNeverBootsIsReportedLostAndRaisesItsHeartbeatF
 }
 
 TEST(LockstepCanFaults, AnOverheatingMotorRaisesOnlyItsOverTemperatureFault) {
-    sim::LockstepRig rig(straightWith("[[faults]]\ntype = \"motor_overheat\"\nat_s = 1.0\nwheel = 2\nheat_factor = 20\n"));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(straightWith("[[faults]]\ntype = \"motor_overheat\"\nat_s = 1.0\nwheel = 2\nheat_factor = 20\n"));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 2 * kNsPerSec));
     rig.commandAllWheels(2.0);
@@ -80,7 +85,9 @@ TEST(LockstepCanFaults, AnOverheatingMotorRaisesOnlyItsOverTemperatureFault) {
 }
 
 TEST(LockstepCanFaults, ANominalDriveRaisesNoOverTemperatureFault) {
-    sim::LockstepRig rig(straightWith(""));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(straightWith(""));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 2 * kNsPerSec));
     rig.commandAllWheels(2.0);
@@ -102,8 +109,10 @@ TEST(LockstepCanFaults, ANominalDriveRaisesNoOverTemperatureFault) {
 // to end in "failed" for good. Here one drive faults with its boot-up and
 // another in the middle of its configuration.
 TEST(LockstepCanFaults, AFaultWhileADriveIsConfiguredIsResetBySdoAndItComesUp) {
-    sim::LockstepRig rig(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 0.0\nwheel = 4\n"
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 0.0\nwheel = 4\n"
                                       "[[faults]]\ntype = \"drive_fault\"\nat_s = 0.04\nwheel = 2\nemcy_code = 0x3210\n"));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 3 * kNsPerSec));
     for (const std::size_t w : {1U, 3U}) {
@@ -120,7 +129,9 @@ TEST(LockstepCanFaults, AFaultWhileADriveIsConfiguredIsResetBySdoAndItComesUp) {
 }
 
 TEST(LockstepCanFaults, AFaultWhileDrivingIsResetByRpdoAndTheDriveComesBack) {
-    sim::LockstepRig rig(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 3.0\nwheel = 6\n"));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(straightWith("[[faults]]\ntype = \"drive_fault\"\nat_s = 3.0\nwheel = 6\n"));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return rig.allDrivesOperational(); }, 2 * kNsPerSec));
     rig.commandAllWheels(2.0);

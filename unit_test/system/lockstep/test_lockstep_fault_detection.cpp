@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
+#include <memory>
 #include <string>
 
 #include "fsw/msg/health_msgs.hpp"
@@ -63,7 +64,9 @@ TEST_GROUP(LockstepFaultDetection){};
 // on the next fix and re-estimates the bias, the fault clears and the estimate
 // stays with the truth for the rest of the drive.
 TEST(LockstepFaultDetection, AnImuBiasStepRaisesPoseUncertaintyAndTheEstimatorRecovers) {
-    sim::LockstepRig rig("sim_stub/scenarios/imu_bias_step.toml");
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>("sim_stub/scenarios/imu_bias_step.toml");
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     const auto stepAt = static_cast<TimeNs>(rig.scenario().faults.at(0).at);
     const double step = rig.scenario().faults.at(0).value;
@@ -140,7 +143,9 @@ TEST(LockstepFaultDetection, AnImuBiasStepRaisesPoseUncertaintyAndTheEstimatorRe
 // hazard) is raised hazard_stale_ms after that frame (+ 110 ms: HazardMsg every
 // 100 ms, a frame) and cleared by the first report after the dropout.
 TEST(LockstepFaultDetection, AHazardDetectorDropoutWithItsHeartbeatOnRaisesSensorStaleAndClearsAfter) {
-    sim::LockstepRig rig("sim_stub/scenarios/hazard_dropout.toml");
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>("sim_stub/scenarios/hazard_dropout.toml");
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     const sim::FaultSpec& dropout = rig.scenario().faults.at(0);
     const TimeNs stale = static_cast<TimeNs>(rig.fsw().tables().estimatorNoise().hazard_stale_ms) * kNsPerMs;
@@ -180,7 +185,9 @@ TEST(LockstepFaultDetection, AHazardDetectorDropoutWithItsHeartbeatOnRaisesSenso
 // slows the 650 s of the world alone), 1.9 s of wall time on the development host.
 TEST(LockstepFaultDetection, ABatteryStartedNearlyFlatIsLowAtStartAndClearsOnceTheArrayHasRechargedIt) {
     const auto wallStart = std::chrono::steady_clock::now();
-    sim::LockstepRig rig("sim_stub/scenarios/low_battery.toml");
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>("sim_stub/scenarios/low_battery.toml");
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     const std::uint8_t fault = msg::fault::kBatteryLow;
     const double clearV = static_cast<double>(rig.fsw().tables().faultResponse().battery_clear_v);

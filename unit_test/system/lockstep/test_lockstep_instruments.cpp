@@ -6,6 +6,7 @@
 // failed with its fault code or offline. Only CAN frames pass between the two
 // sides. The rover stays parked next to target 1 of two_targets.toml.
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "hal/devices/device_events.hpp"
@@ -64,7 +65,9 @@ TEST(LockstepInstruments, ASampleCommandedOnTheFlightBusIsDoneByTheSimulatedGrin
     sim::Scenario s = parkedAtTargetOne(false);
     s.devices.grinder.sampleS = 20.0;
     s.devices.camera.imageS = 5.0;
-    sim::LockstepRig rig(s);
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(s);
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return bothOnline(rig); }, 200 * kNsPerMs));
     const msg::InstrumentStatusMsg& grinder = rig.instrumentStatus(Instrument::kGrinder);
@@ -123,7 +126,9 @@ TEST(LockstepInstruments, ASampleCommandedOnTheFlightBusIsDoneByTheSimulatedGrin
 }
 
 TEST(LockstepInstruments, ACancelOnTheFlightBusStopsTheDigAndTheGrinderIsIdle) {
-    sim::LockstepRig rig(parkedAtTargetOne(false));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(parkedAtTargetOne(false));
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     CHECK_TRUE(rig.runUntil([&] { return bothOnline(rig); }, 200 * kNsPerMs));
     const msg::InstrumentStatusMsg& grinder = rig.instrumentStatus(Instrument::kGrinder);
@@ -149,7 +154,9 @@ TEST(LockstepInstruments, ACancelOnTheFlightBusStopsTheDigAndTheGrinderIsIdle) {
 // aborted by it; the flight side reports failed, and the next command is
 // refused (faulted).
 TEST(LockstepInstruments, TheScenariosGrinderFailureIsReportedFailedWithItsCodeAndCommandsAreRefused) {
-    sim::LockstepRig rig(parkedAtTargetOne(true));
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(parkedAtTargetOne(true));
+    sim::LockstepRig& rig = *rigHolder;
     LONGS_EQUAL(1, rig.scenario().faults.size());
     CHECK(core::Status::kOk == rig.init());
     const msg::InstrumentStatusMsg& grinder = rig.instrumentStatus(Instrument::kGrinder);
@@ -182,7 +189,9 @@ TEST(LockstepInstruments, TheScenariosGrinderFailureIsReportedFailedWithItsCodeA
 TEST(LockstepInstruments, ASilentCameraGoesOfflineOnTheFlightSideAndComesBack) {
     sim::Scenario s = parkedAtTargetOne(false);
     s.faults.push_back(instrumentFailure(sim::SimDevice::kCamera, 5 * kNsPerSec, 8 * kNsPerSec, 3, true));
-    sim::LockstepRig rig(s);
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(s);
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     const msg::InstrumentStatusMsg& camera = rig.instrumentStatus(Instrument::kCamera);
     rig.runFor(5 * kNsPerSec);
@@ -211,7 +220,9 @@ TEST(LockstepInstruments, NothingAllocatesWhileTheInstrumentsWork) {
     s.devices.grinder.sampleS = 3.0;
     s.devices.camera.imageS = 2.0;
     s.faults.push_back(instrumentFailure(sim::SimDevice::kGrinder, 14 * kNsPerSec, 15 * kNsPerSec, 5, false));
-    sim::LockstepRig rig(s);
+    // On the heap: FswApp alone is some 9 MB, more than a thread's stack.
+    const auto rigHolder = std::make_unique<sim::LockstepRig>(s);
+    sim::LockstepRig& rig = *rigHolder;
     CHECK(core::Status::kOk == rig.init());
     rig.runFor(kNsPerSec);  // boot: tables, drives configured, consoles opened
     const msg::InstrumentStatusMsg& grinder = rig.instrumentStatus(Instrument::kGrinder);

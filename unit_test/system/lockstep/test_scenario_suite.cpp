@@ -540,6 +540,7 @@ TEST(ScenarioSuite, EveryScenarioWithAMissionHasItsOutcomeAsserted) {
                                 "drive_fault_recovered", "drive_crash_restart", "drive_crash_no_restart",
                                 "low_battery_midway", "low_battery_too_small", "two_targets"};
     const char* const elsewhere[] = {"demo_mission",     // test_mission_demo.cpp: the ten points
+                                     "contact_unseen_rock",  // test_lockstep_contact.cpp
                                      "habitual_stall",   // test_lockstep_fault_protection.cpp
                                      "low_battery",      // test_lockstep_fault_protection.cpp
                                      "rock_field_100m",  // test_lockstep_rock_field.cpp
