@@ -220,6 +220,7 @@ core::Status HabitualTask::takeFollower(const msg::FollowerStatusMsg& status) {
     if (!followerStatusUsable(status)) {
         return core::Status::kInvalidArgument;
     }
+    followerBackingOff_ = status.state == msg::FollowerState::kBackingOff;
     if (held_ || state_ != msg::HabitualState::kDriving) {
         return core::Status::kOk;  // about a trajectory no longer in force
     }
@@ -357,6 +358,10 @@ void HabitualTask::stepPlanning(core::TimeNs now) {
 }
 
 bool HabitualTask::readyToPlan(core::TimeNs now) {
+    if (followerBackingOff_) {
+        ++counters_.backoffWaits;
+        return false;  // the follower's reflex first (followerBackingOff_)
+    }
     const tables::HabitualTable& hab = tables_.habitual();
     const bool settling = session_.settling(pose_);
     const double fromGoal = distance(Point2{pose_.xM, pose_.yM}, Point2{leg_.goalXM, leg_.goalYM});

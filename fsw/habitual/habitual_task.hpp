@@ -132,6 +132,7 @@ struct HabitualCounters {
     std::uint32_t cannotFollow = 0;
     std::uint32_t leftAutonomous = 0;
     std::uint32_t poseWaits = 0;        // planning runs that waited for a usable pose
+    std::uint32_t backoffWaits = 0;     // planning runs that waited for the follower's back-off from a contact
     std::uint32_t malformedInputs = 0;  // messages refused by either pipe, plus hazard sightings rejected
     std::uint32_t hazardsUnplaced = 0;  // hazard messages with no usable pose to place them
     std::uint32_t mapRefused = 0;       // local map refusals while building
@@ -150,7 +151,7 @@ public:
                  const site_map::SiteMap* siteMap = nullptr);
 
     // Pipes "habitual_pose" (depth kPosePipeDepth: PoseEstimateMsg) and
-    // "habitual" (kInputPipeDepth: leg, hazards, drive modes, follower status,
+    // "habitual" (kInputPipeDepth: leg, hazards, drive modes, follower status, contact,
     // mode, mission hold). A refusal is evented (819) and returned; run() then does nothing.
     core::Status init();
     void run(const core::FrameContext& frame) override;
@@ -236,6 +237,11 @@ private:
     msg::DriveModesMsg modes_{};
     bool modesChanged_ = false;
     bool held_ = false;
+    // The follower is backing off a contact (FollowerState::kBackingOff):
+    // no planning run starts until it has ended (bounded by the follower's
+    // back-off timeout), so the plan starts from where the back-off left the
+    // rover, clear of the contact, and no new path cuts the back-off short.
+    bool followerBackingOff_ = false;
 
     // The leg.
     msg::HabitualState state_ = msg::HabitualState::kIdle;

@@ -38,7 +38,7 @@ constexpr core::MsgId kKnownHazards = 0x0162;  // KnownHazardsMsg, on change and
 // habitual <-> reflexive (trajectory_msgs.hpp)
 constexpr core::MsgId kTrajectory = 0x0170;      // TrajectoryMsg, per plan or repair, habitual -> reflexive
 constexpr core::MsgId kFollowerStatus = 0x0171;  // FollowerStatusMsg, on change and 10 Hz, reflexive -> habitual, telemetry
-constexpr core::MsgId kContact = 0x0172;         // ContactMsg, per contact seen, reflexive -> habitual, telemetry (FOLLOWER)
+constexpr core::MsgId kContact = 0x0172;         // ContactMsg, per contact seen, reflexive -> habitual, telemetry (DRIVES)
 
 // commands from ground -> layers (mode_msgs.hpp, goal_msgs.hpp)
 constexpr core::MsgId kMode = 0x0130;          // ModeMsg, on change, the mode owner (cmdtlm) -> can_io, manual_drive, layers

@@ -64,7 +64,7 @@ struct FollowerStatusMsg {
     double commandedTurnRateRadS;
 };
 
-// One per contact the follower sees (fsw/reflexive/contact_watch.hpp): the
+// One per contact the follower sees (fsw/reflexive/contact_reflex.hpp): the
 // drives of several wheels pushing at once (current far above a rolling
 // wheel's, or the wheels commanded but not turning) while the rover is
 // commanded to move. The follower has zeroed the wheels in the same run and

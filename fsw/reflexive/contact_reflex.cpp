@@ -77,7 +77,8 @@ BackoffEnd ContactReflex::abortBackoff(BackoffEnd why) {
 }
 
 double ContactReflex::backoffStep(bool poseKnown, double xM, double yM, core::TimeNs now, double dtS,
-                                  double maxAccelMS2, const tables::FollowerTable& table, BackoffEnd* ended) {
+                                  double maxAccelMS2, double maxSpeedMS, const tables::FollowerTable& table,
+                                  BackoffEnd* ended) {
     *ended = BackoffEnd::kNone;
     if (state_ != BackoffState::kBacking) {
         return 0.0;
@@ -88,7 +89,12 @@ double ContactReflex::backoffStep(bool poseKnown, double xM, double yM, core::Ti
     }
     backedM_ = std::hypot(xM - fromX_, yM - fromY_);
     const double distance = static_cast<double>(table.contact_backoff_m);
-    const double speed = static_cast<double>(table.contact_backoff_speed_m_s);
+    const double tableSpeed = static_cast<double>(table.contact_backoff_speed_m_s);
+    const double speed = tableSpeed < maxSpeedMS ? tableSpeed : maxSpeedMS;
+    if (!(speed > 0.0)) {
+        *ended = abortBackoff(BackoffEnd::kTimeout);  // no speed to back off at
+        return 0.0;
+    }
     const double limitS = kBackoffTimeFactor * distance / speed + 1.0;
     if (backedM_ >= distance) {
         *ended = abortBackoff(BackoffEnd::kDistance);
@@ -97,6 +103,9 @@ double ContactReflex::backoffStep(bool poseKnown, double xM, double yM, core::Ti
     if (static_cast<double>(now - start_) / static_cast<double>(core::kNsPerSec) > limitS) {
         *ended = abortBackoff(BackoffEnd::kTimeout);
         return 0.0;
+    }
+    if (now == start_) {
+        return 0.0;  // the contact's own run: the wheels to zero
     }
     const double step = maxAccelMS2 * dtS;
     const double target = sign_ * speed;

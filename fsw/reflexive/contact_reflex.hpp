@@ -88,8 +88,11 @@ public:
     // no more than maxAccelMS2 over dtS, and whether it ended (*ended: why;
     // the command is then zero, at once, as every give-up). poseKnown false:
     // no fresh pose (the back-off ends, kReleased).
+    // The contact's own run (now == the start) commands zero. The speed is
+    // at most maxSpeedMS (the body limit), and the time allowed is reckoned
+    // at the speed driven.
     double backoffStep(bool poseKnown, double xM, double yM, core::TimeNs now, double dtS, double maxAccelMS2,
-                       const tables::FollowerTable& table, BackoffEnd* ended);
+                       double maxSpeedMS, const tables::FollowerTable& table, BackoffEnd* ended);
 
     BackoffState state() const { return state_; }
     double backedM() const { return backedM_; }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fsw/msg/drive_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/reflexive/manual_drive.hpp"
@@ -60,6 +61,9 @@ core::Status TrajectoryTask::init() {
     if (core::isOk(status)) {
         status = input_.route<&TrajectoryTask::takeDriveStatus>(this);
     }
+    if (core::isOk(status)) {
+        status = input_.route<&TrajectoryTask::takeHold>(this);
+    }
     return status;
 }
 
@@ -79,7 +83,12 @@ void TrajectoryTask::run(const core::FrameContext&) {
     if (released) {
         releaseWheels();
         endBackoff(contact_.abortBackoff(BackoffEnd::kReleased));
-    } else if (contactPending_) {
+    } else if (held_) {
+        // Fault protection holds the mission: CAN I/O holds the drives at
+        // zero; a back-off must not resume by itself when the hold ends.
+        endBackoff(contact_.abortBackoff(BackoffEnd::kReleased));
+    }
+    if (!released && contactPending_) {
         if (contact_.state() == BackoffState::kBacking) {
             endBackoff(contact_.abortBackoff(BackoffEnd::kContact));  // backed into something: stop there
         } else if (follower_.speedMS() != 0.0) {
@@ -99,13 +108,24 @@ void TrajectoryTask::run(const core::FrameContext&) {
 
 void TrajectoryTask::seeContact(core::TimeNs now) {
     const double direction = follower_.speedMS() > 0.0 ? 1.0 : -1.0;
-    const ContactReading& reading = contact_.latest();
+    const ContactReading reading = contactReading_;
     if (follower_.state() == msg::FollowerState::kFollowing) {
         follower_.giveUp(msg::FollowReason::kContact);
     } else {
         follower_.haltNow(msg::FollowReason::kContact);
     }
     ++counters_.contacts;
+    if (!poseFresh(now)) {
+        // Wheels to zero, but no back-off and nothing to remember: with no
+        // fresh pose there is no telling where, nor how far it backed.
+        ++counters_.contactsUnplaced;
+        events_.report(events::kContactSeen, core::Severity::kWarning,
+                       "follower: contact: %u wheels pushing, up to %.2f A; wheels to zero; no fresh pose: not "
+                       "backing off (%u so far)",
+                       static_cast<unsigned>(reading.wheelsPushing), reading.maxCurrentA,
+                       static_cast<unsigned>(counters_.contacts));
+        return;
+    }
     contact_.startBackoff(pose_.xM, pose_.yM, direction, now);
     msg::ContactMsg m{};
     m.timeNs = now;
@@ -142,10 +162,11 @@ void TrajectoryTask::applyBackoff(core::TimeNs now, double dtS, FollowerOutput* 
         return;
     }
     BackoffEnd ended = BackoffEnd::kNone;
-    const double dt = dtS < kMaxFollowerStepS ? dtS : kMaxFollowerStepS;
+    const double dt = dtS > 0.0 ? (dtS < kMaxFollowerStepS ? dtS : kMaxFollowerStepS) : 0.0;
+    const tables::RoverGeometryTable& g = tables_.roverGeometry();
     const double v = contact_.backoffStep(poseFresh(now), pose_.xM, pose_.yM, now, dt,
-                                          static_cast<double>(tables_.roverGeometry().max_accel_m_s2),
-                                          tables_.follower(), &ended);
+                                          static_cast<double>(g.max_accel_m_s2),
+                                          static_cast<double>(g.max_body_speed_m_s), tables_.follower(), &ended);
     if (ended != BackoffEnd::kNone) {
         endBackoff(ended);
         return;  // the follower's own output: zero, cannot follow (contact)
@@ -176,9 +197,22 @@ core::Status TrajectoryTask::takeMode(const msg::ModeMsg& mode) {
     return core::Status::kOk;
 }
 
+core::Status TrajectoryTask::takeHold(const msg::MissionHoldMsg& hold) {
+    if (!msg::holdUsable(hold)) {
+        input_.explain("hold reasons 0x%x not known", static_cast<unsigned>(hold.reasons));
+        return core::Status::kInvalidArgument;
+    }
+    held_ = hold.reasons != 0U;
+    return core::Status::kOk;
+}
+
 void TrajectoryTask::takeDriveStatus(const msg::DriveStatusMsg& drives) {
     interlockTripped_ = drives.interlockTripped != 0;
-    contactPending_ = contact_.observe(drives, tables_.follower()).contact || contactPending_;
+    const ContactReading r = contact_.observe(drives, tables_.follower());
+    if (r.contact && !contactPending_) {
+        contactReading_ = r;  // the first of the run's statuses that read a contact
+    }
+    contactPending_ = r.contact || contactPending_;
 }
 
 void TrajectoryTask::refuseUndecodableTrajectory(const core::Message&) { refuse(0, "does not decode"); }

@@ -15,7 +15,8 @@
 //       otherwise following (re)starts on it (event 610), from the body speed
 //       and turn rate already commanded.
 //     - PoseEstimateMsg (latest kept), ModeMsg (AUTONOMOUS = mode 2, e-stop),
-//       DriveStatusMsg (interlockTripped). One that does not decode, a pose
+//       DriveStatusMsg (interlockTripped; read by the contact reflex,
+//       contact_reflex.hpp), MissionHoldMsg (a hold ends a back-off). One that does not decode, a pose
 //       with a non-finite x, y or heading, or a mode beyond MANUAL is counted,
 //       evented (616, throttled) and ignored: the pipe's malformed count.
 //  2. Wheels no longer ours, checked first: mode not AUTONOMOUS (kNotAutonomous),
@@ -23,10 +24,15 @@
 //     (kCannotFollow, event 614); any other state still moving is zeroed at
 //     once (event 617). So a trajectory arriving outside AUTONOMOUS or while the
 //     drives are held is accepted and given up in the same run.
+//  2b. A contact read by a drive status of this run, while driving and the
+//     wheels ours: the follower gives up (kContact), ContactMsg, event 618,
+//     and the back-off starts (a contact while backing off ends it there).
 //  3. One follower step with the pose when it is initialised and at most the
 //     follower table's pose_timeout_ms old (else none: following gives up with
 //     kPoseStale). Reaching the end is evented (613) once; a give-up by the
 //     follower (cross-track, pose) is evented (614); the end of a stop (615).
+//  3b. A back-off in hand replaces the step's command with its own (state
+//     kBackingOff) until it ends (event 619).
 //  4. WheelCommandMsg (skidSteerWheelSpeeds of the commanded (v, w)) in
 //     AUTONOMOUS mode while following, stopping or still moving, plus one zero
 //     command when the commanded (v, w) has come to zero; then nothing while at
@@ -50,6 +56,7 @@
 #include "fsw/core/software_bus.hpp"
 #include "fsw/msg/drive_msgs.hpp"
 #include "fsw/msg/estimator_msgs.hpp"
+#include "fsw/msg/fault_protection_msgs.hpp"
 #include "fsw/msg/mode_msgs.hpp"
 #include "fsw/msg/trajectory_msgs.hpp"
 #include "fsw/reflexive/contact_reflex.hpp"
@@ -58,8 +65,8 @@
 
 namespace rse::reflexive {
 
-// Per frame: one drive status, one pose, now and then a mode or a trajectory
-// (a stop and its replacement may come together).
+// Per frame: one drive status, one pose, now and then a mode, a mission hold
+// or a trajectory (a stop and its replacement may come together).
 constexpr std::uint16_t kTrajectoryPipeDepth = 8;
 constexpr std::uint32_t kFollowerStatusEveryRuns = 10;
 
@@ -78,7 +85,8 @@ struct TrajectoryTaskCounters {
     std::uint32_t malformedInputs = 0;       // pose, mode, drive status (not trajectories): the pipe's count
     std::uint32_t wheelCommandsPublished = 0;
     std::uint32_t statusPublished = 0;
-    std::uint32_t contacts = 0;        // contacts seen (ContactMsg, event 618)
+    std::uint32_t contacts = 0;        // contacts seen (event 618; ContactMsg unless unplaced)
+    std::uint32_t contactsUnplaced = 0;  // of those, seen with no fresh pose: wheels to zero, no back-off, no ContactMsg
     std::uint32_t backoffs = 0;        // back-offs ended, whatever the reason (event 619)
     std::uint32_t backoffsCut = 0;     // of those, ended before contact_backoff_m (timeout, contact, released, superseded)
 };
@@ -109,6 +117,7 @@ private:
     core::Status takePose(const msg::PoseEstimateMsg& pose);
     core::Status takeMode(const msg::ModeMsg& mode);
     void takeDriveStatus(const msg::DriveStatusMsg& drives);
+    core::Status takeHold(const msg::MissionHoldMsg& hold);
     void refuse(std::uint32_t trajectoryId, const char* why);
     void releaseWheels();  // step 2
     bool poseFresh(core::TimeNs now) const;
@@ -131,6 +140,8 @@ private:
     TrajectoryFollower follower_;
     ContactReflex contact_;
     bool contactPending_ = false;  // a drive status of this run's drain read a contact
+    ContactReading contactReading_{};  // the first such reading of the run
+    bool held_ = false;            // fault protection holds the mission (MissionHoldMsg)
     core::InputPipe input_;
     core::TimeNs runStart_ = 0;  // now of the current run (a stop's start)
 

@@ -147,8 +147,10 @@ TEST(ContactReflex, TheBackoffRampsToItsSpeedOppositeTheDirectionDrivenAndEndsAf
     double x = 5.0, v = 0.0;
     BackoffEnd ended = BackoffEnd::kNone;
     int frames = 0;
+    DOUBLES_EQUAL(0.0, reflex.backoffStep(true, x, 0.0, now, 0.01, 0.2, 0.3, table, &ended), 0.0);  // the contact's run
+    now += kFrame;
     for (; frames < 1000; ++frames) {
-        const double cmd = reflex.backoffStep(true, x, 0.0, now, 0.01, 0.2, table, &ended);
+        const double cmd = reflex.backoffStep(true, x, 0.0, now, 0.01, 0.2, 0.3, table, &ended);
         if (ended != BackoffEnd::kNone) {
             DOUBLES_EQUAL(0.0, cmd, 0.0);
             break;
@@ -168,25 +170,42 @@ TEST(ContactReflex, TheBackoffRampsToItsSpeedOppositeTheDirectionDrivenAndEndsAf
 
 TEST(ContactReflex, ABackoffEndsOnTimeoutWithoutAPoseOrWhenAborted) {
     reflex.startBackoff(0.0, 0.0, -1.0, now);  // felt backing: back off forwards
+    now += kFrame;
     BackoffEnd ended = BackoffEnd::kNone;
     double cmd = 0.0;
     for (int i = 0; i < 10; ++i) {
-        cmd = reflex.backoffStep(true, 0.0, 0.0, now, 0.01, 0.2, table, &ended);
+        cmd = reflex.backoffStep(true, 0.0, 0.0, now, 0.01, 0.2, 0.3, table, &ended);
         now += kFrame;
     }
     CHECK(cmd > 0.0);
     // Stuck where it is: ends after 3 x 3 s + 1 s.
     int frames = 10;
     while (ended == BackoffEnd::kNone && frames < 5000) {
-        (void)reflex.backoffStep(true, 0.0, 0.0, now, 0.01, 0.2, table, &ended);
+        (void)reflex.backoffStep(true, 0.0, 0.0, now, 0.01, 0.2, 0.3, table, &ended);
         now += kFrame;
         ++frames;
     }
     CHECK_TRUE(ended == BackoffEnd::kTimeout);
     CHECK(frames >= 999 && frames <= 1002);
 
+    // Backing at most the body speed limit, its time reckoned at that speed:
+    // 3 x 0.3 m / 0.3 m/s + 1 s = 4 s (at the table's 0.5 m/s it would be 2.8 s).
+    table.contact_backoff_speed_m_s = 0.5F;
     reflex.startBackoff(0.0, 0.0, 1.0, now);
-    (void)reflex.backoffStep(false, 0.0, 0.0, now, 0.01, 0.2, table, &ended);
+    now += kFrame;
+    ended = BackoffEnd::kNone;
+    for (int i = 0; i < 350 && ended == BackoffEnd::kNone; ++i) {
+        cmd = reflex.backoffStep(true, 0.0, 0.0, now, 0.01, 0.2, 0.3, table, &ended);
+        CHECK(cmd >= -0.3 - 1e-12);
+        now += kFrame;
+    }
+    CHECK_TRUE(ended == BackoffEnd::kNone);
+    CHECK_TRUE(reflex.state() == BackoffState::kBacking);
+    (void)reflex.abortBackoff(BackoffEnd::kReleased);
+    table.contact_backoff_speed_m_s = 0.1F;
+
+    reflex.startBackoff(0.0, 0.0, 1.0, now);
+    (void)reflex.backoffStep(false, 0.0, 0.0, now, 0.01, 0.2, 0.3, table, &ended);
     CHECK_TRUE(ended == BackoffEnd::kReleased);
 
     reflex.startBackoff(0.0, 0.0, 1.0, now);

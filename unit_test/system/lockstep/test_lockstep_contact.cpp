@@ -2,10 +2,10 @@
 // drives into a rock its hazard detector cannot see
 // (sim_stub/scenarios/contact_unseen_rock.toml). The follower feels it in the
 // frame the drives report it (the contact reflex, fsw/reflexive/contact_reflex.hpp),
-// zeroes the wheels, backs away (the habitual layer's back-out out of the
-// remembered rock's disc takes over within a run or two), the habitual layer
-// remembers the rock where the rover touched it and plans round it, and the
-// goal is reached: no drive trips its over-current, no fault, no call home.
+// zeroes the wheels, backs 0.5 m away (the habitual layer waits for it), the
+// habitual layer remembers the rock where the rover touched it and plans
+// round it, and the goal is reached: no drive trips its over-current, no
+// fault, no call home.
 #include <cstdio>
 #include <string>
 
@@ -70,15 +70,15 @@ TEST(LockstepContact, ARockTheDetectorMissesIsFeltWithinAFrameBackedOffFromAndDr
     CHECK_TEXT(feltNs - touchedNs <= 2 * 10 * 1000 * 1000, tail.c_str());
     LONGS_EQUAL(1, contacts);
     CHECK(backoffs >= 1);
-    (void)backoffsCut;  // the habitual layer's back-out (event 822) may take over before 0.3 m
-    CHECK(feltAtX - leastXAfter >= 0.25);  // away from the rock, by the back-off and the back-out
+    LONGS_EQUAL(0, backoffsCut);            // the whole back-off: the habitual layer waited for it
+    CHECK(feltAtX - leastXAfter >= 0.45);   // FOLLOWER.contact_backoff_m (0.5 m) back
     CHECK_FALSE_TEXT(overCurrent, "a drive tripped its over-current");
     CHECK_FALSE_TEXT(driveNotOperational, "a drive left operational");
     CHECK(s.goalDistanceM < 0.5);
     // The rock was remembered where the rover touched it, and the leg replanned.
     CHECK(out.find("EVT 618 WARN  follower: contact driving forwards") != std::string::npos);
     CHECK(out.find("EVT 823 WARN  habitual: contact 1") != std::string::npos);
-    CHECK(out.find("EVT 619 ") != std::string::npos);
+    CHECK(out.find("EVT 619 INFO  follower: back-off ended (backed off)") != std::string::npos);
     CHECK(out.find("EVT 724 ") == std::string::npos);  // no over-current fault
     CHECK(out.find("EVT 601 ") == std::string::npos);  // the interlock never tripped
 }
