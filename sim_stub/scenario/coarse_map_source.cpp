@@ -70,12 +70,12 @@ std::string coarseMapSource(const Scenario& scenario) {
     return s;
 }
 
-ground::SiteMapSpec siteMapSpec(const Scenario& scenario) {
+ground::SiteMapSpec siteMapSpec(const Scenario& scenario, MapRocks which) {
     ground::SiteMapSpec spec;
     spec.site = {static_cast<float>(scenario.map.xMin), static_cast<float>(scenario.map.yMin),
                  static_cast<float>(scenario.map.xMax), static_cast<float>(scenario.map.yMax)};
     for (const Obstacle& o : scenario.obstacles) {
-        if (!o.known) {
+        if (!o.known && which == MapRocks::kKnown) {
             continue;
         }
         std::vector<ground::MapVertex> v;

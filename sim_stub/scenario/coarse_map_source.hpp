@@ -10,6 +10,7 @@
 // Host side (sim_stub/): full language.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -35,7 +36,10 @@ constexpr std::size_t kCoarseMapSlotVertices = 8;   // vertices a slot
 std::string coarseMapSource(const Scenario& scenario);
 
 // The site map of the scenario (ground/site_map_encoder.hpp): the map's
-// bounds and every known rock, in the scenario's order.
-ground::SiteMapSpec siteMapSpec(const Scenario& scenario);
+// bounds and every known rock (what the rover is sent), or every rock,
+// hidden ones too (what an offline planner or a sampler that knew every rock
+// would use), in the scenario's order.
+enum class MapRocks : std::uint8_t { kKnown, kEvery };
+ground::SiteMapSpec siteMapSpec(const Scenario& scenario, MapRocks which = MapRocks::kKnown);
 
 }  // namespace rse::sim

@@ -11,6 +11,7 @@
 
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/lockstep/mission_runner.hpp"
+#include "unit_test/support/mission_console.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -51,13 +52,9 @@ TEST(LockstepContact, ARockTheDetectorMissesIsFeltWithinAFrameBackedOffFromAndDr
                                                           rig.driveStatusCount() > 300);
         }
     };
-    char* text = nullptr;
-    std::size_t size = 0;
-    std::FILE* console = open_memstream(&text, &size);
-    const sim::MissionSummary s = sim::runMission(o, console);
-    std::fclose(console);
-    const std::string out(text, size);
-    std::free(text);
+    test::MissionConsole console;
+    const sim::MissionSummary s = sim::runMission(o, console.file);
+    const std::string out = console.str();
     const std::string tail = out.substr(out.size() > 6000 ? out.size() - 6000 : 0);
     (void)tlmContacts;
 

@@ -9,6 +9,7 @@
 
 #include "sim_stub/lockstep/mission_runner.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
+#include "unit_test/support/mission_console.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -42,13 +43,9 @@ TEST(LockstepRockField, AHundredMetresThroughThreeHundredRocksReachesTheGoalWith
     const char* argv[] = {"rse-demo", "--scenario", kScenario, "--no-report"};
     std::string error;
     CHECK_TRUE_TEXT(sim::parseMissionArgs(4, argv, &o, &error) == sim::ParseOutcome::kRun, error.c_str());
-    char* text = nullptr;
-    std::size_t size = 0;
-    std::FILE* console = open_memstream(&text, &size);
-    const sim::MissionSummary s = sim::runMission(o, console);
-    std::fclose(console);
-    const std::string out(text, size);
-    std::free(text);
+    test::MissionConsole console;
+    const sim::MissionSummary s = sim::runMission(o, console.file);
+    const std::string out = console.str();
 
     CHECK_TRUE_TEXT(s.outcome == sim::MissionOutcome::kGoalReached, out.substr(out.size() > 4000 ? out.size() - 4000 : 0).c_str());
     LONGS_EQUAL(0, s.collisions);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sim_stub/lockstep/mission_runner.hpp"
+#include "unit_test/support/mission_console.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -19,22 +20,7 @@ using sim::Scenario;
 
 namespace {
 
-// The console text of a mission (the runner writes it to a FILE).
-struct Console {
-    char* text = nullptr;
-    std::size_t size = 0;
-    std::FILE* file = open_memstream(&text, &size);
-    ~Console() {
-        if (file != nullptr) {
-            std::fclose(file);
-        }
-        std::free(text);
-    }
-    std::string str() {
-        std::fflush(file);
-        return std::string(text, size);
-    }
-};
+using Console = test::MissionConsole;
 
 MissionOptions options(const char* gotoArg) {
     MissionOptions o;
