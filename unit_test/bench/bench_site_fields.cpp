@@ -36,6 +36,7 @@
 
 #include "fsw/deliberative/global_route.hpp"
 #include "fsw/msg/deliberative_msgs.hpp"
+#include "fsw/reflexive/contact_reflex.hpp"
 #include "fsw/site_map/site_map.hpp"
 #include "ground/site_map_encoder.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
@@ -73,17 +74,7 @@ void fieldRun(sim::Scenario& s, double k, std::uint64_t seed) {
 double offlineShortestM(const sim::Scenario& s, double clearanceM) {
     static site_map::SiteMap map;
     static deliberative::GlobalRoute route;
-    ground::SiteMapSpec spec;
-    spec.site = {static_cast<float>(s.map.xMin), static_cast<float>(s.map.yMin), static_cast<float>(s.map.xMax),
-                 static_cast<float>(s.map.yMax)};
-    for (const sim::Obstacle& o : s.obstacles) {
-        std::vector<ground::MapVertex> v;
-        for (std::size_t i = 0; i < o.shape.n; ++i) {
-            v.push_back({static_cast<float>(o.shape.v[i].x), static_cast<float>(o.shape.v[i].y)});
-        }
-        spec.rocks.push_back(v);
-    }
-    const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
+    const std::vector<std::uint8_t> image = ground::encodeSiteMap(sim::siteMapSpec(s, sim::MapRocks::kEvery));
     site_map::SiteMapCheck check;
     if (map.load(image.data(), image.size(), &check) != core::Status::kOk) {
         return -1.0;
@@ -161,17 +152,8 @@ void flownHorizonsAgainstTheMap(const char* scenarioPath, const std::vector<Hori
     // habitual layer plans round the hidden rocks it sees).
     {
         static site_map::SiteMap everyRock;
-        const sim::Scenario scenario = sim::loadScenarioFile(scenarioPath);
-        ground::SiteMapSpec spec = sim::siteMapSpec(scenario);
-        spec.rocks.clear();
-        for (const sim::Obstacle& o : scenario.obstacles) {
-            std::vector<ground::MapVertex> v;
-            for (std::size_t i = 0; i < o.shape.n; ++i) {
-                v.push_back({static_cast<float>(o.shape.v[i].x), static_cast<float>(o.shape.v[i].y)});
-            }
-            spec.rocks.push_back(v);
-        }
-        const std::vector<std::uint8_t> all = ground::encodeSiteMap(spec);
+        const std::vector<std::uint8_t> all =
+            ground::encodeSiteMap(sim::siteMapSpec(sim::loadScenarioFile(scenarioPath), sim::MapRocks::kEvery));
         if (everyRock.load(all.data(), all.size(), &check) == core::Status::kOk) {
             std::size_t allHits = 0;
             for (std::size_t h = 0; h < flown.size(); ++h) {
@@ -202,6 +184,7 @@ void snowdrift(rse::bench::Targets* targets) {
     }
     std::uint32_t cpuOver = 0;
     std::string overWhere;  // each CPU-timed row: its runs over budget, its longest run
+    double kthCurrentMax = 0.0, contactAmps = 0.0;
     // The horizons flown: a plan copied when it is made, kept when a leg is sent before the next.
     std::vector<Horizon> flown;
     Horizon pending{};
@@ -236,6 +219,27 @@ void snowdrift(rse::bench::Targets* targets) {
             }
         }
         radiusM = geometry::clearanceRadiusM(rig.fsw().tables().roverGeometry());
+        // The contact reflex's margin in normal driving: the contact_wheels-th
+        // largest current among the wheels it would judge (commanded to turn,
+        // operational), the figure that reaching contact_current_a makes a contact.
+        const msg::DriveStatusMsg& drives = rig.driveStatus();
+        double amps[msg::kWheelCount];
+        std::size_t active = 0;
+        for (const msg::WheelStatus& w : drives.wheels) {
+            if (std::fabs(w.targetRadS) >= reflexive::kActiveWheelRadS && w.health == msg::DriveHealth::kOperational) {
+                // Kept in descending order (at most six).
+                std::size_t at = active++;
+                for (; at > 0 && amps[at - 1] < std::fabs(w.currentA); --at) {
+                    amps[at] = amps[at - 1];
+                }
+                amps[at] = std::fabs(w.currentA);
+            }
+        }
+        const std::size_t kth = rig.fsw().tables().follower().contact_wheels;
+        if (active >= kth && kth > 0) {
+            kthCurrentMax = std::max(kthCurrentMax, amps[kth - 1]);
+        }
+        contactAmps = static_cast<double>(rig.fsw().tables().follower().contact_current_a);
     };
     const sim::MissionSummary s = sim::runMission(o, nullptr);
     const double speed = s.wallTimeS > 0.0 ? s.endTimeS / s.wallTimeS : 0.0;
@@ -250,6 +254,9 @@ void snowdrift(rse::bench::Targets* targets) {
     std::printf("TARGET snowdrift 700 m: every CPU-timed task inside its budget in every frame: %u runs over %s\n",
                 cpuOver, targets->check(cpuOver == 0) ? "PASS" : "FAIL");
     std::printf("snowdrift CPU-timed rows: runs over budget (longest run):%s\n", overWhere.c_str());
+    std::printf("snowdrift contact margin: the contact_wheels-th largest active wheel current in any frame %.2f A, "
+                "a contact at %.2f A\n",
+                kthCurrentMax, contactAmps);
     std::printf("TARGET snowdrift 700 m: lockstep >= 20 x real time: %.0f x %s\n", speed,
                 targets->check(speed >= 20.0) ? "PASS" : "FAIL");
     flownHorizonsAgainstTheMap("sim_stub/scenarios/snowdrift.toml", flown, radiusM, targets);
