@@ -481,21 +481,17 @@ bool keepOutNearPath(const site_map::SiteMap& map, const double* meanX, const do
                      double reachM) {
     const std::size_t zones = map.keepOutCount();
     for (std::size_t z = 0; z < zones; ++z) {
+        // Convex and counter-clockwise: the image check refused any other.
         const site_map::KeepOut& zone = map.keepOut(z);
         const std::size_t n = zone.count < site_map::kMaxKeepOutVertices ? zone.count : site_map::kMaxKeepOutVertices;
-        double lo[2] = {INFINITY, INFINITY};
-        double hi[2] = {-INFINITY, -INFINITY};
+        Point2 polygon[site_map::kMaxKeepOutVertices];
         for (std::size_t v = 0; v < n; ++v) {
-            lo[0] = std::fmin(lo[0], static_cast<double>(zone.x[v]));
-            lo[1] = std::fmin(lo[1], static_cast<double>(zone.y[v]));
-            hi[0] = std::fmax(hi[0], static_cast<double>(zone.x[v]));
-            hi[1] = std::fmax(hi[1], static_cast<double>(zone.y[v]));
+            polygon[v] = Point2{static_cast<double>(zone.x[v]), static_cast<double>(zone.y[v])};
         }
-        const Point2 box[4] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
         for (std::size_t k = 0; k + 1 < points; ++k) {
             const Point2 a{meanX[k], meanY[k]};
             const Point2 b{meanX[k + 1], meanY[k + 1]};
-            if (geometry::segmentConvexPolygonDistanceSquared(a, b, box, 4) <= reachM * reachM) {
+            if (geometry::segmentConvexPolygonDistanceSquared(a, b, polygon, n) <= reachM * reachM) {
                 return true;
             }
         }

@@ -144,7 +144,7 @@ bool addRocksNearPath(const SiteCorridor& site, const tables::RoverGeometryTable
                       const double* meanX, const double* meanY, std::size_t points, double reachM,
                       MapObstacles* obstacles, std::size_t* added);
 
-// Site mode: some keep-out zone's bounding box comes within reachM of the
+// Site mode: some keep-out zone (its polygon) comes within reachM of the
 // polyline (meanX, meanY)[0 .. points).
 bool keepOutNearPath(const site_map::SiteMap& map, const double* meanX, const double* meanY, std::size_t points,
                      double reachM);
