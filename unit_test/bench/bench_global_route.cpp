@@ -20,6 +20,7 @@
 #include <ctime>
 #include <vector>
 
+#include "fsw/core/crc32.hpp"
 #include "fsw/deliberative/global_route.hpp"
 #include "fsw/deliberative/plan_maker.hpp"
 #include "fsw/site_map/site_map.hpp"
@@ -82,20 +83,31 @@ int main() {
                 static_cast<unsigned long long>(rse::deliberative::kSliceWork));
     std::printf("static memory: site map %zu B, route search %zu B (the same at every size)\n",
                 rse::site_map::kSiteMapBytes, rse::deliberative::kGlobalRouteBytes);
-    std::printf("%7s %8s %9s %11s %7s %9s %10s %11s %9s %8s\n", "rocks", "state", "length/", "expansions", "runs",
-                "CPU ms", "max run us", "work Munits", "ns/unit", "map B");
+    std::printf("%7s %8s %9s %11s %7s %9s %10s %11s %9s %8s %9s\n", "rocks", "state", "length/", "expansions", "runs",
+                "CPU ms", "max run us", "work Munits", "ns/unit", "map B", "commit ms");
     std::printf("%7s %8s %9s\n", "", "", "straight");
     bool allFound = true;
     double worstRunUs = 0.0;
     double nsPerUnitMax = 0.0;
+    double worstCommitUs = 0.0;
     for (const std::size_t n : {std::size_t{100}, std::size_t{1000}, std::size_t{5000}, std::size_t{20000}}) {
         const rse::ground::SiteMapSpec spec = fieldOf(n, start, goal);
         const std::vector<std::uint8_t> image = rse::ground::encodeSiteMap(spec);
         rse::site_map::SiteMapCheck check;
-        if (map.load(image.data(), image.size(), &check) != rse::core::Status::kOk) {
-            std::printf("%7zu: the map was refused\n", n);
-            return 1;
+        // What MAP_COMMIT does in one command-task run: the image's CRC-32,
+        // then the check, load and index (the best of 3, this thread's CPU).
+        double commitUs = INFINITY;
+        for (int pass = 0; pass < 3; ++pass) {
+            const double c0 = threadCpuUs();
+            volatile std::uint32_t crc = rse::core::crc32(image.data(), image.size());
+            (void)crc;
+            if (map.load(image.data(), image.size(), &check) != rse::core::Status::kOk) {
+                std::printf("%7zu: the map was refused\n", n);
+                return 1;
+            }
+            commitUs = std::min(commitUs, threadCpuUs() - c0);
         }
+        worstCommitUs = std::max(worstCommitUs, commitUs);
         const RouteParams params;
         const double t0 = threadCpuUs();
         if (route.start(map, start, goal, params) != rse::deliberative::RouteRefusal::kNone) {
@@ -121,10 +133,10 @@ int main() {
         worstRunUs = std::max(worstRunUs, maxRunUs);
         const double nsPerUnit = total * 1e3 / static_cast<double>(route.stats().work);
         nsPerUnitMax = std::max(nsPerUnitMax, nsPerUnit);
-        std::printf("%7zu %8s %9.3f %11u %7u %9.1f %10.0f %11.1f %9.2f %8zu\n", map.rockCount(),
+        std::printf("%7zu %8s %9.3f %11u %7u %9.1f %10.0f %11.1f %9.2f %8zu %9.2f\n", map.rockCount(),
                     rse::deliberative::toString(route.state()), found ? route.lengthM() / straight : 0.0,
                     route.stats().expansions, runs, total / 1e3, maxRunUs,
-                    static_cast<double>(route.stats().work) / 1e6, nsPerUnit, image.size());
+                    static_cast<double>(route.stats().work) / 1e6, nsPerUnit, image.size(), commitUs / 1e3);
     }
     std::printf("TARGET route found at every size (100 .. 20 000 rocks): %s %s\n", allFound ? "yes" : "no",
                 targets.check(allFound) ? "PASS" : "FAIL");
@@ -132,5 +144,10 @@ int main() {
     std::printf("TARGET no run over the deliberative budget at any size: worst %.0f us of %.0f %s\n", worstRunUs,
                 kDeliberativeBudgetUs, targets.check(inBudget) ? "PASS" : "FAIL");
     std::printf("work units here: at most %.2f ns a unit (kWorkKUnitsPerMs assumes 0.45 - 0.9)\n", nsPerUnitMax);
+    // Not a TARGET: the known limit of docs/site_map.md (MAP_COMMIT is one
+    // command-task run, refused while driving), measured so it can be seen.
+    std::printf("MAP_COMMIT's work (CRC-32, check, load, index) for the largest map: %.2f ms in one run; the command "
+                "task's budget is 2 ms (an overrun, counted and evented; slicing it is open)\n",
+                worstCommitUs / 1e3);
     return targets.finish();
 }
