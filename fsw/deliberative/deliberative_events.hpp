@@ -40,6 +40,9 @@ constexpr core::EventId kFailedDriveModel = 990;  // WARN: plans now take these 
 constexpr core::EventId kWholeMapReplan = 991;    // WARN: the plan passes obstacles its problem left out (risk above the left-out share): planned again with them in (round)
 constexpr core::EventId kRouteFound = 993;        // INFO: site mode: the global route to the goal (length, points, expansions, runs)
 constexpr core::EventId kNoRoute = 994;           // WARN: site mode: no route to the goal over the site map (refused, none, budget spent): call home
+constexpr core::EventId kLookAheadStarted = 995;  // INFO: site mode: the next horizon planned while driving, from the horizon's end (start sigma, steps to go)
+constexpr core::EventId kLookAheadDropped = 996;  // INFO: site mode: that look-ahead dropped (why: stale, a replan, new goals, ...)
+constexpr core::EventId kHorizonEnd = 997;        // INFO: site mode: a horizon's end reached: driven through (the look-ahead's first leg sent), or stopped to plan (why)
 constexpr core::EventId kWholeMapRefused = 992;   // WARN: plan not taken: the obstacles left out of its problem carry more than the left-out share, no room or rounds left
 constexpr core::EventId kFailUpWhileHeld = 924;   // INFO: a fail-up that arrived during a hold: ignored, the leg is re-sent on release
 

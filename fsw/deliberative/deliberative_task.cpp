@@ -1,5 +1,7 @@
 #include "fsw/deliberative/deliberative_task.hpp"
 
+#include <cmath>
+
 #include "fsw/cmdtlm/event_data.hpp"
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/geometry/rover_footprint.hpp"
@@ -15,6 +17,7 @@ DeliberativeTask::DeliberativeTask(core::SoftwareBus& bus, core::EventLog& event
       inputs_(bus, events, *this),
       hold_(events),
       siteMap_(siteMap),
+      lookAhead_(events),
       policy_(events),
       backUp_(events),
       legs_(events, out_),
@@ -65,6 +68,12 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
         } else if (claim == GoalClaim::kResend) {
             resendFromPose();
         }
+    } else if (s == msg::DeliberativeState::kExecuting && lookAhead_.planning()) {
+        if (maker_.step()) {
+            lookAhead_.planned();
+        }
+    } else if (s == msg::DeliberativeState::kExecuting && lookAheadDue()) {
+        startLookAhead();
     }
     // ROUTE: a route found is told in chunks, a few a run.
     msg::RouteChunkMsg chunk;
@@ -122,6 +131,11 @@ void DeliberativeTask::collectCounters() {
     c.routesFailed = routesFailed_;
     c.horizonsReached = horizonsReached_;
     c.siteRocksAdded = plans.siteRocksAdded;
+    const LookAheadCounters& ahead = lookAhead_.counters();
+    c.lookAheadsStarted = ahead.started;
+    c.lookAheadsDropped = ahead.dropped;
+    c.horizonsDrivenThrough = ahead.handedOver;
+    c.horizonStops = ahead.finishedStopped + ahead.fromPose;
 }
 
 // ---------------------------------------------------------------------------
@@ -157,6 +171,8 @@ void DeliberativeTask::takeGoals(const msg::PlanGoalMsg& goal) {
     status_.callHome = msg::CallHomeReason::kNone;
     status_.riskInForce = goals.riskBound;
     maker_.forgetPlan();  // PLAN shows "no plan" until the new goal is planned
+    dropLookAhead("a new goal list");
+    planFromLookAhead_ = false;
     horizons_.forget();
     routing_ = false;
     horizonLast_ = true;
@@ -178,6 +194,8 @@ void DeliberativeTask::takeMode(const msg::ModeMsg& mode) {
     backUp_.cancel();
     if (s == msg::DeliberativeState::kPlanning || s == msg::DeliberativeState::kExecuting) {
         cancelLeg();
+        dropLookAhead("left AUTONOMOUS");
+        planFromLookAhead_ = false;
         routing_ = false;   // a route half searched is searched again (one found is kept)
         setState(msg::DeliberativeState::kWaiting);
         events_.report(events::kLeftAutonomous, core::Severity::kInfo,
@@ -223,6 +241,11 @@ void DeliberativeTask::takeLegReport(const msg::LegReportMsg& report) {
 void DeliberativeTask::takeHazards(const msg::KnownHazardsMsg& hazards) {
     hazards_ = hazards;
     ++mission_.hazardMaps;
+    // A look-ahead planned with less than the rover knows now is planned
+    // again (the run starts it anew).
+    if (lookAhead_.active() && lookAhead_.stale(hazards_.revision, siteMap_ != nullptr ? siteMap_->revision() : 0)) {
+        dropLookAhead("the seen hazards changed", true);
+    }
     // The leg in force may end inside what was just seen: the habitual layer
     // could only fail up on it, so move on to the next leg end now.
     if (status_.state == msg::DeliberativeState::kExecuting && legs_.legInForce().legId != 0 && !hold_.held() &&
@@ -257,6 +280,7 @@ void DeliberativeTask::takeReplanRequest(const msg::ReplanRequestMsg& request) {
     // from where the rover stands. A plan under way started from elsewhere.
     cancelLeg();
     backUp_.cancel();
+    dropLookAhead("off the map");
     legs_.dropUnconfirmedGoal();
     policy_.capture(msg::LegConstraint::kNone, replanFrom());
     setState(msg::DeliberativeState::kWaiting);
@@ -298,13 +322,25 @@ void DeliberativeTask::backedUp() {
 
 void DeliberativeTask::lastLegReached() {
     if (!horizonLast_) {
-        // A horizon's end, not the goal: the next horizon from the pose. The
-        // replan, risk-relaxation and back-up limits are a plan's: each
+        // A horizon's end, not the goal: the next horizon, planned ahead
+        // while the rover drove here when it could be, else from the pose.
+        // The replan, risk-relaxation and back-up limits are a plan's: each
         // horizon has them whole (a 700 m goal is many horizons).
         ++horizonsReached_;
         policy_.nextGoal();
         backUp_.nextGoal();
-        setState(msg::DeliberativeState::kWaiting);
+        const Handover next = lookAhead_.handover(geometry::Point2{pose_.xM, pose_.yM}, hazards_.revision,
+                                                  siteMap_ != nullptr ? siteMap_->revision() : 0,
+                                                  maker_.hasCandidatePath());
+        if (next == Handover::kTake) {
+            adoptLookAhead();
+            onPlanFinished();
+        } else if (next == Handover::kFinish) {
+            adoptLookAhead();
+            setState(msg::DeliberativeState::kPlanning);
+        } else {
+            setState(msg::DeliberativeState::kWaiting);
+        }
         return;
     }
     const GoalClaim claim = legs_.claimGoal(arrival());
@@ -330,6 +366,7 @@ void DeliberativeTask::nextGoal() {
 
 void DeliberativeTask::replan(msg::LegConstraint why) {
     legs_.dropLegInForce();
+    dropLookAhead("a replan of this horizon");
     if (policy_.replan(why, replanFrom(), tables_.planner().replan_limit)) {
         setState(msg::DeliberativeState::kWaiting);
         return;
@@ -383,6 +420,8 @@ void DeliberativeTask::cancelLeg() {
 
 void DeliberativeTask::callHome(msg::CallHomeReason reason, const char* detail) {
     legs_.cancel(now_);
+    dropLookAhead("call home");
+    planFromLookAhead_ = false;
     msg::SafeRequestMsg safe{};
     safe.timeNs = now_;
     safe.reason = reason;
@@ -449,6 +488,73 @@ bool DeliberativeTask::planHorizon(double fromX, double fromY, PlanStart* start)
     return true;
 }
 
+bool DeliberativeTask::lookAheadDue() const {
+    if (!siteMode() || horizonLast_ || !autonomous_ || hold_.held() || backUp_.active() || !poseUsable() ||
+        legs_.legInForce().legId == 0 || legs_.goalUnconfirmed() || goalIndex_ >= goals_.count ||
+        legs_.legs().count == 0) {
+        return false;
+    }
+    const msg::Goal& goal = goals_.goals[goalIndex_];
+    if (!horizons_.routes(geometry::Point2{goal.xM, goal.yM}, siteMap_->revision())) {
+        return false;
+    }
+    const msg::PlanLeg& end = legs_.legs().legs[legs_.legs().count - 1];
+    const double toEnd = std::hypot(end.xM - pose_.xM, end.yM - pose_.yM);
+    return lookAhead_.due(toEnd, legs_.index() + 1 >= legs_.legs().count);
+}
+
+void DeliberativeTask::startLookAhead() {
+    // From where the plan in hand ends (its last leg's end), with the
+    // covariance its model gives the rover there.
+    const msg::PlanLeg& last = legs_.legs().legs[legs_.legs().count - 1];
+    const geometry::Point2 end{last.xM, last.yM};
+    const std::size_t before = horizons_.progress();
+    if (!horizons_.next(end, lookAhead_.horizonSlot())) {
+        lookAhead_.refused();
+        return;
+    }
+    const Horizon& next = lookAhead_.horizon();
+    const std::size_t steps = HorizonLookAhead::stepsToGo(maker_.plan(), geometry::Point2{pose_.xM, pose_.yM});
+    const double poseCov[4] = {pose_.covariance[0], pose_.covariance[1], pose_.covariance[3], pose_.covariance[4]};
+    PlanStart start;
+    start.xM = end.x;
+    start.yM = end.y;
+    HorizonLookAhead::startCovariance(poseCov, steps, maker_.problem().processSigmaM, start.cov);
+    start.goalX = next.goal.x;
+    start.goalY = next.goal.y;
+    start.goalNumber = goalNumber();
+    // The operator's bound: the next horizon starts with no relaxation.
+    start.riskBound = goals_.riskBound < kMaxRiskInForce ? goals_.riskBound : kMaxRiskInForce;
+    start.failedDrives =
+        drives_.confirmedFailedDrives(now_, static_cast<double>(tables_.planner().failed_drive_confirm_s));
+    start.meanPowerFactor = meanFactor();
+    start.hazards = &hazards_;
+    start.site = SiteCorridor{siteMap_, &siteQuery_, next.corridor, next.count, kCorridorReachM};
+    const char* refusal = "";
+    if (!maker_.start(start, &refusal)) {
+        horizons_.rewind(before);
+        lookAhead_.refused();
+        return;
+    }
+    const double sigma0 = std::sqrt(start.cov[0] > start.cov[3] ? start.cov[0] : start.cov[3]);
+    lookAhead_.begin(end, sigma0, steps, before, hazards_.revision, siteMap_->revision(), start.riskBound);
+}
+
+void DeliberativeTask::dropLookAhead(const char* why, bool stale) {
+    std::size_t progressBefore = 0;
+    if (lookAhead_.drop(why, stale, &progressBefore)) {
+        horizons_.rewind(progressBefore);
+    }
+}
+
+void DeliberativeTask::adoptLookAhead() {
+    horizon_ = lookAhead_.horizon();
+    horizonLast_ = horizon_.last;
+    hazardRevisionAtPlan_ = lookAhead_.hazardRevision();
+    status_.riskInForce = lookAhead_.riskBound();
+    planFromLookAhead_ = true;
+}
+
 void DeliberativeTask::startRoute(double fromX, double fromY, const msg::Goal& goal) {
     const RouteRefusal refusal =
         horizons_.begin(*siteMap_, geometry::Point2{fromX, fromY}, geometry::Point2{goal.xM, goal.yM},
@@ -487,6 +593,8 @@ void DeliberativeTask::onRouted() {
 
 void DeliberativeTask::onPlanFinished() {
     const bool hasPath = maker_.finish();
+    const bool fromLookAhead = planFromLookAhead_;
+    planFromLookAhead_ = false;
     if (hasPath && drives_.interlockTripped()) {
         // Only drives declared failed hold the interlock (else mobilityLost()
         // called home already): a plan fits with them failed, but the rover
@@ -509,6 +617,15 @@ void DeliberativeTask::onPlanFinished() {
             sendLeg();
             return;
         }
+    }
+    if (fromLookAhead) {
+        // Planned from the horizon's end with the covariance of arriving
+        // there: the rover is there now, so plan from its pose (with the
+        // wide search and the relaxations a plan has) before giving up.
+        events_.report(events::kLookAheadDropped, core::Severity::kInfo,
+                       "deliberative: look-ahead found no plan: the horizon planned from the pose");
+        setState(msg::DeliberativeState::kWaiting);
+        return;
     }
     if (maker_.startWideSearch()) {
         return;

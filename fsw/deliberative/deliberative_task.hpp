@@ -28,6 +28,11 @@
 //   kExecuting --leg achieved--------------> next leg; after the goal's last leg the next
 //                                            goal is planned from the pose (kWaiting), or
 //                                            kComplete after the last goal
+//              site mode, a horizon short of the goal: the next horizon is planned
+//                                            while driving its end (horizon_look_ahead.hpp);
+//                                            at its last leg a finished look-ahead's first
+//                                            leg is sent at once (kExecuting), one still
+//                                            planning finishes (kPlanning), none: kWaiting
 //              --fail-up (length / energy)-> the leg's violated bound grows by what the
 //                                            habitual layer predicted it needs (+5 %) and
 //                                            the leg is resent, while the growth stays
@@ -115,6 +120,8 @@
 //   publisher            publishing with the refusals counted (event 918)
 //   route_horizons       site mode: the global route over the site map and the
 //                        horizons along it (events 993, 994)
+//   horizon_look_ahead   site mode: the next horizon planned while the rover
+//                        drives the end of this one (events 995, 996, 997)
 // Inputs are bounded by the pipe depths; a run's planning by plan_maker.hpp's
 // slice, and site mode's route search by its slice. No heap: the planner,
 // problem, plan, legs and the route search are members (about 3.3 MB, 2.8 MB
@@ -131,6 +138,7 @@
 #include "fsw/deliberative/cc_planner.hpp"
 #include "fsw/deliberative/deliberative_inputs.hpp"
 #include "fsw/deliberative/drive_health.hpp"
+#include "fsw/deliberative/horizon_look_ahead.hpp"
 #include "fsw/deliberative/leg_end_clearance.hpp"
 #include "fsw/deliberative/leg_sequencer.hpp"
 #include "fsw/deliberative/map_problem.hpp"
@@ -200,6 +208,10 @@ struct DeliberativeCounters {
     std::uint32_t routesFailed = 0;      // ... refused, none, or the budget spent (event 994)
     std::uint32_t horizonsReached = 0;   // ... horizons driven to their end (the next one planned)
     std::uint32_t siteRocksAdded = 0;    // ... rocks near a plan made candidates before its check
+    std::uint32_t lookAheadsStarted = 0; // ... next horizons planned while driving (event 995)
+    std::uint32_t lookAheadsDropped = 0; // ... dropped before their horizon's end (event 996)
+    std::uint32_t horizonsDrivenThrough = 0;  // ... horizon ends whose next leg went at once (event 997)
+    std::uint32_t horizonStops = 0;      // ... horizon ends the rover stopped at to plan (event 997)
 };
 
 class DeliberativeTask final : public core::Task, private DeliberativeInputs::Receiver {
@@ -234,6 +246,7 @@ public:
     const RouteHorizons& route() const { return horizons_; }
     const Horizon& horizon() const { return horizon_; }
     bool routing() const { return routing_; }
+    const HorizonLookAhead& lookAhead() const { return lookAhead_; }
 
 private:
     // The shell's own counts (the parts keep theirs).
@@ -279,6 +292,11 @@ private:
     void startRoute(double fromX, double fromY, const msg::Goal& goal);
     void onRouted();
     bool planHorizon(double fromX, double fromY, PlanStart* start);
+    // Site mode's receding horizon (horizon_look_ahead.hpp).
+    bool lookAheadDue() const;
+    void startLookAhead();
+    void dropLookAhead(const char* why, bool stale = false);
+    void adoptLookAhead();
 
     // What the parts are given.
     bool active() const;
@@ -337,6 +355,8 @@ private:
     std::uint32_t routesFailed_ = 0;
     std::uint32_t horizonsReached_ = 0;
     RouteHorizons horizons_;
+    HorizonLookAhead lookAhead_;
+    bool planFromLookAhead_ = false;  // the plan being finished is a look-ahead's (from a horizon's end)
 
     // The parts.
     DriveHealthView drives_;

@@ -149,6 +149,10 @@ public:
     const CcPlanner& planner() const { return planner_; }
     const CcProblem& problem() const { return problem_; }
     const CcPlan& plan() const { return plan_; }
+    // The plan step() finished with has a path (finish() would return true).
+    bool hasCandidatePath() const {
+        return phase_ == Phase::kDone && (candidate_.status == CcStatus::kOptimal || candidate_.status == CcStatus::kFeasible);
+    }
     // The risk in force the plan was asked for (the problem's own bound is
     // less by the left-out share when obstacles are left out).
     double riskBound() const { return riskBound_; }

@@ -83,6 +83,9 @@ public:
 
     const GlobalRoute& route() const { return route_; }
     std::size_t progress() const { return progress_; }
+    // Puts back progress a look-ahead's next() moved (horizon_look_ahead.hpp):
+    // the only way it goes back.
+    void rewind(std::size_t progress) { progress_ = progress < progress_ ? progress : progress_; }
 
 private:
     GlobalRoute route_;

@@ -17,6 +17,7 @@
 #include "ground/site_map_encoder.hpp"
 #include "sim_stub/scenario/rock_field.hpp"
 #include "unit_test/fsw/deliberative/deliberative_rig.hpp"
+#include "unit_test/fsw/deliberative/site_field.hpp"
 
 #include "CppUTest/TestHarness.h"
 
@@ -28,66 +29,12 @@ namespace {
 
 site_map::SiteMap* siteMap = nullptr;   // ~1 MB: static storage
 
-// Golombek-Rapp rocks of 1 m and more on x 0 .. w, y 0 .. h, none within 5 m of the given points.
 void loadField(double k, double w, double h, std::uint64_t seed, std::vector<Point2> clearOf) {
-    sim::RockFieldParams p;
-    p.k = k;
-    p.xMax = w;
-    p.yMax = h;
-    p.minDiameterM = 1.0;
-    p.seed = seed;
-    ground::SiteMapSpec spec;
-    spec.site = {0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)};
-    for (const sim::FieldRock& r : sim::generateRockField(p)) {
-        bool near = false;
-        for (const Point2& q : clearOf) {
-            near = near || std::hypot(r.x - q.x, r.y - q.y) < 5.0 + r.diameterM;
-        }
-        bool inside = true;
-        std::vector<ground::MapVertex> v;
-        for (const sim::RockVertex& q : r.vertices) {
-            inside = inside && q.x > 0.0 && q.x < w && q.y > 0.0 && q.y < h;
-            v.push_back({static_cast<float>(q.x), static_cast<float>(q.y)});
-        }
-        if (!near && inside) {
-            spec.rocks.push_back(v);
-        }
-    }
-    const std::vector<std::uint8_t> image = ground::encodeSiteMap(spec);
-    site_map::SiteMapCheck check;
-    CHECK(siteMap->load(image.data(), image.size(), &check) == core::Status::kOk);
+    test::loadSiteField(siteMap, k, w, h, seed, clearOf);
 }
 
-double rockDistance(Point2 a, Point2 b, const site_map::Rock& rock) {
-    Point2 v[8];
-    for (std::size_t i = 0; i < rock.count; ++i) {
-        v[i] = Point2{rock.x[i], rock.y[i]};
-    }
-    return std::sqrt(geometry::segmentConvexPolygonDistanceSquared(a, b, v, rock.count));
-}
-
-// Every rock of the map within the far reach of the plan's means is a candidate (a scan of all of them).
 void checkEveryNearRockIsACandidate(const deliberative::DeliberativeTask& task) {
-    const deliberative::CcPlan& plan = task.plan();
-    const deliberative::PlanMaker& maker = task.planMaker();
-    const double reach = maker.farRocks().reachM;
-    CHECK(reach > 0.0);
-    const deliberative::MapObstacles& c = maker.candidates();
-    for (std::size_t r = 0; r < siteMap->rockCount(); ++r) {
-        double d = INFINITY;
-        for (std::size_t t = 0; t < plan.steps; ++t) {
-            d = std::fmin(d, rockDistance({plan.meanX[t], plan.meanY[t]}, {plan.meanX[t + 1], plan.meanY[t + 1]},
-                                          siteMap->rock(r)));
-        }
-        if (d >= reach) {
-            continue;
-        }
-        bool listed = false;
-        for (std::size_t i = 0; i < c.polygons && !listed; ++i) {
-            listed = c.mapId[i] == r;
-        }
-        CHECK_TEXT(listed, "a rock within the far reach of the plan is not among its candidates");
-    }
+    test::checkEveryNearRockIsACandidate(task, *siteMap);
 }
 
 // Drives the task's legs (each achieved the run after it is sent) until the
@@ -274,7 +221,7 @@ TEST(SiteMode, AHorizonsCertifiedRiskHoldsAgainstEveryRockOfTheMap) {
             std::uint16_t near[64];
             const std::size_t found = siteMap->rocksNearSegment(prev, next, radius, &query, near, 64, nullptr);
             for (std::size_t k = 0; k < found && !hit; ++k) {
-                hit = rockDistance(prev, next, siteMap->rock(near[k])) < radius;
+                hit = test::rockDistance(prev, next, siteMap->rock(near[k])) < radius;
             }
             prev = next;
         }
