@@ -188,6 +188,10 @@ void MissionTelemetryReader::onPlan(const DecodedPacket& p) {
     m.boundRelaxations = static_cast<std::uint32_t>(number(p, "bound_relaxations"));
     m.riskRelaxations = static_cast<std::uint32_t>(number(p, "risk_relaxations"));
     m.callHomes = static_cast<std::uint32_t>(number(p, "call_homes"));
+    m.siteMode = number(p, "site_mode") > 0.0;
+    m.horizonsReached = static_cast<std::uint32_t>(number(p, "horizons_reached"));
+    m.horizonsDrivenThrough = static_cast<std::uint32_t>(number(p, "horizons_driven_through"));
+    m.horizonStops = static_cast<std::uint32_t>(number(p, "horizon_stops"));
     const auto state = static_cast<msg::DeliberativeState>(status);
     if (state == msg::DeliberativeState::kWaiting || state == msg::DeliberativeState::kPlanning ||
         state == msg::DeliberativeState::kExecuting) {
@@ -296,6 +300,10 @@ void printMissionTelemetry(const MissionTelemetry& m, std::ostream& out, bool ev
         << " reached, " << m.goalsReached << " goals reached; " << m.failUps << " fail-ups (" << m.habitualFailUps
         << " from the habitual layer), " << m.replans << " replans, " << m.boundRelaxations << " bound relaxations, "
         << m.riskRelaxations << " risk relaxations, " << m.callHomes << " call homes\n";
+    if (m.siteMode) {
+        out << "site:       " << m.horizonsReached << " horizon ends: " << m.horizonsDrivenThrough
+            << " driven through (the next horizon planned while driving), " << m.horizonStops << " stops to plan\n";
+    }
     out << "faults:     ";
     if (m.faultsSeen.empty()) {
         out << "none";
@@ -356,6 +364,10 @@ void printMissionFacts(const MissionTelemetry& m, std::ostream& out) {
     num("bound_relaxations", m.boundRelaxations);
     num("risk_relaxations", m.riskRelaxations);
     num("call_homes", m.callHomes);
+    num("site_mode", m.siteMode ? 1 : 0);
+    num("horizons_reached", m.horizonsReached);
+    num("horizons_driven_through", m.horizonsDrivenThrough);
+    num("horizon_stops", m.horizonStops);
     std::string faults;
     for (unsigned id : m.faultsSeen) {
         faults += (faults.empty() ? "" : ",") + std::to_string(id);

@@ -122,6 +122,11 @@ struct MissionTelemetry {
     std::uint32_t boundRelaxations = 0; // PLAN.bound_relaxations
     std::uint32_t riskRelaxations = 0;  // PLAN.risk_relaxations
     std::uint32_t callHomes = 0;        // PLAN.call_homes
+    // Site mode (PLAN.site_mode and its counters).
+    bool siteMode = false;
+    std::uint32_t horizonsReached = 0;        // PLAN.horizons_reached
+    std::uint32_t horizonsDrivenThrough = 0;  // PLAN.horizons_driven_through
+    std::uint32_t horizonStops = 0;           // PLAN.horizon_stops
     std::set<unsigned> faultsSeen;      // fault ids set in any HEALTH.active_faults
 
     // Frame timing, as the last HK reported it.

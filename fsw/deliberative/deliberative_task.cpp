@@ -81,10 +81,10 @@ void DeliberativeTask::run(const core::FrameContext& frame) {
         out_.publish(chunk, "route chunk");
     }
     ++runs_;
+    collectCounters();   // before PLAN status, which shows some of them
     if (changed_ || runs_ % kStatusPeriodRuns == 0) {
         publishStatus();
     }
-    collectCounters();
 }
 
 void DeliberativeTask::collectCounters() {
@@ -743,6 +743,14 @@ void DeliberativeTask::publishStatus() {
     s.callHomes = mission_.callHomes;
     s.currentLegId = legs_.legInForce().legId;
     s.goalRevision = goals_.revision;
+    s.siteMode = siteMode() ? 1U : 0U;
+    s.routesFound = counters_.routesFound;
+    s.routesFailed = counters_.routesFailed;
+    s.horizonsReached = counters_.horizonsReached;
+    s.horizonsDrivenThrough = counters_.horizonsDrivenThrough;
+    s.horizonStops = counters_.horizonStops;
+    s.lookAheadsStarted = counters_.lookAheadsStarted;
+    s.lookAheadsDropped = counters_.lookAheadsDropped;
     s.shownLegs = 0;
     for (std::size_t k = legs_.index(); k < legs.count && s.shownLegs < msg::kPlanStatusLegs; ++k) {
         s.legs[s.shownLegs++] = legs.legs[k];

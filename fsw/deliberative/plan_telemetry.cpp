@@ -26,7 +26,9 @@ void PlanTelemetry::takePlanStatus(const msg::PlanStatusMsg& status) {
     const msg::PlanStatusMsg& before = planStatus_;
     changed_ = changed_ || status.state != before.state || status.legIndex != before.legIndex ||
                status.plansMade != before.plansMade || status.callHomes != before.callHomes ||
-               status.currentLegId != before.currentLegId || status.riskInForce != before.riskInForce;
+               status.currentLegId != before.currentLegId || status.riskInForce != before.riskInForce ||
+               status.horizonsReached != before.horizonsReached || status.routesFound != before.routesFound ||
+               status.routesFailed != before.routesFailed;
     planStatus_ = status;
 }
 
@@ -118,6 +120,14 @@ void PlanTelemetry::sendPlan(cmdtlm::TelemetrySink& sink) {
     plan_.risk_relaxations = p.riskRelaxations;
     plan_.bound_relaxations = p.boundRelaxations;
     plan_.call_homes = p.callHomes;
+    plan_.site_mode = p.siteMode;
+    plan_.routes_found = p.routesFound;
+    plan_.routes_failed = p.routesFailed;
+    plan_.horizons_reached = p.horizonsReached;
+    plan_.horizons_driven_through = p.horizonsDrivenThrough;
+    plan_.horizon_stops = p.horizonStops;
+    plan_.look_aheads_started = p.lookAheadsStarted;
+    plan_.look_aheads_dropped = p.lookAheadsDropped;
     for (std::size_t i = 0; i < goals_.count && i < msg::kMaxGoals; ++i) {
         plan_.goal_x[i] = static_cast<float>(goals_.goals[i].xM);
         plan_.goal_y[i] = static_cast<float>(goals_.goals[i].yM);

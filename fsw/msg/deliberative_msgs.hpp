@@ -71,7 +71,16 @@ struct PlanStatusMsg {
     std::uint32_t callHomes;
     std::uint32_t currentLegId;    // legId of the leg in force (0: none)
     std::uint32_t goalRevision;    // revision of the goal list in force (GoalListMsg or PlanGoalMsg)
-    std::uint8_t pad2[4];
+    // Site mode (docs/deliberative.md "Site mode"), counts since start.
+    std::uint8_t siteMode;         // 1: a site map in force: a route, then horizons along it
+    std::uint8_t pad2[3];
+    std::uint32_t routesFound;
+    std::uint32_t routesFailed;
+    std::uint32_t horizonsReached;        // horizon ends reached (the next horizon then driven)
+    std::uint32_t horizonsDrivenThrough;  // ... whose next leg went out at once (planned while driving)
+    std::uint32_t horizonStops;           // ... the rover stopped at to plan the next horizon
+    std::uint32_t lookAheadsStarted;      // next horizons planned while driving, restarts included
+    std::uint32_t lookAheadsDropped;      // ... dropped (stale after a sighting: planned again; or for good)
     PlanLeg legs[kPlanStatusLegs];
 };
 

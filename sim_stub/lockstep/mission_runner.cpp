@@ -440,6 +440,13 @@ void MissionRun::collectSummary() {
     s.finalMode = watch_->mode();
     s.interlockTripped = fsw.canIo().interlock().tripped();
     s.plansMade = last.plansMade;
+    s.siteMode = last.siteMode != 0;
+    s.routesFound = last.routesFound;
+    s.horizonsReached = last.horizonsReached;
+    s.horizonsDrivenThrough = last.horizonsDrivenThrough;
+    s.horizonStops = last.horizonStops;
+    s.lookAheadsStarted = last.lookAheadsStarted;
+    s.lookAheadsDropped = last.lookAheadsDropped;
     s.planLengthM = last.planLengthM;
     s.riskBound = last.riskBound;
     s.riskInForce = last.riskInForce;

@@ -133,6 +133,12 @@ void printMissionSummary(const MissionSummary& s, std::FILE* out) {
                  100.0 * s.stateOfCharge);
     std::fprintf(out, "plan:       %u plans made; the last %.2f m, risk used %.3g (bound %.3g, in force %.3g)\n", s.plansMade,
                  s.planLengthM, s.riskUsed, s.riskBound, s.riskInForce);
+    if (s.siteMode) {
+        std::fprintf(out, "site:       %u route(s); %u horizon ends: %u driven through (the next horizon planned while "
+                          "driving), %u stops to plan; %u look-aheads started, %u dropped\n",
+                     s.routesFound, s.horizonsReached, s.horizonsDrivenThrough, s.horizonStops, s.lookAheadsStarted,
+                     s.lookAheadsDropped);
+    }
     if (s.planMission) {
         const msg::PlanExecutiveStatusMsg& p = s.planExec;
         std::fprintf(out, "plan exec:  %s %s: cost %.2f (before the last regeneration %.2f), %u regenerations, %u "

@@ -95,6 +95,14 @@ struct MissionSummary {
     std::uint8_t finalMode = 0;
     bool interlockTripped = false;
     std::uint32_t plansMade = 0;
+    // Site mode (PlanStatusMsg, as PLAN telemetry shows them).
+    bool siteMode = false;
+    std::uint32_t routesFound = 0;
+    std::uint32_t horizonsReached = 0;
+    std::uint32_t horizonsDrivenThrough = 0;  // the next horizon planned while driving, its leg sent at once
+    std::uint32_t horizonStops = 0;           // stopped at the end to plan the next horizon
+    std::uint32_t lookAheadsStarted = 0;
+    std::uint32_t lookAheadsDropped = 0;
     double planLengthM = 0.0;
     double riskBound = 0.0;
     double riskInForce = 0.0;

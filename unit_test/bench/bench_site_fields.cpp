@@ -246,6 +246,9 @@ void snowdrift(rse::bench::Targets* targets) {
     std::printf("snowdrift: %s at %.0f s, driven %.1f m (%.3f x 700 m), %u contacts, %u plans, %.0f x real time\n",
                 sim::toString(s.outcome), s.outcomeTimeS, s.distanceM, s.distanceM / 700.0, s.collisions, s.plansMade,
                 speed);
+    std::printf("snowdrift horizon ends: %u, %u driven through (the next horizon planned while driving), %u stops "
+                "to plan (PLAN telemetry)\n",
+                s.horizonsReached, s.horizonsDrivenThrough, s.horizonStops);
     const bool reached = s.outcome == sim::MissionOutcome::kGoalReached;
     std::printf("TARGET snowdrift 700 m: goal reached: %s %s\n", reached ? "yes" : "no",
                 targets->check(reached) ? "PASS" : "FAIL");

@@ -376,3 +376,31 @@ TEST(GroundCliRecord, NoOutcomeNoTelemetryAndBadUsageAreErrors) {
     CHECK_EQUAL(1, r.rc);
     CHECK_TRUE(contains(r.err, "not a session recording"));
 }
+
+// Site mode's counts come from PLAN's fields, told only when a site map was in force.
+TEST(MissionTelemetry, SiteModesHorizonEndsComeFromPlan) {
+    cmdtlm::PLAN_Tlm p{};
+    p.status = static_cast<std::uint8_t>(msg::DeliberativeState::kExecuting);
+    p.goal_count = 1;
+    p.site_mode = 1;
+    p.horizons_reached = 17;
+    p.horizons_driven_through = 14;
+    p.horizon_stops = 3;
+    const ground::MissionTelemetry m = read({test::telemetryPacket(p, 0, at(5.0))});
+    CHECK_TRUE(m.siteMode);
+    LONGS_EQUAL(17, m.horizonsReached);
+    LONGS_EQUAL(14, m.horizonsDrivenThrough);
+    LONGS_EQUAL(3, m.horizonStops);
+    std::ostringstream people;
+    ground::printMissionTelemetry(m, people);
+    CHECK_TRUE(contains(people.str(), "site:       17 horizon ends: 14 driven through"));
+    std::ostringstream facts;
+    ground::printMissionFacts(m, facts);
+    CHECK_TRUE(contains(facts.str(), "horizons_driven_through=14\n"));
+    // The coarse map: no site line.
+    const ground::MissionTelemetry coarse = read(calledHomeMission());
+    CHECK_FALSE(coarse.siteMode);
+    std::ostringstream plain;
+    ground::printMissionTelemetry(coarse, plain);
+    CHECK_FALSE(contains(plain.str(), "site:"));
+}

@@ -54,6 +54,39 @@ TEST(PlanTelemetry, APlanStatusIsNewsOnlyWhenWhatPlanShowsChanged) {
     LONGS_EQUAL(3, rig.sink.count<cmdtlm::PLAN_Tlm>());
 }
 
+TEST(PlanTelemetry, SiteModesCountsGoDownAndAHorizonEndIsNews) {
+    rig.run(1);
+    msg::PlanStatusMsg status{};
+    status.siteMode = 1;
+    status.routesFound = 1;
+    status.horizonsReached = 4;
+    status.horizonsDrivenThrough = 3;
+    status.horizonStops = 1;
+    status.lookAheadsStarted = 9;
+    status.lookAheadsDropped = 5;
+    rig.publish(status);
+    rig.run(2);
+    LONGS_EQUAL(2, rig.sink.count<cmdtlm::PLAN_Tlm>());
+    const RecordingSink::Packet& p = rig.sink.last<cmdtlm::PLAN_Tlm>();
+    DOUBLES_EQUAL(1, RecordingSink::field(p, "site_mode"), 0.0);
+    DOUBLES_EQUAL(1, RecordingSink::field(p, "routes_found"), 0.0);
+    DOUBLES_EQUAL(4, RecordingSink::field(p, "horizons_reached"), 0.0);
+    DOUBLES_EQUAL(3, RecordingSink::field(p, "horizons_driven_through"), 0.0);
+    DOUBLES_EQUAL(1, RecordingSink::field(p, "horizon_stops"), 0.0);
+    DOUBLES_EQUAL(9, RecordingSink::field(p, "look_aheads_started"), 0.0);
+    DOUBLES_EQUAL(5, RecordingSink::field(p, "look_aheads_dropped"), 0.0);
+    // A look-ahead restarted is not news; a horizon's end is.
+    status.lookAheadsStarted = 10;
+    rig.publish(status);
+    rig.run(3);
+    LONGS_EQUAL(2, rig.sink.count<cmdtlm::PLAN_Tlm>());
+    status.horizonsReached = 5;
+    status.horizonsDrivenThrough = 4;
+    rig.publish(status);
+    rig.run(4);
+    LONGS_EQUAL(3, rig.sink.count<cmdtlm::PLAN_Tlm>());
+}
+
 TEST(PlanTelemetry, EachPlanPathGoesDownOnReceiptWithItsMeans) {
     msg::PlanPathMsg path{};
     path.planNumber = 3;

@@ -50,6 +50,13 @@ TEST(LockstepSnowdrift, SevenHundredMetresThroughABoulderFieldWithoutAContact) {
     CHECK(s.distanceM < 1.46 * 700.0);   // Perseverance's 1.46 through the same kind of field
     LONGS_EQUAL(0, over);                // no run over budget on the executive's clock
     CHECK(s.plansMade >= 20);            // horizons of 30 m
+    // The receding horizon, as PLAN telemetry counts it: every horizon end
+    // either driven through or a stop, most of them driven through (the next
+    // horizon planned while the rover drove there).
+    CHECK(s.siteMode);
+    CHECK(s.horizonsReached >= 15);
+    LONGS_EQUAL(s.horizonsReached, s.horizonsDrivenThrough + s.horizonStops);
+    CHECK(s.horizonsDrivenThrough > s.horizonStops);
     // The map shows the route, the horizons and the driven track.
     std::ifstream svg(s.mapPath);
     std::stringstream text;
