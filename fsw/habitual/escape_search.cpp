@@ -103,8 +103,29 @@ bool EscapeSearch::escapeClear(Point2 start, Point2 exit, const RememberedHazard
         if (length > 0.0 && distanceToCoarseMap(coarse_, q) < footprintM_) {
             return false;
         }
+        if (length > 0.0 && intoOtherDisc(start, q, leaving)) {
+            return false;
+        }
     }
     return true;
+}
+
+bool EscapeSearch::intoOtherDisc(Point2 start, Point2 q, const RememberedHazard* leaving) const {
+    // The way keeps the bare footprint from every other remembered disc (a
+    // contact the follower felt is one: the way out once drove through it
+    // again and again). A disc the start already lies in only blocks a way
+    // that goes deeper into it.
+    for (std::size_t k = 0; k < kMaxMapDiscs; ++k) {
+        const RememberedHazard& h = hazards_.slot(k);
+        if (!h.used || &h == leaving) {
+            continue;
+        }
+        const double d = distance(q, h.centre);
+        if (d < h.radiusM + footprintM_ && d < distance(start, h.centre)) {
+            return true;
+        }
+    }
+    return false;
 }
 
 }  // namespace rse::habitual

@@ -11,9 +11,10 @@
 // that runs towards another obstacle) to the first point clear of that disc by
 // footprint + margin + kEscapeExtraM and of everything else by footprint +
 // margin (kEscapeSteps of kEscapeStepM further out, at most kMaxEscapeM from
-// the start). The way there keeps the bare footprint from the mapped rocks; it
-// is not checked against the disc it leaves (it only moves away from its
-// centre).
+// the start). The way there keeps the bare footprint from the mapped rocks and
+// from every other remembered disc (one the start already lies in: no deeper
+// into it); it is not checked against the disc it leaves (it only moves away
+// from its centre).
 //
 // Back onto the site (findReentry). A start outside the coarse map's bounds
 // (the rover slid or was driven off the orbital map) goes straight to the
@@ -70,8 +71,10 @@ public:
     bool findReentry(geometry::Point2 start, geometry::Point2* exit) const;
     // exit keeps footprint + margin from the coarse map and from every
     // remembered disc but leaving (nullptr: every disc), and the way from start
-    // keeps the bare footprint from the coarse map.
+    // keeps the bare footprint from the coarse map and the other discs.
     bool escapeClear(geometry::Point2 start, geometry::Point2 exit, const RememberedHazard* leaving) const;
+    // A point q of the way from start lies deeper inside another remembered disc than start does.
+    bool intoOtherDisc(geometry::Point2 start, geometry::Point2 q, const RememberedHazard* leaving) const;
 
 private:
     const LocalMap& planMap_;

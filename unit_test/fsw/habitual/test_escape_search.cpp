@@ -72,12 +72,17 @@ TEST(EscapeSearch, TurnsWhenStraightAwayRunsTowardsAnotherDisc) {
     Point2 exit{0.0, 0.0};
     CHECK_TRUE(search().findEscape(start, 0.0, &exit));
     // Not straight back (every point that way lies within the other disc's
-    // keep): turned by 30 degrees, and farther out than the first point tried.
+    // keep): turned, by 60 degrees (the 30-degree ways pass 1.46 m from the
+    // other disc's centre, inside its cover grown by the footprint, 1.49 m).
     const double away = std::atan2(exit.y - h.centre.y, exit.x - h.centre.x);
-    DOUBLES_EQUAL(kPi / 6.0, std::fabs(std::fabs(away) - kPi), 1e-3);
-    CHECK(distance(exit, h.centre) > h.radiusM + kFootprint + kPlanMarginM + kEscapeExtraM + 0.1);
+    DOUBLES_EQUAL(kPi / 3.0, std::fabs(std::fabs(away) - kPi), 1e-3);
+    CHECK(distance(exit, h.centre) >= h.radiusM + kFootprint + kPlanMarginM + kEscapeExtraM - 1e-9);
     CHECK(distance(exit, other.centre) >= other.radiusM + kFootprint + kPlanMarginM);
     CHECK(distance(exit, start) <= habitual::kMaxEscapeM);
+    for (int i = 0; i <= 100; ++i) {
+        const Point2 q = start + (static_cast<double>(i) / 100.0) * (exit - start);
+        CHECK(distance(q, other.centre) >= other.radiusM + kFootprint - 1e-9);
+    }
 }
 
 TEST(EscapeSearch, AStartBlockedByAMappedRockHasNoDiscToLeave) {
@@ -137,4 +142,37 @@ TEST(EscapeSearch, TheEndKeepsTheMarginFromEveryOtherObstacleAndTheWayTheFootpri
     CHECK(geometry::distanceToCoarseMap(coarse, Point2{5.75, 0.0}) >= kFootprint + kPlanMarginM);
     CHECK_FALSE(s.escapeClear(Point2{5.75, 4.5}, Point2{5.75, 0.0}, nullptr));
     CHECK_TRUE(s.escapeClear(Point2{3.0, 0.0}, Point2{3.0, -1.0}, nullptr));
+}
+
+// The way out keeps the bare footprint from every other remembered disc: a
+// contact the follower felt lies on the straight way out of a big disc, its
+// end clear of the contact's keep. Before, the way was checked against the
+// mapped rocks only and drove through the contact (Snowdrift, after a
+// trajectory change: 22 contacts with the same rock, one escape after another).
+TEST(EscapeSearch, TheWayOutKeepsTheFootprintFromEveryOtherRememberedDisc) {
+    const habitual::RememberedHazard& h = see(7, 12.0, -6.0, 0.0, 2.0, 0.7);   // centre (14.7, -6), cover 1.57 m
+    const Point2 start = h.centre + Point2{-0.2, 0.0};
+    // Straight away, with nothing else remembered: along -x.
+    Point2 straight{0.0, 0.0};
+    CHECK_TRUE(search().findEscape(start, 0.0, &straight));
+    DOUBLES_EQUAL(start.y, straight.y, 1e-9);
+    const double wayM = distance(start, straight);
+    CHECK(wayM > 2.0);
+    CHECK(wayM <= habitual::kMaxEscapeM);
+    // A contact 1.0 m along that way and 0.3 m aside: the start is outside its
+    // footprint keep and the straight end clear of its planning keep, but the way passes 0.3 m off it.
+    const Point2 contact = start + Point2{-1.0, 0.3};
+    CHECK(habitual::SightingOutcome::kAdded == hazards.rememberContact(contact, 0.1, 0.15));
+    CHECK(distance(start, contact) > 0.15 + kFootprint);
+    CHECK(distance(straight, contact) > 0.15 + kFootprint + kPlanMarginM);
+    const EscapeSearch s = search();
+    CHECK_FALSE(s.escapeClear(start, straight, &h));
+    Point2 exit{0.0, 0.0};
+    CHECK_TRUE(s.findEscape(start, 0.0, &exit));
+    // Another way out, every point of it the footprint off the contact.
+    CHECK(distance(exit, straight) > 0.1);
+    for (int i = 0; i <= 100; ++i) {
+        const Point2 q = start + (static_cast<double>(i) / 100.0) * (exit - start);
+        CHECK(distance(q, contact) >= 0.15 + kFootprint - 1e-9);
+    }
 }
