@@ -478,13 +478,14 @@ void DeliberativeTask::startPlan() {
 }
 
 bool DeliberativeTask::planHorizon(double fromX, double fromY, PlanStart* start) {
-    if (!horizons_.next(geometry::Point2{fromX, fromY}, &horizon_)) {
+    if (!horizons_.next(geometry::Point2{fromX, fromY}, horizonReach(), &horizon_)) {
         return false;
     }
     horizonLast_ = horizon_.last;
     start->goalX = horizon_.goal.x;
     start->goalY = horizon_.goal.y;
-    start->site = SiteCorridor{siteMap_, &siteQuery_, horizon_.corridor, horizon_.count, kCorridorReachM};
+    start->site = SiteCorridor{siteMap_, &siteQuery_, horizon_.corridor, horizon_.count,
+                               static_cast<double>(tables_.planner().site_corridor_reach_m)};
     return true;
 }
 
@@ -500,7 +501,8 @@ bool DeliberativeTask::lookAheadDue() const {
     }
     const msg::PlanLeg& end = legs_.legs().legs[legs_.legs().count - 1];
     const double toEnd = std::hypot(end.xM - pose_.xM, end.yM - pose_.yM);
-    return lookAhead_.due(toEnd, legs_.index() + 1 >= legs_.legs().count);
+    return lookAhead_.due(toEnd, legs_.index() + 1 >= legs_.legs().count,
+                          static_cast<double>(tables_.planner().site_look_ahead_m));
 }
 
 void DeliberativeTask::startLookAhead() {
@@ -509,7 +511,7 @@ void DeliberativeTask::startLookAhead() {
     const msg::PlanLeg& last = legs_.legs().legs[legs_.legs().count - 1];
     const geometry::Point2 end{last.xM, last.yM};
     const std::size_t before = horizons_.progress();
-    if (!horizons_.next(end, lookAhead_.horizonSlot())) {
+    if (!horizons_.next(end, horizonReach(), lookAhead_.horizonSlot())) {
         lookAhead_.refused();
         return;
     }
@@ -529,7 +531,8 @@ void DeliberativeTask::startLookAhead() {
         drives_.confirmedFailedDrives(now_, static_cast<double>(tables_.planner().failed_drive_confirm_s));
     start.meanPowerFactor = meanFactor();
     start.hazards = &hazards_;
-    start.site = SiteCorridor{siteMap_, &siteQuery_, next.corridor, next.count, kCorridorReachM};
+    start.site = SiteCorridor{siteMap_, &siteQuery_, next.corridor, next.count,
+                              static_cast<double>(tables_.planner().site_corridor_reach_m)};
     const char* refusal = "";
     if (!maker_.start(start, &refusal)) {
         horizons_.rewind(before);
@@ -556,9 +559,14 @@ void DeliberativeTask::adoptLookAhead() {
 }
 
 void DeliberativeTask::startRoute(double fromX, double fromY, const msg::Goal& goal) {
+    const tables::PlannerTable& planner = tables_.planner();
+    RouteMargins margins;
+    margins.marginM = static_cast<double>(planner.site_route_margin_m);
+    margins.comfortM = static_cast<double>(planner.site_route_comfort_m);
+    margins.zoneMarginM = static_cast<double>(planner.site_route_zone_margin_m);
     const RouteRefusal refusal =
         horizons_.begin(*siteMap_, geometry::Point2{fromX, fromY}, geometry::Point2{goal.xM, goal.yM},
-                        rse::geometry::clearanceRadiusM(tables_.roverGeometry()));
+                        rse::geometry::clearanceRadiusM(tables_.roverGeometry()), margins);
     if (refusal != RouteRefusal::kNone) {
         ++routesFailed_;
         events_.report(events::kNoRoute, core::Severity::kWarning,
@@ -702,6 +710,13 @@ GoalArrival DeliberativeTask::arrival() const {
     a.poseUncertain = poseUncertain();
     a.poseFault = ((faults_.activeMask >> msg::fault::kPoseUncertain) & 1U) != 0U;
     return a;
+}
+
+HorizonReach DeliberativeTask::horizonReach() const {
+    HorizonReach reach;
+    reach.lengthM = static_cast<double>(tables_.planner().site_horizon_m);
+    reach.lastFactor = static_cast<double>(tables_.planner().site_last_horizon_factor);
+    return reach;
 }
 
 double DeliberativeTask::goalRadiusM() const {

@@ -306,6 +306,7 @@ private:
     LegParams legParams() const;
     LegEndClearance clearance() const;
     ReplanFrom replanFrom() const;
+    HorizonReach horizonReach() const;   // PLANNER.site_horizon_m, site_last_horizon_factor
     GoalArrival arrival() const;
     // The goal in hand as the operator numbers it: its index in the operator's
     // goal list (PlanGoalMsg.listIndex) plus the index in the list given.

@@ -4,7 +4,7 @@
 // stop there to plan.
 //
 // - When (the task asks due()): the plan in hand is a horizon short of the
-//   goal, its last leg is in force or the rover is within kLookAheadStartM of
+//   goal, its last leg is in force or the rover is within PLANNER.site_look_ahead_m of
 //   its end, nothing holds the mission, no back-up, the pose usable. One
 //   look-ahead at a time, started again when it goes stale.
 // - From: the horizon's end (the plan's last mean, where its last leg ends),
@@ -54,12 +54,6 @@
 
 namespace rse::deliberative {
 
-// The look-ahead starts when the rover is this near the horizon's end (or on
-// its last leg): about 45 s of driving at the demo's pace, room for a plan
-// and its restarts, and at most about 8 open-loop steps of growth in its
-// start covariance.
-constexpr double kLookAheadStartM = 10.0;
-
 enum class Handover : std::uint8_t {
     kTake,          // a finished look-ahead: its plan, the first leg sent at once
     kFinish,        // still planning: finished with the rover stopped at the end
@@ -80,10 +74,13 @@ public:
     explicit HorizonLookAhead(core::EventLog& events) : events_(events) {}
 
     // The rover at distanceToEndM of the horizon's end, lastLeg: the plan's
-    // last leg is in force. The task checks the rest (site mode, a horizon
-    // short of the goal, no hold, no back-up, a usable pose).
-    bool due(double distanceToEndM, bool lastLeg) const {
-        return state_ == State::kNone && (lastLeg || distanceToEndM <= kLookAheadStartM);
+    // last leg is in force; startM: PLANNER.site_look_ahead_m (0: never; 10 m
+    // by default, about 45 s of driving at the demo's pace: room for a plan
+    // and its restarts, and about 8 open-loop steps of growth in its start
+    // covariance). The task checks the rest (site mode, a horizon short of
+    // the goal, no hold, no back-up, a usable pose).
+    bool due(double distanceToEndM, bool lastLeg, double startM) const {
+        return state_ == State::kNone && startM > 0.0 && (lastLeg || distanceToEndM <= startM);
     }
 
     // Steps of plan still to drive from `at`: N - t for its mean t nearest

@@ -41,7 +41,8 @@ bool RouteHorizons::nextChunk(msg::RouteChunkMsg* out) {
     return true;
 }
 
-RouteRefusal RouteHorizons::begin(const site_map::SiteMap& map, Point2 from, Point2 goal, double footprintRadiusM) {
+RouteRefusal RouteHorizons::begin(const site_map::SiteMap& map, Point2 from, Point2 goal, double footprintRadiusM,
+                                  const RouteMargins& margins) {
     valid_ = false;
     chunkCount_ = 0;
     progress_ = 0;
@@ -49,9 +50,9 @@ RouteRefusal RouteHorizons::begin(const site_map::SiteMap& map, Point2 from, Poi
     goal_ = goal;
     revision_ = map.revision();
     RouteParams params;
-    params.clearanceM = footprintRadiusM + kRouteMarginM;
-    params.comfortM = params.clearanceM + kRouteComfortM;
-    params.zoneMarginM = kRouteZoneMarginM;
+    params.clearanceM = footprintRadiusM + margins.marginM;
+    params.comfortM = params.clearanceM + margins.comfortM;
+    params.zoneMarginM = margins.zoneMarginM;
     const RouteRefusal refusal = route_.start(map, from, goal, params);
     valid_ = refusal == RouteRefusal::kNone;
     return refusal;
@@ -64,7 +65,7 @@ bool RouteHorizons::routes(Point2 goal, std::uint32_t revision) const {
            map_->revision() == revision;
 }
 
-bool RouteHorizons::next(Point2 from, Horizon* out) {
+bool RouteHorizons::next(Point2 from, const HorizonReach& reach, Horizon* out) {
     const std::size_t n = route_.pointCount();
     if (!routed() || n < 2 || !geometry::isFinite(from)) {
         return false;
@@ -87,7 +88,7 @@ bool RouteHorizons::next(Point2 from, Horizon* out) {
     for (std::size_t k = segment + 1; k + 1 < n; ++k) {
         remaining += geometry::distance(route_.point(k), route_.point(k + 1));
     }
-    out->last = remaining <= kLastHorizonFactor * kHorizonLengthM;
+    out->last = remaining <= reach.lastFactor * reach.lengthM;
     out->count = 0;
     const auto add = [out](Point2 p) {
         // The last slot is kept for the horizon's goal.
@@ -98,7 +99,7 @@ bool RouteHorizons::next(Point2 from, Horizon* out) {
     };
     add(from);
     add(place);
-    double left = out->last ? HUGE_VAL : kHorizonLengthM;
+    double left = out->last ? HUGE_VAL : reach.lengthM;
     Point2 at = place;
     out->goal = route_.point(n - 1);
     for (std::size_t k = segment; k + 1 < n; ++k) {

@@ -1,9 +1,9 @@
 // Site mode's route and its horizons (docs/deliberative.md, "Site mode"):
 // the global route over the site map (global_route.hpp) from the rover to the
 // goal, then, one after another, the horizons the chance-constrained planner
-// plans along it: from the rover to the route point kHorizonLengthM further
-// along the route than the rover's place on it (or to the goal when it is
-// within kLastHorizonFactor of that), with the route's stretch between as the
+// plans along it: from the rover to the route point PLANNER.site_horizon_m
+// further along the route than the rover's place on it (or to the goal when it
+// is within site_last_horizon_factor of that), with the route's stretch between as the
 // corridor whose rocks the horizon's problem holds (map_problem.hpp).
 //
 // The rover's place on the route is its nearest point on the segments from
@@ -27,24 +27,18 @@
 
 namespace rse::deliberative {
 
-// How far along the route a horizon reaches: within the planner's 24 steps
-// (1.25 m a step) and the hazard detector's view of the next stretch.
-constexpr double kHorizonLengthM = 30.0;
-// A horizon whose goal would leave less than this fraction of a horizon to
-// the goal goes to the goal itself (no 3 m last horizon).
-constexpr double kLastHorizonFactor = 1.25;
-// Rocks whose box comes within this of a horizon's corridor are its
-// problem's candidates (the plan's own neighbourhood is added before its
-// check: whole_map_check.hpp, "Rocks far from the plan").
-constexpr double kCorridorReachM = 6.0;
-// The route keeps the footprint radius and this margin off every rock and
-// zone, and prices rocks within this comfort beyond that.
-constexpr double kRouteMarginM = 0.4;
-constexpr double kRouteComfortM = 1.5;
-// Keep-out zones are kept this much farther off: a horizon's plan within the
-// far reach of a zone is not taken (whole_map_check.hpp), and the far reach
-// is about 2 m at the default noise.
-constexpr double kRouteZoneMarginM = 2.5;
+// The route's and the horizons' parameters (PLANNER's site_* fields:
+// docs/tables.md), given at each call so an uploaded table applies from the
+// next route or horizon on.
+struct RouteMargins {
+    double marginM = 0.4;       // site_route_margin_m: beyond the footprint radius, off every rock and zone
+    double comfortM = 1.5;      // site_route_comfort_m: rocks priced within this beyond the clearance
+    double zoneMarginM = 2.5;   // site_route_zone_margin_m: zones kept this much farther off
+};
+struct HorizonReach {
+    double lengthM = 30.0;      // site_horizon_m: how far along the route a horizon reaches
+    double lastFactor = 1.25;   // site_last_horizon_factor: the goal itself when less than this x lengthM remains
+};
 // ROUTE chunks published in one run (the telemetry pipe takes them as they come).
 constexpr std::size_t kRouteChunksPerRun = 4;
 // Corridor points a horizon carries (its start, the route's points within it
@@ -62,7 +56,8 @@ class RouteHorizons {
 public:
     // Starts the route from `from` to goal over map for a rover of this
     // footprint radius: kNone, or why not (no route then).
-    RouteRefusal begin(const site_map::SiteMap& map, geometry::Point2 from, geometry::Point2 goal, double footprintRadiusM);
+    RouteRefusal begin(const site_map::SiteMap& map, geometry::Point2 from, geometry::Point2 goal, double footprintRadiusM,
+                       const RouteMargins& margins);
     // One slice of the search; true when it has ended.
     bool step();
     // True when a route reaches the goal.
@@ -72,7 +67,7 @@ public:
     void forget() { valid_ = false; }
 
     // The next horizon from `from` (the rover's estimate); false without a route.
-    bool next(geometry::Point2 from, Horizon* out);
+    bool next(geometry::Point2 from, const HorizonReach& reach, Horizon* out);
 
     // The route found is to be told (ROUTE telemetry): numbered, its chunks
     // pending from the first.

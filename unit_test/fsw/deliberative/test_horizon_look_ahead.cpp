@@ -10,6 +10,7 @@
 
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "fsw/deliberative/horizon_look_ahead.hpp"
+#include "fsw/geometry/rover_footprint.hpp"
 #include "unit_test/fsw/deliberative/deliberative_rig.hpp"
 #include "unit_test/fsw/deliberative/site_field.hpp"
 
@@ -236,13 +237,15 @@ TEST(HorizonLookAhead, AHandoverTakesOnlyAFinishedCurrentPlanAndCountsEveryHoriz
     HorizonLookAhead ahead(events);
     const Point2 at{0.0, 0.0};
     // None started: planned from the pose.
-    CHECK(ahead.due(20.0, true));
-    CHECK(!ahead.due(12.0, false));
-    CHECK(ahead.due(9.0, false));
+    CHECK(ahead.due(20.0, true, 10.0));
+    CHECK(!ahead.due(12.0, false, 10.0));
+    CHECK(ahead.due(9.0, false, 10.0));
+    CHECK(ahead.due(12.0, false, 15.0));
+    CHECK(!ahead.due(1.0, true, 0.0));   // site_look_ahead_m 0: never
     CHECK(ahead.handover(at, 7, 1, false) == Handover::kPlanFromPose);
     // Started and still planning: finished with the rover stopped.
     ahead.begin(at, 0.15, 4, 3, 7, 1, 1e-3);
-    CHECK(!ahead.due(1.0, true));   // one at a time
+    CHECK(!ahead.due(1.0, true, 10.0));   // one at a time
     CHECK(ahead.handover(at, 7, 1, false) == Handover::kFinish);
     // Finished with a plan: taken.
     ahead.begin(at, 0.15, 4, 3, 7, 1, 1e-3);
@@ -264,7 +267,7 @@ TEST(HorizonLookAhead, AHandoverTakesOnlyAFinishedCurrentPlanAndCountsEveryHoriz
     CHECK(ahead.handover(at, 8, 1, false) == Handover::kPlanFromPose);
     // Refused (the plan maker would not start it): none this horizon.
     ahead.refused();
-    CHECK(!ahead.due(1.0, true));
+    CHECK(!ahead.due(1.0, true, 10.0));
     CHECK(!ahead.active());
     CHECK(ahead.handover(at, 7, 1, true) == Handover::kPlanFromPose);
     const deliberative::LookAheadCounters& c = ahead.counters();
@@ -293,4 +296,59 @@ TEST(HorizonLookAhead, ItIsStaleOnceTheSeenHazardsOrTheSiteMapChanged) {
     CHECK(ahead.stale(42, 5));   // a disc new, refined or forgotten
     CHECK(ahead.stale(41, 6));   // another site map
     LONGS_EQUAL(41, ahead.hazardRevision());
+}
+
+// PLANNER's site fields are what the layer uses: with site_look_ahead_m 0 no
+// horizon is planned ahead and every horizon's end is a stop; with
+// site_horizon_m 20 the horizons reach 20 m along the route; a route margin of
+// 1 m keeps the route that much farther off every rock.
+TEST(HorizonLookAhead, ThePlannerTablesSiteFieldsAreTheOnesUsed) {
+    test::loadSiteField(siteMap, 0.15, 200.0, 60.0, 7, {{10.0, 30.0}, {190.0, 30.0}});
+    DeliberativeRig* rig = new DeliberativeRig(siteMap);
+    CHECK(rig->init());
+    tables::PlannerTable t = rig->tables.planner();
+    t.site_look_ahead_m = 0.0F;
+    t.site_horizon_m = 20.0F;
+    t.site_route_margin_m = 1.0F;
+    CHECK_TRUE(rig->loadTable(tables::TableId::kPlanner, t, 60));
+    rig->x = 10.0;
+    rig->y = 30.0;
+    rig->setMode(DeliberativeRig::kAutonomous);
+    rig->sendGoal(190.0, 30.0, 1e-3);
+    // The first horizon: 20 m along the route from the rover's place.
+    CHECK(rig->runUntil([&] { return rig->legs > 0; }, 2000));
+    const deliberative::GlobalRoute& route = rig->task.route().route();
+    const Point2 goal = rig->task.horizon().goal;
+    double along = 0.0;
+    bool found = false;
+    for (std::size_t k = 0; k + 1 < route.pointCount() && !found; ++k) {
+        const Point2 a = route.point(k);
+        const Point2 b = route.point(k + 1);
+        const Point2 q = geometry::closestOnSegment(goal, a, b);
+        if (geometry::distance(q, goal) < 1e-6) {
+            along += geometry::distance(a, goal);
+            found = true;
+        } else {
+            along += geometry::distance(a, b);
+        }
+    }
+    CHECK(found);
+    DOUBLES_EQUAL(20.0, along, 0.6);   // the rover starts on the route's first point
+    // The route keeps the footprint and 1 m off every rock of the map.
+    const double kept = geometry::clearanceRadiusM(rig->tables.roverGeometry()) + 1.0;
+    for (std::size_t k = 1; k < route.pointCount(); ++k) {
+        for (std::size_t r = 0; r < siteMap->rockCount(); ++r) {
+            CHECK(test::rockDistance(route.point(k - 1), route.point(k), siteMap->rock(r)) >= kept - 1e-6);
+        }
+    }
+    // No look-ahead: every horizon's end is a stop.
+    const Flight f = drive(rig, 20000);
+    CHECK(rig->task.state() == msg::DeliberativeState::kComplete);
+    const deliberative::DeliberativeCounters& c = rig->task.counters();
+    CHECK(c.horizonsReached >= 7);   // 180 m in horizons of 20 m
+    LONGS_EQUAL(0, c.lookAheadsStarted);
+    LONGS_EQUAL(0, c.horizonsDrivenThrough);
+    LONGS_EQUAL(c.horizonsReached, c.horizonStops);
+    CHECK(f.idleRuns > 0);
+    delete rig;
 }

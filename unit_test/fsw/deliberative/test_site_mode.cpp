@@ -308,7 +308,7 @@ TEST(SiteMode, RocksNearAPlanOutsideItsCorridorBecomeCandidatesAndTooManyAreRefu
 
 // The horizon's problem holds rocks, not keep-out zones: a plan whose far
 // reach comes to a zone's box is not certified against it and not taken
-// (event 992 names why); the route keeps zones kRouteZoneMarginM farther off
+// (event 992 names why); the route keeps zones PLANNER.site_route_zone_margin_m farther off
 // than rocks, so the horizons along it stay clear and are taken.
 TEST(SiteMode, KeepOutZonesAreKeptOffByTheRouteAndAPlanNearOneIsNotCertified) {
     ground::SiteMapSpec spec;
@@ -340,8 +340,10 @@ TEST(SiteMode, KeepOutZonesAreKeptOffByTheRouteAndAPlanNearOneIsNotCertified) {
                                               rig->task.planMaker().farRocks().reachM));
     const deliberative::GlobalRoute& route = rig->task.route().route();
     const Point2 zone[4] = {{20.0, 16.3}, {40.0, 16.3}, {40.0, 29.0}, {20.0, 29.0}};
-    const double kept = geometry::clearanceRadiusM(rig->tables.roverGeometry()) + deliberative::kRouteMarginM +
-                        deliberative::kRouteZoneMarginM;
+    const tables::PlannerTable& planner = rig->tables.planner();
+    const double kept = geometry::clearanceRadiusM(rig->tables.roverGeometry()) +
+                        static_cast<double>(planner.site_route_margin_m) +
+                        static_cast<double>(planner.site_route_zone_margin_m);
     for (std::size_t k = 1; k < route.pointCount(); ++k) {
         const double d2 = geometry::segmentConvexPolygonDistanceSquared(route.point(k - 1), route.point(k), zone, 4);
         CHECK(d2 >= kept * kept - 1e-6);
