@@ -78,8 +78,18 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
     const double direction = roverHeadingRad + sighting.bearingRad;
     const double reach = sighting.rangeM + sighting.halfWidthM;
     const Point2 centre{roverPosition.x + reach * std::cos(direction), roverPosition.y + reach * std::sin(direction)};
-    if (distanceToCoarseMap(coarse, centre) <= kKnownObstacleMarginM ||
-        nearSiteRock(site, centre, kKnownObstacleMarginM)) {
+    const Point2 nearest{roverPosition.x + sighting.rangeM * std::cos(direction),
+                         roverPosition.y + sighting.rangeM * std::sin(direction)};
+    const bool onMappedRock = distanceToCoarseMap(coarse, nearest) <= kKnownObstacleMarginM ||
+                              nearSiteRock(site, nearest, kKnownObstacleMarginM);
+    // A mapped rock seen again: both the surface seen (the nearest point) and
+    // the centre estimated behind it lie on it (within the margin). The centre
+    // alone is not enough: a hidden rock beside a mapped one has its centre
+    // within the margin of it while its surface stands clear in front, and was
+    // dismissed as the mapped rock (a field of issue 31: the rover, passing the
+    // mapped rock at 0.3 m, drove into the hidden one beside it).
+    if (onMappedRock && (distanceToCoarseMap(coarse, centre) <= kKnownObstacleMarginM ||
+                         nearSiteRock(site, centre, kKnownObstacleMarginM))) {
         ++known_;
         return SightingOutcome::kKnownObstacle;
     }
@@ -88,10 +98,6 @@ SightingOutcome MapBuilder::remember(const tables::CoarseMapTable& coarse, Point
     // nearest point on (within the margin of) a mapped rock is that rock's
     // surface: the map has the rock whole, so the cover is the seen disc.
     const double seenRadius = std::fmax(kSightingRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
-    const Point2 nearest{roverPosition.x + sighting.rangeM * std::cos(direction),
-                         roverPosition.y + sighting.rangeM * std::sin(direction)};
-    const bool onMappedRock = distanceToCoarseMap(coarse, nearest) <= kKnownObstacleMarginM ||
-                              nearSiteRock(site, nearest, kKnownObstacleMarginM);
     const double coverRadius =
         onMappedRock ? seenRadius : std::fmax(kCoverRadiusFactor * sighting.halfWidthM, kMinHazardRadiusM);
 

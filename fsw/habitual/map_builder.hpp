@@ -87,9 +87,10 @@ constexpr double kSightingRadiusFactor = 1.5;
 // a site whose rocks are deeper than wide would need the depth assumption
 // changed, not this number.
 constexpr double kCoverRadiusFactor = 2.23606797749978969641;
-// A sighting this close to a known polygon is that polygon seen again (the
-// detector's range and bearing noise and the pose error are a few centimetres;
-// the disc centre estimate of a large rock lands inside or near it).
+// A sighting whose surface seen and centre estimate both lie this close to a
+// known polygon is that polygon seen again (the detector's range and bearing
+// noise and the pose error are a few centimetres; the disc centre estimate of
+// a large rock lands inside or near it).
 constexpr double kKnownObstacleMarginM = 0.3;
 // Sightings beyond this range are refused as implausible (the detector reaches 3 m).
 constexpr double kMaxSightingRangeM = 50.0;

@@ -227,15 +227,32 @@ TEST(MapBuilder, SightingOnOrNearACoarsePolygonIsAKnownObstacle) {
     // centre inside the rock.
     CHECK(SightingOutcome::kKnownObstacle ==
           builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.8, 0.0, 0.7)));
-    // Centre 0.25 m south of the rock's edge: within the 0.3 m margin.
+    // Surface 0.2 m and centre 0.1 m south of the rock's edge: within the 0.3 m margin.
     CHECK(SightingOutcome::kKnownObstacle ==
-          builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.45, 0.0, 0.1)));
+          builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.6, 0.0, 0.1)));
     LONGS_EQUAL(0, builder.rememberedCount());
     LONGS_EQUAL(2, builder.knownObstacles());
-    // 0.35 m away is something else: added.
-    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.35, 0.0, 0.1)));
+    // Centre 0.25 m off but the surface seen 0.35 m in front: something else, added.
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, Point2{5.75, 0.0}, kPi / 2.0, sighting(1, 1.45, 0.0, 0.1)));
     LONGS_EQUAL(1, builder.rememberedCount());
-    DOUBLES_EQUAL(0.35, geometry::distanceToCoarseMap(coarse, findId(builder, 1)->centre), 1e-6);
+    DOUBLES_EQUAL(0.25, geometry::distanceToCoarseMap(coarse, findId(builder, 1)->centre), 1e-6);
+}
+
+TEST(MapBuilder, AHiddenRockBesideAMappedOneIsNotTakenForIt) {
+    // Rock 0 spans x 5..6.5, y 1.8..3.2. A hidden rock just south-west of its
+    // corner, seen from the west: its centre estimate lies 0.21 m from the
+    // rock (within the margin) but the surface seen, its west side, 0.36 m
+    // from it: it is another rock, remembered.
+    const Point2 rover{3.0, 1.6};
+    const double range = 1.7;       // surface at (4.7, 1.6)
+    const double halfWidth = 0.25;  // centre estimate (4.95, 1.6)
+    CHECK(geometry::distanceToCoarseMap(coarse, Point2{4.95, 1.6}) <= habitual::kKnownObstacleMarginM);
+    CHECK(geometry::distanceToCoarseMap(coarse, Point2{4.7, 1.6}) > habitual::kKnownObstacleMarginM);
+    CHECK(SightingOutcome::kAdded == builder.remember(coarse, rover, 0.0, sighting(9, range, 0.0, halfWidth)));
+    LONGS_EQUAL(0, builder.knownObstacles());
+    const habitual::RememberedHazard* h = findId(builder, 9);
+    CHECK(h != nullptr);
+    DOUBLES_EQUAL(4.95, h->centre.x, 1e-9);
 }
 
 TEST(MapBuilder, FullTableReplacesTheSightingSeenLongestAgo) {
