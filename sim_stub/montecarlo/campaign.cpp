@@ -13,6 +13,7 @@
 #include "fsw/deliberative/deliberative_events.hpp"
 #include "sim_stub/lockstep/lockstep_rig.hpp"
 #include "sim_stub/montecarlo/results.hpp"
+#include "sim_stub/scenario/field_rocks.hpp"
 
 namespace rse::sim::mc {
 
@@ -21,6 +22,7 @@ namespace {
 // One stream per purpose, so adding a draw to one leaves the others alone.
 constexpr std::uint64_t kRockStream = 0x726f636b;   // "rock"
 constexpr std::uint64_t kFaultStream = 0x66617574;  // "faut"
+constexpr std::uint64_t kFieldStream = 0x6669656c;  // "fiel"
 
 std::string hex64(std::uint64_t v) {
     char buf[20];
@@ -223,11 +225,30 @@ Variation varyScenario(Scenario* s, std::uint64_t seed, double goalX, double goa
     s->seed = seed;
     v.noiseSeed = seed;
 
+    if (s->field.present) {
+        // A field per seed: the field's rocks drawn again, cleared round the
+        // start and the goal flown (the campaign's, which --goto may move).
+        s->obstacles.erase(std::remove_if(s->obstacles.begin(), s->obstacles.end(),
+                                          [](const Obstacle& ob) { return ob.id >= kFirstFieldRockId; }),
+                           s->obstacles.end());
+        SeedStream field(seed, kFieldStream);
+        s->field.rocks.seed = field.next() & 0xFFFFFFFFULL;   // a readable seed, one the field file format takes
+        const MissionSpec mission = s->mission;
+        s->mission.present = true;
+        s->mission.hasGoal = true;
+        s->mission.goalX = goalX;
+        s->mission.goalY = goalY;
+        addFieldRocks(s->field, s);
+        s->mission = mission;
+        v.field = true;
+        v.fieldSeed = s->field.rocks.seed;
+    }
+
     SeedStream rocks(seed, kRockStream);
     const Vec2 ends[] = {{s->start.x, s->start.y}, {goalX, goalY}};
     const double keep = s->rover.radiusM + kRockEndClearanceM;
     for (Obstacle& ob : s->obstacles) {
-        if (ob.known) {
+        if (ob.known || ob.id >= kFirstFieldRockId) {
             continue;
         }
         Vec2 chosen{0.0, 0.0};
@@ -332,6 +353,7 @@ SeedRun runSeed(const CampaignSpec& spec, std::uint64_t seed, std::FILE* out) {
         std::snprintf(buf, sizeof buf, "%s%.3f", faults.empty() ? "" : ",", t);
         faults += buf;
     }
+    r.field = variation.field ? std::to_string(variation.fieldSeed) : "-";
     r.rocks = rocks.empty() ? "-" : rocks;
     r.faults = faults.empty() ? "-" : faults;
     if (m.outcome == MissionOutcome::kSetupFailed) {

@@ -15,21 +15,25 @@
 #include <vector>
 
 #include "sim_stub/lockstep/mission_runner.hpp"
+#include "sim_stub/montecarlo/results.hpp"
 #include "sim_stub/scenario/scenario.hpp"
 
 namespace rse::sim::mc {
 
-// The result file format (docs/montecarlo.md, "Result files"); bumped when a
-// line changes meaning.
-constexpr int kFormatVersion = 1;
+// The result file format: kFormatVersion (results.hpp).
 // What a seed varies and how (the limits below); bumped when a seed would give
 // a different scenario than before, so files of two variations never merge.
-constexpr int kVariationVersion = 1;
+constexpr int kVariationVersion = 2;   // 2: a [field] drawn afresh for each seed
 
 // The variation limits (docs/montecarlo.md, "What a seed varies").
 // Sensor noise: Scenario::seed = the run's seed (every device's noise stream,
 // the drives' reports and the wheel slip).
-// Hidden rocks: each rock the orbital map does not show is moved by (dx, dy),
+// A generated field ([field], field_rocks.hpp): a field per seed. Its rocks
+// are drawn afresh from the field's model with a seed of the run seed's own
+// stream (the campaign's k, diameters and orbital resolution), cleared round
+// the start and the flown goal; the site map the rover is told of is the new
+// field's known rocks. The field's rocks are not moved (below).
+// Hidden rocks: each rock of the file's own (not a field's) the orbital map does not show is moved by (dx, dy),
 // uniform in [-kRockShiftXM, kRockShiftXM] x [-kRockShiftYM, kRockShiftYM]
 // (rounded to the millimetre), drawn again (up to kRockDraws times) while the
 // moved rock leaves the map or comes closer than kRockEndClearanceM to the
@@ -78,11 +82,14 @@ private:
 // What a seed changed in the scenario.
 struct Variation {
     std::uint64_t noiseSeed = 0;
-    std::vector<Vec2> rockShifts;     // per hidden rock, in the scenario's order
+    bool field = false;               // a [field] drawn afresh
+    std::uint64_t fieldSeed = 0;      // ... with this seed (RockFieldParams::seed)
+    std::vector<Vec2> rockShifts;     // per hidden rock of the file's own, in the scenario's order
     std::vector<double> faultTimesS;  // per fault, in the scenario's order (before re-sorting)
 };
 
 // Applies the seed's variation to a loaded scenario (goal: the mission's).
+// Throws ScenarioError when a field drawn afresh does not fit (as loading would).
 Variation varyScenario(Scenario* scenario, std::uint64_t seed, double goalX, double goalY);
 
 // One plan the deliberative layer made, as seen from the ground side of the

@@ -201,7 +201,7 @@ std::string formatRow(const Row& r) {
     s += " plan_s=" + joinList(r.planLatencyS, ms);
     s += " plan_slices=" + joinList(r.planSlices, [](std::uint32_t v) { return std::to_string(v); });
     s += " plan_found=" + joinList(r.planFound, [](std::uint8_t v) { return std::to_string(v); });
-    s += " rocks=" + r.rocks + " faults=" + r.faults;
+    s += " field=" + r.field + " rocks=" + r.rocks + " faults=" + r.faults;
     return s;
 }
 
@@ -236,7 +236,8 @@ bool parseRow(const std::string& line, Row* r, std::string* error) {
     }
     std::string lat, slices, found;
     if (!take(f, "plan_s", &lat, error) || !take(f, "plan_slices", &slices, error) ||
-        !take(f, "plan_found", &found, error) || !take(f, "rocks", &row.rocks, error) ||
+        !take(f, "plan_found", &found, error) || !take(f, "field", &row.field, error) ||
+        !take(f, "rocks", &row.rocks, error) ||
         !take(f, "faults", &row.faults, error)) {
         return false;
     }
@@ -322,7 +323,7 @@ bool addResultText(const std::string& text, const std::string& path, ResultSet* 
             campaignSeen = true;
             if (set->campaign.empty()) {
                 std::uint64_t first = 0, count = 0;
-                if (f["format"] != std::to_string(1) || !parseUnsigned(f["first"], &first) ||
+                if (f["format"] != std::to_string(kFormatVersion) || !parseUnsigned(f["first"], &first) ||
                     !parseUnsigned(f["count"], &count)) {
                     return fail("C line of another format, or without first= and count=");
                 }

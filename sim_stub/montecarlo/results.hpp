@@ -3,7 +3,7 @@
 // A result file is text, one record a line, fields `key=value` separated by
 // single spaces (no value holds a space):
 //   # ...                 comment
-//   C format=1 ...        the campaign (identical in every file of a campaign)
+//   C format=2 ...        the campaign (identical in every file of a campaign)
 //   B first=.. count=..   the block of seeds this file holds, and where it ran
 //   R seed=.. ...         one seed's result row: the same for the same campaign and seed
 //   T seed=.. ...         that seed's host figures (wall and CPU time, planner time)
@@ -21,6 +21,10 @@
 #include <vector>
 
 namespace rse::sim::mc {
+
+// The result file format (docs/montecarlo.md, "Result files"); bumped when a
+// line changes meaning: 2, rows carry field= (a generated field's seed).
+constexpr int kFormatVersion = 2;
 
 // One seed's result (an R line).
 struct Row {
@@ -48,6 +52,7 @@ struct Row {
     std::vector<double> planLatencyS;          // per plan, simulated s (PlanRecord)
     std::vector<std::uint32_t> planSlices;     // per plan
     std::vector<std::uint8_t> planFound;       // per plan, 1 found / 0 none
+    std::string field = "-";       // the generated field's seed (a field per seed), "-" for none
     std::string rocks = "-";       // hidden rocks' shifts "dx,dy;dx,dy" (m), "-" for none
     std::string faults = "-";      // the faults' drawn times "t1,t2" (s, scenario order), "-" for none
 

@@ -15,7 +15,7 @@ using namespace rse::sim::mc;
 namespace {
 
 const std::string kCampaign =
-    "C format=1 variation=1 scenario=s.toml scenario_fnv=00 goal=20,0 risk=0.001 duration=180 faults=on first=10 "
+    "C format=2 variation=2 scenario=s.toml scenario_fnv=00 goal=20,0 risk=0.001 duration=180 faults=on first=10 "
     "count=6";
 
 Row row(std::uint64_t seed, const char* outcome = "goal_reached", std::uint32_t collisions = 0,
@@ -87,7 +87,14 @@ TEST(MonteCarloResults, ARowRoundTripsThroughItsText) {
     DOUBLES_EQUAL(0.8, back.planLatencyS[1], 1e-12);
     LONGS_EQUAL(8, back.planSlices[1]);
     STRCMP_EQUAL("20.462,82.165", back.faults.c_str());
-    CHECK_FALSE(back.withinRiskBound());
+    STRCMP_EQUAL("-", back.field.c_str());
+    Row fielded = row(12);
+    fielded.field = "3141592";
+    CHECK_TRUE(contains(formatRow(fielded), " field=3141592 rocks="));
+    CHECK_TRUE(parseRow(formatRow(fielded), &back, &error));
+    STRCMP_EQUAL("3141592", back.field.c_str());
+    CHECK_FALSE(parseRow(formatRow(r).replace(formatRow(r).find(" field=-"), 8, ""), &back, &error));
+    CHECK_FALSE(row(12, "called_home", 1, 2).withinRiskBound());
     CHECK_TRUE(row(1).withinRiskBound());
     // No plan at all: empty lists as "-".
     Row none = row(3);

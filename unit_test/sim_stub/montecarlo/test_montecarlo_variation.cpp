@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sim_stub/montecarlo/campaign.hpp"
+#include "sim_stub/scenario/field_rocks.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
 
 #include "CppUTest/TestHarness.h"
@@ -195,4 +196,64 @@ TEST(MonteCarloVariation, ARockIsKeptOffTheGoal) {
         moved += v.rockShifts[0].x != 0.0 || v.rockShifts[0].y != 0.0 ? 1 : 0;
     }
     LONGS_EQUAL(40, moved);  // a fitting draw is always found in kRockDraws
+}
+
+// A scenario with a [field]: each seed flies a field of its own, drawn from
+// the field's model with a seed of the run seed's stream (recorded), cleared
+// round the start and the goal flown; the same seed draws the same field; the
+// field's rocks are not shifted (the row lists no thousand shifts), and the
+// scenario's own obstacles are kept.
+TEST(MonteCarloVariation, AGeneratedFieldIsDrawnAfreshForEachSeed) {
+    Scenario base = loadScenarioFile("sim_stub/scenarios/rock_field_100m.toml");
+    CHECK(base.field.present);
+    const FieldCounts before = fieldCounts(base);
+    CHECK(before.rocks > 300);
+    // One obstacle of the file's own, hidden, beside the field.
+    Obstacle own;
+    own.id = 7;
+    own.known = false;
+    own.shape.n = 4;
+    own.shape.v[0] = {50.0, 5.0};
+    own.shape.v[1] = {50.5, 5.0};
+    own.shape.v[2] = {50.5, 5.5};
+    own.shape.v[3] = {50.0, 5.5};
+    base.obstacles.insert(base.obstacles.begin(), own);
+    const double goalX = 100.0, goalY = 40.0;   // a --goto elsewhere than the scenario's goal
+    std::set<std::uint64_t> fieldSeeds;
+    std::set<std::size_t> counts;
+    for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+        Scenario s = base;
+        const Variation v = varyScenario(&s, seed, goalX, goalY);
+        CHECK_TRUE(v.field);
+        CHECK(v.fieldSeed == s.field.rocks.seed);
+        fieldSeeds.insert(v.fieldSeed);
+        const FieldCounts c = fieldCounts(s);
+        counts.insert(c.rocks);
+        CHECK(c.rocks > 200);
+        CHECK(c.known > 0 && c.known < c.rocks);
+        // Only the file's own hidden rock was shifted, and it is still there.
+        LONGS_EQUAL(1, v.rockShifts.size());
+        LONGS_EQUAL(7, s.obstacles[0].id);
+        // No field rock within clear_m of the start or of the goal flown.
+        const double reach = s.field.clearM + s.rover.radiusM;
+        for (const Obstacle& ob : s.obstacles) {
+            if (ob.id < kFirstFieldRockId) {
+                continue;
+            }
+            CHECK(distanceToPolygon(Vec2{s.start.x, s.start.y}, ob.shape) >= reach - 1e-9);
+            CHECK(distanceToPolygon(Vec2{goalX, goalY}, ob.shape) >= reach - 1e-9);
+        }
+        // The same seed, the same field.
+        Scenario again = base;
+        const Variation w = varyScenario(&again, seed, goalX, goalY);
+        CHECK(w.fieldSeed == v.fieldSeed);
+        LONGS_EQUAL(s.obstacles.size(), again.obstacles.size());
+        for (std::size_t i = 0; i < s.obstacles.size(); ++i) {
+            CHECK_TRUE(sameShape(s.obstacles[i].shape, again.obstacles[i].shape));
+        }
+        // The scenario's own mission is untouched (the goal flown is the campaign's).
+        DOUBLES_EQUAL(base.mission.goalX, s.mission.goalX, 0.0);
+    }
+    LONGS_EQUAL(6, fieldSeeds.size());
+    CHECK(counts.size() >= 4);   // different fields, different counts
 }
