@@ -38,6 +38,25 @@ struct Flight {
     bool covarianceGrown = true;  // ... with more than the pose's covariance
 };
 
+// One run's drive of the habitual layer and the rover: kStepPerRunM towards
+// the leg in force, reported achieved (once, *reported its id) at its end.
+void driveOneRun(DeliberativeRig* rig, std::uint32_t* reported) {
+    const msg::LegCommandMsg& leg = rig->lastLeg;
+    if (rig->legs == 0 || leg.legId == *reported || rig->task.state() != msg::DeliberativeState::kExecuting) {
+        return;
+    }
+    const double dx = leg.goalXM - rig->x;
+    const double dy = leg.goalYM - rig->y;
+    const double d = std::hypot(dx, dy);
+    if (d <= kStepPerRunM) {
+        *reported = leg.legId;
+        rig->achieveLeg();
+    } else {
+        rig->x += kStepPerRunM * dx / d;
+        rig->y += kStepPerRunM * dy / d;
+    }
+}
+
 // Drives the rover along each leg at kStepPerRunM a run, reporting it
 // achieved at its end, until the task completes, calls home or maxRuns pass.
 // Every plan is checked against the whole map.
@@ -70,20 +89,7 @@ Flight drive(DeliberativeRig* rig, unsigned maxRuns) {
             f.covarianceGrown = f.covarianceGrown && p.startCov[0] > rig->positionVariance + 1e-6 &&
                                 p.startCov[3] > rig->positionVariance + 1e-6;
         }
-        const msg::LegCommandMsg& leg = rig->lastLeg;
-        if (rig->legs == 0 || leg.legId == reported || s != msg::DeliberativeState::kExecuting) {
-            continue;
-        }
-        const double dx = leg.goalXM - rig->x;
-        const double dy = leg.goalYM - rig->y;
-        const double d = std::hypot(dx, dy);
-        if (d <= kStepPerRunM) {
-            reported = leg.legId;
-            rig->achieveLeg();
-        } else {
-            rig->x += kStepPerRunM * dx / d;
-            rig->y += kStepPerRunM * dy / d;
-        }
+        driveOneRun(rig, &reported);
     }
     return f;
 }
@@ -138,18 +144,7 @@ TEST(HorizonLookAhead, AHazardSeenMakesItStaleAndAReplanDropsIt) {
     std::uint32_t reported = 0;
     for (int i = 0; i < 4000 && !(rig->task.lookAhead().active() && !rig->task.lookAhead().planning()); ++i) {
         rig->run();
-        const msg::LegCommandMsg& leg = rig->lastLeg;
-        if (rig->legs == 0 || leg.legId == reported || rig->task.state() != msg::DeliberativeState::kExecuting) {
-            continue;
-        }
-        const double d = std::hypot(leg.goalXM - rig->x, leg.goalYM - rig->y);
-        if (d <= kStepPerRunM) {
-            reported = leg.legId;
-            rig->achieveLeg();
-        } else {
-            rig->x += kStepPerRunM * (leg.goalXM - rig->x) / d;
-            rig->y += kStepPerRunM * (leg.goalYM - rig->y) / d;
-        }
+        driveOneRun(rig, &reported);
     }
     CHECK(rig->task.lookAhead().active());
     LONGS_EQUAL(1, rig->task.counters().lookAheadsStarted);
