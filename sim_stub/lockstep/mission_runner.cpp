@@ -210,7 +210,13 @@ bool MissionRun::setUp() {
         scenario_.faults.clear();
     }
     if (o_.editScenario) {
-        o_.editScenario(scenario_);
+        // An edit may draw a new field (rse-montecarlo: a field per seed) that
+        // does not fit: a setup failure with its reason, as loading would give.
+        try {
+            o_.editScenario(scenario_);
+        } catch (const ScenarioError& e) {
+            return fail(e.what());
+        }
     }
     rig_ = std::make_unique<LockstepRig>(scenario_);
     return true;

@@ -7,9 +7,11 @@
 
 #include "sim_stub/montecarlo/campaign.hpp"
 #include "sim_stub/montecarlo/results.hpp"
+#include "sim_stub/scenario/scenario_parser.hpp"
 
 #include "CppUTest/TestHarness.h"
 
+using namespace rse::sim;
 using namespace rse::sim::mc;
 
 namespace {
@@ -71,4 +73,16 @@ TEST(MonteCarloRuns, TheSameSeedGivesTheSameRowAndAnotherSeedAnother) {
     LONGS_EQUAL(5, t.seed);
     LONGS_EQUAL(r.planLatencyS.size(), t.planHostMs.size());
     CHECK(t.wallS > 0.0);
+}
+
+// A seed's edit that does not fit (a field drawn afresh that the world cannot
+// take) is a setup failure with its reason, not a worker killed by an
+// uncaught exception.
+TEST(MonteCarloRuns, AnEditThatDoesNotFitIsASetupFailureWithItsReason) {
+    MissionOptions o = demoCampaign().mission;
+    o.quiet = true;
+    o.editScenario = [](Scenario&) { throw ScenarioError("field: more known rocks than the site map holds"); };
+    const MissionSummary m = runMission(o, nullptr);
+    CHECK(m.outcome == MissionOutcome::kSetupFailed);
+    STRCMP_CONTAINS("more known rocks", m.setupError.c_str());
 }
