@@ -241,6 +241,11 @@ bool parseRow(const std::string& line, Row* r, std::string* error) {
         !take(f, "faults", &row.faults, error)) {
         return false;
     }
+    std::uint64_t fieldSeed = 0;
+    if (row.field != "-" && !parseUnsigned(row.field, &fieldSeed)) {
+        *error = "bad 'field' (a field's seed, or -)";
+        return false;
+    }
     if (!parseList(lat, &row.planLatencyS, parseReal) || !parseList(slices, &row.planSlices, parseCount) ||
         !parseList(found, &row.planFound, parseFlag) || row.planSlices.size() != row.planLatencyS.size() ||
         row.planFound.size() != row.planLatencyS.size()) {

@@ -94,6 +94,9 @@ TEST(MonteCarloResults, ARowRoundTripsThroughItsText) {
     CHECK_TRUE(parseRow(formatRow(fielded), &back, &error));
     STRCMP_EQUAL("3141592", back.field.c_str());
     CHECK_FALSE(parseRow(formatRow(r).replace(formatRow(r).find(" field=-"), 8, ""), &back, &error));
+    fielded.field = "12x";
+    CHECK_FALSE(parseRow(formatRow(fielded), &back, &error));
+    STRCMP_CONTAINS("field", error.c_str());
     CHECK_FALSE(row(12, "called_home", 1, 2).withinRiskBound());
     CHECK_TRUE(row(1).withinRiskBound());
     // No plan at all: empty lists as "-".
