@@ -1,5 +1,6 @@
 #include "ground/map_transfer.hpp"
 
+#include <chrono>
 #include <cstring>
 #include <optional>
 #include <ostream>
@@ -15,6 +16,9 @@ namespace rse::ground {
 namespace {
 
 constexpr std::size_t kChunkBytes = sizeof(cmdtlm::MAP_LOAD_Args{}.data);
+// A commit of the largest map takes about 20 command-task runs (0.2 s); the
+// rest is the link's.
+constexpr double kCommitEndTimeoutS = 10.0;
 
 // The last SITE_MAP the session received (the rover answers each site map command with one).
 class SiteMapWatch {
@@ -30,6 +34,23 @@ public:
     SiteMapWatch(const SiteMapWatch&) = delete;
     SiteMapWatch& operator=(const SiteMapWatch&) = delete;
     double value(const char* field) const { return last_ ? last_->value(field).value_or(-1.0) : -1.0; }
+    // Packets until a SITE_MAP shows a commit ended (maps_loaded or
+    // commits_refused above the counts given, commit_phase 0), or timeout.
+    bool waitForCommitEnd(double loadedBefore, double refusedBefore, double timeoutSeconds) {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
+        const auto ended = [&] {
+            return value("commit_phase") == 0.0 &&
+                   (value("maps_loaded") > loadedBefore || value("commits_refused") > refusedBefore);
+        };
+        while (!ended()) {
+            const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+            if (left <= 0.0) {
+                return false;
+            }
+            (void)session_.receive(left);
+        }
+        return true;
+    }
 
 private:
     GroundSession& session_;
@@ -38,6 +59,17 @@ private:
 
 std::string refusalName(int detail) {
     return site_map::toString(static_cast<site_map::UploadRefusal>(detail < 0 ? 0 : detail));
+}
+
+// A commit refused (at once: the CMD_ACK's summary first; or in its slices):
+// the reason and, for an image's, its rock or zone. Exit status 3.
+int reportRefusal(std::ostream& err, const std::string& ackSummary, int refusal, const SiteMapWatch& watch) {
+    err << "the rover refused the map: " << ackSummary << refusalName(refusal);
+    if (refusal >= static_cast<int>(site_map::UploadRefusal::kImage)) {
+        err << " (item " << static_cast<long>(watch.value("last_refusal_item")) << ")";
+    }
+    err << "; the map in force is kept\n";
+    return 3;
 }
 
 }  // namespace
@@ -84,6 +116,7 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
     out << "loading " << image.size() << " bytes of site map in " << chunks.size() << " MAP_LOAD chunks over "
         << session.link().describe() << "\n";
     SiteMapWatch watch(session);
+    double loadedBefore = -1.0, refusedBefore = -1.0;   // as of the last chunk's answer
     for (std::size_t i = 0; i < chunks.size(); ++i) {
         const AckResult r = session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::MAP_LOAD), chunks[i]);
         if (r.outcome == AckOutcome::kNoAck) {
@@ -95,6 +128,8 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
                 << ") refused: " << r.summary << " (" << refusalName(r.detail) << ")\n";
             return 3;
         }
+        loadedBefore = watch.value("maps_loaded");
+        refusedBefore = watch.value("commits_refused");
     }
     const AckResult r = session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::MAP_COMMIT), mapCommitArgs(image));
     if (r.outcome == AckOutcome::kNoAck) {
@@ -102,14 +137,20 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
         return 1;
     }
     if (r.outcome == AckOutcome::kRejected) {
-        err << "the rover refused the map: " << r.summary << ": " << refusalName(r.detail);
-        if (r.detail >= static_cast<int>(site_map::UploadRefusal::kImage)) {
-            err << " (item " << static_cast<long>(watch.value("last_refusal_item")) << ")";
-        }
-        err << "; the map in force is kept\n";
-        return 3;
+        return reportRefusal(err, r.summary + ": ", r.detail, watch);
     }
-    out << "MAP_COMMIT: " << r.summary << ": map " << static_cast<long>(watch.value("revision")) << " in force, "
+    // Accepted: the commit runs in slices on board; its end is a SITE_MAP.
+    if (!watch.waitForCommitEnd(loadedBefore, refusedBefore, kCommitEndTimeoutS)) {
+        err << "MAP_COMMIT accepted, but no SITE_MAP told its end within " << kCommitEndTimeoutS
+            << " s (rse-ground tlm SITE_MAP shows commit_phase)\n";
+        return 1;
+    }
+    const int refusal = static_cast<int>(watch.value("last_refusal"));
+    if (refusal != 0) {
+        return reportRefusal(err, "", refusal, watch);
+    }
+    out << "MAP_COMMIT: " << r.summary << " and checked in " << static_cast<long>(watch.value("commit_runs"))
+        << " command-task runs: map " << static_cast<long>(watch.value("revision")) << " in force, "
         << static_cast<long>(watch.value("rocks")) << " rocks\n";
     return 0;
 }

@@ -7,8 +7,11 @@
 // data blob), each waiting for its acknowledgement before the next goes (the
 // pacing: one chunk a command-task frame), then MAP_COMMIT with the image's
 // length and CRC-32. The rover answers every command with SITE_MAP; a refused
-// chunk stops the load, and a refused commit is reported with its reason and
-// the rock or zone it is about (SITE_MAP.last_refusal_item).
+// chunk stops the load. An accepted commit runs in slices on board, so its
+// verdict is the SITE_MAP sent when it ends (commit_phase 0, maps_loaded or
+// commits_refused grown): a refused commit, at once or in its slices, is
+// reported with its reason and the rock or zone it is about
+// (SITE_MAP.last_refusal_item).
 #pragma once
 
 #include <cstdint>
@@ -30,7 +33,8 @@ std::vector<std::uint8_t> mapCommitArgs(const std::vector<std::uint8_t>& image);
 int checkSiteMapFile(const std::vector<std::uint8_t>& image, const std::string& where, std::ostream& out,
                      std::ostream& err);
 
-// Sends the image and commits it: 0 in force, 1 no acknowledgement, 3 refused.
+// Sends the image and commits it: 0 in force, 1 no acknowledgement or no
+// end of the commit told within 10 s, 3 refused.
 int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, std::ostream& out, std::ostream& err);
 
 }  // namespace rse::ground

@@ -157,7 +157,7 @@ private:
     reflexive::MobilityCommands mobilityCommands_;
     tables::TableTelemetry tableTelemetry_;
     tables::TableCommands tableCommands_;
-    // The site map in force and its upload (1.5 MB; docs/site_map.md).
+    // The site map in force, the one a commit stages beside it, and the upload (6.0 MB; docs/site_map.md).
     site_map::SiteMapService siteMap_;
     site_map::SiteMapTelemetry siteMapTelemetry_;
     site_map::SiteMapCommands siteMapCommands_;

@@ -39,11 +39,13 @@ double segmentBoxDistanceSquared(Point2 a, Point2 b, const Rock& r) {
 }  // namespace
 
 void SiteMap::clear() {
-    rockCount_ = 0;
-    keepOutCount_ = 0;
-    site_ = SiteBounds{};
-    grid_ = GridShape{};
-    for (std::uint32_t& s : cellStart_) {
+    staging_ = StagePhase::kNone;
+    SiteMapSlot& m = slots_[inForce_];
+    m.rockCount = 0;
+    m.keepOutCount = 0;
+    m.site = SiteBounds{};
+    m.grid = GridShape{};
+    for (std::uint32_t& s : m.cellStart) {
         s = 0;
     }
     loaded_ = false;
@@ -58,79 +60,153 @@ core::Status SiteMap::load(const std::uint8_t* image, std::size_t length, SiteMa
     if (!verdict.ok()) {
         return core::Status::kInvalidArgument;
     }
-    core::BeReader in(image, length);
-    (void)in.u32();  // magic
-    (void)in.u16();  // version
-    (void)in.u16();  // flags
-    site_.xMin = in.f32();
-    site_.yMin = in.f32();
-    site_.xMax = in.f32();
-    site_.yMax = in.f32();
-    rockCount_ = in.u32();
-    keepOutCount_ = in.u16();
-    (void)in.u16();
-    for (std::size_t r = 0; r < rockCount_; ++r) {
-        Rock& rock = rocks_[r];
-        rock.count = readVertices(in, rock.x, rock.y);
-        rock.minX = rock.maxX = rock.x[0];
-        rock.minY = rock.maxY = rock.y[0];
-        for (std::size_t v = 1; v < rock.count; ++v) {
-            rock.minX = rock.x[v] < rock.minX ? rock.x[v] : rock.minX;
-            rock.maxX = rock.x[v] > rock.maxX ? rock.x[v] : rock.maxX;
-            rock.minY = rock.y[v] < rock.minY ? rock.y[v] : rock.minY;
-            rock.maxY = rock.y[v] > rock.maxY ? rock.y[v] : rock.maxY;
-        }
+    beginStaging(image, length);
+    while (!stage(kMaxSiteRocks)) {
     }
-    for (std::size_t z = 0; z < keepOutCount_; ++z) {
-        zones_[z].kind = static_cast<KeepOutKind>(in.u8());
-        zones_[z].count = readVertices(in, zones_[z].x, zones_[z].y);
-    }
-    grid_ = gridFor(site_);
-    index();
-    loaded_ = true;
-    ++revision_;
+    (void)putStagedInForce();
     return core::Status::kOk;
 }
 
-void SiteMap::index() {
-    // Counting sort of (cell, rock): counts, then each cell's end, then the
-    // references written backwards so each cell's start is left behind.
-    const std::size_t cells = static_cast<std::size_t>(grid_.columns) * grid_.rows;
-    for (std::size_t c = 0; c <= cells; ++c) {
-        cellStart_[c] = 0;
-    }
-    const auto forEachCell = [this](const Rock& r, auto&& f) {
-        for (std::uint32_t row = grid_.row(r.minY); row <= grid_.row(r.maxY); ++row) {
-            for (std::uint32_t col = grid_.column(r.minX); col <= grid_.column(r.maxX); ++col) {
-                f(grid_.cell(col, row));
+void SiteMap::beginStaging(const std::uint8_t* image, std::size_t length) {
+    image_ = core::BeReader(image, length);
+    SiteMapSlot& m = spare();
+    (void)image_.u32();  // magic
+    (void)image_.u16();  // version
+    (void)image_.u16();  // flags
+    m.site.xMin = image_.f32();
+    m.site.yMin = image_.f32();
+    m.site.xMax = image_.f32();
+    m.site.yMax = image_.f32();
+    m.rockCount = image_.u32();
+    m.keepOutCount = image_.u16();
+    (void)image_.u16();
+    m.grid = gridFor(m.site);
+    staging_ = StagePhase::kRocks;
+    next_ = 0;
+}
+
+bool SiteMap::stage(std::size_t workUnits) {
+    SiteMapSlot& m = spare();
+    const std::size_t cells = static_cast<std::size_t>(m.grid.columns) * m.grid.rows;
+    const auto forEachCell = [&m](const Rock& r, auto&& f) {
+        for (std::uint32_t row = m.grid.row(r.minY); row <= m.grid.row(r.maxY); ++row) {
+            for (std::uint32_t col = m.grid.column(r.minX); col <= m.grid.column(r.maxX); ++col) {
+                f(m.grid.cell(col, row));
             }
         }
     };
-    for (std::size_t r = 0; r < rockCount_; ++r) {
-        forEachCell(rocks_[r], [this](std::size_t c) { ++cellStart_[c]; });
+    std::size_t work = 0;
+    // Each phase takes what is left of the step's work; a phase that ends
+    // hands the rest to the next. The index is a counting sort of (cell,
+    // rock): the cells cleared, the rocks counted into them, each cell's end
+    // (a running sum), then the references written from the last rock back so
+    // each cell's start is left behind.
+    while (work < workUnits) {
+        switch (staging_) {
+            case StagePhase::kNone:
+            case StagePhase::kWhole:
+                return staging_ == StagePhase::kWhole;
+            case StagePhase::kRocks:
+                for (; next_ < m.rockCount && work < workUnits; ++next_, ++work) {
+                    Rock& rock = m.rocks[next_];
+                    rock.count = readVertices(image_, rock.x, rock.y);
+                    rock.minX = rock.maxX = rock.x[0];
+                    rock.minY = rock.maxY = rock.y[0];
+                    for (std::size_t v = 1; v < rock.count; ++v) {
+                        rock.minX = rock.x[v] < rock.minX ? rock.x[v] : rock.minX;
+                        rock.maxX = rock.x[v] > rock.maxX ? rock.x[v] : rock.maxX;
+                        rock.minY = rock.y[v] < rock.minY ? rock.y[v] : rock.minY;
+                        rock.maxY = rock.y[v] > rock.maxY ? rock.y[v] : rock.maxY;
+                    }
+                }
+                if (next_ == m.rockCount) {
+                    staging_ = StagePhase::kZones;
+                }
+                break;
+            case StagePhase::kZones:
+                for (std::size_t z = 0; z < m.keepOutCount; ++z) {  // at most kMaxKeepOuts: one unit
+                    m.zones[z].kind = static_cast<KeepOutKind>(image_.u8());
+                    m.zones[z].count = readVertices(image_, m.zones[z].x, m.zones[z].y);
+                }
+                ++work;
+                staging_ = StagePhase::kClear;
+                next_ = 0;
+                break;
+            case StagePhase::kClear:
+                for (; next_ <= cells && work < workUnits; ++work) {
+                    const std::size_t end = next_ + kCellsPerStageUnit < cells + 1 ? next_ + kCellsPerStageUnit : cells + 1;
+                    for (; next_ < end; ++next_) {
+                        m.cellStart[next_] = 0;
+                    }
+                }
+                if (next_ > cells) {
+                    staging_ = StagePhase::kCount;
+                    next_ = 0;
+                }
+                break;
+            case StagePhase::kCount:
+                for (; next_ < m.rockCount && work < workUnits; ++next_, ++work) {
+                    forEachCell(m.rocks[next_], [&m](std::size_t c) { ++m.cellStart[c]; });
+                }
+                if (next_ == m.rockCount) {
+                    staging_ = StagePhase::kSum;
+                    next_ = 0;
+                    runningSum_ = 0;
+                }
+                break;
+            case StagePhase::kSum:
+                for (; next_ < cells && work < workUnits; ++work) {
+                    const std::size_t end = next_ + kCellsPerStageUnit < cells ? next_ + kCellsPerStageUnit : cells;
+                    for (; next_ < end; ++next_) {
+                        runningSum_ += m.cellStart[next_];
+                        m.cellStart[next_] = runningSum_;  // the image check bounds the sum by kMaxCellRefs
+                    }
+                }
+                if (next_ == cells) {
+                    m.cellStart[cells] = runningSum_;
+                    staging_ = StagePhase::kFill;
+                    next_ = m.rockCount;
+                }
+                break;
+            case StagePhase::kFill:
+                for (; next_ > 0 && work < workUnits; --next_, ++work) {
+                    const std::size_t r = next_ - 1;
+                    forEachCell(m.rocks[r], [&m, r](std::size_t c) {
+                        m.cellRefs[--m.cellStart[c]] = static_cast<std::uint16_t>(r);
+                    });
+                }
+                if (next_ == 0) {
+                    staging_ = StagePhase::kWhole;
+                }
+                break;
+        }
     }
-    std::uint32_t end = 0;
-    for (std::size_t c = 0; c < cells; ++c) {
-        end += cellStart_[c];
-        cellStart_[c] = end;  // the image check bounds end by kMaxCellRefs
+    return staging_ == StagePhase::kWhole;
+}
+
+bool SiteMap::putStagedInForce() {
+    if (staging_ != StagePhase::kWhole) {
+        return false;
     }
-    cellStart_[cells] = end;
-    for (std::size_t r = rockCount_; r-- > 0;) {
-        forEachCell(rocks_[r], [this, r](std::size_t c) { cellRefs_[--cellStart_[c]] = static_cast<std::uint16_t>(r); });
-    }
+    inForce_ = static_cast<std::uint8_t>(1U - inForce_);
+    staging_ = StagePhase::kNone;
+    loaded_ = true;
+    ++revision_;
+    return true;
 }
 
 void SiteMap::visitCell(std::size_t cell, Point2 a, Point2 b, double reach2, SiteQuery* scratch, std::uint16_t* out,
                         std::size_t capacity, QueryStats* stats) const {
     ++stats->cellsVisited;
-    for (std::size_t k = cellStart_[cell]; k < cellStart_[cell + 1]; ++k) {
-        const std::uint16_t r = cellRefs_[k];
+    const SiteMapSlot& m = live();
+    for (std::size_t k = m.cellStart[cell]; k < m.cellStart[cell + 1]; ++k) {
+        const std::uint16_t r = m.cellRefs[k];
         ++stats->refsExamined;
         if (scratch->stamp[r] == scratch->current) {
             continue;
         }
         scratch->stamp[r] = scratch->current;
-        if (segmentBoxDistanceSquared(a, b, rocks_[r]) <= reach2) {
+        if (segmentBoxDistanceSquared(a, b, m.rocks[r]) <= reach2) {
             if (stats->found < capacity) {
                 out[stats->found] = r;
             }
@@ -149,7 +225,8 @@ std::size_t SiteMap::rocksNearSegment(Point2 a, Point2 b, double reach, SiteQuer
         s->refused = true;
         return 0;
     }
-    if (rockCount_ == 0) {
+    const SiteMapSlot& m = live();
+    if (m.rockCount == 0) {
         return 0;
     }
     // A fresh stamp; on wrap-around every stamp is cleared so none matches.
@@ -164,9 +241,9 @@ std::size_t SiteMap::rocksNearSegment(Point2 a, Point2 b, double reach, SiteQuer
     const double highY = (a.y > b.y ? a.y : b.y) + reach;
     // Row by row, the cells the segment's band (reach either side) can touch:
     // the segment clipped to the row's y band grown by reach, grown by reach in x.
-    for (std::uint32_t row = grid_.row(lowY); row <= grid_.row(highY); ++row) {
-        const double bandLow = grid_.y0 + grid_.cellM * row - reach;
-        const double bandHigh = bandLow + grid_.cellM + 2.0 * reach;
+    for (std::uint32_t row = m.grid.row(lowY); row <= m.grid.row(highY); ++row) {
+        const double bandLow = m.grid.y0 + m.grid.cellM * row - reach;
+        const double bandHigh = bandLow + m.grid.cellM + 2.0 * reach;
         double t0 = 0.0, t1 = 1.0;
         const double dy = b.y - a.y;
         if (dy != 0.0) {
@@ -184,10 +261,10 @@ std::size_t SiteMap::rocksNearSegment(Point2 a, Point2 b, double reach, SiteQuer
         }
         const double xa = a.x + (b.x - a.x) * t0;
         const double xb = a.x + (b.x - a.x) * t1;
-        const std::uint32_t c0 = grid_.column((xa < xb ? xa : xb) - reach);
-        const std::uint32_t c1 = grid_.column((xa > xb ? xa : xb) + reach);
+        const std::uint32_t c0 = m.grid.column((xa < xb ? xa : xb) - reach);
+        const std::uint32_t c1 = m.grid.column((xa > xb ? xa : xb) + reach);
         for (std::uint32_t col = c0; col <= c1; ++col) {
-            visitCell(grid_.cell(col, row), a, b, reach2, scratch, out, capacity, s);
+            visitCell(m.grid.cell(col, row), a, b, reach2, scratch, out, capacity, s);
         }
     }
     s->overflow = s->found > capacity;

@@ -2,7 +2,10 @@
 // (a chunk of the image), MAP_COMMIT (length and CRC-32: the image put in
 // force when it passes its check whole) and MAP_ABORT. Each is answered with
 // SITE_MAP and refused (execution_failed) with the UploadRefusal code as
-// CMD_ACK.detail. RESET_COUNTERS zeroes the service's counters.
+// CMD_ACK.detail. A commit that starts is accepted; its slices run here, one
+// each command-task run (serviceOnboardRequests), and SITE_MAP is sent again
+// in the run it ends (commit_phase 0: in force, or refused with its reason).
+// RESET_COUNTERS zeroes the service's counters.
 #pragma once
 
 #include "fsw/cmdtlm/app_commands.hpp"
@@ -19,6 +22,11 @@ public:
 
     std::uint16_t apid() const override { return cmdtlm::describe(cmdtlm::CommandCode::MAP_LOAD).apid; }
     cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
+    void serviceOnboardRequests() override {
+        if (service_.serviceCommit()) {
+            telemetry_.send(sink_);
+        }
+    }
     void resetCounters() override { service_.resetCounters(); }
 
 private:

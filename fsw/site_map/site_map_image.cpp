@@ -119,75 +119,93 @@ bool siteOk(const SiteBounds& s) {
 }  // namespace
 
 SiteMapCheck checkSiteMapImage(const std::uint8_t* image, std::size_t length) {
-    SiteMapCheck check;
-    core::BeReader in(image, image != nullptr ? length : 0);
-    const std::uint32_t magic = in.u32();
-    const std::uint16_t version = in.u16();
-    const std::uint16_t flags = in.u16();
-    SiteBounds site;
-    site.xMin = in.f32();
-    site.yMin = in.f32();
-    site.xMax = in.f32();
-    site.yMax = in.f32();
-    check.rocks = in.u32();
-    check.keepOuts = in.u16();
-    const std::uint16_t reserved = in.u16();
-    const auto fail = [&check](SiteMapReject reason) {
-        check.reason = reason;
-        return check;
-    };
-    if (!in.ok()) {
-        return fail(SiteMapReject::kTooShort);
+    SiteMapImageCheck check;
+    check.begin(image, length);
+    while (!check.step(kMaxSiteRocks + kMaxKeepOuts)) {
     }
-    if (magic != kSiteMapMagic) {
-        return fail(SiteMapReject::kBadMagic);
+    return check.result();
+}
+
+bool SiteMapImageCheck::fail(SiteMapReject reason) {
+    check_.reason = reason;
+    ended_ = true;
+    return true;
+}
+
+void SiteMapImageCheck::begin(const std::uint8_t* image, std::size_t length) {
+    in_ = core::BeReader(image, image != nullptr ? length : 0);
+    check_ = SiteMapCheck{};
+    next_ = 0;
+    cellRefs_ = 0;
+    ended_ = false;
+    const std::uint32_t magic = in_.u32();
+    const std::uint16_t version = in_.u16();
+    const std::uint16_t flags = in_.u16();
+    site_.xMin = in_.f32();
+    site_.yMin = in_.f32();
+    site_.xMax = in_.f32();
+    site_.yMax = in_.f32();
+    check_.rocks = in_.u32();
+    check_.keepOuts = in_.u16();
+    const std::uint16_t reserved = in_.u16();
+    if (!in_.ok()) {
+        (void)fail(SiteMapReject::kTooShort);
+    } else if (magic != kSiteMapMagic) {
+        (void)fail(SiteMapReject::kBadMagic);
+    } else if (version != kSiteMapVersion) {
+        (void)fail(SiteMapReject::kBadVersion);
+    } else if (flags != 0 || reserved != 0) {
+        (void)fail(SiteMapReject::kBadHeader);
+    } else if (!siteOk(site_)) {
+        (void)fail(SiteMapReject::kBadSite);
+    } else if (check_.rocks > kMaxSiteRocks) {
+        (void)fail(SiteMapReject::kTooManyRocks);
+    } else if (check_.keepOuts > kMaxKeepOuts) {
+        (void)fail(SiteMapReject::kTooManyKeepOuts);
     }
-    if (version != kSiteMapVersion) {
-        return fail(SiteMapReject::kBadVersion);
+}
+
+bool SiteMapImageCheck::step(std::size_t maxRecords) {
+    if (ended_) {
+        return true;
     }
-    if (flags != 0 || reserved != 0) {
-        return fail(SiteMapReject::kBadHeader);
-    }
-    if (!siteOk(site)) {
-        return fail(SiteMapReject::kBadSite);
-    }
-    if (check.rocks > kMaxSiteRocks) {
-        return fail(SiteMapReject::kTooManyRocks);
-    }
-    if (check.keepOuts > kMaxKeepOuts) {
-        return fail(SiteMapReject::kTooManyKeepOuts);
-    }
-    const GridShape grid = gridFor(site);
-    std::size_t cellRefs = 0;
-    for (std::uint32_t r = 0; r < check.rocks; ++r) {
-        check.item = r;
-        const SiteMapReject why = readPolygon(in, kMaxRockVertices, site, &grid, &cellRefs);
-        if (why != SiteMapReject::kOk) {
-            return fail(why);
+    const GridShape grid = gridFor(site_);
+    const std::size_t records = static_cast<std::size_t>(check_.rocks) + check_.keepOuts;
+    const std::size_t quota = maxRecords > 0 ? maxRecords : 1;
+    for (std::size_t n = 0; n < quota && next_ < records; ++n, ++next_) {
+        if (next_ < check_.rocks) {
+            check_.item = static_cast<std::uint32_t>(next_);
+            const SiteMapReject why = readPolygon(in_, kMaxRockVertices, site_, &grid, &cellRefs_);
+            if (why != SiteMapReject::kOk) {
+                return fail(why);
+            }
+            continue;
         }
-    }
-    check.keepOut = true;
-    for (std::uint16_t z = 0; z < check.keepOuts; ++z) {
-        check.item = z;
-        const std::uint8_t kind = in.u8();
-        if (in.ok() && kind != static_cast<std::uint8_t>(KeepOutKind::kSteep) &&
+        check_.keepOut = true;
+        check_.item = static_cast<std::uint32_t>(next_ - check_.rocks);
+        const std::uint8_t kind = in_.u8();
+        if (in_.ok() && kind != static_cast<std::uint8_t>(KeepOutKind::kSteep) &&
             kind != static_cast<std::uint8_t>(KeepOutKind::kSoft)) {
             return fail(SiteMapReject::kBadKind);
         }
-        const SiteMapReject why = readPolygon(in, kMaxKeepOutVertices, site, nullptr, nullptr);
+        const SiteMapReject why = readPolygon(in_, kMaxKeepOutVertices, site_, nullptr, nullptr);
         if (why != SiteMapReject::kOk) {
             return fail(why);
         }
     }
-    check.keepOut = false;
-    check.item = 0;
-    if (in.remaining() != 0) {
+    if (next_ < records) {
+        return false;
+    }
+    check_.keepOut = false;
+    check_.item = 0;
+    if (in_.remaining() != 0) {
         return fail(SiteMapReject::kTrailingBytes);
     }
-    if (cellRefs > kMaxCellRefs) {
+    if (cellRefs_ > kMaxCellRefs) {
         return fail(SiteMapReject::kIndexFull);
     }
-    return check;
+    ended_ = true;
+    return true;
 }
 
 }  // namespace rse::site_map

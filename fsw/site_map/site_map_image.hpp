@@ -14,11 +14,15 @@
 // area, every turn strictly left) and inside the site.
 //
 // checkSiteMapImage() is the whole validation: a map the store loads has
-// passed it, so SiteMap::load() cannot fail on content. Pure; no allocation.
+// passed it, so SiteMap::load() cannot fail on content. SiteMapImageCheck is
+// the same check in steps of a bounded number of records (MAP_COMMIT runs it
+// a slice a command-task run). Pure; no allocation.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+
+#include "fsw/core/byte_codec.hpp"
 
 namespace rse::site_map {
 
@@ -81,6 +85,32 @@ struct SiteBounds {
 };
 
 SiteMapCheck checkSiteMapImage(const std::uint8_t* image, std::size_t length);
+
+// checkSiteMapImage in steps: begin() reads the header, each step() checks up
+// to maxRecords more rocks or zones, and the verdict is the same, record for
+// record, as the whole check's. The image must stay as it is until ended().
+class SiteMapImageCheck {
+public:
+    // Starts a check of image (length bytes): the header read and checked.
+    void begin(const std::uint8_t* image, std::size_t length);
+    // Up to maxRecords more records (at least 1); true when the check has
+    // ended (result() is the verdict).
+    bool step(std::size_t maxRecords);
+    bool ended() const { return ended_; }
+    const SiteMapCheck& result() const { return check_; }
+    // Records checked so far (rocks, then zones).
+    std::size_t recordsChecked() const { return next_; }
+
+private:
+    bool fail(SiteMapReject reason);
+
+    core::BeReader in_{nullptr, 0};
+    SiteMapCheck check_{};
+    SiteBounds site_{};
+    std::size_t next_ = 0;       // the next record: rocks first, then zones
+    std::size_t cellRefs_ = 0;   // index references the rocks so far take
+    bool ended_ = true;
+};
 
 // A convex counter-clockwise polygon (exactly the image's rule): false for
 // fewer than 3 vertices, a clockwise or zero-area one (*clockwise set), a

@@ -1,5 +1,6 @@
 #include "fsw/site_map/site_map_service.hpp"
 
+#include "fsw/core/crc32.hpp"
 #include "fsw/site_map/site_map_events.hpp"
 
 namespace rse::site_map {
@@ -11,7 +12,9 @@ UploadRefusal SiteMapService::refuse(UploadRefusal why, std::uint32_t item) {
 }
 
 UploadRefusal SiteMapService::loadChunk(std::uint32_t offset, const std::uint8_t* data, std::size_t length) {
-    const UploadRefusal why = upload_.takeChunk(offset, data, length);
+    // The commit under way reads the upload buffer: no chunk may change it.
+    const UploadRefusal why =
+        phase_ != CommitPhase::kNone ? UploadRefusal::kCommitUnderWay : upload_.takeChunk(offset, data, length);
     if (why == UploadRefusal::kNone) {
         ++counters_.chunksTaken;
         return why;
@@ -24,47 +27,105 @@ UploadRefusal SiteMapService::loadChunk(std::uint32_t offset, const std::uint8_t
     return refuse(why, 0);
 }
 
+UploadRefusal SiteMapService::refuseCommit(UploadRefusal why, const SiteMapCheck* check) {
+    ++counters_.commitsRefused;
+    if (check != nullptr) {
+        events_.report(events::kCommitRefused, core::Severity::kWarning,
+                       "site_map: MAP_COMMIT refused: %s (%s %u): the map in force is kept", toString(why),
+                       check->keepOut ? "zone" : "rock", static_cast<unsigned>(check->item));
+        return refuse(why, check->item);
+    }
+    events_.report(events::kCommitRefused, core::Severity::kWarning,
+                   "site_map: MAP_COMMIT refused: %s: the map in force is kept", toString(why));
+    return refuse(why, 0);
+}
+
 UploadRefusal SiteMapService::commit(std::uint32_t length, std::uint32_t crc) {
-    UploadRefusal why = upload_.checkCommit(length, crc);
-    SiteMapCheck check;
-    if (why == UploadRefusal::kNone && !core::isOk(map_.load(upload_.image(), upload_.length(), &check))) {
-        why = static_cast<UploadRefusal>(refusalCode(check.reason));
-    }
+    const UploadRefusal why = phase_ != CommitPhase::kNone ? UploadRefusal::kCommitUnderWay : upload_.checkCommit(length);
     if (why != UploadRefusal::kNone) {
-        ++counters_.commitsRefused;
-        if (static_cast<std::uint8_t>(why) >= static_cast<std::uint8_t>(UploadRefusal::kImage)) {
-            events_.report(events::kCommitRefused, core::Severity::kWarning,
-                           "site_map: MAP_COMMIT refused: %s (%s %u): the map in force is kept", toString(why),
-                           check.keepOut ? "zone" : "rock", static_cast<unsigned>(check.item));
-        } else {
-            events_.report(events::kCommitRefused, core::Severity::kWarning,
-                           "site_map: MAP_COMMIT refused: %s: the map in force is kept", toString(why));
-        }
-        return refuse(why, check.item);
+        return refuseCommit(why, nullptr);
     }
+    ++commitsStarted_;
+    phase_ = CommitPhase::kCrc;
+    commitLength_ = length;
+    commitCrc_ = crc;
+    crcSoFar_ = 0;
+    crcDone_ = 0;
+    commitRuns_ = 0;
+    return UploadRefusal::kNone;
+}
+
+bool SiteMapService::serviceCommit() {
+    switch (phase_) {
+        case CommitPhase::kNone:
+            return false;
+        case CommitPhase::kCrc: {
+            const std::size_t n = commitLength_ - crcDone_ < kCommitCrcBytes ? commitLength_ - crcDone_ : kCommitCrcBytes;
+            crcSoFar_ = core::crc32(upload_.image() + crcDone_, n, crcSoFar_);
+            crcDone_ += n;
+            if (crcDone_ == commitLength_) {
+                if (crcSoFar_ != commitCrc_) {
+                    phase_ = CommitPhase::kNone;  // the upload stays open: the right CRC may be committed
+                    (void)refuseCommit(UploadRefusal::kBadCrc, nullptr);
+                    break;
+                }
+                upload_.close();
+                check_.begin(upload_.image(), commitLength_);
+                phase_ = CommitPhase::kCheck;
+            }
+            break;
+        }
+        case CommitPhase::kCheck:
+            if (check_.step(kCommitCheckRecords)) {
+                if (!check_.result().ok()) {
+                    phase_ = CommitPhase::kNone;
+                    (void)refuseCommit(static_cast<UploadRefusal>(refusalCode(check_.result().reason)), &check_.result());
+                    break;
+                }
+                map_.beginStaging(upload_.image(), commitLength_);
+                phase_ = CommitPhase::kStage;
+            }
+            break;
+        case CommitPhase::kStage:
+            if (map_.stage(kCommitStageUnits)) {
+                putInForce();
+            }
+            break;
+    }
+    ++commitRuns_;
+    return phase_ == CommitPhase::kNone;
+}
+
+void SiteMapService::putInForce() {
+    (void)map_.putStagedInForce();
+    phase_ = CommitPhase::kNone;
     ++counters_.mapsLoaded;
-    mapCrc_ = crc;
-    mapBytes_ = length;
+    mapCrc_ = commitCrc_;
+    mapBytes_ = commitLength_;
     events_.report(events::kMapLoaded, core::Severity::kInfo,
                    "site_map: map %u in force: %u rocks, %u zones, %u bytes, CRC %08x",
                    static_cast<unsigned>(map_.revision()), static_cast<unsigned>(map_.rockCount()),
-                   static_cast<unsigned>(map_.keepOutCount()), static_cast<unsigned>(length),
-                   static_cast<unsigned>(crc));
+                   static_cast<unsigned>(map_.keepOutCount()), static_cast<unsigned>(commitLength_),
+                   static_cast<unsigned>(commitCrc_));
     lastRefusal_ = UploadRefusal::kNone;
     lastRefusalItem_ = 0;
-    return UploadRefusal::kNone;
 }
 
 UploadRefusal SiteMapService::abort() {
     const std::size_t dropped = upload_.length();
-    if (!upload_.abort()) {
+    const bool cancelled = phase_ != CommitPhase::kNone;
+    if (cancelled) {
+        phase_ = CommitPhase::kNone;
+        map_.dropStaged();
+    }
+    if (!upload_.abort() && !cancelled) {
         ++counters_.abortsRefused;
         events_.report(events::kAbortRefused, core::Severity::kWarning, "site_map: MAP_ABORT refused: no upload open");
         return refuse(UploadRefusal::kNothingUploaded, 0);
     }
     ++counters_.uploadsAborted;
-    events_.report(events::kUploadAborted, core::Severity::kInfo, "site_map: upload aborted (%u bytes dropped)",
-                   static_cast<unsigned>(dropped));
+    events_.report(events::kUploadAborted, core::Severity::kInfo, "site_map: upload aborted (%u bytes dropped)%s",
+                   static_cast<unsigned>(dropped), cancelled ? ": the commit under way cancelled, the map in force kept" : "");
     return UploadRefusal::kNone;
 }
 

@@ -3,9 +3,18 @@
 // (site_map_commands.hpp). It owns what it decides: a chunk or a commit
 // refused is counted and evented here (events 590-594), and the last refusal
 // is kept for SITE_MAP. A committed image replaces the map only when it passes
-// checkSiteMapImage whole; else the map in force is kept.
+// its check whole; else the map in force is kept.
 //
-// Static: the map (about 0.96 MB) and the upload buffer (0.54 MB) are members.
+// MAP_COMMIT is sliced (docs/site_map.md, "A commit in slices"): commit()
+// checks what it can at once (an upload open and intact, its length) and
+// starts; serviceCommit(), once a command-task run, then does one slice of
+// the CRC-32, the image's check, or its load into the map's slot not in force
+// (kCommitCrcBytes, kCommitCheckRecords, kCommitStageUnits a slice, each
+// under about 0.4 ms here), and puts the new map in force in the run that
+// finishes it. The map in force is the one every reader uses until then.
+//
+// Static: the map's two slots (kSiteMapBytes) and the upload buffer
+// (kMaxSiteMapImageSize) are members.
 #pragma once
 
 #include <cstddef>
@@ -16,6 +25,23 @@
 #include "fsw/site_map/site_map_upload.hpp"
 
 namespace rse::site_map {
+
+// What a commit is doing (SITE_MAP.commit_phase).
+enum class CommitPhase : std::uint8_t {
+    kNone = 0,    // no commit under way
+    kCrc = 1,     // the image's CRC-32
+    kCheck = 2,   // the image's check, record by record
+    kStage = 3,   // decoded and indexed into the slot not in force
+};
+
+// A commit slice's work (one command-task run): CRC-32 bytes, records
+// checked, or staging work units (site_map.hpp). Sized from bench_global_route's
+// "MAP_COMMIT slices" line (each slice kind under about 0.4 ms on the
+// development host), so a commit's run stays inside the command task's 2 ms
+// with a flood being drained.
+constexpr std::size_t kCommitCrcBytes = 131072;
+constexpr std::size_t kCommitCheckRecords = 2048;
+constexpr std::size_t kCommitStageUnits = 8192;
 
 struct SiteMapCounters {
     std::uint32_t chunksTaken = 0;
@@ -32,12 +58,18 @@ public:
 
     // MAP_LOAD: kNone when taken, else the refusal (event 591, counted).
     UploadRefusal loadChunk(std::uint32_t offset, const std::uint8_t* data, std::size_t length);
-    // MAP_COMMIT: kNone when the image replaced the map in force (event 590),
-    // else the refusal (event 592, counted; an image's reason names its rock
-    // or zone in lastRefusalItem()).
+    // MAP_COMMIT: kNone when the commit started (commitPhase() kCrc), else
+    // the refusal at once (nothing uploaded, spoiled, bad length, a commit
+    // under way: event 592, counted).
     UploadRefusal commit(std::uint32_t length, std::uint32_t crc);
-    // MAP_ABORT: kNone and event 593 when an upload was open; else
-    // kNothingUploaded (event 594, counted).
+    // One slice of the commit under way (nothing when none): true when the
+    // commit ended in it, the image in force (event 590) or refused (bad CRC
+    // or the image's reason: event 592, counted; an image's reason names its
+    // rock or zone in lastRefusalItem()), the map in force kept.
+    bool serviceCommit();
+    // MAP_ABORT: kNone and event 593 when an upload was open (a commit under
+    // way is cancelled, the map in force kept); else kNothingUploaded (event
+    // 594, counted).
     UploadRefusal abort();
     void resetCounters() { counters_ = SiteMapCounters{}; }
 
@@ -48,9 +80,16 @@ public:
     std::uint32_t lastRefusalItem() const { return lastRefusalItem_; }
     std::uint32_t mapCrc() const { return mapCrc_; }
     std::uint32_t mapBytes() const { return mapBytes_; }
+    CommitPhase commitPhase() const { return phase_; }
+    // Command-task runs the commit under way has taken so far, or the last one took.
+    std::uint32_t commitRuns() const { return commitRuns_; }
+    std::uint32_t commitsStarted() const { return commitsStarted_; }
 
 private:
     UploadRefusal refuse(UploadRefusal why, std::uint32_t item);
+    // A commit refused (at once or in a slice): counted and evented.
+    UploadRefusal refuseCommit(UploadRefusal why, const SiteMapCheck* check);
+    void putInForce();
 
     core::EventLog& events_;
     SiteMap map_;
@@ -60,6 +99,15 @@ private:
     std::uint32_t lastRefusalItem_ = 0;
     std::uint32_t mapCrc_ = 0;     // CRC-32 of the image in force (0: none loaded)
     std::uint32_t mapBytes_ = 0;
+    // The commit under way.
+    CommitPhase phase_ = CommitPhase::kNone;
+    SiteMapImageCheck check_;
+    std::uint32_t commitLength_ = 0;
+    std::uint32_t commitCrc_ = 0;     // the CRC-32 the commit named
+    std::uint32_t crcSoFar_ = 0;
+    std::size_t crcDone_ = 0;         // bytes of the image CRC'd so far
+    std::uint32_t commitRuns_ = 0;
+    std::uint32_t commitsStarted_ = 0;
 };
 
 }  // namespace rse::site_map

@@ -25,6 +25,9 @@ cmdtlm::SITE_MAP_Tlm SiteMapTelemetry::packet() const {
     t.commits_refused = c.commitsRefused;
     t.uploads_aborted = c.uploadsAborted;
     t.aborts_refused = c.abortsRefused;
+    t.commit_phase = static_cast<std::uint8_t>(service_.commitPhase());
+    t.commit_runs = service_.commitRuns();
+    t.commits_started = service_.commitsStarted();
     return t;
 }
 

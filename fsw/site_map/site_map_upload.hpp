@@ -7,9 +7,10 @@
 // image so far (else gap) and end within the buffer (else overflow); either
 // spoils the upload until offset 0 again: later chunks and the commit are
 // refused with the reason that spoiled it. A commit is refused with nothing
-// uploaded, a spoiled upload, a length other than the image's, or a CRC that
-// does not match; one commit per upload. No bus, no events: the service
-// reports what this decides. The buffer is a member (static storage).
+// uploaded, a spoiled upload or a length other than the image's; the service
+// then checks the CRC-32 (in slices) and closes the upload when it matches:
+// one commit per upload. No bus, no events: the service reports what this
+// decides. The buffer is a member (static storage).
 #pragma once
 
 #include <cstddef>
@@ -29,6 +30,7 @@ enum class UploadRefusal : std::uint8_t {
     kNothingUploaded = 4,  // a commit with no upload open
     kBadLength = 5,        // the commit's length is not the image's
     kBadCrc = 6,           // the image's CRC-32 is not the commit's
+    kCommitUnderWay = 7,   // MAP_LOAD or MAP_COMMIT while a commit is being checked and loaded
     kImage = 16,           // + SiteMapReject: the image failed its check
 };
 const char* toString(UploadRefusal refusal);
@@ -40,12 +42,14 @@ class SiteMapUpload {
 public:
     // A chunk of length bytes at offset: kNone when taken.
     UploadRefusal takeChunk(std::uint32_t offset, const std::uint8_t* data, std::size_t length);
-    // The commit of an image length bytes long with CRC-32 crc: kNone when the
-    // upload is complete and intact (the upload then closes: image() is it,
-    // and a new upload starts at offset 0 whatever the image's own check then
-    // says); else the reason, the upload left as it was (a wrong length or
-    // CRC may be committed again with the right one).
-    UploadRefusal checkCommit(std::uint32_t length, std::uint32_t crc);
+    // The commit of an image length bytes long: kNone when an intact upload
+    // of that length is open; else the reason, the upload left as it was (a
+    // wrong length, or a CRC the service finds wrong, may be committed again
+    // with the right one).
+    UploadRefusal checkCommit(std::uint32_t length) const;
+    // The commit's CRC matched: the upload closes (image() is it, and a new
+    // upload starts at offset 0 whatever the image's own check then says).
+    void close() { open_ = false; }
     // Drops the upload (MAP_ABORT); false when none was open.
     bool abort();
 

@@ -102,6 +102,12 @@ MapUploadResult uploadSiteMap(const Scenario& scenario, MemoryGround& ground, Lo
     if (!sendAndStep("MAP_COMMIT", ground::mapCommitArgs(image))) {
         return failed(r, "MAP_COMMIT not answered");
     }
+    // The commit runs in slices, a command-task run each: its end is the
+    // SITE_MAP with commit_phase 0 (sent in the run it ends).
+    if (ground.siteMap().lastRefusal == 0 &&
+        !rig.runUntil([&] { service(); return ground.siteMap().commitPhase == 0; }, kMapUploadLimitNs)) {
+        return failed(r, "MAP_COMMIT did not end within " + std::to_string(kMapUploadLimitNs / core::kNsPerSec) + " s");
+    }
     const MemoryGround::SiteMapSeen& seen = ground.siteMap();
     if (seen.lastRefusal != 0 || seen.mapCrc != r.crc || seen.rocks != r.obstacles) {
         return failed(r, "SITE_MAP does not show the scenario's map in force (refusal " +

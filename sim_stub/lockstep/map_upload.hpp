@@ -39,8 +39,9 @@ MapUploadResult uploadCoarseMap(const Scenario& scenario, MemoryGround& ground, 
 
 // The scenario's site map (siteMapSpec: the map's bounds and every known
 // rock) the way `rse-ground map load` sends it: MAP_LOAD chunks, each waiting
-// for its SITE_MAP answer, then MAP_COMMIT, confirmed from SITE_MAP (the map
-// in force with the image's CRC and rock count). In SAFE or STANDBY (before
+// for its SITE_MAP answer, then MAP_COMMIT, whose slices' end is confirmed
+// from SITE_MAP (commit_phase 0, the map in force with the image's CRC and
+// rock count). In SAFE or STANDBY (before
 // SET_MODE AUTONOMOUS). The result's obstacles are the known rocks.
 MapUploadResult uploadSiteMap(const Scenario& scenario, MemoryGround& ground, LockstepRig& rig,
                               const std::function<void()>& service);

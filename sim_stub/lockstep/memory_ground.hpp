@@ -87,7 +87,10 @@ public:
         std::uint32_t mapCrc = 0;
         std::uint8_t lastRefusal = 0;
         std::uint32_t lastRefusalItem = 0;
+        std::uint32_t mapsLoaded = 0;
         std::uint32_t commitsRefused = 0;
+        std::uint8_t commitPhase = 0;     // 0: no commit under way
+        std::uint32_t commitRuns = 0;
     };
     const SiteMapSeen& siteMap() const { return siteMap_; }
 
@@ -189,8 +192,13 @@ private:
         s.lastRefusalItem = r.u32();
         (void)r.u32();  // chunks_taken
         (void)r.u32();  // chunks_refused
-        (void)r.u32();  // maps_loaded
+        s.mapsLoaded = r.u32();
         s.commitsRefused = r.u32();
+        (void)r.u32();  // uploads_aborted
+        (void)r.u32();  // aborts_refused
+        s.commitPhase = r.u8();
+        s.commitRuns = r.u32();
+        (void)r.u32();  // commits_started
         if (r.ok()) {
             ++s.packets;
             siteMap_ = s;

@@ -30,6 +30,9 @@
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "fsw/core/byte_codec.hpp"
 #include "fsw/core/crc32.hpp"
+#include "fsw/core/event_log.hpp"
+#include "fsw/core/clock.hpp"
+#include "fsw/site_map/site_map_commands.hpp"
 #include "fsw/tables/table_image.hpp"
 #include "ground/command_encoder.hpp"
 #include "ground/ground_cli.hpp"
@@ -204,6 +207,11 @@ private:
                 }
                 break;
             }
+            case cmdtlm::CommandCode::MAP_LOAD:
+            case cmdtlm::CommandCode::MAP_COMMIT:
+            case cmdtlm::CommandCode::MAP_ABORT:
+                siteMapCommand(v, after);
+                break;
             case cmdtlm::CommandCode::PLAN_SHORT: {
                 cmdtlm::PLAN_SHORT_Args a{};
                 cmdtlm::decodeArgs(r, &a);
@@ -231,6 +239,50 @@ private:
         v.detail = static_cast<std::int16_t>(reason);
     }
 
+    // The site map commands, as the flight's own service takes them: its
+    // SITE_MAP answers follow the CMD_ACK. An accepted MAP_COMMIT's slices
+    // run at once, a command-task run each, until the SITE_MAP of its end.
+    struct SiteMapRig {
+        struct Sink final : cmdtlm::TelemetrySink {
+            std::vector<std::vector<std::uint8_t>> packets;
+            void sendPayload(std::uint16_t apid, const std::uint8_t* payload, std::size_t length) override {
+                std::vector<std::uint8_t> packet(cmdtlm::kMaxTelemetryPacket);
+                packet.resize(cmdtlm::buildTelemetryPacket(apid, 0, 0, payload, length, packet.data(), packet.size()));
+                packets.push_back(packet);
+            }
+            void reportTooLarge(std::uint16_t, std::size_t) override {}
+        };
+        core::VirtualClock clock;
+        core::EventLog events{clock};
+        Sink sink;
+        site_map::SiteMapService service{events};
+        site_map::SiteMapTelemetry telemetry{service};
+        site_map::SiteMapCommands commands{service, telemetry, sink};
+    };
+    void siteMapCommand(cmdtlm::CommandVerdict& v, std::vector<std::vector<std::uint8_t>>* after) {
+        if (!siteMap_) {
+            siteMap_ = std::make_unique<SiteMapRig>();  // 6 MB: off the stack
+        }
+        SiteMapRig& m = *siteMap_;
+        m.sink.packets.clear();
+        const cmdtlm::CommandOutcome out = m.commands.execute(v);
+        if (!out.ok) {
+            v.reason = cmdtlm::CommandReject::kExecutionFailed;
+            v.detail = out.detail;
+        }
+        for (int run = 0; run < 1000 && m.service.commitPhase() != site_map::CommitPhase::kNone; ++run) {
+            m.commands.serviceOnboardRequests();
+            ++siteMapCommitRuns;
+        }
+        after->insert(after->end(), m.sink.packets.begin(), m.sink.packets.end());
+    }
+
+public:
+    std::size_t siteMapCommitRuns = 0;   // command-task runs MAP_COMMITs took
+    const site_map::SiteMapService* siteMapService() const { return siteMap_.get() != nullptr ? &siteMap_->service : nullptr; }
+
+private:
+    std::unique_ptr<SiteMapRig> siteMap_;
     cmdtlm::KeyStore keys_;
     cmdtlm::HmacSha256 hmac_;
     cmdtlm::CommandValidator validator_;

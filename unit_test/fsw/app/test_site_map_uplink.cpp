@@ -1,8 +1,10 @@
 // The site map over the ground link, through the whole flight application
 // (ground_station_rig.hpp): a generated field's image sent as MAP_LOAD chunks
 // the way rse-ground sends them (ground/map_transfer.hpp), committed in SAFE
-// and in force; a commit while AUTONOMOUS refused by its mode; a bad CRC
-// refused by the service with SITE_MAP's reason, the map in force kept.
+// and in force when its slices end, a few command-task runs later; a commit
+// while AUTONOMOUS refused by its mode; a bad CRC found in the commit's
+// slices and refused by the service with SITE_MAP's reason, the map in force
+// kept.
 #include <vector>
 
 #include "fsw/cmdtlm/command_verdict.hpp"
@@ -27,6 +29,17 @@ TEST_GROUP_BASE(SiteMapUplink, GroundStation) {
             expectAccepted("MAP_LOAD");
         }
     }
+    // Frames until a SITE_MAP says the commit under way ended: the frames.
+    int runUntilCommitEnds() {
+        for (int frames = 1; frames <= 100; ++frames) {
+            runFrames(1);
+            if (field(last("SITE_MAP"), "commit_phase") == 0.0) {
+                return frames;
+            }
+        }
+        FAIL("no SITE_MAP told the commit's end in 100 frames");
+        return 0;
+    }
 };
 
 TEST(SiteMapUplink, AGeneratedFieldSentInChunksIsInForceAndACommitWhileDrivingIsRefused) {
@@ -43,8 +56,11 @@ TEST(SiteMapUplink, AGeneratedFieldSentInChunksIsInForceAndACommitWhileDrivingIs
     // SAFE: taken, and in force.
     send("SET_MODE", {0});
     send("MAP_COMMIT", rse::ground::mapCommitArgs(image));
-    runFrames(2);
+    runFrames(1);
     expectAccepted("MAP_COMMIT");
+    LONGS_EQUAL(1, static_cast<long>(field(last("SITE_MAP"), "commit_phase")));  // under way: the CRC-32 first
+    CHECK_FALSE(fsw.siteMap().map().loaded());
+    CHECK(runUntilCommitEnds() >= 2);   // CRC, check, load: a slice a frame
     CHECK_TRUE(fsw.siteMap().map().loaded());
     LONGS_EQUAL(300, fsw.siteMap().map().rockCount());
     const Packet& status = last("SITE_MAP");
@@ -61,12 +77,12 @@ TEST(SiteMapUplink, ABadCrcIsRefusedWithItsReasonAndTheMapInForceKept) {
     std::vector<std::uint8_t> commit = rse::ground::mapCommitArgs(image);
     commit.back() ^= 0x01U;  // the CRC's last byte
     send("MAP_COMMIT", commit);
-    runFrames(2);
-    const Packet& ack = last("CMD_ACK");
-    CHECK(static_cast<long>(field(ack, "reason")) != 0);
-    LONGS_EQUAL(static_cast<long>(site_map::UploadRefusal::kBadCrc), static_cast<long>(field(ack, "detail")));
+    runFrames(1);
+    expectAccepted("MAP_COMMIT");   // the length is right: started
+    (void)runUntilCommitEnds();
     LONGS_EQUAL(static_cast<long>(site_map::UploadRefusal::kBadCrc),
                 static_cast<long>(field(last("SITE_MAP"), "last_refusal")));
+    LONGS_EQUAL(1, static_cast<long>(field(last("SITE_MAP"), "commits_refused")));
     CHECK_FALSE(fsw.siteMap().map().loaded());
     CHECK(eventCount(site_map::events::kCommitRefused) == 1);
 }

@@ -1,7 +1,9 @@
 // The site map in force (site_map.hpp): a 1 km x 1 km field of 5 000 rocks
 // loads, every query near a segment lists exactly the rocks a scan of the
 // whole map finds (each once) at a cost of the rocks nearby, a refused
-// image leaves the map as it was, and the memory is what docs/site_map.md says.
+// image leaves the map as it was, a map staged in small steps is the map in
+// force, untouched, until it is whole and put in force, and the memory is
+// what docs/site_map.md says.
 #include <algorithm>
 #include <cstdint>
 #include <random>
@@ -158,12 +160,62 @@ TEST(SiteMap, TheQueryStampsSurviveTheirWrapAround) {
     }
 }
 
+// A map staged a few work units a step (as MAP_COMMIT's slices do) leaves
+// the map in force, its revision, rocks and answers, as they were until it is
+// put in force; then it is the map load() makes of the same image, query for
+// query.
+TEST(SiteMap, AMapStagedInStepsIsNotInForceUntilWholeThenEqualsOneLoaded) {
+    const std::vector<std::uint8_t> old = rse::ground::encodeSiteMap(rse::test::randomField(300, 400.0F, 11));
+    CHECK(map->load(old.data(), old.size(), nullptr) == rse::core::Status::kOk);
+    const std::uint32_t revision = map->revision();
+    static std::uint16_t out[kMaxSiteRocks];
+    const Point2 a{10, 200}, b{390, 210};
+    const std::set<std::uint16_t> before = scan(*map, a, b, 4.0);
+    const std::vector<std::uint8_t> image = rse::ground::encodeSiteMap(rse::test::randomField(5000, 1000.0F, 12));
+    CHECK_TRUE(checkSiteMapImage(image.data(), image.size()).ok());
+    map->beginStaging(image.data(), image.size());
+    CHECK_TRUE(map->staging());
+    CHECK_FALSE(map->putStagedInForce());  // not whole yet
+    std::size_t steps = 0;
+    while (!map->stage(700)) {
+        ++steps;
+        CHECK(steps < 1000);
+        LONGS_EQUAL(revision, map->revision());
+        LONGS_EQUAL(300, map->rockCount());
+        const std::size_t n = map->rocksNearSegment(a, b, 4.0, query, out, kMaxSiteRocks, nullptr);
+        CHECK_TRUE(std::set<std::uint16_t>(out, out + n) == before);
+    }
+    // Decoded, counted and filed 700 units a step: 3 x 5 000 rocks and the
+    // grid's cells (two passes of 65 536 / kCellsPerStageUnit) take 25 steps or more.
+    CHECK(steps >= (3 * 5000 + 2 * 65536 / kCellsPerStageUnit) / 700);
+    CHECK_TRUE(map->putStagedInForce());
+    CHECK_FALSE(map->staging());
+    CHECK(map->revision() != revision);
+    LONGS_EQUAL(5000, map->rockCount());
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> where(0.0, 1000.0);
+    for (int q = 0; q < 100; ++q) {
+        const Point2 p{where(rng), where(rng)}, r{where(rng), where(rng)};
+        const std::size_t n = map->rocksNearSegment(p, r, 3.0, query, out, kMaxSiteRocks, nullptr);
+        CHECK_TRUE(std::set<std::uint16_t>(out, out + n) == scan(*map, p, r, 3.0));
+    }
+    // A staging dropped never reaches the map in force.
+    const std::uint32_t now = map->revision();
+    map->beginStaging(old.data(), old.size());
+    (void)map->stage(100);
+    map->dropStaged();
+    CHECK_FALSE(map->putStagedInForce());
+    LONGS_EQUAL(now, map->revision());
+    LONGS_EQUAL(5000, map->rockCount());
+}
+
 // docs/site_map.md states these.
 TEST(SiteMap, MemoryIsWhatTheDocsSay) {
     LONGS_EQUAL(84, SiteMap::kBytesPerRock);
-    CHECK(kSiteMapBytes <= 2400000);
-    CHECK(kSiteMapBytes >= kMaxSiteRocks * SiteMap::kBytesPerRock);
-    CHECK(kSiteMapBytes / kMaxSiteRocks <= 113);  // "113 bytes a rock"
+    CHECK(kSiteMapSlotBytes <= 2400000);
+    CHECK(kSiteMapBytes <= 2 * kSiteMapSlotBytes + 256);   // two slots: in force and staged
+    CHECK(kSiteMapSlotBytes >= kMaxSiteRocks * SiteMap::kBytesPerRock);
+    CHECK(kSiteMapSlotBytes / kMaxSiteRocks <= 113);  // "113 bytes a rock" a slot
     CHECK(kMaxSiteRocks >= 20000);                // the growth table's largest row
     LONGS_EQUAL(1339552, kMaxSiteMapImageSize);
     CHECK(sizeof(SiteQuery) <= 41000);

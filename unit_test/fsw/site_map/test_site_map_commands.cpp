@@ -2,8 +2,11 @@
 // in MAP_LOAD chunks and put in force by MAP_COMMIT, each answered with
 // SITE_MAP; and every refusal the issue names (a bad CRC, a gap, too many
 // rocks, a rock outside the site, a non-convex or clockwise rock) with its
-// reason (CMD_ACK.detail and SITE_MAP.last_refusal), its counter and its
-// event, the map in force kept.
+// reason (CMD_ACK.detail at once, or SITE_MAP.last_refusal when the sliced
+// commit ends), its counter and its event, the map in force kept. A commit of
+// 20 000 rocks runs in slices, one a command-task run, with the map in force
+// used until the new one is whole; chunks and commits meanwhile are refused
+// and MAP_ABORT cancels it.
 #include <algorithm>
 #include <cstring>
 #include <vector>
@@ -38,7 +41,7 @@ TEST_GROUP(SiteMapCommands) {
     site_map::SiteMapCommands* commands = nullptr;
 
     void setup() override {
-        service = new site_map::SiteMapService(events);  // 1.5 MB: off the stack
+        service = new site_map::SiteMapService(events);  // 6 MB: off the stack
         telemetry = new site_map::SiteMapTelemetry(*service);
         commands = new site_map::SiteMapCommands(*service, *telemetry, sink);
     }
@@ -64,10 +67,33 @@ TEST_GROUP(SiteMapCommands) {
         }
         return ok;
     }
-    cmdtlm::CommandOutcome commit(std::size_t length, std::uint32_t crc) {
+    cmdtlm::CommandOutcome startCommit(std::size_t length, std::uint32_t crc) {
         const test::AcceptedCommand c(CommandCode::MAP_COMMIT,
                                       cmdtlm::MAP_COMMIT_Args{static_cast<std::uint32_t>(length), crc});
         return commands->execute(c.verdict());
+    }
+    // Command-task runs until the commit under way ends (SITE_MAP sent with
+    // commit_phase 0): the runs it took.
+    std::size_t runCommit() {
+        const std::size_t packets = sink.count<cmdtlm::SITE_MAP_Tlm>();
+        std::size_t runs = 0;
+        while (sink.count<cmdtlm::SITE_MAP_Tlm>() == packets && runs < 1000) {
+            commands->serviceOnboardRequests();
+            ++runs;
+        }
+        DOUBLES_EQUAL(0, field("commit_phase"), 0.0);
+        return runs;
+    }
+    // MAP_COMMIT as the ground sees it: refused at once (CMD_ACK), or
+    // accepted and then in force or refused when its slices end (SITE_MAP).
+    cmdtlm::CommandOutcome commit(std::size_t length, std::uint32_t crc) {
+        const cmdtlm::CommandOutcome started = startCommit(length, crc);
+        if (!started.ok) {
+            return started;
+        }
+        (void)runCommit();
+        const auto why = static_cast<std::int16_t>(field("last_refusal"));
+        return why == 0 ? cmdtlm::CommandOutcome{} : cmdtlm::commandFailed(why);
     }
     cmdtlm::CommandOutcome commit(const std::vector<std::uint8_t>& img) {
         return commit(img.size(), core::crc32(img.data(), img.size()));
@@ -217,4 +243,93 @@ TEST(SiteMapCommands, AChunkPastTheLargestImageOverflows) {
     }
     const cmdtlm::CommandOutcome out = loadChunk(img, at, 200);
     LONGS_EQUAL(static_cast<int>(UploadRefusal::kOverflow), out.detail);
+}
+
+// 20 000 rocks on a square kilometre (about 0.8 MB, 4 100 chunks): the
+// commit takes a slice each command-task run, CRC-32 then check then load,
+// and until the run that ends it the map in force (100 rocks) is the one
+// the service gives readers; then it is the new one, told by SITE_MAP.
+TEST(SiteMapCommands, ACommitOfTwentyThousandRocksRunsInSlicesAndTheMapInForceServesUntilItEnds) {
+    const std::vector<std::uint8_t> small = image(test::randomField(100, 100.0F, 1));
+    CHECK_TRUE(upload(small));
+    CHECK_TRUE(commit(small).ok);
+    const std::uint32_t revision = service->map().revision();
+    const std::vector<std::uint8_t> big = image(test::randomField(20000, 1000.0F, 2));
+    CHECK(big.size() > 540832);
+    CHECK_TRUE(upload(big));  // offsets past the 540 831 the dictionary once capped them at
+    (void)test::drainEventsWithId(events, site_map::events::kMapLoaded);
+    CHECK_TRUE(startCommit(big.size(), core::crc32(big.data(), big.size())).ok);
+    DOUBLES_EQUAL(1, field("commit_phase"), 0.0);  // the answer at once: started, CRC first
+    DOUBLES_EQUAL(2, field("commits_started"), 0.0);
+    std::size_t runs = 0;
+    std::uint8_t phase = 1;
+    std::size_t runsIn[4] = {};
+    while (service->commitPhase() != site_map::CommitPhase::kNone && runs < 1000) {
+        LONGS_EQUAL(revision, service->map().revision());
+        LONGS_EQUAL(100, service->map().rockCount());
+        const auto now = static_cast<std::uint8_t>(service->commitPhase());
+        CHECK_TEXT(now >= phase, "phases in order: CRC, check, load");
+        phase = now;
+        ++runsIn[now];
+        commands->serviceOnboardRequests();
+        ++runs;
+    }
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kMapLoaded));
+    LONGS_EQUAL(20000, service->map().rockCount());
+    CHECK(service->map().revision() != revision);
+    DOUBLES_EQUAL(0, field("commit_phase"), 0.0);
+    DOUBLES_EQUAL(static_cast<double>(runs), field("commit_runs"), 0.0);
+    DOUBLES_EQUAL(2, field("maps_loaded"), 0.0);
+    // Each slice did at most its share: the CRC of 0.8 MB took
+    // ceil(bytes / kCommitCrcBytes) runs, the check ceil(20 000 /
+    // kCommitCheckRecords), the load at least 3 passes of 20 000 rocks in
+    // kCommitStageUnits.
+    LONGS_EQUAL((big.size() + site_map::kCommitCrcBytes - 1) / site_map::kCommitCrcBytes, runsIn[1]);
+    LONGS_EQUAL((20000 + site_map::kCommitCheckRecords - 1) / site_map::kCommitCheckRecords, runsIn[2]);
+    CHECK(runsIn[3] >= 3 * 20000 / site_map::kCommitStageUnits);
+}
+
+TEST(SiteMapCommands, DuringACommitChunksAndCommitsAreRefusedAndAbortCancelsItKeepingTheMapInForce) {
+    const std::vector<std::uint8_t> small = image(test::randomField(100, 100.0F, 3));
+    CHECK_TRUE(upload(small));
+    CHECK_TRUE(commit(small).ok);
+    const std::uint32_t revision = service->map().revision();
+    const std::vector<std::uint8_t> big = image(test::randomField(5000, 1000.0F, 4));
+    CHECK_TRUE(upload(big));
+    CHECK_TRUE(startCommit(big.size(), core::crc32(big.data(), big.size())).ok);
+    commands->serviceOnboardRequests();  // the CRC under way
+    cmdtlm::CommandOutcome out = loadChunk(big, 0, 200);
+    LONGS_EQUAL(static_cast<int>(UploadRefusal::kCommitUnderWay), out.detail);
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kChunkRefused));
+    out = startCommit(big.size(), core::crc32(big.data(), big.size()));
+    LONGS_EQUAL(static_cast<int>(UploadRefusal::kCommitUnderWay), out.detail);
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kCommitRefused));
+    // Into the check, then MAP_ABORT: cancelled, nothing put in force.
+    while (service->commitPhase() == site_map::CommitPhase::kCrc) {
+        commands->serviceOnboardRequests();
+    }
+    LONGS_EQUAL(static_cast<int>(site_map::CommitPhase::kCheck), static_cast<int>(service->commitPhase()));
+    const test::AcceptedCommand abort(CommandCode::MAP_ABORT);
+    CHECK_TRUE(commands->execute(abort.verdict()).ok);
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kUploadAborted));
+    DOUBLES_EQUAL(0, field("commit_phase"), 0.0);
+    for (int i = 0; i < 50; ++i) {
+        commands->serviceOnboardRequests();
+    }
+    LONGS_EQUAL(revision, service->map().revision());
+    LONGS_EQUAL(100, service->map().rockCount());
+    LONGS_EQUAL(0, test::drainEventsWithId(events, site_map::events::kMapLoaded));
+    // The same image uploaded again goes in force.
+    CHECK_TRUE(upload(big));
+    CHECK_TRUE(commit(big).ok);
+    LONGS_EQUAL(5000, service->map().rockCount());
+}
+
+// The dictionary's ranges reach the largest image (MAP_LOAD's offset was
+// once capped at 540 831 bytes, a map of about 8 000 rocks).
+TEST(SiteMapCommands, TheDictionaryRangesCoverTheLargestImage) {
+    const cmdtlm::CommandDesc& load = cmdtlm::describe(CommandCode::MAP_LOAD);
+    DOUBLES_EQUAL(static_cast<double>(site_map::kMaxSiteMapImageSize - 1), load.args[0].max, 0.0);
+    const cmdtlm::CommandDesc& commitDesc = cmdtlm::describe(CommandCode::MAP_COMMIT);
+    DOUBLES_EQUAL(static_cast<double>(site_map::kMaxSiteMapImageSize), commitDesc.args[0].max, 0.0);
 }

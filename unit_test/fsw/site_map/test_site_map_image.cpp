@@ -1,5 +1,7 @@
 // The site map image check (site_map_image.hpp): a good image passes, and each
-// way of spoiling one is refused with its own reason and the rock it is about.
+// way of spoiling one is refused with its own reason and the rock it is about;
+// the check in steps of a record (MAP_COMMIT's slices) says the same as the
+// whole check of every image here.
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -31,8 +33,30 @@ SiteMapSpec threeRocks() {
     return spec;
 }
 
+// The check one record a step: the verdict it ends with.
+SiteMapCheck checkedInSteps(const std::vector<std::uint8_t>& image, std::size_t* steps) {
+    SiteMapImageCheck check;
+    check.begin(image.data(), image.size());
+    *steps = 0;
+    std::size_t records = check.recordsChecked();
+    while (!check.step(1)) {
+        ++*steps;
+        CHECK(check.recordsChecked() == records + 1);
+        records = check.recordsChecked();
+    }
+    return check.result();
+}
+
+// The whole check's reason, after checking the stepwise check agrees.
 int reasonOf(const std::vector<std::uint8_t>& image) {
-    return static_cast<int>(checkSiteMapImage(image.data(), image.size()).reason);
+    const SiteMapCheck whole = checkSiteMapImage(image.data(), image.size());
+    std::size_t steps = 0;
+    const SiteMapCheck stepped = checkedInSteps(image, &steps);
+    LONGS_EQUAL(static_cast<int>(whole.reason), static_cast<int>(stepped.reason));
+    LONGS_EQUAL(whole.item, stepped.item);
+    CHECK_EQUAL(whole.keepOut, stepped.keepOut);
+    LONGS_EQUAL(whole.rocks, stepped.rocks);
+    return static_cast<int>(whole.reason);
 }
 int reasonOf(SiteMapReject r) { return static_cast<int>(r); }
 
@@ -121,7 +145,7 @@ TEST(SiteMapImage, ABadRockIsRefusedWithItsReasonAndIndex) {
         c.spoil(&spec);
         const std::vector<std::uint8_t> image = encodeSiteMap(spec);
         const SiteMapCheck check = checkSiteMapImage(image.data(), image.size());
-        LONGS_EQUAL(reasonOf(c.why), static_cast<int>(check.reason));
+        LONGS_EQUAL(reasonOf(c.why), reasonOf(image));
         LONGS_EQUAL(1, check.item);
         CHECK_FALSE(check.keepOut);
     }
@@ -132,7 +156,7 @@ TEST(SiteMapImage, ABadZoneIsRefusedAndNamed) {
     spec.keepOuts[0].kind = static_cast<KeepOutKind>(7);
     std::vector<std::uint8_t> image = encodeSiteMap(spec);
     SiteMapCheck check = checkSiteMapImage(image.data(), image.size());
-    LONGS_EQUAL(reasonOf(SiteMapReject::kBadKind), static_cast<int>(check.reason));
+    LONGS_EQUAL(reasonOf(SiteMapReject::kBadKind), reasonOf(image));
     CHECK_TRUE(check.keepOut);
     spec = threeRocks();
     spec.keepOuts[0].vertices = rse::test::regularRock(30, -30, 5, 17);
@@ -177,4 +201,28 @@ TEST(SiteMapImage, TheGridFitsAKilometreInTheCellsWithCellsNoSmallerThanTheFloor
     DOUBLES_EQUAL(kMinCellM, small.cellM, 0.0);
     LONGS_EQUAL(20, small.columns);
     LONGS_EQUAL(15, small.rows);
+}
+
+// A good image of 1 000 rocks and a zone checked 64 records a step: 16
+// steps, and the verdict of the whole check.
+TEST(SiteMapImage, TheCheckInStepsTakesItsRecordsAStepAtATime) {
+    SiteMapSpec spec = rse::test::randomField(1000, 300.0F, 21);
+    SiteMapSpec::Zone zone;
+    zone.kind = KeepOutKind::kSteep;
+    zone.vertices = rse::test::regularRock(150.0F, 150.0F, 10.0F, 6);
+    spec.keepOuts.push_back(zone);
+    const std::vector<std::uint8_t> image = encodeSiteMap(spec);
+    SiteMapImageCheck check;
+    check.begin(image.data(), image.size());
+    CHECK_FALSE(check.ended());
+    std::size_t steps = 1;
+    while (!check.step(64)) {
+        LONGS_EQUAL(64 * steps, check.recordsChecked());
+        ++steps;
+    }
+    LONGS_EQUAL(16, steps);   // 1 001 records
+    LONGS_EQUAL(1001, check.recordsChecked());
+    CHECK_TRUE(check.result().ok());
+    LONGS_EQUAL(1000, check.result().rocks);
+    CHECK_TRUE(check.step(64));   // ended stays ended
 }
