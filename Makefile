@@ -218,8 +218,9 @@ $(SOURCE_MBEDCRYPTO): unit_test/cross/build_mbedcrypto.sh | deps
 	unit_test/cross/build_mbedcrypto.sh $(CROSS_COMPILE) $@
 endif
 
+# The ground library for its number text (a site file's numbers: sim_stub/scenario/site_file.cpp).
 SIM_BIN := $(BUILD)/bin/rse-sim
-$(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(FLIGHT_LIB)
+$(SIM_BIN): $(BUILD)/obj/sim_stub/main.o $(SIM_LIB) $(BUILD)/lib/librse_ground.a $(FLIGHT_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) -o $@ $^ $(LDLIBS_CRYPTO)
 

@@ -2,11 +2,15 @@
 //
 //   rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet] [--time-scale N]
 //   rse-sim --coarse-map-source FILE
+//   rse-sim --site-file FILE
 //
 // The second form prints the COARSE_MAP table source of the scenario's site
 // and known rocks (sim_stub/scenario/coarse_map_source.hpp) for the operator
 // to compile and load (`rse-ground table build`, `table load`), so that
-// the rover plans on the map the simulator drives it through.
+// the rover plans on the map the simulator drives it through. The third prints
+// the scenario's rocks as a site file (sim_stub/scenario/site_file.hpp) that
+// another scenario may name with [site] file: with a [field] it is the site
+// generator (Golombek and Rapp's model at the field's k and seed).
 //
 // Each of the six drive emulators gets its own socket (as six controllers would
 // have), the other devices share one. The world steps at 1 kHz on
@@ -33,6 +37,7 @@
 #include "sim_stub/rover_sim.hpp"
 #include "sim_stub/scenario/coarse_map_source.hpp"
 #include "sim_stub/scenario/scenario_parser.hpp"
+#include "sim_stub/scenario/site_file.hpp"
 
 namespace {
 
@@ -47,6 +52,7 @@ void usage(std::FILE* out) {
     std::fprintf(out,
                  "usage: rse-sim --can IFACE --scenario FILE [--duration SECONDS] [--quiet] [--time-scale N]\n"
                  "       rse-sim --coarse-map-source FILE\n"
+                 "       rse-sim --site-file FILE\n"
                  "       rse-sim --help\n"
                  "  --can IFACE        SocketCAN interface shared with rse-fsw (e.g. vcan0)\n"
                  "  --scenario FILE    TOML scenario (sim_stub/scenarios/README.md)\n"
@@ -56,6 +62,7 @@ void usage(std::FILE* out) {
                  "                     same N as rse-fsw --time-scale); --duration and the scenario are in\n"
                  "                     simulated seconds\n"
                  "  --coarse-map-source FILE  print the scenario's COARSE_MAP table source and exit\n"
+                 "  --site-file FILE   print the scenario's rocks as a site file ([site] file = ...) and exit\n"
                  "  -h, --help         this text (on stdout, exit status 0)\n"
                  "Exit status: 0 stopped cleanly, 1 the bus or the scenario cannot be used, 2 bad usage.\n");
 }
@@ -64,12 +71,13 @@ struct Options {
     const char* can = nullptr;
     const char* scenario = nullptr;
     const char* mapSource = nullptr;
+    const char* siteFile = nullptr;
     double duration = 0.0;
     bool quiet = false;
     std::uint32_t timeScale = 1;
 };
 
-enum : int { kOptCan = 1000, kOptScenario, kOptDuration, kOptQuiet, kOptTimeScale, kOptCoarseMapSource };
+enum : int { kOptCan = 1000, kOptScenario, kOptDuration, kOptQuiet, kOptTimeScale, kOptCoarseMapSource, kOptSiteFile };
 const option kLongOptions[] = {
     {"can", required_argument, nullptr, kOptCan},
     {"scenario", required_argument, nullptr, kOptScenario},
@@ -77,6 +85,7 @@ const option kLongOptions[] = {
     {"quiet", no_argument, nullptr, kOptQuiet},
     {"time-scale", required_argument, nullptr, kOptTimeScale},
     {"coarse-map-source", required_argument, nullptr, kOptCoarseMapSource},
+    {"site-file", required_argument, nullptr, kOptSiteFile},
     {"help", no_argument, nullptr, 'h'},
     {nullptr, 0, nullptr, 0},
 };
@@ -87,6 +96,7 @@ bool applyOption(int id, const char* value, Options* o, std::string* error) {
         case kOptCan: o->can = value; return true;
         case kOptScenario: o->scenario = value; return true;
         case kOptCoarseMapSource: o->mapSource = value; return true;
+        case kOptSiteFile: o->siteFile = value; return true;
         case kOptQuiet: o->quiet = true; return true;
         case kOptDuration:
             if (!rse::sim::cli::parseFiniteNumber(value, &o->duration) || !(o->duration > 0.0) ||
@@ -131,7 +141,11 @@ Parsed parse(int argc, const char* const* argv, Options* o, std::string* error) 
         *error = std::string("unexpected argument '") + argv[scanner.index()] + "' (rse-sim takes options only)";
         return Parsed::kUsageError;
     }
-    if (o->mapSource == nullptr && (o->can == nullptr || o->scenario == nullptr)) {
+    if (o->mapSource != nullptr && o->siteFile != nullptr) {
+        *error = "--coarse-map-source and --site-file: one at a time";
+        return Parsed::kUsageError;
+    }
+    if (o->mapSource == nullptr && o->siteFile == nullptr && (o->can == nullptr || o->scenario == nullptr)) {
         *error = "--can and --scenario are required";
         return Parsed::kUsageError;
     }
@@ -160,6 +174,18 @@ int printCoarseMapSource(const char* path) {
         std::fprintf(stderr, "rse-sim: %s\n", e.what());
         return 1;
     }
+    return 0;
+}
+
+// rse-sim --site-file FILE: the scenario's rocks as a site file on stdout.
+int printSiteFile(const char* path) {
+    rse::sim::Scenario scenario;
+    std::string error;
+    if (!rse::sim::tryLoadScenarioFile(path, &scenario, &error)) {
+        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+        return 1;
+    }
+    std::fputs(rse::sim::siteFileText(scenario).c_str(), stdout);
     return 0;
 }
 
@@ -265,6 +291,9 @@ int main(int argc, char** argv) {
     }
     if (o.mapSource != nullptr) {
         return printCoarseMapSource(o.mapSource);
+    }
+    if (o.siteFile != nullptr) {
+        return printSiteFile(o.siteFile);
     }
     rse::sim::Scenario scenario;
     if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {

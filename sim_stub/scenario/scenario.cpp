@@ -73,7 +73,7 @@ bool Scenario::usesSiteMap() const {
     for (const Obstacle& o : obstacles) {
         known += o.known ? 1U : 0U;
     }
-    return field.present || known > kCoarseMapObstacleSlots;
+    return field.present || !siteFile.empty() || known > kCoarseMapObstacleSlots;
 }
 
 }  // namespace rse::sim

@@ -108,8 +108,9 @@ struct Scenario {
     SolarParams solar;
     MapBounds map;
     Pose2 start;
-    std::vector<Obstacle> obstacles;     // the file's [[obstacles]], then the [field]'s rocks
+    std::vector<Obstacle> obstacles;     // the file's [[obstacles]], then the [field]'s or the site file's rocks
     FieldSpec field;                     // [field]: a generated rock field (field_rocks.hpp)
+    std::string siteFile;                // [site] file: the rocks from a site file (site_file.hpp), as read; "" for none
     std::vector<ScienceTarget> targets;  // what the instruments can work on (ids 1..255, unique)
     DeviceParams devices;
     DriveNoiseParams drives;
@@ -118,7 +119,7 @@ struct Scenario {
 
     WorldConfig worldConfig() const;
     // The rover is told of the known rocks with the site map (MAP_LOAD, docs/site_map.md)
-    // rather than COARSE_MAP: a [field], or more known rocks than COARSE_MAP's 16.
+    // rather than COARSE_MAP: a [field], a [site] file, or more known rocks than COARSE_MAP's 16.
     bool usesSiteMap() const;
 };
 

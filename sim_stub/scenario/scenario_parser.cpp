@@ -13,6 +13,7 @@
 
 #include "fsw/cmdtlm/dictionary.hpp"
 #include "sim_stub/scenario/fault_parser.hpp"
+#include "sim_stub/scenario/site_file.hpp"
 #include "sim_stub/scenario/scenario_toml.hpp"
 
 namespace rse::sim {
@@ -43,7 +44,17 @@ private:
     void parseDrives(const toml::table& t, DriveNoiseParams* drives) const;
     void parseMission(const toml::table& t, const MapBounds& map, MissionSpec* mission) const;
     void parseField(const toml::table& t, std::uint64_t scenarioSeed, FieldSpec* field) const;
+    void parseSite(const toml::table& t, Scenario* s) const;
+    // A file the scenario names, relative to the scenario file's folder.
+    std::string besideScenario(const std::string& name) const;
 };
+
+std::string Parser::besideScenario(const std::string& name) const {
+    const std::size_t slash = source().find_last_of('/');
+    const std::string joined =
+        name.front() == '/' || slash == std::string::npos ? name : source().substr(0, slash + 1) + name;
+    return std::filesystem::path(joined).lexically_normal().string();
+}
 
 void Parser::parseRover(const toml::table& t, RoverParams* r) const {
     const std::string p = "rover";
@@ -317,10 +328,7 @@ void Parser::parseMission(const toml::table& t, const MapBounds& map, MissionSpe
     if (name.empty()) {
         fail(path, "must name a plan file");
     }
-    const std::size_t slash = source().find_last_of('/');
-    const std::string joined =
-        name.front() == '/' || slash == std::string::npos ? name : source().substr(0, slash + 1) + name;
-    m->planFile = std::filesystem::path(joined).lexically_normal().string();
+    m->planFile = besideScenario(name);
     std::ifstream in(m->planFile, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
@@ -331,6 +339,17 @@ void Parser::parseMission(const toml::table& t, const MapBounds& map, MissionSpe
     if (m->planText.empty()) {
         fail(path, "'" + m->planFile + "' is empty");
     }
+}
+
+void Parser::parseSite(const toml::table& t, Scenario* s) const {
+    const std::string p = "site";
+    onlyKeys(t, p, {"file"});
+    const std::string name = string(t, p, "file", "", true);
+    if (name.empty()) {
+        fail(join(p, "file"), "must name a site file");
+    }
+    s->siteFile = besideScenario(name);
+    addSiteFileRocks(s->siteFile, s);
 }
 
 void Parser::parseField(const toml::table& t, std::uint64_t scenarioSeed, FieldSpec* f) const {
@@ -363,7 +382,7 @@ Scenario Parser::parse(std::string_view text) {
     }
     onlyKeys(root, "",
              {"name", "description", "seed", "duration_s", "rover", "battery", "solar", "map", "start", "obstacles",
-              "targets", "devices", "drives", "faults", "mission", "field"});
+              "targets", "devices", "drives", "faults", "mission", "field", "site"});
     Scenario s;
     s.source = source();
     s.name = string(root, "", "name", source());
@@ -403,10 +422,19 @@ Scenario Parser::parse(std::string_view text) {
     if (const toml::table* t = table(root, "", "mission", false)) {
         parseMission(*t, s.map, &s.mission);
     }
-    // After the start and the mission: the field keeps clear of both.
-    if (const toml::table* t = table(root, "", "field", false)) {
-        parseField(*t, s.seed, &s.field);
+    // After the start and the mission: the field keeps clear of both, and a
+    // site file's rocks must.
+    const toml::table* field = table(root, "", "field", false);
+    const toml::table* site = table(root, "", "site", false);
+    if (field != nullptr && site != nullptr) {
+        fail("site", "a scenario has a [field] or a [site] file, not both");
+    }
+    if (field != nullptr) {
+        parseField(*field, s.seed, &s.field);
         addFieldRocks(s.field, &s);
+    }
+    if (site != nullptr) {
+        parseSite(*site, &s);
     }
     return s;
 }

@@ -49,6 +49,14 @@ bad rse-sim "option '--can' needs a value" --can
 bad rse-sim "--time-scale '0' is not a whole factor 1..100" --can vcan0 --scenario x.toml --time-scale 0
 bad rse-sim "--duration '5s' is not a positive number of seconds (at most 1e7)" --duration 5s --can vcan0 --scenario x.toml
 bad rse-sim "--can and --scenario are required" --can vcan0
+bad rse-sim "--coarse-map-source and --site-file: one at a time" --coarse-map-source a.toml --site-file a.toml
+help rse-sim "--site-file FILE" --help
+"$bin/rse-sim" --site-file sim_stub/scenarios/rock_field_100m.toml >"$work/out" 2>"$work/err"
+check "rse-sim --site-file: the shipped 100 m site, byte for byte" cmp -s "$work/out" sim_stub/scenarios/sites/rock_field_100m.site
+check "rse-sim --site-file: nothing on stderr" test ! -s "$work/err"
+"$bin/rse-sim" --site-file no_such.toml >"$work/out" 2>"$work/err"; rc=$?
+check "rse-sim --site-file of a scenario that does not load: exit 1" test "$rc" -eq 1
+check "rse-sim --site-file of a scenario that does not load: says why" grep -q "no_such.toml: cannot open the file" "$work/err"
 
 echo "rse-demo"
 help rse-demo "--udp-commands \[ADDR:\]PORT" --help
