@@ -349,8 +349,8 @@ SUITE_HOST_ONLY_system_lockstep := $(wildcard unit_test/system/lockstep/*_host.c
 # qemu-user 7.2 on the development VM hangs in pthread_create: the writer
 # thread's tests run on the host only (rse-fsw under qemu: --auth-store-sync).
 SUITE_HOST_ONLY_hal_nvm := unit_test/hal/nvm/test_threaded_record_writer.cpp
-# fork() under qemu-user is not what the worker-pool tests are about: host only.
-SUITE_HOST_ONLY_sim_stub_montecarlo := unit_test/sim_stub/montecarlo/test_worker_pool.cpp
+# fork() under qemu-user is not what the worker-pool tests are about, nor a whole site-mission run the row's bookkeeping (*_host.cpp): host only.
+SUITE_HOST_ONLY_sim_stub_montecarlo := unit_test/sim_stub/montecarlo/test_worker_pool.cpp $(wildcard unit_test/sim_stub/montecarlo/*_host.cpp)
 # The mission control server's suite: its library, SQLite and threads (host only).
 SUITE_OBJS_ground_mission_control := $(MC_LIB)
 SUITE_LIBS_ground_mission_control := $(LDLIBS_MC)

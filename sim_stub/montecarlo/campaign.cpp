@@ -116,6 +116,11 @@ public:
                 open_ = true;
                 startNs_ = e.time;
                 current_ = PlanRecord{};
+                // The plan maker plans the next horizon (a look-ahead) or the
+                // one the rover waits for; a look-ahead stays in hand until
+                // its handover or its drop, so it is still the task's when its
+                // 901 is read after the frame.
+                current_.lookAhead = fsw.deliberative().lookAhead().active();
             }
         }
         if (open_) {
@@ -338,6 +343,10 @@ SeedRun runSeed(const CampaignSpec& spec, std::uint64_t seed, std::FILE* out) {
     r.riskInForce = m.riskInForce;
     r.riskUsed = m.riskUsed;
     for (const PlanRecord& p : watch.plans()) {
+        if (p.lookAhead) {
+            ++r.lookAheads;
+            continue;
+        }
         r.planLatencyS.push_back(p.latencyS);
         r.planSlices.push_back(p.slices);
         r.planFound.push_back(p.found ? 1 : 0);

@@ -96,6 +96,7 @@ Variation varyScenario(Scenario* scenario, std::uint64_t seed, double goalX, dou
 // lockstep: how long the rover waited for it and how much the planner ran.
 struct PlanRecord {
     double latencyS = 0.0;       // simulated time from its start event (901) to its end (902 found, 903 none, ...)
+    bool lookAhead = false;      // the next horizon, planned while the rover drove (not waited for)
     std::uint32_t slices = 0;    // deliberative runs that stepped the planner for it
     double hostMs = 0.0;         // host wall time of those runs (not reproducible)
     bool found = false;

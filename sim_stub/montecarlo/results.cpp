@@ -35,6 +35,7 @@ constexpr CountField kCountFields[] = {
     {"risk_relax", &Row::riskRelaxations, "risk relaxations"},
     {"call_homes", &Row::callHomes, "call homes"},
     {"hab_replans", &Row::habitualReplans, "habitual replans"},
+    {"look_aheads", &Row::lookAheads, "look-aheads (next horizons planned while driving)"},
 };
 struct RealField {
     const char* key;

@@ -3,7 +3,7 @@
 // A result file is text, one record a line, fields `key=value` separated by
 // single spaces (no value holds a space):
 //   # ...                 comment
-//   C format=2 ...        the campaign (identical in every file of a campaign)
+//   C format=3 ...        the campaign (identical in every file of a campaign)
 //   B first=.. count=..   the block of seeds this file holds, and where it ran
 //   R seed=.. ...         one seed's result row: the same for the same campaign and seed
 //   T seed=.. ...         that seed's host figures (wall and CPU time, planner time)
@@ -23,8 +23,10 @@
 namespace rse::sim::mc {
 
 // The result file format (docs/montecarlo.md, "Result files"); bumped when a
-// line changes meaning: 2, rows carry field= (a generated field's seed).
-constexpr int kFormatVersion = 2;
+// line changes meaning: 2, rows carry field= (a generated field's seed); 3,
+// rows carry look_aheads= and plan_s lists only the plans the rover waited
+// for (not the next horizon planned while it drove).
+constexpr int kFormatVersion = 3;
 
 // One seed's result (an R line).
 struct Row {
@@ -46,6 +48,7 @@ struct Row {
     std::uint32_t riskRelaxations = 0;
     std::uint32_t callHomes = 0;
     std::uint32_t habitualReplans = 0;
+    std::uint32_t lookAheads = 0;    // site mode: next horizons planned while driving (restarts too), not in plan_s
     double riskBound = 0.0;        // the operator's
     double riskInForce = 0.0;      // after relaxations
     double riskUsed = 0.0;         // by the last plan

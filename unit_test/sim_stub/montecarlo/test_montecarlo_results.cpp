@@ -15,7 +15,7 @@ using namespace rse::sim::mc;
 namespace {
 
 const std::string kCampaign =
-    "C format=2 variation=2 scenario=s.toml scenario_fnv=00 goal=20,0 risk=0.001 duration=180 faults=on first=10 "
+    "C format=3 variation=2 scenario=s.toml scenario_fnv=00 goal=20,0 risk=0.001 duration=180 faults=on first=10 "
     "count=6";
 
 Row row(std::uint64_t seed, const char* outcome = "goal_reached", std::uint32_t collisions = 0,
