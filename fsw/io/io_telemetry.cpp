@@ -13,6 +13,9 @@ core::Status DrivesTelemetry::routeInputs(core::InputPipe& pipe) {
     if (core::isOk(status)) {
         status = pipe.route<&DrivesTelemetry::takeContact>(this);
     }
+    if (core::isOk(status)) {
+        status = pipe.route<&DrivesTelemetry::takeFollowerStatus>(this);
+    }
     return status;
 }
 
@@ -36,6 +39,11 @@ void DrivesTelemetry::pack(const core::FrameContext& frame, cmdtlm::TelemetrySin
     tlm.last_contact_y = static_cast<float>(contact_.yM);
     tlm.last_contact_current = static_cast<float>(contact_.maxCurrentA);
     tlm.last_contact_wheels = contact_.wheelsPushing;
+    tlm.contacts_unplaced = follower_.contactsUnplaced;
+    tlm.backoffs = follower_.backoffs;
+    tlm.backoffs_cut = follower_.backoffsCut;
+    tlm.last_backoff_end = follower_.lastBackoffEnd;
+    tlm.wheel_readings_not_finite = follower_.wheelReadingsNotFinite;
     sink.send(tlm);
 }
 

@@ -39,11 +39,13 @@ private:
     void takeWheelCommand(const msg::WheelCommandMsg& command) { wheelCommand_ = command; }
     void takeMode(const msg::ModeMsg& mode) { mode_ = mode; }
     void takeContact(const msg::ContactMsg& contact) { contact_ = contact; }
+    void takeFollowerStatus(const msg::FollowerStatusMsg& status) { follower_ = status; }
 
     msg::DriveStatusMsg drives_{};
     msg::WheelCommandMsg wheelCommand_{};
     msg::ModeMsg mode_{};
     msg::ContactMsg contact_{};
+    msg::FollowerStatusMsg follower_{};
 };
 
 class InstrumentsTelemetry final : public cmdtlm::TelemetryPacker {

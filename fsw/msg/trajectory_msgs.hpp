@@ -62,6 +62,18 @@ struct FollowerStatusMsg {
     double remainingM;           // path length left to the last point
     double commandedSpeedMS;     // body (v, w) sent this cycle, after limits
     double commandedTurnRateRadS;
+    // The contact reflex's counts since start (DRIVES telemetry): contacts
+    // seen with no fresh pose (wheels zeroed, no back-off), back-offs ended
+    // and those cut short, how the last one ended (reflexive::BackoffEnd:
+    // 0 none yet, 1 backed the whole way, 2 timeout, 3 another contact,
+    // 4 released, 5 superseded), and active wheels whose current or speed
+    // was not a finite number (not judged).
+    std::uint32_t contactsUnplaced;
+    std::uint32_t backoffs;
+    std::uint32_t backoffsCut;
+    std::uint32_t wheelReadingsNotFinite;
+    std::uint8_t lastBackoffEnd;
+    std::uint8_t pad2[7];
 };
 
 // One per contact the follower sees (fsw/reflexive/contact_reflex.hpp): the

@@ -39,8 +39,11 @@ ContactReading ContactReflex::observe(const msg::DriveStatusMsg& drives, const t
             steadyFrames_[i] = 0;
         }
         const bool fresh = drives.timeNs - w.feedbackTimeNs <= kFeedbackMaxAgeNs && w.feedbackCount > 0;
-        if (!(std::fabs(target) >= kActiveWheelRadS) || !fresh || w.health != msg::DriveHealth::kOperational ||
-            !std::isfinite(w.currentA) || !std::isfinite(w.velocityRadS)) {
+        if (!(std::fabs(target) >= kActiveWheelRadS) || !fresh || w.health != msg::DriveHealth::kOperational) {
+            continue;
+        }
+        if (!std::isfinite(w.currentA) || !std::isfinite(w.velocityRadS)) {
+            ++r.notFinite;   // counted by the task: a reading that says nothing is not "no contact"
             continue;
         }
         const double current = std::fabs(w.currentA);

@@ -56,6 +56,7 @@ struct ContactReading {
     std::uint8_t wheelsPushing = 0;  // active wheels reading contact (pushing or stalled)
     double maxCurrentA = 0.0;        // the largest |current| among them
     bool contact = false;            // wheelsPushing >= contact_wheels
+    std::uint8_t notFinite = 0;      // commanded wheels whose current or speed is not finite (not judged)
 };
 
 // Where a back-off stands after a step.

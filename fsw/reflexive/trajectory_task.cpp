@@ -152,6 +152,7 @@ void TrajectoryTask::endBackoff(BackoffEnd why) {
     }
     ++counters_.backoffs;
     counters_.backoffsCut += why == BackoffEnd::kDistance ? 0U : 1U;
+    counters_.lastBackoffEnd = static_cast<std::uint8_t>(why);
     events_.report(events::kBackedOff, why == BackoffEnd::kDistance ? core::Severity::kInfo : core::Severity::kWarning,
                    "follower: back-off ended (%s) %.2f m from the contact; cannot follow (contact)", toString(why),
                    contact_.backedM());
@@ -209,6 +210,7 @@ core::Status TrajectoryTask::takeHold(const msg::MissionHoldMsg& hold) {
 void TrajectoryTask::takeDriveStatus(const msg::DriveStatusMsg& drives) {
     interlockTripped_ = drives.interlockTripped != 0;
     const ContactReading r = contact_.observe(drives, tables_.follower());
+    counters_.wheelReadingsNotFinite += r.notFinite;
     if (r.contact && !contactPending_) {
         contactReading_ = r;  // the first of the run's statuses that read a contact
     }
@@ -388,8 +390,15 @@ void TrajectoryTask::publishStatus(const FollowerOutput& out, core::TimeNs now) 
     status_.remainingM = out.remainingM;
     status_.commandedSpeedMS = out.speedMS;
     status_.commandedTurnRateRadS = out.turnRateRadS;
+    status_.contactsUnplaced = counters_.contactsUnplaced;
+    status_.backoffs = counters_.backoffs;
+    status_.backoffsCut = counters_.backoffsCut;
+    status_.wheelReadingsNotFinite = counters_.wheelReadingsNotFinite;
+    status_.lastBackoffEnd = counters_.lastBackoffEnd;
+    // A back-off's end or an unplaced contact is news for the ground at once.
     const bool changed = !statusEverPublished_ || status_.state != publishedState_ ||
-                         status_.reason != publishedReason_ || status_.trajectoryId != publishedId_;
+                         status_.reason != publishedReason_ || status_.trajectoryId != publishedId_ ||
+                         status_.backoffs != publishedBackoffs_ || status_.contactsUnplaced != publishedUnplaced_;
     if (!changed && counters_.runs % kFollowerStatusEveryRuns != 0) {
         return;
     }
@@ -399,6 +408,8 @@ void TrajectoryTask::publishStatus(const FollowerOutput& out, core::TimeNs now) 
     publishedState_ = status_.state;
     publishedReason_ = status_.reason;
     publishedId_ = status_.trajectoryId;
+    publishedBackoffs_ = status_.backoffs;
+    publishedUnplaced_ = status_.contactsUnplaced;
 }
 
 }  // namespace rse::reflexive

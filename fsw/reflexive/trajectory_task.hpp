@@ -89,6 +89,8 @@ struct TrajectoryTaskCounters {
     std::uint32_t contactsUnplaced = 0;  // of those, seen with no fresh pose: wheels to zero, no back-off, no ContactMsg
     std::uint32_t backoffs = 0;        // back-offs ended, whatever the reason (event 619)
     std::uint32_t backoffsCut = 0;     // of those, ended before contact_backoff_m (timeout, contact, released, superseded)
+    std::uint8_t lastBackoffEnd = 0;   // how the last back-off ended (BackoffEnd; 0: none yet)
+    std::uint32_t wheelReadingsNotFinite = 0;  // active wheels whose current or speed was not finite (not judged)
 };
 
 class TrajectoryTask final : public core::Task {
@@ -163,6 +165,8 @@ private:
     msg::FollowerState publishedState_ = msg::FollowerState::kIdle;
     msg::FollowReason publishedReason_ = msg::FollowReason::kNone;
     std::uint32_t publishedId_ = 0;
+    std::uint32_t publishedBackoffs_ = 0;
+    std::uint32_t publishedUnplaced_ = 0;
     msg::FollowerStatusMsg status_{};
     TrajectoryTaskCounters counters_{};
 };

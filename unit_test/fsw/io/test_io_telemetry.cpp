@@ -43,6 +43,24 @@ TEST(DrivesTelemetry, GoesInItsSlotWithTheDrivesTheCommandAndTheEstop) {
     LONGS_EQUAL(1, rig.sink.count<cmdtlm::DRIVES_Tlm>());  // once a second
 }
 
+// The contact reflex's counts come from the follower's status.
+TEST(DrivesTelemetry, CarriesTheContactReflexCountsFromTheFollowersStatus) {
+    msg::FollowerStatusMsg status{};
+    status.contactsUnplaced = 1;
+    status.backoffs = 3;
+    status.backoffsCut = 2;
+    status.lastBackoffEnd = 4;
+    status.wheelReadingsNotFinite = 7;
+    rig.publish(status);
+    rig.run(io::kDrivesSlot);
+    const RecordingSink::Packet& p = rig.sink.last<cmdtlm::DRIVES_Tlm>();
+    DOUBLES_EQUAL(1, RecordingSink::field(p, "contacts_unplaced"), 0.0);
+    DOUBLES_EQUAL(3, RecordingSink::field(p, "backoffs"), 0.0);
+    DOUBLES_EQUAL(2, RecordingSink::field(p, "backoffs_cut"), 0.0);
+    DOUBLES_EQUAL(4, RecordingSink::field(p, "last_backoff_end"), 0.0);
+    DOUBLES_EQUAL(7, RecordingSink::field(p, "wheel_readings_not_finite"), 0.0);
+}
+
 TEST_GROUP(InstrumentsTelemetry) {
     io::InstrumentsTelemetry packer;
     test::PackerRig rig{packer};

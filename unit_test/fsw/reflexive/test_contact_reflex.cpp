@@ -141,6 +141,24 @@ TEST(ContactReflex, WheelsNotCommandedStaleOrNotOperationalDoNotCount) {
     CHECK_TRUE(frame(d).contact);  // the table is read every frame
 }
 
+// A commanded, fresh, operational wheel whose current or speed is not a
+// number says nothing: it is counted (the task's wheel_readings_not_finite)
+// and not judged, and the other wheels decide.
+TEST(ContactReflex, AReadingNotFiniteIsCountedAndNotJudged) {
+    msg::DriveStatusMsg d = status(3.0, 0.0, 9.0);
+    d.wheels[0].currentA = std::nan("");
+    d.wheels[1].velocityRadS = INFINITY;
+    ContactReading r = frame(d);
+    LONGS_EQUAL(2, r.notFinite);
+    LONGS_EQUAL(4, r.wheelsPushing);
+    CHECK_TRUE(r.contact);  // contact_wheels 4 of the four judged
+    d.wheels[2].currentA = std::nan("");
+    r = frame(d);
+    LONGS_EQUAL(3, r.notFinite);
+    CHECK_FALSE(r.contact);  // three judged: under contact_wheels
+    LONGS_EQUAL(0, frame(status(3.0, 3.0, 1.0)).notFinite);
+}
+
 TEST(ContactReflex, TheBackoffRampsToItsSpeedOppositeTheDirectionDrivenAndEndsAfterItsDistance) {
     reflex.startBackoff(5.0, 0.0, 1.0, now);  // felt driving forwards, east
     CHECK_TRUE(reflex.state() == BackoffState::kBacking);

@@ -716,6 +716,11 @@ TEST(TrajectoryTask, AContactStopsTheWheelsInTheFrameItIsFeltAndBacksOffBeforeGi
     LONGS_EQUAL(1, task.counters().backoffs);
     LONGS_EQUAL(0, task.counters().backoffsCut);
     LONGS_EQUAL(1, eventsWithId(reflexive::events::kBackedOff));
+    // The status (DRIVES telemetry) says so, published the run it ended.
+    LONGS_EQUAL(1, lastStatus.backoffs);
+    LONGS_EQUAL(0, lastStatus.backoffsCut);
+    LONGS_EQUAL(static_cast<int>(reflexive::BackoffEnd::kDistance), lastStatus.lastBackoffEnd);
+    LONGS_EQUAL(0, lastStatus.contactsUnplaced);
     runFrames(100);
     CHECK_TRUE(commandIsZero());
     LONGS_EQUAL(1, task.counters().contacts);  // standing still is no contact
@@ -736,6 +741,8 @@ TEST(TrajectoryTask, ANewTrajectoryDuringTheBackoffEndsItAndIsFollowed) {
     LONGS_EQUAL(1, task.counters().backoffs);
     LONGS_EQUAL(1, task.counters().backoffsCut);  // superseded
     CHECK_TRUE(lastStatus.state != FollowerState::kBackingOff);
+    LONGS_EQUAL(1, lastStatus.backoffsCut);
+    LONGS_EQUAL(static_cast<int>(reflexive::BackoffEnd::kSuperseded), lastStatus.lastBackoffEnd);
 }
 
 TEST(TrajectoryTask, NoHeapAllocationOverThousandsOfRuns) {
