@@ -16,17 +16,23 @@ namespace rse::ground {
 namespace {
 
 constexpr std::size_t kChunkBytes = sizeof(cmdtlm::MAP_LOAD_Args{}.data);
-// A commit of the largest map takes about 20 command-task runs (0.2 s); the
+// A commit of the largest map takes about 30 command-task runs (0.3 s); the
 // rest is the link's.
 constexpr double kCommitEndTimeoutS = 10.0;
+// A command's SITE_MAP comes in the run that takes it.
+constexpr double kAnswerTimeoutS = 2.0;
 
-// The last SITE_MAP the session received (the rover answers each site map command with one).
+// The last SITE_MAP the session received (the rover answers each site map
+// command with one, and sends one when a commit ends), and whether it came
+// after the last command was sent (an acknowledgement goes at a higher
+// priority than the answer and may overtake it).
 class SiteMapWatch {
 public:
     explicit SiteMapWatch(GroundSession& session) : session_(session) {
         session_.setObserver([this](const DecodedPacket& p) {
             if (p.ok && p.desc != nullptr && std::strcmp(p.name(), "SITE_MAP") == 0) {
                 last_ = p;
+                lastNumber_ = session_.receivedCount();
             }
         });
     }
@@ -34,15 +40,12 @@ public:
     SiteMapWatch(const SiteMapWatch&) = delete;
     SiteMapWatch& operator=(const SiteMapWatch&) = delete;
     double value(const char* field) const { return last_ ? last_->value(field).value_or(-1.0) : -1.0; }
-    // Packets until a SITE_MAP shows a commit ended (maps_loaded or
-    // commits_refused above the counts given, commit_phase 0), or timeout.
-    bool waitForCommitEnd(double loadedBefore, double refusedBefore, double timeoutSeconds) {
+    bool answeredSinceSend() const { return last_.has_value() && lastNumber_ > session_.receivedAtLastSend(); }
+    // Packets until done() or timeoutSeconds: whether done() came true.
+    template <typename Done>
+    bool waitUntil(Done done, double timeoutSeconds) {
         const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
-        const auto ended = [&] {
-            return value("commit_phase") == 0.0 &&
-                   (value("maps_loaded") > loadedBefore || value("commits_refused") > refusedBefore);
-        };
-        while (!ended()) {
+        while (!done()) {
             const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
             if (left <= 0.0) {
                 return false;
@@ -55,6 +58,7 @@ public:
 private:
     GroundSession& session_;
     std::optional<DecodedPacket> last_;
+    std::uint64_t lastNumber_ = 0;   // the session's packet number of last_
 };
 
 std::string refusalName(int detail) {
@@ -116,7 +120,6 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
     out << "loading " << image.size() << " bytes of site map in " << chunks.size() << " MAP_LOAD chunks over "
         << session.link().describe() << "\n";
     SiteMapWatch watch(session);
-    double loadedBefore = -1.0, refusedBefore = -1.0;   // as of the last chunk's answer
     for (std::size_t i = 0; i < chunks.size(); ++i) {
         const AckResult r = session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::MAP_LOAD), chunks[i]);
         if (r.outcome == AckOutcome::kNoAck) {
@@ -128,9 +131,16 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
                 << ") refused: " << r.summary << " (" << refusalName(r.detail) << ")\n";
             return 3;
         }
-        loadedBefore = watch.value("maps_loaded");
-        refusedBefore = watch.value("commits_refused");
     }
+    // The last chunk's own SITE_MAP: the counts the commit's end is told against.
+    if (!watch.waitUntil([&] { return watch.answeredSinceSend(); }, kAnswerTimeoutS)) {
+        err << "MAP_LOAD " << chunks.size() << "/" << chunks.size() << ": acknowledged, but no SITE_MAP answered it within "
+            << kAnswerTimeoutS << " s\n";
+        return 1;
+    }
+    const double startedBefore = watch.value("commits_started");
+    const double loadedBefore = watch.value("maps_loaded");
+    const double cancelledBefore = watch.value("commits_cancelled");
     const AckResult r = session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::MAP_COMMIT), mapCommitArgs(image));
     if (r.outcome == AckOutcome::kNoAck) {
         err << "MAP_COMMIT: " << r.summary << "\n";
@@ -139,15 +149,22 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
     if (r.outcome == AckOutcome::kRejected) {
         return reportRefusal(err, r.summary + ": ", r.detail, watch);
     }
-    // Accepted: the commit runs in slices on board; its end is a SITE_MAP.
-    if (!watch.waitForCommitEnd(loadedBefore, refusedBefore, kCommitEndTimeoutS)) {
+    // Accepted: the commit runs in slices on board. Its end is a SITE_MAP
+    // with no commit under way that counts it among those started.
+    const bool ended = watch.waitUntil(
+        [&] { return watch.value("commit_phase") == 0.0 && watch.value("commits_started") > startedBefore; },
+        kCommitEndTimeoutS);
+    if (!ended) {
         err << "MAP_COMMIT accepted, but no SITE_MAP told its end within " << kCommitEndTimeoutS
             << " s (rse-ground tlm SITE_MAP shows commit_phase)\n";
         return 1;
     }
-    const int refusal = static_cast<int>(watch.value("last_refusal"));
-    if (refusal != 0) {
-        return reportRefusal(err, "", refusal, watch);
+    if (watch.value("commits_cancelled") > cancelledBefore) {
+        err << "the commit was cancelled (MAP_ABORT); the map in force is kept\n";
+        return 3;
+    }
+    if (!(watch.value("maps_loaded") > loadedBefore)) {
+        return reportRefusal(err, "", static_cast<int>(watch.value("last_refusal")), watch);
     }
     out << "MAP_COMMIT: " << r.summary << " and checked in " << static_cast<long>(watch.value("commit_runs"))
         << " command-task runs: map " << static_cast<long>(watch.value("revision")) << " in force, "

@@ -57,8 +57,9 @@ public:
     virtual CommandOutcome execute(const CommandVerdict& verdict) = 0;
     // Once per command-task run, before the commands and after the router took
     // the onboard requests off its pipe: work the application does on its own
-    // behalf in the command task's frame.
-    virtual void serviceOnboardRequests() {}
+    // behalf in the command task's frame, in the rover's mode now (a command's
+    // mode check is at its acceptance; work that spans runs checks again).
+    virtual void serviceOnboardRequests(Mode mode) { (void)mode; }
     // RESET_COUNTERS: the counters the application keeps for ground.
     virtual void resetCounters() {}
 

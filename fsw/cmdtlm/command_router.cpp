@@ -54,7 +54,7 @@ CommandOutcome CommandRouter::execute(const CommandVerdict& verdict) {
 void CommandRouter::serviceOnboardRequests() {
     (void)requests_.drain();  // bounded by the pipe's depth; nothing before init()
     for (std::size_t i = 0; i < count_; ++i) {
-        apps_[i]->serviceOnboardRequests();
+        apps_[i]->serviceOnboardRequests(mode_.mode());
     }
 }
 

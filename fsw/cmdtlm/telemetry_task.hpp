@@ -31,12 +31,14 @@
 namespace rse::cmdtlm {
 
 // The task drains its pipe every frame, so the pipe holds one frame's inputs:
-// each of the packers' 15 message ids at most once a frame, the instrument
-// status twice (one per instrument), the wheel command once (the follower
-// commands in AUTONOMOUS, manual drive in MANUAL, never both): 16. A copy lost
-// to a full pipe is counted and evented by the bus (event 101). The flight's
-// pipes take 208 of the bus's 256 slots (kBusTotalQueueSlots), so that constant stays.
-constexpr std::uint16_t kTelemetryPipeDepth = 16;
+// each of the packers' 18 message ids at most once a frame (the follower's
+// status among them since DRIVES carries the contact reflex's counts), the
+// instrument status twice (one per instrument), the route's chunks up to 4 in
+// a deliberative run: 24, with room. A copy lost to a full pipe is counted and
+// evented by the bus (event 101). The flight's pipes take 216 of the bus's
+// 264 slots (kBusTotalQueueSlots: 48 left for the probes the lockstep tests
+// subscribe, as before the follower's status came here).
+constexpr std::uint16_t kTelemetryPipeDepth = 24;
 // Packers the task schedules: nine in the flight today (fsw/app/fsw_app.cpp), three spare.
 constexpr std::size_t kMaxTelemetryPackers = 12;
 

@@ -26,7 +26,7 @@ using PipeId = std::uint8_t;
 constexpr std::size_t kBusMaxPayload = 1024;   // bytes per message
 constexpr std::size_t kBusMaxPipes = 32;       // subscribers (pipes)
 constexpr std::size_t kBusMaxRoutes = 64;      // distinct subscribed message ids
-constexpr std::size_t kBusTotalQueueSlots = 256;  // sum of all pipe depths
+constexpr std::size_t kBusTotalQueueSlots = 264;  // sum of all pipe depths: the flight's 216, and 48 for a test's probes
 constexpr std::size_t kPipeNameSize = 16;
 
 struct MessageHeader {

@@ -210,7 +210,15 @@ core::Status TrajectoryTask::takeHold(const msg::MissionHoldMsg& hold) {
 void TrajectoryTask::takeDriveStatus(const msg::DriveStatusMsg& drives) {
     interlockTripped_ = drives.interlockTripped != 0;
     const ContactReading r = contact_.observe(drives, tables_.follower());
-    counters_.wheelReadingsNotFinite += r.notFinite;
+    for (std::uint8_t k = 0; k < r.notFinite; ++k) {
+        ++counters_.wheelReadingsNotFinite;
+        if (core::isReportableOccurrence(counters_.wheelReadingsNotFinite)) {
+            events_.report(events::kFollowerInputMalformed, core::Severity::kWarning,
+                           "follower: a commanded wheel's current or speed is not a finite number: not judged by "
+                           "the contact reflex (%u so far)",
+                           static_cast<unsigned>(counters_.wheelReadingsNotFinite));
+        }
+    }
     if (r.contact && !contactPending_) {
         contactReading_ = r;  // the first of the run's statuses that read a contact
     }

@@ -61,8 +61,7 @@ core::Status SiteMap::load(const std::uint8_t* image, std::size_t length, SiteMa
         return core::Status::kInvalidArgument;
     }
     beginStaging(image, length);
-    while (!stage(kMaxSiteRocks)) {
-    }
+    (void)stage(static_cast<std::size_t>(-1));  // every phase to its end in one step
     (void)putStagedInForce();
     return core::Status::kOk;
 }
@@ -88,12 +87,16 @@ void SiteMap::beginStaging(const std::uint8_t* image, std::size_t length) {
 bool SiteMap::stage(std::size_t workUnits) {
     SiteMapSlot& m = spare();
     const std::size_t cells = static_cast<std::size_t>(m.grid.columns) * m.grid.rows;
+    // A rock's cells, each given to f; the number of them (its work units).
     const auto forEachCell = [&m](const Rock& r, auto&& f) {
+        std::size_t n = 0;
         for (std::uint32_t row = m.grid.row(r.minY); row <= m.grid.row(r.maxY); ++row) {
             for (std::uint32_t col = m.grid.column(r.minX); col <= m.grid.column(r.maxX); ++col) {
                 f(m.grid.cell(col, row));
+                ++n;
             }
         }
+        return n;
     };
     std::size_t work = 0;
     // Each phase takes what is left of the step's work; a phase that ends
@@ -145,8 +148,8 @@ bool SiteMap::stage(std::size_t workUnits) {
                 }
                 break;
             case StagePhase::kCount:
-                for (; next_ < m.rockCount && work < workUnits; ++next_, ++work) {
-                    forEachCell(m.rocks[next_], [&m](std::size_t c) { ++m.cellStart[c]; });
+                for (; next_ < m.rockCount && work < workUnits; ++next_) {
+                    work += forEachCell(m.rocks[next_], [&m](std::size_t c) { ++m.cellStart[c]; });
                 }
                 if (next_ == m.rockCount) {
                     staging_ = StagePhase::kSum;
@@ -169,9 +172,9 @@ bool SiteMap::stage(std::size_t workUnits) {
                 }
                 break;
             case StagePhase::kFill:
-                for (; next_ > 0 && work < workUnits; --next_, ++work) {
+                for (; next_ > 0 && work < workUnits; --next_) {
                     const std::size_t r = next_ - 1;
-                    forEachCell(m.rocks[r], [&m, r](std::size_t c) {
+                    work += forEachCell(m.rocks[r], [&m, r](std::size_t c) {
                         m.cellRefs[--m.cellStart[c]] = static_cast<std::uint16_t>(r);
                     });
                 }

@@ -78,9 +78,12 @@ struct SiteMapSlot {
     std::size_t keepOutCount = 0;
 };
 
-// Work units of a staging step: a rock decoded, counted into the index or
-// filed in it is one; so are the zones, and kCellsPerStageUnit cells of the
-// index cleared or summed. A step does at most its units (one more at most).
+// Work units of a staging step: a rock decoded is one, and one a cell when it
+// is counted into the index or filed in it (a rock spanning many cells costs
+// them all); the zones are one; kCellsPerStageUnit cells of the index cleared
+// or summed are one. A step starts no rock once its units are spent, so it
+// goes over them by one rock's cells at most (kMaxGridCells, a rock as wide
+// as the site).
 constexpr std::size_t kCellsPerStageUnit = 16;
 
 class SiteMap {

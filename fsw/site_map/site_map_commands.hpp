@@ -5,6 +5,8 @@
 // CMD_ACK.detail. A commit that starts is accepted; its slices run here, one
 // each command-task run (serviceOnboardRequests), and SITE_MAP is sent again
 // in the run it ends (commit_phase 0: in force, or refused with its reason).
+// A commit still under way when the rover is put in AUTONOMOUS or MANUAL is
+// refused (8) in the next run: the rover does not change maps while driving.
 // RESET_COUNTERS zeroes the service's counters.
 #pragma once
 
@@ -22,8 +24,9 @@ public:
 
     std::uint16_t apid() const override { return cmdtlm::describe(cmdtlm::CommandCode::MAP_LOAD).apid; }
     cmdtlm::CommandOutcome execute(const cmdtlm::CommandVerdict& verdict) override;
-    void serviceOnboardRequests() override {
-        if (service_.serviceCommit()) {
+    void serviceOnboardRequests(cmdtlm::Mode mode) override {
+        const bool driving = mode == cmdtlm::Mode::kAutonomous || mode == cmdtlm::Mode::kManual;
+        if (service_.serviceCommit(driving)) {
             telemetry_.send(sink_);
         }
     }

@@ -105,7 +105,7 @@ private:
     bool fail(SiteMapReject reason);
 
     core::BeReader in_{nullptr, 0};
-    SiteMapCheck check_{};
+    SiteMapCheck check_{SiteMapReject::kTooShort};   // nothing checked is no pass
     SiteBounds site_{};
     std::size_t next_ = 0;       // the next record: rocks first, then zones
     std::size_t cellRefs_ = 0;   // index references the rocks so far take

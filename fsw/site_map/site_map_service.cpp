@@ -45,7 +45,7 @@ UploadRefusal SiteMapService::commit(std::uint32_t length, std::uint32_t crc) {
     if (why != UploadRefusal::kNone) {
         return refuseCommit(why, nullptr);
     }
-    ++commitsStarted_;
+    ++counters_.commitsStarted;
     phase_ = CommitPhase::kCrc;
     commitLength_ = length;
     commitCrc_ = crc;
@@ -55,7 +55,20 @@ UploadRefusal SiteMapService::commit(std::uint32_t length, std::uint32_t crc) {
     return UploadRefusal::kNone;
 }
 
-bool SiteMapService::serviceCommit() {
+bool SiteMapService::serviceCommit(bool driving) {
+    if (phase_ == CommitPhase::kNone) {
+        return false;
+    }
+    if (driving) {
+        // The mode was checked when MAP_COMMIT was taken; the rover has been
+        // put in AUTONOMOUS or MANUAL since, and does not change maps while
+        // driving. The upload stays as it is (closed once its CRC passed).
+        phase_ = CommitPhase::kNone;
+        map_.dropStaged();
+        ++commitRuns_;
+        (void)refuseCommit(UploadRefusal::kDriving, nullptr);
+        return true;
+    }
     switch (phase_) {
         case CommitPhase::kNone:
             return false;
@@ -117,6 +130,7 @@ UploadRefusal SiteMapService::abort() {
     if (cancelled) {
         phase_ = CommitPhase::kNone;
         map_.dropStaged();
+        ++counters_.commitsCancelled;
     }
     if (!upload_.abort() && !cancelled) {
         ++counters_.abortsRefused;

@@ -49,6 +49,8 @@ struct SiteMapCounters {
     std::uint32_t mapsLoaded = 0;
     std::uint32_t commitsRefused = 0;
     std::uint32_t uploadsAborted = 0;
+    std::uint32_t commitsStarted = 0;    // MAP_COMMITs accepted (each ends loaded, refused or cancelled)
+    std::uint32_t commitsCancelled = 0;  // of those, cancelled by MAP_ABORT
     std::uint32_t abortsRefused = 0;   // MAP_ABORT with no upload open
 };
 
@@ -63,10 +65,11 @@ public:
     // under way: event 592, counted).
     UploadRefusal commit(std::uint32_t length, std::uint32_t crc);
     // One slice of the commit under way (nothing when none): true when the
-    // commit ended in it, the image in force (event 590) or refused (bad CRC
-    // or the image's reason: event 592, counted; an image's reason names its
-    // rock or zone in lastRefusalItem()), the map in force kept.
-    bool serviceCommit();
+    // commit ended in it, the image in force (event 590) or refused (bad CRC,
+    // the image's reason, or driving: the rover in AUTONOMOUS or MANUAL; event
+    // 592, counted; an image's reason names its rock or zone in
+    // lastRefusalItem()), the map in force kept.
+    bool serviceCommit(bool driving);
     // MAP_ABORT: kNone and event 593 when an upload was open (a commit under
     // way is cancelled, the map in force kept); else kNothingUploaded (event
     // 594, counted).
@@ -83,7 +86,6 @@ public:
     CommitPhase commitPhase() const { return phase_; }
     // Command-task runs the commit under way has taken so far, or the last one took.
     std::uint32_t commitRuns() const { return commitRuns_; }
-    std::uint32_t commitsStarted() const { return commitsStarted_; }
 
 private:
     UploadRefusal refuse(UploadRefusal why, std::uint32_t item);
@@ -107,7 +109,6 @@ private:
     std::uint32_t crcSoFar_ = 0;
     std::size_t crcDone_ = 0;         // bytes of the image CRC'd so far
     std::uint32_t commitRuns_ = 0;
-    std::uint32_t commitsStarted_ = 0;
 };
 
 }  // namespace rse::site_map

@@ -15,6 +15,7 @@ const char* toString(UploadRefusal refusal) {
         case UploadRefusal::kBadLength: return "bad length";
         case UploadRefusal::kBadCrc: return "bad CRC";
         case UploadRefusal::kCommitUnderWay: return "a commit is under way";
+        case UploadRefusal::kDriving: return "the rover was put in AUTONOMOUS or MANUAL during the commit";
         case UploadRefusal::kImage: break;
     }
     const int image = static_cast<int>(refusal) - static_cast<int>(UploadRefusal::kImage);

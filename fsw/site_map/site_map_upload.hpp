@@ -31,6 +31,7 @@ enum class UploadRefusal : std::uint8_t {
     kBadLength = 5,        // the commit's length is not the image's
     kBadCrc = 6,           // the image's CRC-32 is not the commit's
     kCommitUnderWay = 7,   // MAP_LOAD or MAP_COMMIT while a commit is being checked and loaded
+    kDriving = 8,          // a commit under way when the rover was put in AUTONOMOUS or MANUAL
     kImage = 16,           // + SiteMapReject: the image failed its check
 };
 const char* toString(UploadRefusal refusal);

@@ -104,6 +104,24 @@ Obstacle readRock(const Line& line, const Scenario& s) {
     if (!isConvexCcw(o.shape.v.data(), n)) {
         line.fail("the rock is not convex and counter-clockwise");
     }
+    if (o.known) {
+        // A known rock goes up on the site map, as the image's f32 numbers:
+        // held to the flight check here, not refused at MAP_COMMIT later.
+        if (n > site_map::kMaxRockVertices) {
+            line.fail("a known rock goes up on the site map: at most " + std::to_string(site_map::kMaxRockVertices) +
+                      " vertices (got " + std::to_string(n) + ")");
+        }
+        float fx[kMaxPolygonVertices] = {};
+        float fy[kMaxPolygonVertices] = {};
+        for (std::size_t k = 0; k < n; ++k) {
+            fx[k] = static_cast<float>(o.shape.v[k].x);
+            fy[k] = static_cast<float>(o.shape.v[k].y);
+        }
+        bool clockwise = false;
+        if (!site_map::convexCounterClockwise(fx, fy, n, &clockwise)) {
+            line.fail("as the site map's f32 numbers the rock is not convex and counter-clockwise");
+        }
+    }
     const Vec2 start{s.start.x, s.start.y};
     if (circleIntersectsPolygon(start, s.rover.radiusM, o.shape)) {
         line.fail("the rock overlaps the rover's footprint at the start");

@@ -271,7 +271,7 @@ private:
             v.detail = out.detail;
         }
         for (int run = 0; run < 1000 && m.service.commitPhase() != site_map::CommitPhase::kNone; ++run) {
-            m.commands.serviceOnboardRequests();
+            m.commands.serviceOnboardRequests(mode);
             ++siteMapCommitRuns;
         }
         after->insert(after->end(), m.sink.packets.begin(), m.sink.packets.end());

@@ -63,3 +63,20 @@ TEST(GroundMapTransfer, AnImageRefusedInItsSlicesIsExitThreeWithTheReasonAndTheR
     // The MAP_COMMIT itself was accepted: the refusal came with the commit's end.
     CHECK(rig.rover.verdicts.back().reason == cmdtlm::CommandReject::kAccepted);
 }
+
+// An image of one chunk (the empty map: 32 bytes): the acknowledgement comes
+// before the chunk's SITE_MAP (it goes at a higher priority, and the fake
+// rover sends it first), so the counts the commit's end is told against are
+// the chunk's answer's, waited for, never an earlier packet's.
+TEST(GroundMapTransfer, AOneChunkImageIsJudgedByItsOwnCommitsEnd) {
+    test::SessionRig rig;
+    ground::SiteMapSpec empty;
+    empty.site = {0.0F, 0.0F, 100.0F, 100.0F};
+    const std::vector<std::uint8_t> image = ground::encodeSiteMap(empty);
+    LONGS_EQUAL(32, image.size());
+    LONGS_EQUAL(0, ground::loadSiteMap(rig.session, image, rig.out, rig.err));
+    STRCMP_EQUAL("", rig.err.str().c_str());
+    CHECK_TEXT(contains(rig.out.str(), "map 1 in force, 0 rocks"), rig.out.str().c_str());
+    LONGS_EQUAL(0, ground::loadSiteMap(rig.session, image, rig.out, rig.err));
+    CHECK_TEXT(contains(rig.out.str(), "map 2 in force, 0 rocks"), rig.out.str().c_str());
+}

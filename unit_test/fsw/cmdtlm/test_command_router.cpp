@@ -26,7 +26,9 @@ public:
         log_->push_back(std::string(name_) + " " + verdict.command->name);
         return cmdtlm::commandFailed(42);
     }
-    void serviceOnboardRequests() override { log_->push_back(std::string(name_) + " serviced"); }
+    void serviceOnboardRequests(cmdtlm::Mode mode) override {
+        log_->push_back(std::string(name_) + " serviced in mode " + std::to_string(static_cast<int>(mode)));
+    }
     void resetCounters() override { log_->push_back(std::string(name_) + " reset"); }
 
 private:
@@ -111,8 +113,9 @@ TEST(CommandRouter, OnboardRequestsGoToTheirOwnersThenEachAppIsServicedInRegistr
     CHECK(cmdtlm::Mode::kSafe == mode.mode());
     LONGS_EQUAL(1, mode.safeRequests());
     LONGS_EQUAL(2, log.size());
-    STRCMP_EQUAL("tables serviced", log[0].c_str());
-    STRCMP_EQUAL("goals serviced", log[1].c_str());
+    // Each in the mode the onboard requests left: SAFE (0) after the call home.
+    STRCMP_EQUAL("tables serviced in mode 0", log[0].c_str());
+    STRCMP_EQUAL("goals serviced in mode 0", log[1].c_str());
     // One that does not decode: counted by the pipe, evented (211), not acted on.
     const std::uint8_t shortRequest[3] = {};
     CHECK(core::isOk(bus.publish(msg::ids::kSafeRequest, shortRequest, sizeof shortRequest)));

@@ -185,8 +185,9 @@ TEST(SiteMap, AMapStagedInStepsIsNotInForceUntilWholeThenEqualsOneLoaded) {
         const std::size_t n = map->rocksNearSegment(a, b, 4.0, query, out, kMaxSiteRocks, nullptr);
         CHECK_TRUE(std::set<std::uint16_t>(out, out + n) == before);
     }
-    // Decoded, counted and filed 700 units a step: 3 x 5 000 rocks and the
-    // grid's cells (two passes of 65 536 / kCellsPerStageUnit) take 25 steps or more.
+    // Decoded, counted and filed 700 units a step: 5 000 rocks decoded, each
+    // rock's cells counted and filed (one at least), and the grid's cells
+    // cleared and summed (two passes of about 64 000 / kCellsPerStageUnit).
     CHECK(steps >= (3 * 5000 + 2 * 65536 / kCellsPerStageUnit) / 700);
     CHECK_TRUE(map->putStagedInForce());
     CHECK_FALSE(map->staging());

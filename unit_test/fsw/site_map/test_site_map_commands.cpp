@@ -78,7 +78,7 @@ TEST_GROUP(SiteMapCommands) {
         const std::size_t packets = sink.count<cmdtlm::SITE_MAP_Tlm>();
         std::size_t runs = 0;
         while (sink.count<cmdtlm::SITE_MAP_Tlm>() == packets && runs < 1000) {
-            commands->serviceOnboardRequests();
+            commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);
             ++runs;
         }
         DOUBLES_EQUAL(0, field("commit_phase"), 0.0);
@@ -271,7 +271,7 @@ TEST(SiteMapCommands, ACommitOfTwentyThousandRocksRunsInSlicesAndTheMapInForceSe
         CHECK_TEXT(now >= phase, "phases in order: CRC, check, load");
         phase = now;
         ++runsIn[now];
-        commands->serviceOnboardRequests();
+        commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);
         ++runs;
     }
     LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kMapLoaded));
@@ -297,7 +297,7 @@ TEST(SiteMapCommands, DuringACommitChunksAndCommitsAreRefusedAndAbortCancelsItKe
     const std::vector<std::uint8_t> big = image(test::randomField(5000, 1000.0F, 4));
     CHECK_TRUE(upload(big));
     CHECK_TRUE(startCommit(big.size(), core::crc32(big.data(), big.size())).ok);
-    commands->serviceOnboardRequests();  // the CRC under way
+    commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);  // the CRC under way
     cmdtlm::CommandOutcome out = loadChunk(big, 0, 200);
     LONGS_EQUAL(static_cast<int>(UploadRefusal::kCommitUnderWay), out.detail);
     LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kChunkRefused));
@@ -306,15 +306,16 @@ TEST(SiteMapCommands, DuringACommitChunksAndCommitsAreRefusedAndAbortCancelsItKe
     LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kCommitRefused));
     // Into the check, then MAP_ABORT: cancelled, nothing put in force.
     while (service->commitPhase() == site_map::CommitPhase::kCrc) {
-        commands->serviceOnboardRequests();
+        commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);
     }
     LONGS_EQUAL(static_cast<int>(site_map::CommitPhase::kCheck), static_cast<int>(service->commitPhase()));
     const test::AcceptedCommand abort(CommandCode::MAP_ABORT);
     CHECK_TRUE(commands->execute(abort.verdict()).ok);
     LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kUploadAborted));
     DOUBLES_EQUAL(0, field("commit_phase"), 0.0);
+    DOUBLES_EQUAL(1, field("commits_cancelled"), 0.0);   // the ground tells a cancel from telemetry
     for (int i = 0; i < 50; ++i) {
-        commands->serviceOnboardRequests();
+        commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);
     }
     LONGS_EQUAL(revision, service->map().revision());
     LONGS_EQUAL(100, service->map().rockCount());
@@ -332,4 +333,35 @@ TEST(SiteMapCommands, TheDictionaryRangesCoverTheLargestImage) {
     DOUBLES_EQUAL(static_cast<double>(site_map::kMaxSiteMapImageSize - 1), load.args[0].max, 0.0);
     const cmdtlm::CommandDesc& commitDesc = cmdtlm::describe(CommandCode::MAP_COMMIT);
     DOUBLES_EQUAL(static_cast<double>(site_map::kMaxSiteMapImageSize), commitDesc.args[0].max, 0.0);
+}
+
+// The mode is checked when MAP_COMMIT is taken and again every slice: a
+// commit still under way when the rover is put in AUTONOMOUS (or MANUAL) is
+// refused (8) in the next run, the map in force kept: the rover never
+// changes maps while driving.
+TEST(SiteMapCommands, ACommitUnderWayWhenTheRoverStartsDrivingIsRefusedAndTheMapInForceKept) {
+    const std::vector<std::uint8_t> small = image(test::randomField(100, 100.0F, 5));
+    CHECK_TRUE(upload(small));
+    CHECK_TRUE(commit(small).ok);
+    const std::uint32_t revision = service->map().revision();
+    const std::vector<std::uint8_t> big = image(test::randomField(5000, 1000.0F, 6));
+    CHECK_TRUE(upload(big));
+    CHECK_TRUE(startCommit(big.size(), core::crc32(big.data(), big.size())).ok);
+    while (service->commitPhase() != site_map::CommitPhase::kStage) {
+        commands->serviceOnboardRequests(cmdtlm::Mode::kStandby);
+    }
+    (void)test::drainEventsWithId(events, site_map::events::kCommitRefused);
+    commands->serviceOnboardRequests(cmdtlm::Mode::kAutonomous);
+    DOUBLES_EQUAL(0, field("commit_phase"), 0.0);   // told at once
+    DOUBLES_EQUAL(static_cast<double>(UploadRefusal::kDriving), field("last_refusal"), 0.0);
+    DOUBLES_EQUAL(1, field("commits_refused"), 0.0);
+    LONGS_EQUAL(1, test::drainEventsWithId(events, site_map::events::kCommitRefused));
+    for (int i = 0; i < 20; ++i) {
+        commands->serviceOnboardRequests(cmdtlm::Mode::kSafe);
+    }
+    LONGS_EQUAL(revision, service->map().revision());
+    LONGS_EQUAL(100, service->map().rockCount());
+    // Nothing under way, nothing refused: driving with no commit says nothing.
+    commands->serviceOnboardRequests(cmdtlm::Mode::kManual);
+    LONGS_EQUAL(0, test::drainEventsWithId(events, site_map::events::kCommitRefused));
 }

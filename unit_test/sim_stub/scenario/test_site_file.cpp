@@ -133,6 +133,10 @@ TEST(SiteFile, EveryFaultOfASiteFileIsRefusedWithItsLineAndReason) {
         {"rock known seen 1 1 2 nan 1 2\n", false, file + ":3: 'nan' is not finite"},
         {"rock known seen 1 1 12 1 1 2\n", false, file + ":3: vertex 1 (12, 1) is outside the map"},
         {"rock known seen 1 1 1 2 2 1\n", false, file + ":3: the rock is not convex and counter-clockwise"},
+        {"rock known seen 2 0 2.5 0.1 3 0.3 3.3 0.7 3.4 1.2 3.3 1.7 3 2.1 2.5 2.3 2 2.4\n", false,
+         file + ":3: a known rock goes up on the site map: at most 8 vertices (got 9)"},
+        {"rock known seen 1 1 2 1 2.000000001 1.5 2 2\n", false,
+         file + ":3: as the site map's f32 numbers the rock is not convex and counter-clockwise"},
         {"rock known seen -1 -1 1 -1 0 1\n", false, file + ":3: the rock overlaps the rover's footprint at the start"},
         {"rock known seen" + tri + "rock hidden unseen 5 5 6 5 5 6 # fine\nrock known seen 1 1\n", false,
          file + ":5: needs 3 to 16 vertices (got 1)"},
@@ -140,6 +144,8 @@ TEST(SiteFile, EveryFaultOfASiteFileIsRefusedWithItsLineAndReason) {
     for (const Case& c : cases) {
         STRCMP_EQUAL_TEXT(c.message.c_str(), errorWith(c.body, c.raw).c_str(), c.body.c_str());
     }
+    // A hidden rock stays in the simulator: up to 16 vertices.
+    STRCMP_EQUAL("", errorWith("rock hidden seen 2 0 2.5 0.1 3 0.3 3.3 0.7 3.4 1.2 3.3 1.7 3 2.1 2.5 2.3 2 2.4\n").c_str());
     // Good: two rocks, one hidden and unseen, a comment; ids from 256.
     STRCMP_EQUAL("", errorWith("rock known seen" + tri + "# a hidden one\nrock hidden unseen 5 5 6 5 5 6\n").c_str());
     const Scenario s = loadScenarioFile(dir + "/s.toml");
