@@ -16,7 +16,7 @@ namespace rse::ground {
 namespace {
 
 constexpr std::size_t kChunkBytes = sizeof(cmdtlm::MAP_LOAD_Args{}.data);
-// A commit of the largest map takes about 30 command-task runs (0.3 s); the
+// A commit of the largest map takes about 55 command-task runs (0.55 s); the
 // rest is the link's.
 constexpr double kCommitEndTimeoutS = 10.0;
 // A command's SITE_MAP comes in the run that takes it.
@@ -41,6 +41,7 @@ public:
     SiteMapWatch& operator=(const SiteMapWatch&) = delete;
     double value(const char* field) const { return last_ ? last_->value(field).value_or(-1.0) : -1.0; }
     bool answeredSinceSend() const { return last_.has_value() && lastNumber_ > session_.receivedAtLastSend(); }
+    bool any() const { return last_.has_value(); }
     // Packets until done() or timeoutSeconds: whether done() came true.
     template <typename Done>
     bool waitUntil(Done done, double timeoutSeconds) {
@@ -132,14 +133,18 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
             return 3;
         }
     }
-    // The last chunk's own SITE_MAP: the counts the commit's end is told against.
-    if (!watch.waitUntil([&] { return watch.answeredSinceSend(); }, kAnswerTimeoutS)) {
-        err << "MAP_LOAD " << chunks.size() << "/" << chunks.size() << ": acknowledged, but no SITE_MAP answered it within "
-            << kAnswerTimeoutS << " s\n";
+    // A SITE_MAP that came after the last chunk went (its answer, or a late
+    // one of an earlier chunk: no MAP_LOAD moves the counts read below), else
+    // the last one of the upload when that is lost on the way; one at least.
+    if (!watch.waitUntil([&] { return watch.answeredSinceSend(); }, kAnswerTimeoutS) && !watch.any()) {
+        err << "MAP_LOAD " << chunks.size() << "/" << chunks.size() << ": acknowledged, but no SITE_MAP came within "
+            << kAnswerTimeoutS << " s: the counts the commit would be judged by are unknown; not committed\n";
         return 1;
     }
+    // Never zeroed on board (RESET_COUNTERS leaves them): a commit's end is
+    // told by commits_started, its outcome by the revision and commits_cancelled.
     const double startedBefore = watch.value("commits_started");
-    const double loadedBefore = watch.value("maps_loaded");
+    const double revisionBefore = watch.value("revision");
     const double cancelledBefore = watch.value("commits_cancelled");
     const AckResult r = session.sendCommand(cmdtlm::describe(cmdtlm::CommandCode::MAP_COMMIT), mapCommitArgs(image));
     if (r.outcome == AckOutcome::kNoAck) {
@@ -163,7 +168,7 @@ int loadSiteMap(GroundSession& session, const std::vector<std::uint8_t>& image, 
         err << "the commit was cancelled (MAP_ABORT); the map in force is kept\n";
         return 3;
     }
-    if (!(watch.value("maps_loaded") > loadedBefore)) {
+    if (!(watch.value("revision") > revisionBefore)) {
         return reportRefusal(err, "", static_cast<int>(watch.value("last_refusal")), watch);
     }
     out << "MAP_COMMIT: " << r.summary << " and checked in " << static_cast<long>(watch.value("commit_runs"))

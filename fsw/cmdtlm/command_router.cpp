@@ -53,8 +53,9 @@ CommandOutcome CommandRouter::execute(const CommandVerdict& verdict) {
 
 void CommandRouter::serviceOnboardRequests() {
     (void)requests_.drain();  // bounded by the pipe's depth; nothing before init()
+    const Mode mode = mode_.mode();  // as the requests left it: every application sees the same
     for (std::size_t i = 0; i < count_; ++i) {
-        apps_[i]->serviceOnboardRequests(mode_.mode());
+        apps_[i]->serviceOnboardRequests(mode);
     }
 }
 

@@ -45,7 +45,7 @@ UploadRefusal SiteMapService::commit(std::uint32_t length, std::uint32_t crc) {
     if (why != UploadRefusal::kNone) {
         return refuseCommit(why, nullptr);
     }
-    ++counters_.commitsStarted;
+    ++commitsStarted_;
     phase_ = CommitPhase::kCrc;
     commitLength_ = length;
     commitCrc_ = crc;
@@ -62,16 +62,18 @@ bool SiteMapService::serviceCommit(bool driving) {
     if (driving) {
         // The mode was checked when MAP_COMMIT was taken; the rover has been
         // put in AUTONOMOUS or MANUAL since, and does not change maps while
-        // driving. The upload stays as it is (closed once its CRC passed).
+        // driving. The upload is open again, as it was (the buffer is
+        // untouched): back in SAFE or STANDBY the same commit may be sent.
         phase_ = CommitPhase::kNone;
         map_.dropStaged();
+        upload_.reopen();
         ++commitRuns_;
         (void)refuseCommit(UploadRefusal::kDriving, nullptr);
         return true;
     }
     switch (phase_) {
-        case CommitPhase::kNone:
-            return false;
+        case CommitPhase::kNone:  // handled above
+            break;
         case CommitPhase::kCrc: {
             const std::size_t n = commitLength_ - crcDone_ < kCommitCrcBytes ? commitLength_ - crcDone_ : kCommitCrcBytes;
             crcSoFar_ = core::crc32(upload_.image() + crcDone_, n, crcSoFar_);
@@ -130,7 +132,7 @@ UploadRefusal SiteMapService::abort() {
     if (cancelled) {
         phase_ = CommitPhase::kNone;
         map_.dropStaged();
-        ++counters_.commitsCancelled;
+        ++commitsCancelled_;
     }
     if (!upload_.abort() && !cancelled) {
         ++counters_.abortsRefused;

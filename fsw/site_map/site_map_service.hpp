@@ -10,7 +10,7 @@
 // starts; serviceCommit(), once a command-task run, then does one slice of
 // the CRC-32, the image's check, or its load into the map's slot not in force
 // (kCommitCrcBytes, kCommitCheckRecords, kCommitStageUnits a slice, each
-// under about 0.4 ms here), and puts the new map in force in the run that
+// under about 0.35 ms here), and puts the new map in force in the run that
 // finishes it. The map in force is the one every reader uses until then.
 //
 // Static: the map's two slots (kSiteMapBytes) and the upload buffer
@@ -36,12 +36,13 @@ enum class CommitPhase : std::uint8_t {
 
 // A commit slice's work (one command-task run): CRC-32 bytes, records
 // checked, or staging work units (site_map.hpp). Sized from bench_global_route's
-// "MAP_COMMIT slices" line (each slice kind under about 0.4 ms on the
-// development host), so a commit's run stays inside the command task's 2 ms
+// "MAP_COMMIT slices" line (each slice kind under about 0.35 ms on the
+// development host; the check's and the load's reached 0.48 ms at twice
+// these sizes when the host was busy), so a commit's run stays inside the command task's 2 ms
 // with a flood being drained.
 constexpr std::size_t kCommitCrcBytes = 131072;
-constexpr std::size_t kCommitCheckRecords = 2048;
-constexpr std::size_t kCommitStageUnits = 8192;
+constexpr std::size_t kCommitCheckRecords = 1024;
+constexpr std::size_t kCommitStageUnits = 4096;
 
 struct SiteMapCounters {
     std::uint32_t chunksTaken = 0;
@@ -49,8 +50,6 @@ struct SiteMapCounters {
     std::uint32_t mapsLoaded = 0;
     std::uint32_t commitsRefused = 0;
     std::uint32_t uploadsAborted = 0;
-    std::uint32_t commitsStarted = 0;    // MAP_COMMITs accepted (each ends loaded, refused or cancelled)
-    std::uint32_t commitsCancelled = 0;  // of those, cancelled by MAP_ABORT
     std::uint32_t abortsRefused = 0;   // MAP_ABORT with no upload open
 };
 
@@ -86,6 +85,11 @@ public:
     CommitPhase commitPhase() const { return phase_; }
     // Command-task runs the commit under way has taken so far, or the last one took.
     std::uint32_t commitRuns() const { return commitRuns_; }
+    // Since start, never zeroed (RESET_COUNTERS leaves them): the ground
+    // tells a commit's end by them. Each commit started ends loaded, refused
+    // or cancelled.
+    std::uint32_t commitsStarted() const { return commitsStarted_; }
+    std::uint32_t commitsCancelled() const { return commitsCancelled_; }
 
 private:
     UploadRefusal refuse(UploadRefusal why, std::uint32_t item);
@@ -109,6 +113,8 @@ private:
     std::uint32_t crcSoFar_ = 0;
     std::size_t crcDone_ = 0;         // bytes of the image CRC'd so far
     std::uint32_t commitRuns_ = 0;
+    std::uint32_t commitsStarted_ = 0;
+    std::uint32_t commitsCancelled_ = 0;
 };
 
 }  // namespace rse::site_map

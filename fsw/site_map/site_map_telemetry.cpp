@@ -27,8 +27,8 @@ cmdtlm::SITE_MAP_Tlm SiteMapTelemetry::packet() const {
     t.aborts_refused = c.abortsRefused;
     t.commit_phase = static_cast<std::uint8_t>(service_.commitPhase());
     t.commit_runs = service_.commitRuns();
-    t.commits_started = c.commitsStarted;
-    t.commits_cancelled = c.commitsCancelled;
+    t.commits_started = service_.commitsStarted();
+    t.commits_cancelled = service_.commitsCancelled();
     return t;
 }
 

@@ -51,6 +51,9 @@ public:
     // The commit's CRC matched: the upload closes (image() is it, and a new
     // upload starts at offset 0 whatever the image's own check then says).
     void close() { open_ = false; }
+    // A closed commit that did not end in force for a reason not the image's
+    // (the rover put in AUTONOMOUS or MANUAL): the upload open again as it was.
+    void reopen() { open_ = length_ > 0 && spoiled_ == UploadRefusal::kNone; }
     // Drops the upload (MAP_ABORT); false when none was open.
     bool abort();
 

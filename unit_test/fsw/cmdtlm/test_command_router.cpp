@@ -124,6 +124,12 @@ TEST(CommandRouter, OnboardRequestsGoToTheirOwnersThenEachAppIsServicedInRegistr
     LONGS_EQUAL(1, router.malformedRequests());
     LONGS_EQUAL(1, mode.safeRequests());
     LONGS_EQUAL(1, test::drainEventsWithId(events, cmdtlm::events::kBusMessageMalformed));
+    // No request: each application in the mode as it is (MANUAL, 3).
+    mode.setMode(cmdtlm::Mode::kManual);
+    log.clear();
+    router.serviceOnboardRequests();
+    STRCMP_EQUAL("tables serviced in mode 3", log[0].c_str());
+    STRCMP_EQUAL("goals serviced in mode 3", log[1].c_str());
 }
 
 TEST(CommandRouter, ResetReachesEveryApplication) {

@@ -364,4 +364,12 @@ TEST(SiteMapCommands, ACommitUnderWayWhenTheRoverStartsDrivingIsRefusedAndTheMap
     // Nothing under way, nothing refused: driving with no commit says nothing.
     commands->serviceOnboardRequests(cmdtlm::Mode::kManual);
     LONGS_EQUAL(0, test::drainEventsWithId(events, site_map::events::kCommitRefused));
+    // The upload is open again as it was: back in STANDBY the same commit
+    // goes in force; RESET_COUNTERS on the way leaves the commits' own counts.
+    DOUBLES_EQUAL(1, field("upload_open"), 0.0);
+    commands->resetCounters();
+    CHECK_TRUE(commit(big).ok);
+    LONGS_EQUAL(5000, service->map().rockCount());
+    DOUBLES_EQUAL(3, field("commits_started"), 0.0);   // the small map's, the refused one, this one
+    DOUBLES_EQUAL(0, field("commits_refused"), 0.0);   // zeroed by the reset
 }
