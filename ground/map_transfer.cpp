@@ -16,7 +16,7 @@ namespace rse::ground {
 namespace {
 
 constexpr std::size_t kChunkBytes = sizeof(cmdtlm::MAP_LOAD_Args{}.data);
-// A commit of the largest map takes about 55 command-task runs (0.55 s); the
+// A commit of the largest map takes about 31 command-task runs (0.31 s); the
 // rest is the link's.
 constexpr double kCommitEndTimeoutS = 10.0;
 // A command's SITE_MAP comes in the run that takes it.

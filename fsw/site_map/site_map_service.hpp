@@ -10,7 +10,7 @@
 // starts; serviceCommit(), once a command-task run, then does one slice of
 // the CRC-32, the image's check, or its load into the map's slot not in force
 // (kCommitCrcBytes, kCommitCheckRecords, kCommitStageUnits a slice, each
-// under about 0.35 ms here), and puts the new map in force in the run that
+// under about 0.35 ms here on a quiet host), and puts the new map in force in the run that
 // finishes it. The map in force is the one every reader uses until then.
 //
 // Static: the map's two slots (kSiteMapBytes) and the upload buffer
@@ -37,12 +37,14 @@ enum class CommitPhase : std::uint8_t {
 // A commit slice's work (one command-task run): CRC-32 bytes, records
 // checked, or staging work units (site_map.hpp). Sized from bench_global_route's
 // "MAP_COMMIT slices" line (each slice kind under about 0.35 ms on the
-// development host; the check's and the load's reached 0.48 ms at twice
-// these sizes when the host was busy), so a commit's run stays inside the command task's 2 ms
+// development host when quiet, 0.48 ms when busy). Halving the check's and
+// the load's was tried: it moves the GOTO after a map upload a few frames
+// later, and Snowdrift's 3 700 s mission then takes another route (11
+// horizon ends, not 15): see test_lockstep_snowdrift_host.cpp., so a commit's run stays inside the command task's 2 ms
 // with a flood being drained.
 constexpr std::size_t kCommitCrcBytes = 131072;
-constexpr std::size_t kCommitCheckRecords = 1024;
-constexpr std::size_t kCommitStageUnits = 4096;
+constexpr std::size_t kCommitCheckRecords = 2048;
+constexpr std::size_t kCommitStageUnits = 8192;
 
 struct SiteMapCounters {
     std::uint32_t chunksTaken = 0;

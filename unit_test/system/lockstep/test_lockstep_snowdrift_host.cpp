@@ -54,6 +54,12 @@ TEST(LockstepSnowdrift, SevenHundredMetresThroughABoulderFieldWithoutAContact) {
     // either driven through or a stop, most of them driven through (the next
     // horizon planned while the rover drove there).
     CHECK(s.siteMode);
+    // 15 is this route's count. The mission is sensitive to timing: with the
+    // site map commit's check and load slices halved, the GOTO went a few
+    // frames later and the rover took another route (11 horizon ends, 7
+    // driven through, 25 replans; the goal at 3 668 s, 786 m, no contact).
+    // In both, plans made = 1 + horizon ends + replans (30 = 1 + 15 + 14,
+    // 37 = 1 + 11 + 25).
     CHECK(s.horizonsReached >= 15);
     LONGS_EQUAL(s.horizonsReached, s.horizonsDrivenThrough + s.horizonStops);
     CHECK(s.horizonsDrivenThrough > s.horizonStops);
