@@ -54,13 +54,14 @@ TEST(LockstepSnowdrift, SevenHundredMetresThroughABoulderFieldWithoutAContact) {
     // either driven through or a stop, most of them driven through (the next
     // horizon planned while the rover drove there).
     CHECK(s.siteMode);
-    // 15 is this route's count. The mission is sensitive to timing: with the
-    // site map commit's check and load slices halved, the GOTO went a few
-    // frames later and the rover took another route (11 horizon ends, 7
-    // driven through, 25 replans; the goal at 3 668 s, 786 m, no contact).
-    // In both, plans made = 1 + horizon ends + replans (30 = 1 + 15 + 14,
-    // 37 = 1 + 11 + 25).
-    CHECK(s.horizonsReached >= 15);
+    // What holds on every route, not one route's count: the mission is
+    // sensitive to timing (with the site map commit's slices halved the GOTO
+    // went a few frames later and the rover took another route: 11 horizon
+    // ends and 25 replans instead of 15 and 14, the goal still reached without
+    // contact). Every plan after the first is a horizon's end or a replan
+    // (30 = 1 + 15 + 14, 37 = 1 + 11 + 25), and horizon ends are many.
+    LONGS_EQUAL(s.plansMade, 1 + s.horizonsReached + s.replans);
+    CHECK(s.horizonsReached >= 8);
     LONGS_EQUAL(s.horizonsReached, s.horizonsDrivenThrough + s.horizonStops);
     CHECK(s.horizonsDrivenThrough > s.horizonStops);
     // The map shows the route, the horizons and the driven track.
