@@ -30,7 +30,8 @@ std::string readFile(const std::string& path) {
     return text.str();
 }
 
-void expectSameRocks(const Scenario& a, const Scenario& b) {
+// The same rocks: ids, flags, vertices (within toleranceM; 0: to the bit).
+void expectSameRocks(const Scenario& a, const Scenario& b, double toleranceM = 0.0) {
     LONGS_EQUAL(a.obstacles.size(), b.obstacles.size());
     for (std::size_t i = 0; i < a.obstacles.size(); ++i) {
         const Obstacle& p = a.obstacles[i];
@@ -40,8 +41,8 @@ void expectSameRocks(const Scenario& a, const Scenario& b) {
         CHECK_EQUAL(p.detectable, q.detectable);
         LONGS_EQUAL(p.shape.n, q.shape.n);
         for (std::size_t k = 0; k < p.shape.n; ++k) {
-            DOUBLES_EQUAL(p.shape.v[k].x, q.shape.v[k].x, 0.0);
-            DOUBLES_EQUAL(p.shape.v[k].y, q.shape.v[k].y, 0.0);
+            DOUBLES_EQUAL(p.shape.v[k].x, q.shape.v[k].x, toleranceM);
+            DOUBLES_EQUAL(p.shape.v[k].y, q.shape.v[k].y, toleranceM);
         }
     }
 }
@@ -86,18 +87,17 @@ TEST(SiteFile, AFieldWrittenAsASiteFileReadsBackAsTheSameRocks) {
 }
 
 // The shipped site file is the generator's output for the shipped field
-// (`rse-sim --site-file sim_stub/scenarios/rock_field_100m.toml`), and the
-// scenario naming it is the field's scenario in all a flight depends on (its
-// map, start, mission, seed, duration and rocks), so it flies the same
-// mission (test_lockstep_rock_field.cpp flies that one).
+// (`rse-sim --site-file sim_stub/scenarios/rock_field_100m.toml`, written on
+// x86-64; byte for byte on the host in unit_test/integration/rse_sim_cli_test.sh),
+// and the scenario naming it is the field's scenario in all a flight depends
+// on (its map, start, mission, seed, duration and rocks), so it flies the same
+// mission (test_lockstep_rock_field.cpp flies that one). Other targets draw
+// the field with their own libm, its last bits another's (s390x): the rocks
+// agree within 0.1 mm there, not to the bit.
 TEST(SiteFile, TheShippedSiteIsWhatTheGeneratorWritesForTheShippedField) {
     const Scenario field = loadScenarioFile("sim_stub/scenarios/rock_field_100m.toml");
-    const std::string shipped = readFile("sim_stub/scenarios/sites/rock_field_100m.site");
-    CHECK_TRUE_TEXT(shipped == siteFileText(field),
-                    "sim_stub/scenarios/sites/rock_field_100m.site is stale: rse-sim --site-file "
-                    "sim_stub/scenarios/rock_field_100m.toml > sim_stub/scenarios/sites/rock_field_100m.site");
     const Scenario site = loadScenarioFile("sim_stub/scenarios/rock_field_100m_site.toml");
-    expectSameRocks(field, site);
+    expectSameRocks(field, site, 1e-4);
     STRCMP_EQUAL("sim_stub/scenarios/sites/rock_field_100m.site", site.siteFile.c_str());
     CHECK_TRUE(site.map.xMin == field.map.xMin && site.map.xMax == field.map.xMax && site.map.yMin == field.map.yMin &&
                site.map.yMax == field.map.yMax);
