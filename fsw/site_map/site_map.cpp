@@ -20,6 +20,19 @@ std::uint8_t readVertices(core::BeReader& in, float* x, float* y) {
     return n;
 }
 
+// Reads one rock record (already checked) and its bounding box.
+void readRock(core::BeReader& in, Rock* rock) {
+    rock->count = readVertices(in, rock->x, rock->y);
+    rock->minX = rock->maxX = rock->x[0];
+    rock->minY = rock->maxY = rock->y[0];
+    for (std::size_t v = 1; v < rock->count; ++v) {
+        rock->minX = rock->x[v] < rock->minX ? rock->x[v] : rock->minX;
+        rock->maxX = rock->x[v] > rock->maxX ? rock->x[v] : rock->maxX;
+        rock->minY = rock->y[v] < rock->minY ? rock->y[v] : rock->minY;
+        rock->maxY = rock->y[v] > rock->maxY ? rock->y[v] : rock->maxY;
+    }
+}
+
 // Squared distance from the segment a -> b to the box (0 when they meet).
 double segmentBoxDistanceSquared(Point2 a, Point2 b, const Rock& r) {
     const double x0 = r.minX, x1 = r.maxX, y0 = r.minY, y1 = r.maxY;
@@ -111,16 +124,7 @@ bool SiteMap::stage(std::size_t workUnits) {
                 return staging_ == StagePhase::kWhole;
             case StagePhase::kRocks:
                 for (; next_ < m.rockCount && work < workUnits; ++next_, ++work) {
-                    Rock& rock = m.rocks[next_];
-                    rock.count = readVertices(image_, rock.x, rock.y);
-                    rock.minX = rock.maxX = rock.x[0];
-                    rock.minY = rock.maxY = rock.y[0];
-                    for (std::size_t v = 1; v < rock.count; ++v) {
-                        rock.minX = rock.x[v] < rock.minX ? rock.x[v] : rock.minX;
-                        rock.maxX = rock.x[v] > rock.maxX ? rock.x[v] : rock.maxX;
-                        rock.minY = rock.y[v] < rock.minY ? rock.y[v] : rock.minY;
-                        rock.maxY = rock.y[v] > rock.maxY ? rock.y[v] : rock.maxY;
-                    }
+                    readRock(image_, &m.rocks[next_]);
                 }
                 if (next_ == m.rockCount) {
                     staging_ = StagePhase::kZones;
