@@ -160,12 +160,20 @@ bool openBus(rse::hal::SocketCanBus& bus, const char* name) {
     return false;
 }
 
+// The scenario at path, or false with the reason on stderr.
+bool loadScenarioOrSay(const char* path, rse::sim::Scenario* scenario) {
+    std::string error;
+    if (!rse::sim::tryLoadScenarioFile(path, scenario, &error)) {
+        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+        return false;
+    }
+    return true;
+}
+
 // rse-sim --coarse-map-source FILE: the scenario's COARSE_MAP table source on stdout.
 int printCoarseMapSource(const char* path) {
     rse::sim::Scenario scenario;
-    std::string error;
-    if (!rse::sim::tryLoadScenarioFile(path, &scenario, &error)) {
-        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+    if (!loadScenarioOrSay(path, &scenario)) {
         return 1;
     }
     try {
@@ -180,9 +188,7 @@ int printCoarseMapSource(const char* path) {
 // rse-sim --site-file FILE: the scenario's rocks as a site file on stdout.
 int printSiteFile(const char* path) {
     rse::sim::Scenario scenario;
-    std::string error;
-    if (!rse::sim::tryLoadScenarioFile(path, &scenario, &error)) {
-        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+    if (!loadScenarioOrSay(path, &scenario)) {
         return 1;
     }
     std::fputs(rse::sim::siteFileText(scenario).c_str(), stdout);
@@ -296,8 +302,7 @@ int main(int argc, char** argv) {
         return printSiteFile(o.siteFile);
     }
     rse::sim::Scenario scenario;
-    if (!rse::sim::tryLoadScenarioFile(o.scenario, &scenario, &error)) {
-        std::fprintf(stderr, "rse-sim: %s\n", error.c_str());
+    if (!loadScenarioOrSay(o.scenario, &scenario)) {
         return 1;
     }
     if (!refuseTaskStalls(scenario, o.scenario)) {
